@@ -1,0 +1,68 @@
+"""Errors raised by the control layer.
+
+One small tree: :class:`CoopctrlError` is the parent; each subclass also inherits the builtin it
+specialises. Errors carry their data as attributes and say how to fix the problem.
+"""
+
+from __future__ import annotations
+
+
+class CoopctrlError(Exception):
+    """Base class of every error raised by :mod:`coopctrl`."""
+
+
+class ScenarioError(CoopctrlError, ValueError):
+    """A scenario file or override is invalid.
+
+    Attributes:
+        path: Dotted path of the offending field (``"arms[1].grasp"``), or ``""`` for the file.
+        value: The value received.
+        allowed: What would have been accepted.
+    """
+
+    def __init__(self, path: str, value, allowed: str, source: str | None = None):
+        self.path = path
+        self.value = value
+        self.allowed = allowed
+        self.source = source
+        where = f"{source}: " if source else ""
+        field = path or "<scenario>"
+        super().__init__(f"{where}{field} = {value!r} is invalid: expected {allowed}")
+
+
+class InfeasibleLoad(CoopctrlError, ArithmeticError):
+    """The load-distribution QP has no feasible split, or the solver failed.
+
+    Attributes:
+        status: The solver's status string.
+        binding: Names of the constraint families that are binding or violated
+            (``"torque_limits"``, ``"friction"``, ``"min_grip"``, ``"balance"``).
+    """
+
+    def __init__(self, status: str, binding: tuple[str, ...] = (), detail: str = ""):
+        self.status = status
+        self.binding = tuple(binding)
+        fam = ", ".join(self.binding) if self.binding else "unknown"
+        super().__init__(
+            f"load distribution failed with status '{status}' (binding: {fam}){': ' + detail if detail else ''}; "
+            "reduce the payload or the acceleration of the trajectory, or relax those constraints"
+        )
+
+
+class DivergenceError(CoopctrlError, ArithmeticError):
+    """A simulation left its bounds (non-finite state, energy or deformation beyond a bound).
+
+    Attributes:
+        time: Simulation time [s] at detection.
+        quantity: What went out of bounds.
+        value: Its value.
+        suggested_step: A step [s] expected to be stable, or ``None``.
+    """
+
+    def __init__(self, time: float, quantity: str, value: float, suggested_step: float | None = None):
+        self.time = time
+        self.quantity = quantity
+        self.value = value
+        self.suggested_step = suggested_step
+        hint = f"; try a step of at most {suggested_step:.3g} s or a stiff integrator" if suggested_step else ""
+        super().__init__(f"diverged at t = {time:.6g} s: {quantity} = {value:.6g}{hint}")

@@ -1,0 +1,183 @@
+"""Frames: ZYX Euler angles, the body-rate map ``L(A)`` and its time derivative (MODEL.md s.2).
+
+Convention (ours, MODEL.md s.2): a node pose is ``Y = (r, A)`` with ``r`` in [m] and
+``A = (psi, theta, phi)`` in [rad], and
+
+.. math::
+
+    R(A) = R_z(\\psi) R_y(\\theta) R_x(\\phi), \\qquad
+    \\omega = L(A) \\dot A, \\qquad
+    L(A) = \\begin{bmatrix} -s_\\theta & 0 & 1 \\\\
+                           s_\\phi c_\\theta & c_\\phi & 0 \\\\
+                           c_\\phi c_\\theta & -s_\\phi & 0 \\end{bmatrix}
+
+where ``omega`` is the **body** angular velocity [rad/s] (expressed in the node's principal
+axes), as in the kinetic energy (104-105). ``L`` is singular at ``cos(theta) = 0``; every
+function that divides by ``cos(theta)`` checks :data:`EULER_SINGULARITY_COS` first and the
+kernels return a status instead of dividing through it.
+
+Planar reduction: ``Y = (x, z, theta)``, rotation in the vertical x-z plane with ``theta``
+measured from +x towards +z, ``L = 1``.
+
+All functions are ``numba.njit`` kernels so that the plant's right-hand side can call them;
+they are also callable from Python with numpy arrays.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from plants.errors import EulerSingularityError
+
+#: Smallest ``|cos(theta)|`` [-] at which ``L(A)^-1`` is still evaluated. Below it the pose
+#: is reported as an Euler-angle singularity (theta within ~1e-6 rad of +-pi/2).
+EULER_SINGULARITY_COS = 1e-6
+
+
+@njit(cache=True)
+def rotation_zyx(A):
+    """``R(A) = Rz(psi) Ry(theta) Rx(phi)`` for ``A = (psi, theta, phi)`` [rad]; 3x3."""
+    cps, sps = math.cos(A[0]), math.sin(A[0])
+    cth, sth = math.cos(A[1]), math.sin(A[1])
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    R = np.empty((3, 3))
+    R[0, 0] = cps * cth
+    R[0, 1] = cps * sth * sph - sps * cph
+    R[0, 2] = cps * sth * cph + sps * sph
+    R[1, 0] = sps * cth
+    R[1, 1] = sps * sth * sph + cps * cph
+    R[1, 2] = sps * sth * cph - cps * sph
+    R[2, 0] = -sth
+    R[2, 1] = cth * sph
+    R[2, 2] = cth * cph
+    return R
+
+
+@njit(cache=True)
+def rotation_zyx_partials(A):
+    """``(dR/dpsi, dR/dtheta, dR/dphi)`` of :func:`rotation_zyx`, each 3x3 (exact)."""
+    cps, sps = math.cos(A[0]), math.sin(A[0])
+    cth, sth = math.cos(A[1]), math.sin(A[1])
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    dpsi = np.zeros((3, 3))
+    dpsi[0, 0] = -sps * cth
+    dpsi[0, 1] = -sps * sth * sph - cps * cph
+    dpsi[0, 2] = -sps * sth * cph + cps * sph
+    dpsi[1, 0] = cps * cth
+    dpsi[1, 1] = cps * sth * sph - sps * cph
+    dpsi[1, 2] = cps * sth * cph + sps * sph
+    dth = np.zeros((3, 3))
+    dth[0, 0] = -cps * sth
+    dth[0, 1] = cps * cth * sph
+    dth[0, 2] = cps * cth * cph
+    dth[1, 0] = -sps * sth
+    dth[1, 1] = sps * cth * sph
+    dth[1, 2] = sps * cth * cph
+    dth[2, 0] = -cth
+    dth[2, 1] = -sth * sph
+    dth[2, 2] = -sth * cph
+    dph = np.zeros((3, 3))
+    dph[0, 1] = cps * sth * cph + sps * sph
+    dph[0, 2] = -cps * sth * sph + sps * cph
+    dph[1, 1] = sps * sth * cph - cps * sph
+    dph[1, 2] = -sps * sth * sph - cps * cph
+    dph[2, 1] = cth * cph
+    dph[2, 2] = -cth * sph
+    return dpsi, dth, dph
+
+
+@njit(cache=True)
+def euler_zyx_from_rotation(R):
+    """ZYX Euler angles ``A = (psi, theta, phi)`` [rad] of a rotation matrix, theta in [-pi/2, pi/2]."""
+    A = np.empty(3)
+    A[0] = math.atan2(R[1, 0], R[0, 0])
+    A[1] = math.atan2(-R[2, 0], math.sqrt(R[2, 1] * R[2, 1] + R[2, 2] * R[2, 2]))
+    A[2] = math.atan2(R[2, 1], R[2, 2])
+    return A
+
+
+@njit(cache=True)
+def body_rate_map(A):
+    """``L(A)`` with ``omega_body = L(A) dA/dt`` (105); 3x3, defined everywhere."""
+    cth, sth = math.cos(A[1]), math.sin(A[1])
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    L = np.zeros((3, 3))
+    L[0, 0] = -sth
+    L[0, 2] = 1.0
+    L[1, 0] = sph * cth
+    L[1, 1] = cph
+    L[2, 0] = cph * cth
+    L[2, 1] = -sph
+    return L
+
+
+@njit(cache=True)
+def body_rate_map_dot(A, dA):
+    """``dL/dt`` for Euler rates ``dA`` [rad/s]; 3x3."""
+    cth, sth = math.cos(A[1]), math.sin(A[1])
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    dth, dph = dA[1], dA[2]
+    Ld = np.zeros((3, 3))
+    Ld[0, 0] = -cth * dth
+    Ld[1, 0] = cph * cth * dph - sph * sth * dth
+    Ld[1, 1] = -sph * dph
+    Ld[2, 0] = -sph * cth * dph - cph * sth * dth
+    Ld[2, 1] = -cph * dph
+    return Ld
+
+
+@njit(cache=True)
+def body_rate_map_inverse(A, Linv):
+    """Write ``L(A)^-1`` into ``Linv`` (3x3); return False (and leave it) at a singularity.
+
+    .. math::
+        L^{-1} = \\begin{bmatrix} 0 & s_\\phi / c_\\theta & c_\\phi / c_\\theta \\\\
+                                0 & c_\\phi & -s_\\phi \\\\
+                                1 & s_\\phi t_\\theta & c_\\phi t_\\theta \\end{bmatrix}
+    """
+    cth, sth = math.cos(A[1]), math.sin(A[1])
+    if abs(cth) < EULER_SINGULARITY_COS:
+        return False
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    tth = sth / cth
+    Linv[0, 0] = 0.0
+    Linv[0, 1] = sph / cth
+    Linv[0, 2] = cph / cth
+    Linv[1, 0] = 0.0
+    Linv[1, 1] = cph
+    Linv[1, 2] = -sph
+    Linv[2, 0] = 1.0
+    Linv[2, 1] = sph * tth
+    Linv[2, 2] = cph * tth
+    return True
+
+
+@njit(cache=True)
+def rotation_planar(theta):
+    """2x2 rotation in the (x, z) plane, ``theta`` [rad] from +x towards +z."""
+    c, s = math.cos(theta), math.sin(theta)
+    R = np.empty((2, 2))
+    R[0, 0] = c
+    R[0, 1] = -s
+    R[1, 0] = s
+    R[1, 1] = c
+    return R
+
+
+def check_euler(A, where: str = "pose") -> None:
+    """Raise :class:`EulerSingularityError` if ``A`` is within the singular band of ``L``."""
+    theta = float(A[1])
+    c = math.cos(theta)
+    if abs(c) < EULER_SINGULARITY_COS:
+        raise EulerSingularityError(where, theta, c)
+
+
+def body_rate_map_inv(A, where: str = "pose") -> np.ndarray:
+    """``L(A)^-1`` as a new array; raises :class:`EulerSingularityError` near ``cos(theta) = 0``."""
+    Linv = np.empty((3, 3))
+    if not body_rate_map_inverse(np.asarray(A, dtype=float), Linv):
+        check_euler(A, where)
+    return Linv
