@@ -1,0 +1,356 @@
+"""The cooperative system: m arms rigidly holding the contact nodes of the elastic system (MODEL.md s.5)."""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from plants.cooperative import _planar_kernel, _spatial_kernel
+from plants.cooperative.contact_point import ContactPoint
+from plants.elastic import ElasticSystem
+from plants.elastic._layout import (
+    STATUS_COINCIDENT_NODES,
+    STATUS_EULER_SINGULAR,
+    STATUS_OK,
+    STATUS_SINGULAR_MASS,
+)
+from plants.errors import EulerSingularityError, ParameterError, SingularJacobianError
+from plants.frames import rotation_zyx
+
+_POSE_NAMES = {"spatial": ("x", "y", "z", "psi", "theta", "phi"), "planar": ("x", "z", "theta")}
+_INPUT_NAMES = {"spatial": ("fx", "fy", "fz", "Qpsi", "Qtheta", "Qphi"), "planar": ("fx", "fz", "n")}
+
+
+class CooperativePlant:
+    """``Gamma(z) z'' + phi(z, z') = (tau, 0)`` with ``z = (q, Y_0)`` (177, 183).
+
+    .. math::
+        \\Gamma = \\mathrm{blockdiag}(N(q), W_0(Y_0)), \\quad N = H + J^T W_c J, \\quad
+        \\phi = \\big(h + J^T (W_c \\dot J \\dot q + w_c(Y, \\dot Y)),\\; w_0(Y, \\dot Y)\\big)
+
+    with ``Y_c = Phi(q)`` and ``Y_c' = J q'`` (169-172): each arm is rigidly attached to its
+    contact node (4.9). The first-order state is ``x = (z, z')``; the input ``tau`` stacks the
+    joint torques [N m] of every arm (or the generalized node forces of a
+    :class:`~plants.cooperative.ContactPoint`). A plant is a stateless function of (t, x, tau):
+    it owns parameters only.
+
+    Args:
+        elastic: The elastic system of nodes 0..m (node 0 = object).
+        arms: One arm per contact node, in node order: ``SerialArm`` (spatial),
+            ``PlanarArm`` (planar) or ``ContactPoint`` (no arm dynamics).
+        leader: Index (0-based, into ``arms``) of the leader arm ``v`` (4.10); the others are
+            the followers ``s``.
+    """
+
+    def __init__(self, elastic: ElasticSystem, arms: Sequence, leader: int = 0):
+        self.elastic = elastic
+        self.space = elastic.space
+        self.p = p = elastic.p
+        self.arms = tuple(arms)
+        m = len(self.arms)
+        if m != elastic.node_count - 1:
+            raise ParameterError("arms", m, f"one arm per contact node: {elastic.node_count - 1}")
+        if not 0 <= int(leader) < m:
+            raise ParameterError("leader", leader, f"an arm index in 0..{m - 1}")
+        self.leader = int(leader)
+        self.followers = tuple(i for i in range(m) if i != self.leader)
+        kinds, dofs, tables, bases, tools = [], [], [], [], []
+        for i, arm in enumerate(self.arms):
+            if getattr(arm, "space", None) != self.space:
+                raise ParameterError(f"arms[{i}]", type(arm).__name__, f"a {self.space} arm or ContactPoint")
+            dofs.append(arm.dof)
+            if isinstance(arm, ContactPoint):
+                kinds.append(_spatial_kernel.ARM_CONTACT_POINT)
+            else:
+                kinds.append(_spatial_kernel.ARM_SERIAL)
+                tables.append(np.asarray(arm.dh_array(), dtype=float))
+            if self.space == "spatial":
+                bases.append(np.eye(4) if isinstance(arm, ContactPoint) else np.asarray(arm.base, dtype=float))
+                tools.append(np.eye(4) if isinstance(arm, ContactPoint) else np.asarray(arm.tool, dtype=float))
+            else:
+                bases.append(np.zeros(3) if isinstance(arm, ContactPoint) else np.asarray(arm.base, dtype=float))
+                tools.append(np.zeros(3) if isinstance(arm, ContactPoint) else np.asarray(arm.tool, dtype=float))
+        width = 16 if self.space == "spatial" else 7
+        self._arm_kind = np.array(kinds, dtype=np.int64)
+        self._arm_dof = np.array(dofs, dtype=np.int64)
+        self._q_off = np.concatenate([[0], np.cumsum(dofs)[:-1]]).astype(np.int64)
+        serial_dofs = [d for d, k in zip(dofs, kinds) if k == _spatial_kernel.ARM_SERIAL]
+        offs = np.concatenate([[0], np.cumsum(serial_dofs)]).astype(np.int64) if serial_dofs else np.zeros(1, np.int64)
+        dh_off = np.zeros(m, dtype=np.int64)
+        s = 0
+        for i, k in enumerate(kinds):
+            if k == _spatial_kernel.ARM_SERIAL:
+                dh_off[i] = offs[s]
+                s += 1
+        self._dh_off = dh_off
+        self._dh_all = np.ascontiguousarray(np.vstack(tables)) if tables else np.zeros((1, width))
+        self._bases = np.ascontiguousarray(np.array(bases, dtype=float))
+        self._tools = np.ascontiguousarray(np.array(tools, dtype=float))
+        self._gravity = np.ascontiguousarray(elastic.gravity, dtype=float)
+        self._node_params = np.ascontiguousarray(elastic.node_params)
+        self._edge_index = np.ascontiguousarray(elastic.edge_index)
+        self._edge_params = np.ascontiguousarray(elastic.edge_params)
+        self._Y_ref = np.ascontiguousarray(elastic.Y_ref)
+        self._immobile = bool(elastic.immobile)
+        self._kern = _spatial_kernel if self.space == "spatial" else _planar_kernel
+        self._status = np.zeros(2, dtype=np.int64)
+        self.arm_dofs = tuple(int(d) for d in dofs)
+        self.nz = int(sum(dofs)) + p
+        self._args = (self._arm_kind, self._arm_dof, self._q_off, self._dh_all, self._dh_off,
+                      self._bases, self._tools, self._gravity, self._node_params, self._edge_index,
+                      self._edge_params, self._Y_ref, self._immobile, self._status)
+
+    # ------------------------------------------------------------------ sizes
+    @property
+    def node_count(self) -> int:
+        """Number of nodes m + 1 (object and contacts)."""
+        return self.elastic.node_count
+
+    @property
+    def arm_count(self) -> int:
+        return len(self.arms)
+
+    @property
+    def state_size(self) -> int:
+        """Size of ``x = (z, z')``: ``2 (sum n_i + p)``."""
+        return 2 * self.nz
+
+    @property
+    def input_size(self) -> int:
+        """Size of ``tau``: ``sum n_i``."""
+        return self.nz - self.p
+
+    @property
+    def unloaded_state(self) -> str:
+        return self.elastic.unloaded_state
+
+    def q_slice(self, i: int) -> slice:
+        """Slice of arm i's coordinates in ``z`` (and of its inputs in ``tau``)."""
+        return slice(int(self._q_off[i]), int(self._q_off[i] + self._arm_dof[i]))
+
+    def size_report(self) -> dict:
+        """What this model carries: sizes and the elements it pays for."""
+        return {
+            "space": self.space,
+            "unloaded_state": self.unloaded_state,
+            "arms": self.arm_count,
+            "arm_models": [type(a).__name__ for a in self.arms],
+            "dof_per_arm": list(self.arm_dofs),
+            "node_count": self.node_count,
+            "interconnections": int(self._edge_index.shape[0]),
+            "torsion_springs": int(np.count_nonzero(
+                self._edge_params[:, 3:6] if self.space == "spatial" else self._edge_params[:, 2:3])),
+            "state_size": self.state_size,
+            "input_size": self.input_size,
+        }
+
+    # ------------------------------------------------------------------ dynamics
+    def _check(self, status, x=None):
+        code, where = int(status[0]), int(status[1])
+        if code == STATUS_OK:
+            return
+        if code == STATUS_EULER_SINGULAR:
+            node = "object" if where == 0 else f"contact node {where} (arm {where - 1})"
+            theta = float("nan")
+            if x is not None:
+                try:
+                    theta = float(self.node_poses(x).reshape(self.node_count, self.p)[where, 4])
+                except Exception:  # the pose itself may be what failed
+                    pass
+            raise EulerSingularityError(node, theta, float(np.cos(theta)) if theta == theta else 0.0)
+        if code == STATUS_COINCIDENT_NODES:
+            raise ParameterError("Y", "coincident nodes",
+                                 "distinct positions for the nodes of a central spring with positive rest length")
+        if code == STATUS_SINGULAR_MASS:
+            raise SingularJacobianError(f"mass matrix N of arm {where - 1}", float("inf"))
+        raise RuntimeError(f"unknown kernel status {code}")
+
+    def rhs(self, t: float, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """``dx/dt = (z', Gamma^-1 ((tau, 0) - phi))`` at state ``x`` and input ``tau``.
+
+        Raises :class:`~plants.errors.EulerSingularityError` at ``cos(theta) = 0`` of any node.
+        """
+        dx = self._kern.rhs_kernel(x, tau, *self._args)
+        if self._status[0]:
+            self._check(self._status, x)
+        return dx
+
+    @property
+    def kernel(self):
+        """``(function, extra_args)``: ``function(x, tau, *extra_args)`` is the raw numba right-hand
+        side, for loops that want to skip the Python wrapper; ``extra_args[-1]`` is the status array."""
+        return self._kern.rhs_kernel, self._args
+
+    def _node_state(self, x):
+        x = np.ascontiguousarray(x, dtype=float)
+        st = np.zeros(2, dtype=np.int64)
+        out = self._kern.node_state_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
+                                          self._dh_off, self._bases, self._tools, self._gravity, st)
+        if st[0]:
+            self._check(st)
+        return out
+
+    def node_poses(self, x) -> np.ndarray:
+        """The node vector ``Y = (Y_0, Phi_1(q_1), ..., Phi_m(q_m))`` of state ``x``, flat ``((m+1) p,)``."""
+        return self._node_state(x)[0].reshape(-1)
+
+    def node_velocities(self, x) -> np.ndarray:
+        """``Y' = (Y_0', J_1 q_1', ..., J_m q_m')``, flat."""
+        return self._node_state(x)[1].reshape(-1)
+
+    def arm_terms(self, x):
+        """``(Y, dY, H, h, J, Jdq)`` per node/arm at ``x`` (arrays stacked over arms; rows of
+        contact points hold zeros). Used by controllers and sensors."""
+        return self._node_state(x)
+
+    def mass_matrix(self, x) -> np.ndarray:
+        """``Gamma(z) = blockdiag(H_i + J_i^T W_i J_i, ..., W_0)``."""
+        Y, dY, H, h, J, Jdq = self._node_state(x)
+        W = self.elastic.inertia(Y)
+        p = self.p
+        G = np.zeros((self.nz, self.nz))
+        for i, arm in enumerate(self.arms):
+            sl = self.q_slice(i)
+            n = self.arm_dofs[i]
+            Wi = W[(i + 1) * p:(i + 2) * p, (i + 1) * p:(i + 2) * p]
+            if isinstance(arm, ContactPoint):
+                G[sl, sl] = Wi
+            else:
+                Ji = J[i, :, :n]
+                G[sl, sl] = H[i, :n, :n] + Ji.T @ Wi @ Ji
+        G[-p:, -p:] = W[:p, :p]
+        return G
+
+    # ------------------------------------------------------------------ energy
+    def elastic_potential(self, Y) -> float:
+        """``Pi(Y)`` [J] of the interconnections (see :class:`ElasticSystem`)."""
+        return self.elastic.elastic_potential(Y)
+
+    def elastic_force(self, Y) -> np.ndarray:
+        """``F_e = dPi/dY`` (exact gradient), flat."""
+        return self.elastic.elastic_force(Y)
+
+    def energy(self, x) -> float:
+        """Total energy [J]: kinetic (arms and nodes), elastic, and gravitational (nodes and links).
+
+        Conserved by :meth:`rhs` without damping and input (MODEL.md s.3)."""
+        x = np.ascontiguousarray(x, dtype=float)
+        dz = x[self.nz:]
+        T = 0.5 * float(dz @ self.mass_matrix(x) @ dz)
+        Y = self.node_poses(x)
+        U_arms = self._kern.arm_potential_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
+                                                self._dh_off, self._bases, self._gravity)
+        return T + self.elastic_potential(Y) + self.elastic.gravity_potential(Y) + float(U_arms)
+
+    # ------------------------------------------------------------------ forces on the object
+    def contact_wrenches(self, x) -> np.ndarray:
+        """Wrench each contact's interconnections apply to the object, (m, p).
+
+        Spatial rows are ``(f, n)``: force [N] at the contact node and couple [N m], world
+        frame, so that ``sum_i G_i F_i`` is the interconnections' total wrench about the
+        object's MC. Planar rows are ``(f_x, f_z, n)``. This is what a wrist force sensor reads.
+        Only edges between the object (node 0) and contact i count toward contact i.
+        """
+        Y, dY = self._node_state(x)[:2]
+        p, m = self.p, self.arm_count
+        out = np.zeros((m, p))
+        kern = self.elastic._kern
+        for e in range(self._edge_index.shape[0]):
+            i, j = int(self._edge_index[e, 0]), int(self._edge_index[e, 1])
+            if 0 not in (i, j):
+                continue
+            c = j if i == 0 else i
+            F = np.zeros_like(Y)
+            ei, ep = self._edge_index[e:e + 1], self._edge_params[e:e + 1]
+            if self._immobile:
+                kern.linear_edges(Y, dY, self._Y_ref, ei, ep, F)
+            else:
+                kern.elastic_edges(Y, ei, ep, F)
+                kern.damping_edges(Y, dY, ei, ep, F)
+            Q = -F[0]  # generalized force on the object from this edge
+            d = Y[c] - Y[0]
+            if self.space == "spatial":
+                A0 = Y[0, 3:6]
+                from plants.frames import body_rate_map_inv
+                tau_body = body_rate_map_inv(A0, "object").T @ Q[3:6]
+                tau_world = rotation_zyx(A0) @ tau_body
+                f = Q[:3]
+                couple = tau_world - np.cross(d[:3], f)
+                out[c - 1, :3] += f
+                out[c - 1, 3:] += couple
+            else:
+                f = Q[:2]
+                couple = Q[2] - (d[0] * f[1] - d[1] * f[0])
+                out[c - 1, :2] += f
+                out[c - 1, 2] += couple
+        return out
+
+    # ------------------------------------------------------------------ regrouping (4.10-4.11)
+    def leader_follower(self, x) -> dict:
+        """The leader/follower coordinates ``(q_v, Y_s, Y_0)`` of (163-165) and their rates."""
+        x = np.asarray(x, dtype=float)
+        Y = self.node_poses(x).reshape(self.node_count, self.p)
+        dY = self.node_velocities(x).reshape(self.node_count, self.p)
+        sl = self.q_slice(self.leader)
+        return {
+            "q_v": x[sl].copy(), "dq_v": x[self.nz:][sl].copy(),
+            "Y_s": np.concatenate([Y[i + 1] for i in self.followers]) if self.followers else np.zeros(0),
+            "dY_s": np.concatenate([dY[i + 1] for i in self.followers]) if self.followers else np.zeros(0),
+            "Y_0": Y[0].copy(), "dY_0": dY[0].copy(),
+        }
+
+    # ------------------------------------------------------------------ names and linearization
+    def state_names(self) -> list[str]:
+        names = []
+        for i, arm in enumerate(self.arms):
+            if isinstance(arm, ContactPoint):
+                names += [f"arm{i + 1}.{c}" for c in _POSE_NAMES[self.space]]
+            else:
+                names += [f"arm{i + 1}.q{k + 1}" for k in range(arm.dof)]
+        names += [f"object.{c}" for c in _POSE_NAMES[self.space]]
+        return names + ["d" + n for n in names]
+
+    def input_names(self) -> list[str]:
+        names = []
+        for i, arm in enumerate(self.arms):
+            if isinstance(arm, ContactPoint):
+                names += [f"arm{i + 1}.{c}" for c in _INPUT_NAMES[self.space]]
+            else:
+                names += [f"arm{i + 1}.tau{k + 1}" for k in range(arm.dof)]
+        return names
+
+    def jacobians(self, x_eq, tau_eq, rel_step: float = 1e-6):
+        """``(A, B) = (df/dx, df/dtau)`` by central differences (step ``rel_step * max(1, |v|)``)."""
+        x_eq = np.asarray(x_eq, dtype=float)
+        tau_eq = np.asarray(tau_eq, dtype=float)
+        nx, nu = x_eq.size, tau_eq.size
+        A = np.empty((nx, nx))
+        B = np.empty((nx, nu))
+        for k in range(nx):
+            h = rel_step * max(1.0, abs(x_eq[k]))
+            xp, xm = x_eq.copy(), x_eq.copy()
+            xp[k] += h
+            xm[k] -= h
+            A[:, k] = (self.rhs(0.0, xp, tau_eq) - self.rhs(0.0, xm, tau_eq)) / (2 * h)
+        for k in range(nu):
+            h = rel_step * max(1.0, abs(tau_eq[k]))
+            up, um = tau_eq.copy(), tau_eq.copy()
+            up[k] += h
+            um[k] -= h
+            B[:, k] = (self.rhs(0.0, x_eq, up) - self.rhs(0.0, x_eq, um)) / (2 * h)
+        return A, B
+
+    def linearize(self, x_eq, tau_eq, rel_step: float = 1e-6):
+        """Linear model about ``(x_eq, tau_eq)`` as a ``control.StateSpace`` with named signals.
+
+        ``dx/dt = A (x - x_eq) + B (tau - tau_eq)``, output ``y = x - x_eq``. ``(x_eq, tau_eq)``
+        should be an equilibrium (``rhs = 0``); the residual ``rhs(x_eq, tau_eq)`` is not part of
+        the linear model.
+        """
+        import control
+
+        A, B = self.jacobians(x_eq, tau_eq, rel_step)
+        names = self.state_names()
+        return control.ss(A, B, np.eye(A.shape[0]), np.zeros((A.shape[0], B.shape[1])),
+                          states=names, inputs=self.input_names(), outputs=names, name="cooperative_plant")

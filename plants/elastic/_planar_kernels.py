@@ -1,0 +1,165 @@
+"""numba kernels of the planar elastic system (MODEL.md s.2-3, planar reduction).
+
+``Y`` and ``dY`` are (N, 3) node poses ``(x, z, theta)`` in the vertical x-z plane and their
+rates; ``node_params`` is (N, 2) ``(mass, I)``; ``edge_index`` (E, 3) and ``edge_params``
+(E, 9) follow :mod:`plants.elastic._layout`. In the plane ``L = 1``, so ``W`` is constant
+``diag(m, m, I)`` and there is no gyroscopic term, and the angle difference is the exact
+relative rotation (the torsion spring is rotation invariant for both elements).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from plants.elastic._layout import ELEMENT_CENTRAL, STATUS_COINCIDENT_NODES, STATUS_OK
+from plants.elastic._spatial_kernels import COINCIDENT_FRACTION, wrap_angle
+
+
+@njit(cache=True)
+def elastic_edges(Y, edge_index, edge_params, F):
+    """Add ``dPi/dY`` of every interconnection into ``F``; return ``(Pi, status)``.
+
+    Central element: ``Pi = 1/2 beta (c_x d_x^2 + c_z d_z^2) + 1/2 cA delta^2`` with
+    ``d = r_i - r_j``, ``beta = (1 - l/|d|)^2`` and ``delta = theta_i - theta_j - A0``.
+    Offset element: ``e = R(theta_i)^T (r_j - r_i) - rho``, ``Pi = 1/2 e^T C e + 1/2 cA delta^2``.
+    """
+    Pi = 0.0
+    for e in range(edge_index.shape[0]):
+        i = edge_index[e, 0]
+        j = edge_index[e, 1]
+        p = edge_params[e]
+        if edge_index[e, 2] == ELEMENT_CENTRAL:
+            d0 = Y[i, 0] - Y[j, 0]
+            d1 = Y[i, 1] - Y[j, 1]
+            Q = p[0] * d0 * d0 + p[1] * d1 * d1
+            l = p[3]
+            if l > 0.0:
+                s = math.sqrt(d0 * d0 + d1 * d1)
+                if s < COINCIDENT_FRACTION * l:
+                    return Pi, STATUS_COINCIDENT_NODES
+                g = 1.0 - l / s
+                a = g * l * Q / (s * s * s)
+                g2 = g * g
+            else:
+                a = 0.0
+                g2 = 1.0
+            Pi += 0.5 * g2 * Q
+            f0 = a * d0 + g2 * p[0] * d0
+            f1 = a * d1 + g2 * p[1] * d1
+            F[i, 0] += f0
+            F[i, 1] += f1
+            F[j, 0] -= f0
+            F[j, 1] -= f1
+        else:
+            c, s = math.cos(Y[i, 2]), math.sin(Y[i, 2])
+            d0 = Y[j, 0] - Y[i, 0]
+            d1 = Y[j, 1] - Y[i, 1]
+            e0 = c * d0 + s * d1 - p[5]
+            e1 = -s * d0 + c * d1 - p[6]
+            Pi += 0.5 * (p[0] * e0 * e0 + p[1] * e1 * e1)
+            C0 = p[0] * e0
+            C1 = p[1] * e1
+            f0 = c * C0 - s * C1
+            f1 = s * C0 + c * C1
+            F[j, 0] += f0
+            F[j, 1] += f1
+            F[i, 0] -= f0
+            F[i, 1] -= f1
+            # de/dtheta_i = dR^T d, dR = [[-s, -c], [c, -s]]
+            F[i, 2] += C0 * (-s * d0 + c * d1) + C1 * (-c * d0 - s * d1)
+        cA = p[2]
+        if cA != 0.0:
+            dl = wrap_angle(Y[i, 2] - Y[j, 2] - p[4])
+            Pi += 0.5 * cA * dl * dl
+            F[i, 2] += cA * dl
+            F[j, 2] -= cA * dl
+    return Pi, STATUS_OK
+
+
+@njit(cache=True)
+def damping_edges(Y, dY, edge_index, edge_params, F):
+    """Add ``dD/d(dY)`` (110-111) into ``F``; return ``D``. Central: along the line; offset: isotropic."""
+    D = 0.0
+    for e in range(edge_index.shape[0]):
+        i = edge_index[e, 0]
+        j = edge_index[e, 1]
+        p = edge_params[e]
+        dd = p[7]
+        if dd != 0.0:
+            v0 = dY[i, 0] - dY[j, 0]
+            v1 = dY[i, 1] - dY[j, 1]
+            d0 = Y[i, 0] - Y[j, 0]
+            d1 = Y[i, 1] - Y[j, 1]
+            s = math.sqrt(d0 * d0 + d1 * d1)
+            if edge_index[e, 2] == ELEMENT_CENTRAL and s > 1e-12:
+                vu = (v0 * d0 + v1 * d1) / s
+                D += 0.5 * dd * vu * vu
+                f0 = dd * vu * d0 / s
+                f1 = dd * vu * d1 / s
+            else:
+                D += 0.5 * dd * (v0 * v0 + v1 * v1)
+                f0 = dd * v0
+                f1 = dd * v1
+            F[i, 0] += f0
+            F[i, 1] += f1
+            F[j, 0] -= f0
+            F[j, 1] -= f1
+        dA = p[8]
+        if dA != 0.0:
+            v = dY[i, 2] - dY[j, 2]
+            D += 0.5 * dA * v * v
+            F[i, 2] += dA * v
+            F[j, 2] -= dA * v
+    return D
+
+
+@njit(cache=True)
+def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
+    """Immobile unloaded state (4.5): add ``K y + D dy`` per edge into ``F``; return ``Pi``."""
+    Pi = 0.0
+    for e in range(edge_index.shape[0]):
+        i = edge_index[e, 0]
+        j = edge_index[e, 1]
+        p = edge_params[e]
+        for k in range(3):
+            yi = Y[i, k] - Y_ref[i, k]
+            yj = Y[j, k] - Y_ref[j, k]
+            if k == 2:
+                yi = wrap_angle(yi)
+                yj = wrap_angle(yj)
+                dk = p[8]
+            else:
+                dk = p[7]
+            kk = p[k]
+            diff = yi - yj
+            Pi += 0.5 * kk * diff * diff
+            f = kk * diff + dk * (dY[i, k] - dY[j, k])
+            F[i, k] += f
+            F[j, k] -= f
+    return Pi
+
+
+@njit(cache=True)
+def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravity, Y_ref, immobile):
+    """``Y''`` of the free planar elastic system ``W Y'' + w = F`` with ``F_0 = 0``; ``(ddY, status)``."""
+    N = Y.shape[0]
+    w = np.zeros((N, 3))
+    for k in range(N):
+        w[k, 0] = -node_params[k, 0] * gravity[0]
+        w[k, 1] = -node_params[k, 0] * gravity[1]
+    if immobile:
+        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
+    else:
+        _, status = elastic_edges(Y, edge_index, edge_params, w)
+        if status != STATUS_OK:
+            return np.zeros((N, 3)), status
+        damping_edges(Y, dY, edge_index, edge_params, w)
+    ddY = np.empty((N, 3))
+    for k in range(N):
+        for a in range(3):
+            f = (Fc[k, a] if k > 0 else 0.0) - w[k, a]
+            ddY[k, a] = f / (node_params[k, 0] if a < 2 else node_params[k, 1])
+    return ddY, STATUS_OK

@@ -1,0 +1,342 @@
+"""numba kernels of the spatial elastic system (MODEL.md s.3, eqs. 104-121).
+
+Arrays: ``Y`` and ``dY`` are (N, 6) node poses ``(r, A)`` and their rates; ``node_params`` is
+(N, 4) ``(mass, I1, I2, I3)``; ``edge_index`` (E, 3) and ``edge_params`` (E, 27) follow
+:mod:`plants.elastic._layout`. Forces are *added* into the (N, 6) output arrays so that the
+cooperative kernel can accumulate everything in one buffer. Each kernel returns a status code
+from :mod:`plants.elastic._layout` instead of raising, so that it can run inside the fused
+right-hand side.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from plants.elastic._layout import (
+    ELEMENT_CENTRAL,
+    STATUS_COINCIDENT_NODES,
+    STATUS_EULER_SINGULAR,
+    STATUS_OK,
+)
+from plants.frames import EULER_SINGULARITY_COS, rotation_zyx, rotation_zyx_partials
+
+#: Nodes of a central spring with positive rest length closer than this fraction of the rest
+#: length are reported as coincident: ``beta`` and its gradient are undefined at distance 0.
+COINCIDENT_FRACTION = 1e-9
+
+
+@njit(cache=True, inline="always")
+def wrap_angle(a):
+    """Map an angle difference [rad] into (-pi, pi]."""
+    return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
+
+
+@njit(cache=True)
+def elastic_edges(Y, edge_index, edge_params, F):
+    """Add ``dPi/dY`` (120-121) of every interconnection into ``F``; return ``(Pi, status)``.
+
+    Central element (106-107, 119), ``d = r_i - r_j``, ``s = |d|``, ``g = 1 - l/s``,
+    ``beta = g^2``, ``Q = sum_k c_k d_k^2``:
+
+    .. math::
+        \\Pi = \\tfrac12 \\beta Q + \\tfrac12 \\sum_k cA_k \\delta_k^2, \\quad
+        \\delta = A_i - A_j - A0, \\quad
+        \\partial \\Pi / \\partial r_i = g l Q d / s^3 + g^2 C d
+
+    (the first term is the derivative of ``beta``; ``delta`` is wrapped into (-pi, pi]).
+
+    Offset element (ours): ``e = R_i^T (r_j - r_i) - rho`` in node i's frame and
+    ``Pi = 1/2 e^T C e + sum_k kappa_k (1 - M_kk)``, ``M = R_i^T R_j R0^T``: rotation invariant,
+    with small-angle torsion stiffness ``cA_l = sum_{k != l} kappa_k``.
+    """
+    Pi = 0.0
+    for e in range(edge_index.shape[0]):
+        i = edge_index[e, 0]
+        j = edge_index[e, 1]
+        p = edge_params[e]
+        if edge_index[e, 2] == ELEMENT_CENTRAL:
+            d0 = Y[i, 0] - Y[j, 0]
+            d1 = Y[i, 1] - Y[j, 1]
+            d2 = Y[i, 2] - Y[j, 2]
+            Q = p[0] * d0 * d0 + p[1] * d1 * d1 + p[2] * d2 * d2
+            l = p[6]
+            if l > 0.0:
+                s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+                if s < COINCIDENT_FRACTION * l:
+                    return Pi, STATUS_COINCIDENT_NODES
+                g = 1.0 - l / s
+                a = g * l * Q / (s * s * s)
+                g2 = g * g
+            else:
+                a = 0.0
+                g2 = 1.0
+            Pi += 0.5 * g2 * Q
+            f0 = a * d0 + g2 * p[0] * d0
+            f1 = a * d1 + g2 * p[1] * d1
+            f2 = a * d2 + g2 * p[2] * d2
+            F[i, 0] += f0
+            F[i, 1] += f1
+            F[i, 2] += f2
+            F[j, 0] -= f0
+            F[j, 1] -= f1
+            F[j, 2] -= f2
+            for k in range(3):
+                cA = p[3 + k]
+                if cA != 0.0:
+                    dl = wrap_angle(Y[i, 3 + k] - Y[j, 3 + k] - p[7 + k])
+                    Pi += 0.5 * cA * dl * dl
+                    F[i, 3 + k] += cA * dl
+                    F[j, 3 + k] -= cA * dl
+        else:
+            Ai = Y[i, 3:6]
+            Ri = rotation_zyx(Ai)
+            dRi = rotation_zyx_partials(Ai)
+            d = np.empty(3)
+            for k in range(3):
+                d[k] = Y[j, k] - Y[i, k]
+            Ce = np.empty(3)
+            for k in range(3):
+                ek = Ri[0, k] * d[0] + Ri[1, k] * d[1] + Ri[2, k] * d[2] - p[10 + k]
+                Pi += 0.5 * p[k] * ek * ek
+                Ce[k] = p[k] * ek
+            for l in range(3):
+                f = Ri[l, 0] * Ce[0] + Ri[l, 1] * Ce[1] + Ri[l, 2] * Ce[2]
+                F[j, l] += f
+                F[i, l] -= f
+            for a in range(3):
+                acc = 0.0
+                for k in range(3):
+                    for l in range(3):
+                        acc += Ce[k] * dRi[a][l, k] * d[l]
+                F[i, 3 + a] += acc
+            if p[15] != 0.0 or p[16] != 0.0 or p[17] != 0.0:
+                Aj = Y[j, 3:6]
+                Rj = rotation_zyx(Aj)
+                dRj = rotation_zyx_partials(Aj)
+                # P = R_j R0^T ; QR = (R_i Kd) R0
+                P = np.zeros((3, 3))
+                QR = np.zeros((3, 3))
+                for l in range(3):
+                    for k in range(3):
+                        s1 = 0.0
+                        s2 = 0.0
+                        for n in range(3):
+                            s1 += Rj[l, n] * p[18 + 3 * k + n]
+                            s2 += Ri[l, n] * p[15 + n] * p[18 + 3 * n + k]
+                        P[l, k] = s1
+                        QR[l, k] = s2
+                for k in range(3):
+                    Mkk = Ri[0, k] * P[0, k] + Ri[1, k] * P[1, k] + Ri[2, k] * P[2, k]
+                    Pi += p[15 + k] * (1.0 - Mkk)
+                for a in range(3):
+                    gi = 0.0
+                    gj = 0.0
+                    for l in range(3):
+                        for k in range(3):
+                            gi += p[15 + k] * dRi[a][l, k] * P[l, k]
+                            gj += dRj[a][l, k] * QR[l, k]
+                    F[i, 3 + a] -= gi
+                    F[j, 3 + a] -= gj
+    return Pi, STATUS_OK
+
+
+@njit(cache=True)
+def damping_edges(Y, dY, edge_index, edge_params, F):
+    """Add ``dD/d(dY)`` of the dampers (110-111) into ``F``; return the Rayleigh function ``D``.
+
+    Central element: ``D_ij = blockdiag(d u u^T, dA I3)``, ``u = (r_i - r_j)/|r_i - r_j|``.
+    Offset element: ``D_ij = blockdiag(d I3, dA I3)`` (shear damping, ours).
+    """
+    D = 0.0
+    for e in range(edge_index.shape[0]):
+        i = edge_index[e, 0]
+        j = edge_index[e, 1]
+        p = edge_params[e]
+        dd = p[13]
+        if dd != 0.0:
+            v0 = dY[i, 0] - dY[j, 0]
+            v1 = dY[i, 1] - dY[j, 1]
+            v2 = dY[i, 2] - dY[j, 2]
+            d0 = Y[i, 0] - Y[j, 0]
+            d1 = Y[i, 1] - Y[j, 1]
+            d2 = Y[i, 2] - Y[j, 2]
+            s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            if edge_index[e, 2] == ELEMENT_CENTRAL and s > 1e-12:
+                vu = (v0 * d0 + v1 * d1 + v2 * d2) / s
+                D += 0.5 * dd * vu * vu
+                f = dd * vu / s
+                f0, f1, f2 = f * d0, f * d1, f * d2
+            else:
+                D += 0.5 * dd * (v0 * v0 + v1 * v1 + v2 * v2)
+                f0, f1, f2 = dd * v0, dd * v1, dd * v2
+            F[i, 0] += f0
+            F[i, 1] += f1
+            F[i, 2] += f2
+            F[j, 0] -= f0
+            F[j, 1] -= f1
+            F[j, 2] -= f2
+        dA = p[14]
+        if dA != 0.0:
+            for k in range(3):
+                v = dY[i, 3 + k] - dY[j, 3 + k]
+                D += 0.5 * dA * v * v
+                F[i, 3 + k] += dA * v
+                F[j, 3 + k] -= dA * v
+    return D
+
+
+@njit(cache=True)
+def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
+    """Immobile unloaded state (4.5): add ``K y + D dy`` per edge into ``F``; return ``Pi``.
+
+    ``y = Y - Y_ref`` (angles wrapped), vector springs ``K_ij = diag(c, cA)`` and dampers
+    ``D_ij = diag(d I3, dA I3)`` assembled like a graph Laplacian (95-102).
+    """
+    Pi = 0.0
+    for e in range(edge_index.shape[0]):
+        i = edge_index[e, 0]
+        j = edge_index[e, 1]
+        p = edge_params[e]
+        for k in range(6):
+            yi = Y[i, k] - Y_ref[i, k]
+            yj = Y[j, k] - Y_ref[j, k]
+            if k >= 3:
+                yi = wrap_angle(yi)
+                yj = wrap_angle(yj)
+                kk = p[k]
+                dk = p[14]
+            else:
+                kk = p[k]
+                dk = p[13]
+            diff = yi - yj
+            Pi += 0.5 * kk * diff * diff
+            f = kk * diff + dk * (dY[i, k] - dY[j, k])
+            F[i, k] += f
+            F[j, k] -= f
+    return Pi
+
+
+@njit(cache=True)
+def node_rotational_terms(A, dA, I, Wr, g):
+    """Rotational inertia ``Wr = L^T I L`` (105, 114) and gyroscopic term ``g`` of one node.
+
+    .. math:: g = L^T (I \\dot L \\dot A + \\omega \\times I \\omega), \\quad \\omega = L \\dot A
+
+    ``I`` is the principal inertia (3,) [kg m^2]. Writes into ``Wr`` (3x3) and ``g`` (3,).
+    """
+    cth, sth = math.cos(A[1]), math.sin(A[1])
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    # L rows
+    L00, L01, L02 = -sth, 0.0, 1.0
+    L10, L11, L12 = sph * cth, cph, 0.0
+    L20, L21, L22 = cph * cth, -sph, 0.0
+    for a in range(3):
+        La = (L00, L10, L20) if a == 0 else ((L01, L11, L21) if a == 1 else (L02, L12, L22))
+        for b in range(3):
+            Lb = (L00, L10, L20) if b == 0 else ((L01, L11, L21) if b == 1 else (L02, L12, L22))
+            Wr[a, b] = I[0] * La[0] * Lb[0] + I[1] * La[1] * Lb[1] + I[2] * La[2] * Lb[2]
+    dth, dph = dA[1], dA[2]
+    w0 = L00 * dA[0] + L02 * dA[2]
+    w1 = L10 * dA[0] + L11 * dA[1]
+    w2 = L20 * dA[0] + L21 * dA[1]
+    # Ldot dA
+    ld0 = -cth * dth * dA[0]
+    ld1 = (cph * cth * dph - sph * sth * dth) * dA[0] - sph * dph * dA[1]
+    ld2 = (-sph * cth * dph - cph * sth * dth) * dA[0] - cph * dph * dA[1]
+    Iw0, Iw1, Iw2 = I[0] * w0, I[1] * w1, I[2] * w2
+    t0 = I[0] * ld0 + (w1 * Iw2 - w2 * Iw1)
+    t1 = I[1] * ld1 + (w2 * Iw0 - w0 * Iw2)
+    t2 = I[2] * ld2 + (w0 * Iw1 - w1 * Iw0)
+    g[0] = L00 * t0 + L10 * t1 + L20 * t2
+    g[1] = L01 * t0 + L11 * t1 + L21 * t2
+    g[2] = L02 * t0 + L12 * t1 + L22 * t2
+
+
+@njit(cache=True)
+def node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w):
+    """Per-node inertia and the non-interconnection part of ``w`` (113).
+
+    Fills ``Wr`` (N, 3, 3) with the rotational inertia blocks and sets ``w`` (N, 6) to
+    ``(-m g, gyroscopic)``; the immobile model uses ``W(Y_ref)`` and no gyroscopic term.
+    Returns a status (Euler singularity of a node is checked where ``L^-1`` is needed, by the
+    caller).
+    """
+    g3 = np.empty(3)
+    zero = np.zeros(3)
+    for k in range(Y.shape[0]):
+        m = node_params[k, 0]
+        for a in range(3):
+            w[k, a] = -m * gravity[a]
+        I = node_params[k, 1:4]
+        if immobile:
+            node_rotational_terms(Y_ref[k, 3:6], zero, I, Wr[k], g3)
+            w[k, 3] = 0.0
+            w[k, 4] = 0.0
+            w[k, 5] = 0.0
+        else:
+            node_rotational_terms(Y[k, 3:6], dY[k, 3:6], I, Wr[k], g3)
+            w[k, 3] = g3[0]
+            w[k, 4] = g3[1]
+            w[k, 5] = g3[2]
+    return STATUS_OK
+
+
+@njit(cache=True)
+def solve_node_rotation(A, I, b, out):
+    """Solve ``(L^T I L) x = b`` for one node as ``x = L^-1 I^-1 L^-T b``; False if singular."""
+    cth = math.cos(A[1])
+    if abs(cth) < EULER_SINGULARITY_COS:
+        return False
+    sth = math.sin(A[1])
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    tth = sth / cth
+    # Linv rows: [0, sph/cth, cph/cth], [0, cph, -sph], [1, sph*tth, cph*tth]
+    # y = Linv^T b
+    y0 = b[2] / I[0]
+    y1 = (sph / cth * b[0] + cph * b[1] + sph * tth * b[2]) / I[1]
+    y2 = (cph / cth * b[0] - sph * b[1] + cph * tth * b[2]) / I[2]
+    out[0] = sph / cth * y1 + cph / cth * y2
+    out[1] = cph * y1 - sph * y2
+    out[2] = y0 + sph * tth * y1 + cph * tth * y2
+    return True
+
+
+@njit(cache=True)
+def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravity, Y_ref, immobile):
+    """``Y''`` of the free elastic system ``W(Y) Y'' + w(Y, Y') = F`` (113) with ``F_0 = 0``.
+
+    ``Fc`` (N, 6) holds the generalized contact forces on every node (row 0 ignored).
+    Returns ``(ddY, status)``.
+    """
+    N = Y.shape[0]
+    Wr = np.empty((N, 3, 3))
+    w = np.empty((N, 6))
+    node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w)
+    if immobile:
+        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
+    else:
+        _, status = elastic_edges(Y, edge_index, edge_params, w)
+        if status != STATUS_OK:
+            return np.zeros((N, 6)), status
+        damping_edges(Y, dY, edge_index, edge_params, w)
+    ddY = np.empty((N, 6))
+    b = np.empty(3)
+    out = np.empty(3)
+    for k in range(N):
+        m = node_params[k, 0]
+        for a in range(6):
+            f = (Fc[k, a] if k > 0 else 0.0) - w[k, a]
+            if a < 3:
+                ddY[k, a] = f / m
+            else:
+                b[a - 3] = f
+        A = Y_ref[k, 3:6] if immobile else Y[k, 3:6]
+        if not solve_node_rotation(A, node_params[k, 1:4], b, out):
+            return ddY, STATUS_EULER_SINGULAR
+        ddY[k, 3] = out[0]
+        ddY[k, 4] = out[1]
+        ddY[k, 5] = out[2]
+    return ddY, STATUS_OK

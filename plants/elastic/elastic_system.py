@@ -1,0 +1,321 @@
+"""The elastic system: m + 1 nodes joined by springs and dampers (MODEL.md s.3, 104-121, 4.5-4.6)."""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from plants import _validation as v
+from plants.elastic import _planar_kernels, _spatial_kernels
+from plants.elastic._layout import (
+    EDGE_WIDTH_PLANAR,
+    EDGE_WIDTH_SPATIAL,
+    ELEMENT_OFFSET,
+    ELEMENTS,
+    STATUS_COINCIDENT_NODES,
+    STATUS_EULER_SINGULAR,
+    STATUS_OK,
+)
+from plants.elastic.interconnection import Interconnection
+from plants.elastic.node import Node
+from plants.errors import EulerSingularityError, ParameterError
+from plants.frames import EULER_SINGULARITY_COS, rotation_zyx
+
+SPACES = ("spatial", "planar")
+UNLOADED_STATES = ("mobile", "immobile")
+
+
+def _wrap(a):
+    """Angles [rad] mapped into [-pi, pi)."""
+    return (np.asarray(a, dtype=float) + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def pose_size(space: str) -> int:
+    """Size ``p`` of one node pose: 6 in space ``(r, A)``, 3 in the plane ``(x, z, theta)``."""
+    return 6 if space == "spatial" else 3
+
+
+class ElasticSystem:
+    """Nodes 0..m (node 0 = the object's mass centre) joined by interconnections on an edge set.
+
+    Equations (113), with ``Y = col(Y_0, ..., Y_m)``:
+
+    .. math::
+        W(Y) \\ddot Y + w(Y, \\dot Y) = F, \\qquad
+        w = \\text{gyro}(Y, \\dot Y) + \\partial \\Pi / \\partial Y + \\partial D / \\partial \\dot Y - Q_g
+
+    with ``W = blockdiag(m_i I_3, L_i^T I_i L_i)`` (105, 114), the potential ``Pi`` of the
+    springs (106-107, 119), the Rayleigh function ``D`` (110), gravity ``Q_g = (m_i g, 0)`` and
+    ``F_0 = 0`` (the split (115) is the partition ``Y = (Y_0, Y_c)``).
+
+    ``unloaded_state="immobile"`` gives the linear model of 4.5: ``W(Y_ref) y'' + D y' + K y =
+    F + Q_g`` with ``y = Y - Y_ref`` and the constant ``K`` of :meth:`stiffness_matrix`.
+
+    Args:
+        space: ``"spatial"`` (poses ``(x, y, z, psi, theta, phi)``) or ``"planar"`` (``(x, z, theta)``).
+        nodes: The m + 1 nodes, object first.
+        interconnections: The edge set.
+        reference_poses: (m + 1, p) node poses of the unloaded state [m, rad]; rest lengths,
+            angles and offsets not given explicitly are taken from it.
+        gravity: Gravity vector [m/s^2] (3 spatial, 2 planar ``(g_x, g_z)``) or a magnitude
+            along -z.
+        unloaded_state: ``"mobile"`` (general, 4.6) or ``"immobile"`` (linear, 4.5).
+    """
+
+    def __init__(
+        self,
+        space: str,
+        nodes: Sequence[Node],
+        interconnections: Sequence[Interconnection],
+        reference_poses,
+        gravity=9.81,
+        unloaded_state: str = "mobile",
+    ):
+        if space not in SPACES:
+            raise ParameterError("space", space, f"one of {SPACES}")
+        if unloaded_state not in UNLOADED_STATES:
+            raise ParameterError("unloaded_state", unloaded_state, f"one of {UNLOADED_STATES}")
+        self.space = space
+        self.unloaded_state = unloaded_state
+        self.p = p = pose_size(space)
+        self.nodes = tuple(nodes)
+        N = len(self.nodes)
+        if N < 2:
+            raise ParameterError("nodes", N, "at least 2 nodes (the object and one contact)")
+        n_inertia = 3 if space == "spatial" else 1
+        for k, node in enumerate(self.nodes):
+            if not isinstance(node, Node):
+                raise ParameterError(f"nodes[{k}]", node, "a plants.elastic.Node")
+            if len(node.inertia) != n_inertia:
+                raise ParameterError(f"nodes[{k}].inertia", node.inertia, f"{n_inertia} principal moment(s) in a {space} scene")
+        self.node_count = N
+        self.Y_ref = v.finite_array("reference_poses", reference_poses).reshape(-1)
+        if self.Y_ref.size != N * p:
+            raise ParameterError("reference_poses", np.shape(reference_poses), f"{N} poses of {p} values")
+        self.Y_ref = self.Y_ref.reshape(N, p).copy()
+        if space == "spatial":
+            for k in range(N):
+                c = np.cos(self.Y_ref[k, 4])
+                if abs(c) < EULER_SINGULARITY_COS:
+                    raise EulerSingularityError(f"reference pose of node {k}", float(self.Y_ref[k, 4]), float(c))
+        g = v.finite_array("gravity", gravity)
+        if g.ndim == 0:
+            g = np.zeros(3 if space == "spatial" else 2)
+            g[-1] = -float(gravity)
+        if g.shape != ((3,) if space == "spatial" else (2,)):
+            raise ParameterError("gravity", gravity, "a magnitude or a vector (3 spatial, 2 planar)")
+        self.gravity = g
+        self.interconnections = tuple(interconnections)
+        if not self.interconnections:
+            raise ParameterError("interconnections", [], "at least one interconnection")
+        self.node_params = np.array([[nd.mass, *nd.inertia] for nd in self.nodes], dtype=float)
+        self.edge_index, self.edge_params = self._pack_edges()
+        self._kern = _spatial_kernels if space == "spatial" else _planar_kernels
+        self.immobile = unloaded_state == "immobile"
+
+    # ------------------------------------------------------------------ packing
+    def _pack_edges(self):
+        p, N, Yr = self.p, self.node_count, self.Y_ref
+        spatial = self.space == "spatial"
+        E = len(self.interconnections)
+        idx = np.zeros((E, 3), dtype=np.int64)
+        par = np.zeros((E, EDGE_WIDTH_SPATIAL if spatial else EDGE_WIDTH_PLANAR))
+        npos = 3 if spatial else 2
+        nang = 3 if spatial else 1
+        seen = set()
+        for e, ic in enumerate(self.interconnections):
+            name = ic.name if ic.name != "interconnection" else f"interconnections[{e}]"
+            i, j = ic.pair
+            if i >= N or j >= N:
+                raise ParameterError(f"{name}.pair", list(ic.pair), f"node indices in 0..{N - 1}")
+            key = (min(i, j), max(i, j))
+            if key in seen:
+                raise ParameterError(f"{name}.pair", list(ic.pair), "a pair not already connected")
+            seen.add(key)
+            c = v.per_axis(f"{name}.stiffness", ic.stiffness, npos)
+            cA = v.per_axis(f"{name}.torsion", ic.torsion, nang)
+            d_ref = Yr[i, :npos] - Yr[j, :npos]
+            dist = float(np.linalg.norm(d_ref))
+            l = dist if ic.rest_length is None else float(ic.rest_length)
+            if ic.element == "central" and l > 0.0 and dist < 1e-9 * l:
+                raise ParameterError(
+                    f"{name}.pair", list(ic.pair),
+                    f"nodes {i} and {j} coincide in the reference poses while the central spring has rest length {l} m > 0; "
+                    "separate the nodes or set rest_length = 0",
+                )
+            if ic.rest_angles is None:
+                A0 = _wrap(Yr[i, npos:] - Yr[j, npos:])
+            else:
+                A0 = v.finite_array(f"{name}.rest_angles", np.atleast_1d(ic.rest_angles), (nang,))
+            if spatial:
+                Ri = rotation_zyx(Yr[i, 3:6])
+                Rj = rotation_zyx(Yr[j, 3:6])
+                rho = Ri.T @ (Yr[j, :3] - Yr[i, :3]) if ic.rest_offset is None else v.finite_array(
+                    f"{name}.rest_offset", ic.rest_offset, (3,))
+                S = cA.sum() / 2.0
+                kappa = S - cA if ic.element == "offset" else np.zeros(3)
+                if np.any(kappa < 0):
+                    raise ParameterError(
+                        f"{name}.torsion", ic.torsion,
+                        "for the offset element each torsion component must not exceed the sum of the other two",
+                    )
+                R0 = Ri.T @ Rj
+                par[e, 0:3] = c
+                par[e, 3:6] = cA
+                par[e, 6] = l
+                par[e, 7:10] = A0
+                par[e, 10:13] = rho
+                par[e, 13] = ic.damping
+                par[e, 14] = ic.torsion_damping
+                par[e, 15:18] = kappa
+                par[e, 18:27] = R0.reshape(-1)
+            else:
+                th = Yr[i, 2]
+                Rt = np.array([[np.cos(th), np.sin(th)], [-np.sin(th), np.cos(th)]])
+                rho = Rt @ (Yr[j, :2] - Yr[i, :2]) if ic.rest_offset is None else v.finite_array(
+                    f"{name}.rest_offset", ic.rest_offset, (2,))
+                par[e, 0:2] = c
+                par[e, 2] = cA[0]
+                par[e, 3] = l
+                par[e, 4] = A0[0]
+                par[e, 5:7] = rho
+                par[e, 7] = ic.damping
+                par[e, 8] = ic.torsion_damping
+            idx[e] = (i, j, ELEMENTS[ic.element])
+        return idx, par
+
+    # ------------------------------------------------------------------ helpers
+    def _Y(self, Y, name="Y") -> np.ndarray:
+        arr = np.asarray(Y, dtype=float)
+        if arr.size != self.node_count * self.p:
+            raise ParameterError(name, arr.shape, f"{self.node_count * self.p} values ({self.node_count} poses of {self.p})")
+        return np.ascontiguousarray(arr.reshape(self.node_count, self.p))
+
+    def _raise(self, status, where="elastic system"):
+        if status == STATUS_COINCIDENT_NODES:
+            raise ParameterError(
+                "Y", "coincident nodes",
+                "nodes of a central spring with positive rest length at distinct positions "
+                "(beta = (1 - l/|r_i - r_j|)^2 is undefined at distance 0)",
+            )
+        if status == STATUS_EULER_SINGULAR:
+            raise EulerSingularityError(where, float("nan"), 0.0)
+
+    @property
+    def size(self) -> int:
+        """Number of generalized coordinates ``(m + 1) p``."""
+        return self.node_count * self.p
+
+    # ------------------------------------------------------------------ energy and forces
+    def elastic_potential(self, Y) -> float:
+        """Deformation energy ``Pi(Y)`` [J] (106-107, 119), or ``1/2 y^T K y`` when immobile."""
+        Y = self._Y(Y)
+        F = np.zeros_like(Y)
+        if self.immobile:
+            return float(self._kern.linear_edges(Y, np.zeros_like(Y), self.Y_ref, self.edge_index, self.edge_params, F))
+        Pi, status = self._kern.elastic_edges(Y, self.edge_index, self.edge_params, F)
+        self._raise(status)
+        return float(Pi)
+
+    def elastic_force(self, Y) -> np.ndarray:
+        """The exact gradient ``F_e = dPi/dY`` (120-121), flat ``((m + 1) p,)`` [N, N m/rad]."""
+        Y = self._Y(Y)
+        F = np.zeros_like(Y)
+        if self.immobile:
+            self._kern.linear_edges(Y, np.zeros_like(Y), self.Y_ref, self.edge_index, self.edge_params, F)
+        else:
+            _, status = self._kern.elastic_edges(Y, self.edge_index, self.edge_params, F)
+            self._raise(status)
+        return F.reshape(-1)
+
+    def dissipation(self, Y, dY) -> float:
+        """Rayleigh dissipation function ``D(Y, dY)`` [W/2] (110)."""
+        Y, dY = self._Y(Y), self._Y(dY, "dY")
+        if self.immobile:
+            return 0.5 * float(dY.reshape(-1) @ self.damping_matrix() @ dY.reshape(-1))
+        return float(self._kern.damping_edges(Y, dY, self.edge_index, self.edge_params, np.zeros_like(Y)))
+
+    def damping_force(self, Y, dY) -> np.ndarray:
+        """``dD/d(dY)`` (111), flat."""
+        Y, dY = self._Y(Y), self._Y(dY, "dY")
+        if self.immobile:
+            return self.damping_matrix() @ dY.reshape(-1)
+        F = np.zeros_like(Y)
+        self._kern.damping_edges(Y, dY, self.edge_index, self.edge_params, F)
+        return F.reshape(-1)
+
+    def inertia(self, Y) -> np.ndarray:
+        """``W(Y) = blockdiag(m_i I, L_i^T I_i L_i)`` (105, 114), ``((m+1)p, (m+1)p)``; constant when immobile."""
+        Y = self._Y(Y)
+        if self.immobile:
+            Y = self.Y_ref
+        N, p = self.node_count, self.p
+        W = np.zeros((N * p, N * p))
+        for k in range(N):
+            m = self.node_params[k, 0]
+            o = k * p
+            if self.space == "spatial":
+                W[o:o + 3, o:o + 3] = m * np.eye(3)
+                Wr = np.empty((3, 3))
+                _spatial_kernels.node_rotational_terms(Y[k, 3:6], np.zeros(3), self.node_params[k, 1:4], Wr, np.empty(3))
+                W[o + 3:o + 6, o + 3:o + 6] = Wr
+            else:
+                W[o:o + 3, o:o + 3] = np.diag([m, m, self.node_params[k, 1]])
+        return W
+
+    def w(self, Y, dY) -> np.ndarray:
+        """``w(Y, dY)`` of (113): gyroscopic + elastic + damping - gravity, flat."""
+        Y, dY = self._Y(Y), self._Y(dY, "dY")
+        ddY = self.accelerations(Y, dY, np.zeros(self.size))
+        return -(self.inertia(Y) @ ddY)
+
+    def accelerations(self, Y, dY, F) -> np.ndarray:
+        """Solve (113) ``W Y'' + w = F`` for ``Y''`` (flat); ``F_0`` is ignored (it is 0)."""
+        Y, dY, F = self._Y(Y), self._Y(dY, "dY"), self._Y(F, "F")
+        ddY, status = self._kern.elastic_accelerations(
+            Y, dY, F, self.node_params, self.edge_index, self.edge_params, self.gravity, self.Y_ref, self.immobile)
+        self._raise(status)
+        return ddY.reshape(-1)
+
+    def rhs(self, t: float, x, F) -> np.ndarray:
+        """First-order form of (113) for the free elastic system: ``x = (Y, dY)``, input ``F`` = contact forces."""
+        n = self.size
+        return np.concatenate([x[n:], self.accelerations(x[:n], x[n:], F)])
+
+    def gravity_potential(self, Y) -> float:
+        """``-sum_i m_i g . r_i`` [J]."""
+        Y = self._Y(Y)
+        npos = 3 if self.space == "spatial" else 2
+        return float(-np.sum(self.node_params[:, 0] * (Y[:, :npos] @ self.gravity)))
+
+    def energy(self, Y, dY) -> float:
+        """Kinetic + elastic + gravitational energy [J] of the nodes."""
+        dYf = np.asarray(dY, dtype=float).reshape(-1)
+        return 0.5 * float(dYf @ self.inertia(Y) @ dYf) + self.elastic_potential(Y) + self.gravity_potential(Y)
+
+    # ------------------------------------------------------------------ immobile model (4.5)
+    def _laplacian(self, diag_of) -> np.ndarray:
+        N, p = self.node_count, self.p
+        K = np.zeros((N * p, N * p))
+        for e in range(len(self.interconnections)):
+            i, j = self.edge_index[e, :2]
+            kd = np.diag(diag_of(self.edge_params[e]))
+            for a, b, s in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
+                K[a * p:(a + 1) * p, b * p:(b + 1) * p] += s * kd
+        return K
+
+    def stiffness_matrix(self) -> np.ndarray:
+        """Constant ``K`` of the immobile unloaded state (4.5): vector springs
+        ``K_ij = diag(c^x, c^y, c^z, cA^psi, cA^theta, cA^phi)`` assembled like a graph Laplacian.
+        Rank ``p m`` for a connected edge set with positive stiffnesses; ``p`` zero modes (the
+        common translation of every coordinate)."""
+        if self.space == "spatial":
+            return self._laplacian(lambda r: np.r_[r[0:3], r[3:6]])
+        return self._laplacian(lambda r: np.r_[r[0:2], r[2]])
+
+    def damping_matrix(self) -> np.ndarray:
+        """Constant ``D`` of the immobile model: ``diag(d I, dA I)`` per edge, Laplacian-assembled."""
+        if self.space == "spatial":
+            return self._laplacian(lambda r: np.r_[np.full(3, r[13]), np.full(3, r[14])])
+        return self._laplacian(lambda r: np.r_[r[7], r[7], r[8]])
