@@ -1,7 +1,8 @@
 """The cooperative system of MODEL.md section 5: arms rigidly holding the elastic system's contact nodes."""
 
+from plants.cooperative.assembly import assemble_plant
 from plants.cooperative.contact_point import ContactPoint
 from plants.cooperative.cooperative_plant import CooperativePlant
 from plants.cooperative.loaded_state import nominal_node_motion, nominal_node_poses
 
-__all__ = ["ContactPoint", "CooperativePlant", "nominal_node_motion", "nominal_node_poses"]
+__all__ = ["assemble_plant", "ContactPoint", "CooperativePlant", "nominal_node_motion", "nominal_node_poses"]

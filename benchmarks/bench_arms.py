@@ -1,0 +1,102 @@
+"""Benchmark: one Puma 560 evaluation of ``spatial_arm_terms`` vs Pinocchio.
+
+Run from the repository root::
+
+    python benchmarks/bench_arms.py
+
+Prints the median time of one warm ``spatial_arm_terms`` call from Python, the same call
+inside numba (loop amortised, what the fused right-hand side pays), and Pinocchio's
+``crba + nonLinearEffects + computeFrameJacobian`` (+ the frame placement) for the same
+configuration, with their ratio. Medians over repeated batches (PERFORMANCE.md: runs agree only
+to ~1.5x, compare ratios from one run).
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import sys
+import time
+
+import numpy as np
+from numba import njit
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+from plants.arms import puma560  # noqa: E402
+from plants.arms._spatial_kernels import spatial_arm_terms  # noqa: E402
+
+
+@njit(cache=True)
+def _repeat_terms(count, q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq):
+    status = 0
+    for i in range(count):
+        q[0] += 1e-12  # keep the loop from being hoisted
+        status += spatial_arm_terms(q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq)
+    return status
+
+
+def median_us(fn, repeats=2000):
+    times = np.empty(repeats)
+    for i in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times[i] = time.perf_counter() - t0
+    return float(np.median(times)) * 1e6
+
+
+def main():
+    arm = puma560()
+    rng = np.random.default_rng(0)
+    q = rng.uniform(arm.q_limits[:, 0], arm.q_limits[:, 1])
+    dq = rng.uniform(-2.0, 2.0, 6)
+    dh, base, tool, g = arm.dh_array(), arm.base, arm.tool, arm.gravity
+    H, h, Y, J, Jdq = np.empty((6, 6)), np.empty(6), np.empty(6), np.empty((6, 6)), np.empty(6)
+    spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq)  # warm up / load cache
+
+    ours = median_us(lambda: spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq), 20000)
+    count = 10000
+    qq = q.copy()
+    _repeat_terms(10, qq, dq, dh, base, tool, g, H, h, Y, J, Jdq)
+    inner = median_us(lambda: _repeat_terms(count, qq, dq, dh, base, tool, g, H, h, Y, J, Jdq), 200) / count
+
+    print(f"command: {sys.executable} {' '.join(sys.argv)}")
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, python {platform.python_version()}")
+    print(f"spatial_arm_terms (Puma 560), from Python, warm : {ours:8.2f} us  (median)")
+    print(f"spatial_arm_terms (Puma 560), inside numba      : {inner:8.2f} us  (median of {count}-call batches)")
+    try:
+        import pinocchio as pin
+    except ImportError:
+        print("pinocchio not installed: no baseline")
+        return
+    # Pinocchio model built from the same DH table (as in tests/test_arms.py).
+    model = pin.Model()
+    parent, placement = 0, pin.SE3.Identity()
+    for k, row in enumerate(dh):
+        joint = model.addJoint(parent, pin.JointModelRZ(), placement, f"j{k}")
+        P = pin.SE3(pin.utils.rotate("z", row[3]), np.zeros(3)) * pin.SE3(np.eye(3), np.array([0, 0, row[2]])) * pin.SE3(
+            pin.utils.rotate("x", row[1]), np.array([row[0], 0, 0])
+        )
+        link = arm.links[k]
+        model.appendBodyToJoint(joint, P.act(pin.Inertia(link.mass, np.array(link.rc), link.inertia_matrix())), pin.SE3.Identity())
+        parent, placement = joint, P
+    frame = model.addFrame(pin.Frame("tool", parent, placement, pin.FrameType.OP_FRAME))
+    data = model.createData()
+    world = pin.LOCAL_WORLD_ALIGNED
+
+    def pinocchio_terms():
+        pin.crba(model, data, q)
+        pin.nonLinearEffects(model, data, q, dq)
+        pin.computeJointJacobians(model, data, q)
+        pin.updateFramePlacements(model, data)
+        pin.getFrameJacobian(model, data, frame, world)
+
+    pinocchio_terms()
+    theirs = median_us(pinocchio_terms, 20000)
+    print(f"pinocchio crba+nle+jacobian+placement, Python   : {theirs:8.2f} us  (median)")
+    print(f"ratio pinocchio / ours (both from Python)       : {theirs / ours:8.2f}")
+    print(f"ratio pinocchio / ours (ours inside numba)      : {theirs / inner:8.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,66 @@
+"""Fixed-step integrators for ``dx/dt = f(t, x, u)`` with ``x = (z, dz)`` and ``u`` held over a step.
+
+========================  ==========================  =====  ==========================================
+name                      class                       order  undamped stability limit ``h omega``
+========================  ==========================  =====  ==========================================
+``"euler"``               :class:`ExplicitEuler`      1      none (always unstable)
+``"symplectic_euler"``    :class:`SymplecticEuler`    1      ``< 2``
+``"rk4"``                 :class:`RungeKutta4`        4      ``<= 2 sqrt(2) ~= 2.828`` (real axis 2.785)
+``"implicit_midpoint"``   :class:`ImplicitMidpoint`   2      unconditional (A-stable, symplectic)
+========================  ==========================  =====  ==========================================
+"""
+
+from __future__ import annotations
+
+from coopctrl.errors import ScenarioError
+from coopctrl.integrators.base import Integrator, RightHandSide
+from coopctrl.integrators.explicit_euler import ExplicitEuler
+from coopctrl.integrators.implicit_midpoint import ImplicitMidpoint, NewtonConvergenceError
+from coopctrl.integrators.integrate import IntegrationResult, integrate
+from coopctrl.integrators.rk4 import RK4_IMAGINARY_AXIS_LIMIT, RK4_REAL_AXIS_LIMIT, RungeKutta4
+from coopctrl.integrators.symplectic_euler import SymplecticEuler
+
+#: Registry: name -> integrator class. Use :func:`get_integrator` to build one.
+INTEGRATORS: dict[str, type[Integrator]] = {
+    "euler": ExplicitEuler,
+    "symplectic_euler": SymplecticEuler,
+    "rk4": RungeKutta4,
+    "implicit_midpoint": ImplicitMidpoint,
+}
+
+
+def get_integrator(name: str, **options) -> Integrator:
+    """A new integrator by registry name.
+
+    Args:
+        name: One of :data:`INTEGRATORS` (``"euler"``, ``"symplectic_euler"``, ``"rk4"``,
+            ``"implicit_midpoint"``).
+        options: Keyword arguments of the class (only :class:`ImplicitMidpoint` takes any);
+            an unknown keyword raises ``TypeError``.
+
+    Raises:
+        ScenarioError: (a ``ValueError``) for an unknown name; the message lists the valid ones.
+    """
+    try:
+        cls = INTEGRATORS[name]
+    except (KeyError, TypeError):
+        valid = ", ".join(repr(n) for n in INTEGRATORS)
+        raise ScenarioError("integrator", name, f"one of {valid}") from None
+    return cls(**options)
+
+
+__all__ = [
+    "INTEGRATORS",
+    "ExplicitEuler",
+    "ImplicitMidpoint",
+    "IntegrationResult",
+    "Integrator",
+    "NewtonConvergenceError",
+    "RK4_IMAGINARY_AXIS_LIMIT",
+    "RK4_REAL_AXIS_LIMIT",
+    "RightHandSide",
+    "RungeKutta4",
+    "SymplecticEuler",
+    "get_integrator",
+    "integrate",
+]

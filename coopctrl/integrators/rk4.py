@@ -1,0 +1,60 @@
+"""Classic fourth-order Runge-Kutta."""
+
+from __future__ import annotations
+
+import math
+
+from coopctrl.integrators.base import Integrator, check_omega_max
+
+#: Stability limit of RK4 on the imaginary axis: ``|R(i y)| <= 1`` iff ``|y| <= 2 sqrt(2)``.
+RK4_IMAGINARY_AXIS_LIMIT = 2.0 * math.sqrt(2.0)
+#: Stability limit of RK4 on the negative real axis: ``|R(-y)| <= 1`` iff ``0 <= y <= 2.785293563``.
+RK4_REAL_AXIS_LIMIT = 2.785293563405282
+
+
+class RungeKutta4(Integrator):
+    """Classic Runge-Kutta, order 4.
+
+    .. math::
+
+        k_1 = f(t, x), \\; k_2 = f(t + h/2, x + h k_1 / 2), \\;
+        k_3 = f(t + h/2, x + h k_2 / 2), \\; k_4 = f(t + h, x + h k_3), \\\\
+        x_{k+1} = x_k + h (k_1 + 2 k_2 + 2 k_3 + k_4) / 6
+
+    with ``u`` held over the step (four calls of ``f``).
+
+    Stability: ``R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24``. On the **imaginary** axis (undamped
+    oscillator, ``z = i h omega``) ``|R(i y)|^2 = 1 - y^6/72 + y^8/576``, so the scheme is
+    stable (slightly dissipative) for ``h omega <= 2 sqrt(2) ~= 2.8284`` and unstable beyond;
+    :meth:`predicted_max_step` is ``2 sqrt(2) / omega_max``. On the negative **real** axis
+    (pure damping, ``z = -h / tau``) the limit is ``h / tau <= 2.785293563`` (where
+    ``R(-y) = 1``), see :data:`RK4_REAL_AXIS_LIMIT`; do not confuse the two limits.
+    """
+
+    name = "rk4"
+    order = 4
+
+    def step(self, f, t, x, u, h):
+        h2 = 0.5 * h
+        t2 = t + h2
+        k1 = f(t, x, u)
+        y = k1 * h2
+        y += x
+        k2 = f(t2, y, u)
+        y = k2 * h2
+        y += x
+        k3 = f(t2, y, u)
+        y = k3 * h
+        y += x
+        k4 = f(t + h, y, u)
+        k2 += k3
+        k2 *= 2.0
+        k2 += k1
+        k2 += k4
+        k2 *= h / 6.0
+        k2 += x
+        return k2
+
+    def predicted_max_step(self, omega_max: float) -> float:
+        omega = check_omega_max(omega_max)
+        return math.inf if omega == 0.0 else RK4_IMAGINARY_AXIS_LIMIT / omega

@@ -1,0 +1,29 @@
+"""Load distribution: contact wrenches that carry the object's nominal load (MODEL.md section 6).
+
+One concept per module: :mod:`.grasp_matrix` (``G`` and the virtual-linkage basis ``E``),
+:mod:`.config` (:class:`LoadDistributionConfig`), :mod:`.problem` (the QP arrays),
+:mod:`.solvers` (backends and :class:`QPStats`), :mod:`.load_split` (:class:`LoadSplit`) and
+:mod:`.load_distribution` (:class:`LoadDistribution`, with the failure policy).
+"""
+
+from .config import LoadDistributionConfig
+from .grasp_matrix import contact_pairs, grasp_matrix, internal_force_basis, virtual_linkage_squeeze
+from .load_distribution import LoadDistribution
+from .load_split import LoadSplit
+from .problem import LoadDistributionProblem
+from .solvers import ProxsuiteSolver, QPStats, QpsolversSolver, make_solver
+
+__all__ = [
+    "LoadDistribution",
+    "LoadDistributionConfig",
+    "LoadDistributionProblem",
+    "LoadSplit",
+    "ProxsuiteSolver",
+    "QPStats",
+    "QpsolversSolver",
+    "contact_pairs",
+    "grasp_matrix",
+    "internal_force_basis",
+    "make_solver",
+    "virtual_linkage_squeeze",
+]

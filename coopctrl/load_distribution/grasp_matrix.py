@@ -1,0 +1,191 @@
+"""Grasp matrix and virtual-linkage internal-force basis (MODEL.md section 6).
+
+A contact wrench ``F_i`` [N, N m] is applied by arm i to the object at the contact point
+``r_i`` [m], in world coordinates. The object mass centre is ``r_0`` [m].
+
+Spatial scenes (``space="spatial"``, wrench dimension 6, ``F_i = (f_i, n_i)``):
+
+.. math::
+
+    G_i = \\begin{bmatrix} I_3 & 0 \\\\ S(r_i - r_0) & I_3 \\end{bmatrix}, \\qquad
+    G = [G_1 \\; \\cdots \\; G_m] \\in \\mathbb{R}^{6 \\times 6m},
+
+with ``S(a) b = a x b``. Planar scenes (``space="planar"``, vertical x-z plane, ``F_i = (f_x, f_z, n)``,
+``theta`` from +x toward +z):
+
+.. math::
+
+    G_i = \\begin{bmatrix} 1 & 0 & 0 \\\\ 0 & 1 & 0 \\\\ -(r_{iz} - r_{0z}) & r_{ix} - r_{0x} & 1
+    \\end{bmatrix}, \\qquad n_{total} = \\sum_i (d_x f_z - d_z f_x) + n_i .
+
+**Internal load (virtual linkage).** For every pair ``(i, j)``, ``i < j`` (pairs in lexicographic
+order), the unit squeeze column ``e_ij`` of ``E`` puts the force ``+t_ij`` on contact i and
+``-t_ij`` on contact j, with
+
+.. math::
+
+    t_{ij} = \\frac{r_j - r_i}{\\lVert r_j - r_i \\rVert}, \\qquad G e_{ij} = 0 .
+
+Positive squeeze ``s_ij > 0`` means both arms push the object toward each other (compression);
+negative means they pull it apart (tension). The moments of ``e_ij`` are zero.
+
+**No internal load.** A split ``F`` carries no internal load when it lies in the range of
+``W^{-1} G^T`` (the weighted pseudo-inverse split ``F = W^{-1} G^T (G W^{-1} G^T)^{-1} w`` is the
+one that is W-orthogonal to ``null(G)``). With equal isotropic weights this is the Euclidean
+pseudo-inverse split, whose virtual-linkage squeeze ``E^+ F`` is zero.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ScenarioError
+
+#: Wrench dimension per contact for each kind of scene.
+WRENCH_DIM = {"spatial": 6, "planar": 3}
+#: Position dimension per contact for each kind of scene.
+POSITION_DIM = {"spatial": 3, "planar": 2}
+
+
+def wrench_dim(space: str) -> int:
+    """Wrench dimension (6 spatial, 3 planar) of a scene kind; raise ``ScenarioError`` otherwise."""
+    try:
+        return WRENCH_DIM[space]
+    except KeyError:
+        raise ScenarioError("space", space, "'spatial' or 'planar'") from None
+
+
+def contact_pairs(m: int) -> list[tuple[int, int]]:
+    """All pairs ``(i, j)``, ``i < j``, of ``m`` contacts, in lexicographic order."""
+    return [(i, j) for i in range(m) for j in range(i + 1, m)]
+
+
+def _positions(r_contacts, r_object, space: str) -> tuple[np.ndarray, np.ndarray]:
+    p = POSITION_DIM[space] if space in POSITION_DIM else None
+    if p is None:
+        raise ScenarioError("space", space, "'spatial' or 'planar'")
+    r = np.asarray(r_contacts, dtype=float)
+    r0 = np.asarray(r_object, dtype=float)
+    if r.ndim != 2 or r.shape[1] != p:
+        raise ScenarioError("r_contacts", r.shape, f"an array of shape (m, {p}) [m]")
+    if r0.shape != (p,):
+        raise ScenarioError("r_object", r0.shape, f"an array of shape ({p},) [m]")
+    return r, r0
+
+
+def fill_grasp_matrix(G: np.ndarray, r: np.ndarray, r0: np.ndarray, space: str) -> None:
+    """Write the moment-arm entries of ``G`` in place (the identity blocks must already be set).
+
+    Args:
+        G: Preallocated grasp matrix (6 × 6m or 3 × 3m) whose identity blocks are set.
+        r: Contact points (m × 3 or m × 2) [m].
+        r0: Object mass centre [m].
+        space: ``"spatial"`` or ``"planar"``.
+    """
+    d = r - r0
+    m = d.shape[0]
+    if space == "spatial":
+        V = G[3:6].reshape(3, m, 6)  # view: V[row, arm, column in the arm's block]
+        # S(d) written out (np.cross is slow for 3-vectors)
+        np.negative(d[:, 2], out=V[0, :, 1])
+        V[0, :, 2] = d[:, 1]
+        V[1, :, 0] = d[:, 2]
+        np.negative(d[:, 0], out=V[1, :, 2])
+        np.negative(d[:, 1], out=V[2, :, 0])
+        V[2, :, 1] = d[:, 0]
+    else:
+        V = G[2].reshape(m, 3)
+        np.negative(d[:, 1], out=V[:, 0])
+        V[:, 1] = d[:, 0]
+
+
+def identity_grasp_matrix(m: int, space: str) -> np.ndarray:
+    """Grasp matrix with only the identity blocks set (all moment arms zero)."""
+    k = wrench_dim(space)
+    G = np.zeros((k, k * m))
+    for i in range(m):
+        G[:, k * i:k * (i + 1)] = np.eye(k)
+    return G
+
+
+def grasp_matrix(r_contacts, r_object, space: str) -> np.ndarray:
+    """Grasp matrix ``G = [G_1 ... G_m]`` mapping contact wrenches to the object wrench at ``r_0``.
+
+    Args:
+        r_contacts: Contact points ``r_i``, shape (m, 3) spatial or (m, 2) planar (x, z) [m].
+        r_object: Object mass centre ``r_0``, shape (3,) or (2,) [m].
+        space: ``"spatial"`` or ``"planar"``.
+
+    Returns:
+        ``G``, shape (6, 6m) or (3, 3m), such that ``w = G F`` for the stacked wrenches ``F``.
+    """
+    r, r0 = _positions(r_contacts, r_object, space)
+    G = identity_grasp_matrix(r.shape[0], space)
+    fill_grasp_matrix(G, r, r0, space)
+    return G
+
+
+def fill_internal_force_basis(E: np.ndarray, r: np.ndarray, space: str) -> None:
+    """Write the virtual-linkage squeeze columns into a preallocated zero ``E`` (n × pairs).
+
+    Only the force entries are written; the moment entries stay zero. Raises
+    ``ScenarioError`` if two contacts coincide (the squeeze direction is undefined).
+    """
+    k = WRENCH_DIM[space]
+    p = POSITION_DIM[space]
+    m = r.shape[0]
+    col = 0
+    for i in range(m):
+        for j in range(i + 1, m):
+            t = r[j] - r[i]
+            length = float(np.sqrt(t @ t))
+            if length < 1e-12:
+                raise ScenarioError("r_contacts", (i, j), "distinct contact points (pair coincides)")
+            t = t / length
+            E[k * i:k * i + p, col] = t
+            E[k * j:k * j + p, col] = -t
+            col += 1
+
+
+def internal_force_basis(r_contacts, space: str) -> np.ndarray:
+    """Virtual-linkage internal-force basis ``E`` (one unit-squeeze column per contact pair).
+
+    Column ``e_ij`` (pairs ``i < j`` in lexicographic order) applies ``+t_ij`` on contact i and
+    ``-t_ij`` on contact j, ``t_ij = (r_j - r_i)/|r_j - r_i|``: a positive coefficient squeezes the
+    object (both contacts push toward each other). ``G E = 0`` for any object point ``r_0``.
+
+    Args:
+        r_contacts: Contact points, shape (m, 3) or (m, 2) [m].
+        space: ``"spatial"`` or ``"planar"``.
+
+    Returns:
+        ``E``, shape (6m, m(m-1)/2) or (3m, m(m-1)/2) [N per N of squeeze].
+    """
+    k = wrench_dim(space)
+    r = np.asarray(r_contacts, dtype=float)
+    if r.ndim != 2 or r.shape[1] != POSITION_DIM[space]:
+        raise ScenarioError("r_contacts", r.shape, f"an array of shape (m, {POSITION_DIM[space]}) [m]")
+    m = r.shape[0]
+    E = np.zeros((k * m, m * (m - 1) // 2))
+    fill_internal_force_basis(E, r, space)
+    return E
+
+
+def virtual_linkage_squeeze(F_internal, r_contacts, space: str) -> np.ndarray:
+    """Virtual-linkage squeeze ``s = E^+ F_int`` [N] per pair ``i < j`` of an internal load.
+
+    The least-squares coefficients of ``F_int`` (stacked or (m, 6)/(m, 3)) on the unit-squeeze
+    columns of :func:`internal_force_basis`; minimum norm when the pairs are dependent (three or
+    more collinear contacts). Internal moments and shear are not squeeze and do not show here.
+    """
+    F = np.asarray(F_internal, dtype=float).ravel()
+    E = internal_force_basis(r_contacts, space)
+    if E.shape[1] == 0:
+        return np.zeros(0)
+    if E.shape[1] == 1:
+        e = E[:, 0]
+        return np.array([e @ F / (e @ e)])
+    try:
+        return np.linalg.solve(E.T @ E, E.T @ F)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(E, F, rcond=None)[0]

@@ -1,0 +1,197 @@
+"""A spatial serial arm with revolute standard-DH joints (MODEL.md s.4, (166)-(172))."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from plants.arms._dls_ik import damped_least_squares
+from plants.arms._spatial_kernels import spatial_arm_potential, spatial_arm_terms, spatial_arm_tip
+from plants.arms._validation import check_limits, check_pose4, check_vector
+from plants.arms.arm_terms import ArmTerms
+from plants.arms.dh_link import DHLink
+from plants.errors import EulerSingularityError, ParameterError, UnreachablePoseError
+from plants.frames import rotation_zyx
+
+#: IK convergence: position [m] and rotation [rad] residuals.
+IK_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class SerialArm:
+    """A spatial serial arm: ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)`` (166, 169).
+
+    The node pose ``Y = (r, A)``: ``r`` [m] world position of the tool frame origin, ``A``
+    its ZYX Euler angles [rad] (MODEL.md s.2). ``J`` is the analytic Jacobian into these
+    coordinates (rows 3-5: ``dA/dt = L(A)^-1 R^T omega_world``).
+
+    Attributes:
+        name: Name used in error messages.
+        links: The DH links, base to tip.
+        base: World pose of the base frame (frame 0), 4x4 [m].
+        tool: Node frame in the last DH frame, 4x4 [m].
+        gravity: Gravity acceleration [m/s^2], (3,).
+        tau_max: Joint torque limits [N m], (n,).
+        q_limits: Joint limits ``[lower, upper]`` [rad], (n, 2).
+    """
+
+    name: str
+    links: tuple
+    base: np.ndarray = field(default_factory=lambda: np.eye(4))
+    tool: np.ndarray = field(default_factory=lambda: np.eye(4))
+    gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -9.81]))
+    tau_max: np.ndarray = None
+    q_limits: np.ndarray = None
+    _dh: np.ndarray = field(init=False, repr=False)
+
+    space = "spatial"
+
+    def __post_init__(self):
+        links = tuple(self.links)
+        if not links or not all(isinstance(link, DHLink) for link in links):
+            raise ParameterError("links", self.links, "a non-empty sequence of DHLink")
+        n = len(links)
+        object.__setattr__(self, "links", links)
+        for name, value in (("base", self.base), ("tool", self.tool)):
+            arr = check_pose4(name, value)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+        gravity = check_vector("gravity", self.gravity, 3)
+        gravity.setflags(write=False)
+        object.__setattr__(self, "gravity", gravity)
+        # No torque limits given: unlimited (inf); no joint limits given: [-pi, pi].
+        q_limits = np.tile([-np.pi, np.pi], (n, 1)) if self.q_limits is None else self.q_limits
+        tau_max = np.full(n, np.inf) if self.tau_max is None else self.tau_max
+        tau, lim = check_limits("tau_max", tau_max, "q_limits", q_limits, n)
+        object.__setattr__(self, "tau_max", tau)
+        object.__setattr__(self, "q_limits", lim)
+        dh = np.ascontiguousarray(np.array([link.row() for link in links]))
+        dh.setflags(write=False)
+        object.__setattr__(self, "_dh", dh)
+
+    @property
+    def dof(self) -> int:
+        """Number of joints."""
+        return len(self.links)
+
+    def dh_array(self) -> np.ndarray:
+        """The packed (n, 16) float64 DH table for :func:`spatial_arm_terms` (read-only)."""
+        return self._dh
+
+    # ---- evaluation ----------------------------------------------------------------------
+    def terms(self, q, dq) -> ArmTerms:
+        """``H, h, Y, J, Jdq`` at ``(q [rad], dq [rad/s])`` in one kernel call."""
+        n = self.dof
+        q = self._joint_vector("q", q)
+        dq = self._joint_vector("dq", dq)
+        H = np.empty((n, n))
+        h = np.empty(n)
+        Y = np.empty(6)
+        J = np.empty((6, n))
+        Jdq = np.empty(6)
+        status = spatial_arm_terms(q, dq, self._dh, self.base, self.tool, self.gravity, H, h, Y, J, Jdq)
+        if status == 1:
+            theta = float(Y[4])
+            raise EulerSingularityError(f"arm '{self.name}' tip", theta, float(np.cos(theta)))
+        return ArmTerms(H, h, Y, J, Jdq)
+
+    def inertia(self, q) -> np.ndarray:
+        """Joint-space inertia ``H(q)`` [kg m^2]."""
+        return self.terms(q, np.zeros(self.dof)).H
+
+    def bias(self, q, dq) -> np.ndarray:
+        """``h(q, dq)``: Coriolis, centrifugal, gravity and viscous torques [N m]."""
+        return self.terms(q, dq).h
+
+    def pose(self, q) -> np.ndarray:
+        """Node pose ``Y = Phi(q)``: position [m] and ZYX Euler angles [rad] (169)."""
+        return self.terms(q, np.zeros(self.dof)).Y
+
+    def jacobian(self, q) -> np.ndarray:
+        """Analytic Jacobian ``J = dY/dq`` (6, n) (170)."""
+        return self.terms(q, np.zeros(self.dof)).J
+
+    def jacobian_dot_qd(self, q, dq) -> np.ndarray:
+        """``dJ/dt dq`` (171): the node acceleration in ``Y`` coordinates when ``qdd = 0``."""
+        return self.terms(q, dq).Jdq
+
+    def potential(self, q) -> float:
+        """Gravitational potential energy of the links [J] (``-sum m g . p_com``)."""
+        return float(spatial_arm_potential(self._joint_vector("q", q), self._dh, self.base, self.gravity))
+
+    def kinetic(self, q, dq) -> float:
+        """Kinetic energy ``1/2 dq^T H dq`` [J] (motor inertias included when on)."""
+        dq = self._joint_vector("dq", dq)
+        return 0.5 * float(dq @ self.inertia(q) @ dq)
+
+    def tip_transform(self, q) -> tuple:
+        """``(T, Jg)``: tool-frame world pose 4x4 and geometric Jacobian (v; omega_world).
+
+        Defined everywhere, also where the Euler angles of the tip are singular.
+        """
+        T = np.empty((4, 4))
+        Jg = np.empty((6, self.dof))
+        spatial_arm_tip(self._joint_vector("q", q), self._dh, self.base, self.tool, T, Jg)
+        return T, Jg
+
+    # ---- variants ------------------------------------------------------------------------
+    def with_base(self, base) -> "SerialArm":
+        """A copy of this arm mounted at ``base`` (4x4 world pose [m])."""
+        return replace(self, base=base)
+
+    def with_tool(self, tool) -> "SerialArm":
+        """A copy of this arm with the node frame ``tool`` (4x4, in the last DH frame)."""
+        return replace(self, tool=tool)
+
+    # ---- inverse kinematics --------------------------------------------------------------
+    def inverse_kinematics(self, Y_target, q0=None, seeds: int = 20, seed: int = 0) -> np.ndarray:
+        """Joint angles [rad] within ``q_limits`` reaching the node pose ``Y_target``.
+
+        Damped least squares on the pose error (position [m], and the rotation vector of
+        ``R_target R(q)^T`` [rad], not the Euler-angle difference), from ``q0`` (default: the
+        middle of the joint limits) and then ``seeds`` random seeds drawn with ``seed``.
+
+        Raises:
+            UnreachablePoseError: No seed reached a residual of 1e-9 m and 1e-9 rad.
+        """
+        Y_target = check_vector("Y_target", Y_target, 6)
+        p_target = Y_target[:3]
+        R_target = rotation_zyx(Y_target[3:])
+        lower, upper = self.q_limits[:, 0], self.q_limits[:, 1]
+
+        def error_and_jacobian(q):
+            T, Jg = self.tip_transform(q)
+            e = np.empty(6)
+            e[:3] = p_target - T[:3, 3]
+            e[3:] = Rotation.from_matrix(R_target @ T[:3, :3].T).as_rotvec()
+            return e, Jg
+
+        def converged(e):
+            return np.linalg.norm(e[:3]) <= IK_TOLERANCE and np.linalg.norm(e[3:]) <= IK_TOLERANCE
+
+        rng = np.random.default_rng(seed)
+        starts = [0.5 * (lower + upper) if q0 is None else self._joint_vector("q0", q0)]
+        starts += [rng.uniform(lower, upper) for _ in range(seeds)]
+        best_q, best_res = None, np.inf
+        for start in starts:
+            q, e = damped_least_squares(error_and_jacobian, start, lower, upper, converged)
+            if converged(e):
+                return q
+            res = float(np.linalg.norm(e))
+            if res < best_res:
+                best_q, best_res = q, res
+        raise UnreachablePoseError(
+            self.name,
+            Y_target,
+            best_res,
+            "move the target or the arm base so that the pose is inside the workspace and joint limits",
+        )
+
+    # ---- helpers -------------------------------------------------------------------------
+    def _joint_vector(self, where: str, value) -> np.ndarray:
+        arr = np.ascontiguousarray(value, dtype=float).reshape(-1)
+        if arr.shape != (self.dof,):
+            raise ParameterError(where, value, f"{self.dof} joint values (got shape {np.shape(value)})")
+        return arr

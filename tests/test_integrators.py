@@ -1,0 +1,290 @@
+"""Tests of coopctrl.integrators: order, stability limits, stiff accuracy, registry."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+from coopctrl.errors import DivergenceError, ScenarioError
+from coopctrl.integrators import (
+    INTEGRATORS,
+    ImplicitMidpoint,
+    NewtonConvergenceError,
+    get_integrator,
+    integrate,
+)
+
+ORDERS = {"euler": 1, "symplectic_euler": 1, "rk4": 4, "implicit_midpoint": 2}
+
+
+def oscillator(omega: float, zeta: float = 0.0):
+    """``ddz = -omega^2 z - 2 zeta omega dz + u`` on n = 2 uncoupled coordinates."""
+
+    def f(t, x, u):
+        z, dz = x[:2], x[2:]
+        return np.concatenate((dz, -omega * omega * z - 2.0 * zeta * omega * dz + u))
+
+    return f
+
+
+def exact_oscillator(omega, zeta, x0, u, times):
+    """Exact solution through the matrix exponential of the affine system (u constant)."""
+    A = np.zeros((5, 5))
+    A[0:2, 2:4] = np.eye(2)
+    A[2:4, 0:2] = -omega * omega * np.eye(2)
+    A[2:4, 2:4] = -2.0 * zeta * omega * np.eye(2)
+    A[2:4, 4] = u
+    s0 = np.append(x0, 1.0)
+    return np.array([(expm(A * t) @ s0)[:4] for t in times])
+
+
+def test_registry_names_and_orders():
+    assert set(INTEGRATORS) == set(ORDERS)
+    for name, order in ORDERS.items():
+        scheme = get_integrator(name)
+        assert scheme.name == name
+        assert scheme.order == order
+        assert scheme.__doc__ and "stab" in scheme.__doc__.lower()
+
+
+def test_unknown_name_raises_and_lists_valid_names():
+    with pytest.raises(ValueError, match="rk4") as info:
+        get_integrator("rk5")
+    assert isinstance(info.value, ScenarioError)
+    for name in INTEGRATORS:
+        assert repr(name) in str(info.value)
+
+
+def test_unknown_option_raises():
+    with pytest.raises(TypeError):
+        get_integrator("implicit_midpoint", tolerance=1e-3)
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.2], ids=["undamped", "damped"])
+@pytest.mark.parametrize("name", list(ORDERS))
+def test_error_slope_matches_order(name, zeta):
+    omega, T = 2.0, 4.0
+    x0 = np.array([1.0, -0.5, 0.3, 0.8])
+    u = np.array([0.7, -0.2])
+    f = oscillator(omega, zeta)
+    steps = [100, 200, 400, 800]
+    errors = []
+    for n in steps:
+        h = T / n
+        res = integrate(f, x0, u, 0.0, h, n, name)
+        exact = exact_oscillator(omega, zeta, x0, u, res.t)
+        errors.append(np.abs(res.x - exact).max())
+    slope = np.polyfit(np.log([T / n for n in steps]), np.log(errors), 1)[0]
+    assert abs(slope - ORDERS[name]) <= 0.3, (name, slope, errors)
+
+
+def _grows(name, omega, h, n_steps=4000, factor=10.0):
+    """True when the amplitude of an undamped oscillator grows by ``factor`` within n_steps."""
+    f = oscillator(omega)
+    scheme = get_integrator(name)
+    x = np.array([1.0, 0.0, 0.0, omega])  # two phases, unit scaled amplitude
+    u = np.zeros(2)
+    scale = np.array([omega, omega, 1.0, 1.0])
+    a0 = np.abs(x * scale).max()
+    for k in range(n_steps):
+        x = scheme.step(f, k * h, x, u, h)
+        if not np.abs(x * scale).max() <= factor * a0:
+            return True
+    return False
+
+
+@pytest.mark.parametrize("name", ["symplectic_euler", "rk4"])
+@pytest.mark.parametrize("omega", [1.0, 50.0])
+def test_measured_stability_limit_matches_prediction(name, omega):
+    predicted = get_integrator(name).predicted_max_step(omega)
+    lo, hi = 0.5 * predicted, 1.5 * predicted
+    assert not _grows(name, omega, lo) and _grows(name, omega, hi)
+    for _ in range(16):
+        mid = 0.5 * (lo + hi)
+        if _grows(name, omega, mid):
+            hi = mid
+        else:
+            lo = mid
+    measured = 0.5 * (lo + hi)
+    assert abs(measured / predicted - 1.0) <= 0.05, (measured, predicted)
+
+
+def test_predicted_limits_values():
+    omega = 10.0
+    assert get_integrator("euler").predicted_max_step(omega) == 0.0
+    assert get_integrator("symplectic_euler").predicted_max_step(omega) == pytest.approx(0.2)
+    assert get_integrator("rk4").predicted_max_step(omega) == pytest.approx(2 * math.sqrt(2) / omega)
+    assert get_integrator("implicit_midpoint").predicted_max_step(omega) == math.inf
+    for name in ORDERS:
+        assert get_integrator(name).predicted_max_step(0.0) == math.inf
+        with pytest.raises(ValueError, match="omega_max"):
+            get_integrator(name).predicted_max_step(-1.0)
+
+
+@pytest.mark.parametrize("h_omega", [1e-3, 0.1, 1.0, 3.0])
+def test_explicit_euler_grows_on_undamped_oscillator(h_omega):
+    omega = 5.0
+    h = h_omega / omega
+    res = integrate(oscillator(omega), [1.0, 0.0, 0.0, 0.0], np.zeros(2), 0.0, h, 200, "euler")
+    energy = 0.5 * (res.x[:, 2:] ** 2).sum(axis=1) + 0.5 * omega**2 * (res.x[:, :2] ** 2).sum(axis=1)
+    assert np.all(np.diff(energy) > 0.0)
+    assert energy[-1] / energy[0] == pytest.approx((1.0 + h_omega**2) ** 200, rel=1e-9)
+
+
+def test_rk4_real_axis_limit_documented():
+    from coopctrl.integrators import RK4_IMAGINARY_AXIS_LIMIT, RK4_REAL_AXIS_LIMIT
+
+    R = lambda z: 1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24
+    assert abs(R(1j * RK4_IMAGINARY_AXIS_LIMIT)) == pytest.approx(1.0, abs=1e-12)
+    assert abs(R(1j * RK4_IMAGINARY_AXIS_LIMIT * 1.001)) > 1.0
+    assert R(-RK4_REAL_AXIS_LIMIT) == pytest.approx(1.0, abs=1e-12)
+    assert abs(R(-RK4_REAL_AXIS_LIMIT * 1.001)) > 1.0
+
+
+def _stiff_forced(omega, Omega, amplitude):
+    def f(t, x, u):
+        return np.array([x[1], -omega * omega * x[0] + omega * omega * amplitude * math.sin(Omega * t)])
+
+    static = amplitude * omega**2 / (omega**2 - Omega**2)
+    return f, static
+
+
+def test_implicit_midpoint_stiff_oscillator_at_ten_times_rk4_limit():
+    omega, Omega, amplitude = 1e4, 2.0 * math.pi, 1e-3
+    f, static = _stiff_forced(omega, Omega, amplitude)
+    h = 10.0 * get_integrator("rk4").predicted_max_step(omega)
+    n = int(round(2.0 / h))
+    x0 = np.array([0.0, static * Omega])  # on the particular solution
+    scheme = get_integrator("implicit_midpoint")
+    res = integrate(f, x0, None, 0.0, h, n, scheme)
+    exact = static * np.sin(Omega * res.t)
+    assert np.abs(res.x[:, 0] - exact).max() <= 1e-3 * static
+    assert abs(np.abs(res.x[:, 0]).max() / static - 1.0) <= 1e-3
+    # Stable: the second second is not worse than the first.
+    half = n // 2
+    err = np.abs(res.x[:, 0] - exact)
+    assert err[half:].max() <= 2.0 * err[: half + 1].max() + 1e-12
+    # Simplified Newton: one Jacobian for the whole (linear) run.
+    assert scheme.jacobian_evaluations == 1
+    # The explicit schemes blow up at this step.
+    with pytest.raises(DivergenceError):
+        integrate(f, x0, None, 0.0, h, n, "rk4")
+
+
+def test_implicit_midpoint_conserves_quadratic_energy():
+    omega = 3.0
+    f = oscillator(omega)
+    res = integrate(f, [1.0, -0.4, 0.2, 2.0], np.zeros(2), 0.0, 0.1, 2000, "implicit_midpoint")
+    energy = 0.5 * (res.x[:, 2:] ** 2).sum(axis=1) + 0.5 * omega**2 * (res.x[:, :2] ** 2).sum(axis=1)
+    assert np.abs(energy / energy[0] - 1.0).max() <= 1e-10
+
+
+def test_implicit_midpoint_uses_analytic_jacobian():
+    omega = 7.0
+
+    class Plant:
+        jac_calls = 0
+
+        def rhs(self, t, x, u):
+            return np.array([x[1], -omega**2 * x[0] + u])
+
+        def jac(self, t, x, u):
+            Plant.jac_calls += 1
+            return np.array([[0.0, 1.0], [-omega**2, 0.0]])
+
+    plant = Plant()
+    fd = integrate(oscillator(omega), [1.0, 0.0, 0.0, 0.0], np.zeros(2), 0.0, 0.05, 50, "implicit_midpoint")
+    res = integrate(plant.rhs, [1.0, 0.0], 0.0, 0.0, 0.05, 50, "implicit_midpoint")
+    assert Plant.jac_calls >= 1
+    np.testing.assert_allclose(res.x[:, 0], fd.x[:, 0], rtol=0, atol=1e-12)
+
+
+def test_implicit_midpoint_nonlinear_matches_reference():
+    """Pendulum with large steps against a fine RK4 reference (order 2 accuracy)."""
+
+    def f(t, x, u):
+        return np.array([x[1], -9.81 * math.sin(x[0]) - 0.1 * x[1] + u])
+
+    x0 = np.array([2.5, 0.0])
+    ref = integrate(f, x0, 0.3, 0.0, 1e-4, 20000, "rk4").x[-1]
+    errors = []
+    for n in (100, 200, 400):
+        errors.append(np.abs(integrate(f, x0, 0.3, 0.0, 2.0 / n, n, "implicit_midpoint").x[-1] - ref).max())
+    assert errors[0] / errors[1] == pytest.approx(4.0, rel=0.15)
+    assert errors[1] / errors[2] == pytest.approx(4.0, rel=0.15)
+
+
+def test_implicit_midpoint_newton_failure_raises():
+    """``dv = v^2 + 1`` has no real midpoint solution for a large step."""
+
+    def f(t, x, u):
+        return np.array([x[1], x[1] * x[1] + 1.0])
+
+    scheme = ImplicitMidpoint(max_iterations=30)
+    with pytest.raises(NewtonConvergenceError) as info:
+        scheme.step(f, 0.0, np.array([0.0, 0.0]), None, 10.0)
+    err = info.value
+    assert isinstance(err, ArithmeticError) and isinstance(err, DivergenceError)
+    assert err.iterations <= 30 and err.step == 10.0
+    assert "reduce the step" in str(err)
+
+
+def test_implicit_midpoint_non_finite_rhs_raises():
+    def f(t, x, u):
+        return np.array([x[1], math.nan])
+
+    with pytest.raises(NewtonConvergenceError):
+        ImplicitMidpoint().step(f, 0.0, np.array([0.0, 0.0]), None, 0.1)
+
+
+@pytest.mark.parametrize("name", list(ORDERS))
+def test_step_does_not_modify_input_and_returns_new_array(name):
+    f = oscillator(2.0, 0.1)
+    x = np.array([1.0, 2.0, 3.0, 4.0])
+    keep = x.copy()
+    x1 = get_integrator(name).step(f, 0.0, x, np.zeros(2), 0.01)
+    np.testing.assert_array_equal(x, keep)
+    assert x1 is not x and x1.shape == x.shape
+
+
+def test_symplectic_euler_uses_new_velocity():
+    f = oscillator(1.0)
+    x = np.array([1.0, 0.0, 0.0, 0.0])
+    x1 = get_integrator("symplectic_euler").step(f, 0.0, x, np.zeros(2), 0.1)
+    np.testing.assert_allclose(x1, [1.0 - 0.01, 0.0, -0.1, 0.0])
+
+
+def test_integrate_validates_and_detects_divergence():
+    f = oscillator(1.0)
+    with pytest.raises(ValueError, match="h"):
+        integrate(f, [1.0, 0, 0, 0], np.zeros(2), 0.0, -0.1, 10, "rk4")
+    with pytest.raises(ValueError, match="x0"):
+        integrate(f, [1.0, 0, 0], np.zeros(2), 0.0, 0.1, 10, "rk4")
+    with pytest.raises(DivergenceError):
+        integrate(f, [1.0, 0, 0, 0], np.zeros(2), 0.0, 1.0, 5000, "euler")
+
+
+def test_integrate_samples_callable_input():
+    """A callable input is held over each step (zero-order hold)."""
+
+    def f(t, x, u):
+        return np.array([x[1], u])
+
+    res = integrate(f, [0.0, 0.0], lambda t: 1.0 if t < 0.5 else 0.0, 0.0, 0.25, 4, "euler")
+    np.testing.assert_allclose(res.x[:, 1], [0.0, 0.25, 0.5, 0.5, 0.5])
+
+
+def test_implicit_midpoint_converges_from_zero_state_with_large_motion():
+    """The tolerance scales with the new state too, not only with a zero initial state."""
+
+    def f(t, x, u):
+        return np.array([x[1], u - 0.5 * x[1] * abs(x[1])])
+
+    x1 = ImplicitMidpoint().step(f, 0.0, np.zeros(2), 1e6, 0.01)
+    assert np.all(np.isfinite(x1)) and x1[1] > 0.0
+    # Residual of the midpoint equation at the tight tolerance.
+    k = x1 / 0.01
+    np.testing.assert_allclose(k, f(0.005, 0.5 * x1, 1e6), rtol=1e-11)
