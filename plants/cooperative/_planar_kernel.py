@@ -163,3 +163,35 @@ def arm_potential_kernel(x, arm_kind, arm_dof, q_off, links_all, links_off, base
             n = arm_dof[i]
             U += planar_arm_potential(x[q_off[i]:q_off[i] + n], links_all[links_off[i]:links_off[i] + n], bases[i], gravity)
     return U
+
+
+@njit(cache=True)
+def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
+    """Planar analogue of the spatial ``interconnection_kernel``: ``(S (N,3), Fw (m,3), True)``."""
+    N = Y.shape[0]
+    S = np.zeros((N, 3))
+    Fw = np.zeros((m, 3))
+    Fe = np.zeros((N, 3))
+    for e in range(edge_index.shape[0]):
+        Fe[:, :] = 0.0
+        ei = edge_index[e:e + 1]
+        ep = edge_params[e:e + 1]
+        if immobile:
+            linear_edges(Y, dY, Y_ref, ei, ep, Fe)
+        else:
+            elastic_edges(Y, ei, ep, Fe)
+            damping_edges(Y, dY, ei, ep, Fe)
+        for k in range(N):
+            for a in range(3):
+                S[k, a] += Fe[k, a]
+        i = edge_index[e, 0]
+        j = edge_index[e, 1]
+        if i == 0 or j == 0:
+            c = j if i == 0 else i
+            f0, f1 = -Fe[0, 0], -Fe[0, 1]
+            d0 = Y[c, 0] - Y[0, 0]
+            d1 = Y[c, 1] - Y[0, 1]
+            Fw[c - 1, 0] += f0
+            Fw[c - 1, 1] += f1
+            Fw[c - 1, 2] += -Fe[0, 2] - (d0 * f1 - d1 * f0)
+    return S, Fw, True

@@ -22,6 +22,7 @@ from numba import njit
 from plants.arms._spatial_kernels import spatial_arm_potential, spatial_arm_terms
 from plants.cooperative._linalg import cholesky_solve
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
+from plants.frames import body_rate_map_inverse, rotation_zyx
 from plants.elastic._spatial_kernels import (
     damping_edges,
     elastic_edges,
@@ -213,3 +214,56 @@ def arm_potential_kernel(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, gra
             n = arm_dof[i]
             U += spatial_arm_potential(x[q_off[i]:q_off[i] + n], dh_all[dh_off[i]:dh_off[i] + n], bases[i], gravity)
     return U
+
+
+@njit(cache=True)
+def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
+    """Generalized spring+damper forces on every node and the wrench each contact applies to the object.
+
+    Returns ``(S, Fw, ok)``: ``S`` (N, 6) with ``S_i = dPi/dY_i + dD/d(dY_i)`` (so ``-S_i`` is
+    the generalized force the interconnections apply to node i), and ``Fw`` (m, 6) the wrench
+    ``(f, n)`` [N, N m] that the edges between the object and contact i apply to the object,
+    force at the contact node and couple, world frame. ``ok`` is False at an Euler singularity
+    of the object.
+    """
+    N = Y.shape[0]
+    S = np.zeros((N, 6))
+    Fw = np.zeros((m, 6))
+    Fe = np.zeros((N, 6))
+    Linv = np.empty((3, 3))
+    ok = body_rate_map_inverse(Y[0, 3:6], Linv)
+    R0 = rotation_zyx(Y[0, 3:6])
+    for e in range(edge_index.shape[0]):
+        Fe[:, :] = 0.0
+        ei = edge_index[e:e + 1]
+        ep = edge_params[e:e + 1]
+        if immobile:
+            linear_edges(Y, dY, Y_ref, ei, ep, Fe)
+        else:
+            elastic_edges(Y, ei, ep, Fe)
+            damping_edges(Y, dY, ei, ep, Fe)
+        for k in range(N):
+            for a in range(6):
+                S[k, a] += Fe[k, a]
+        i = edge_index[e, 0]
+        j = edge_index[e, 1]
+        if (i == 0 or j == 0) and ok:
+            c = j if i == 0 else i
+            f0, f1, f2 = -Fe[0, 0], -Fe[0, 1], -Fe[0, 2]
+            # body torque = Linv^T Q_A ; world torque = R0 tb
+            tb = np.empty(3)
+            for a in range(3):
+                tb[a] = -(Linv[0, a] * Fe[0, 3] + Linv[1, a] * Fe[0, 4] + Linv[2, a] * Fe[0, 5])
+            d0 = Y[c, 0] - Y[0, 0]
+            d1 = Y[c, 1] - Y[0, 1]
+            d2 = Y[c, 2] - Y[0, 2]
+            Fw[c - 1, 0] += f0
+            Fw[c - 1, 1] += f1
+            Fw[c - 1, 2] += f2
+            for a in range(3):
+                tw = R0[a, 0] * tb[0] + R0[a, 1] * tb[1] + R0[a, 2] * tb[2]
+                Fw[c - 1, 3 + a] += tw
+            Fw[c - 1, 3] -= d1 * f2 - d2 * f1
+            Fw[c - 1, 4] -= d2 * f0 - d0 * f2
+            Fw[c - 1, 5] -= d0 * f1 - d1 * f0
+    return S, Fw, ok

@@ -1,0 +1,74 @@
+"""Atomic file writing: after a crash or Ctrl-C a file is either whole or absent (or unchanged)."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+from typing import IO, Iterator
+
+
+@contextmanager
+def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str | None = None) -> Iterator[IO]:
+    """Open a temporary file next to ``path`` for writing; on success flush, fsync and
+    ``os.replace`` it onto ``path``. On any exception (``KeyboardInterrupt`` included) the
+    temporary file is removed and ``path`` is left as it was.
+
+    Args:
+        path: Target file. Its directory must exist.
+        mode: ``"w"`` (text, UTF-8 unless ``encoding``) or ``"wb"`` (binary).
+        encoding: Text encoding for ``"w"``.
+
+    Example:
+        >>> with atomic_write(directory / "summary.json") as f:  # doctest: +SKIP
+        ...     json.dump(summary, f)
+    """
+    if mode not in ("w", "wb"):
+        raise ValueError(f"atomic_write: mode = {mode!r} is invalid: expected 'w' or 'wb'")
+    target = Path(path)
+    directory = target.parent if str(target.parent) else Path(".")
+    fd, tmp_name = tempfile.mkstemp(dir=directory, prefix=f".{target.name}.", suffix=".tmp")
+    try:
+        os.fchmod(fd, _permissions(target))
+        if mode == "wb":
+            handle = os.fdopen(fd, "wb")
+        else:
+            handle = os.fdopen(fd, "w", encoding=encoding or "utf-8", newline="")
+        with handle:
+            yield handle
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp_name, target)
+    except BaseException:
+        try:
+            os.unlink(tmp_name)
+        except FileNotFoundError:
+            pass
+        raise
+    _fsync_directory(directory)
+
+
+def _permissions(target: Path) -> int:
+    """Keep an existing file's permissions; a new file gets the usual 0666 minus the umask
+    (``mkstemp`` would leave 0600)."""
+    try:
+        return target.stat().st_mode & 0o777
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
+def _fsync_directory(directory: Path) -> None:
+    """Make the rename durable (best effort: not every platform can open a directory)."""
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)

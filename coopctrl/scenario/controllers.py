@@ -1,0 +1,63 @@
+"""``[controllers]``: gains of the leader and of the followers (MODEL.md §6)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from coopctrl.scenario.checks import boolean, instance, number
+
+
+@dataclass(frozen=True)
+class LeaderControllerConfig:
+    """``[controllers.leader]``: computed torque on the full model.
+
+    Attributes:
+        natural_frequency: Closed-loop natural frequency of the tracking error in [rad/s].
+        damping_ratio: Closed-loop damping ratio [-].
+    """
+
+    natural_frequency: float = 30.0
+    damping_ratio: float = 1.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "natural_frequency", number("natural_frequency", self.natural_frequency, positive=True, unit="rad/s"))
+        object.__setattr__(self, "damping_ratio", number("damping_ratio", self.damping_ratio, positive=True))
+
+
+@dataclass(frozen=True)
+class FollowerControllerConfig:
+    """``[controllers.followers]``: elastic-force regulation around a motion loop.
+
+    Attributes:
+        force_loop: Close the force loop (``false`` = motion loop only, on the nominal poses).
+        force_kp: Proportional gain of the force loop [-] (>= 0).
+        force_ki: Integral gain of the force loop in [1/s] (>= 0).
+        natural_frequency: Natural frequency of the inner motion loop in [rad/s].
+        damping_ratio: Damping ratio of the inner motion loop [-].
+    """
+
+    force_loop: bool = True
+    force_kp: float = 0.5
+    force_ki: float = 10.0
+    natural_frequency: float = 30.0
+    damping_ratio: float = 1.0
+
+    def __post_init__(self) -> None:
+        s = object.__setattr__
+        s(self, "force_loop", boolean("force_loop", self.force_loop))
+        s(self, "force_kp", number("force_kp", self.force_kp, nonnegative=True))
+        s(self, "force_ki", number("force_ki", self.force_ki, nonnegative=True, unit="1/s"))
+        s(self, "natural_frequency", number("natural_frequency", self.natural_frequency, positive=True, unit="rad/s"))
+        s(self, "damping_ratio", number("damping_ratio", self.damping_ratio, positive=True))
+
+
+@dataclass(frozen=True)
+class ControllersConfig:
+    """``[controllers]``: the leader's and the followers' controllers."""
+
+    leader: LeaderControllerConfig = field(default_factory=LeaderControllerConfig)
+    followers: FollowerControllerConfig = field(default_factory=FollowerControllerConfig)
+
+    def __post_init__(self) -> None:
+        instance("leader", self.leader, LeaderControllerConfig)
+        instance("followers", self.followers, FollowerControllerConfig)

@@ -1,0 +1,258 @@
+"""Loading a :class:`Scenario` from TOML, with dotted-path overrides.
+
+The raw TOML dict is checked key by key against the dataclass tree (an unknown key at any depth
+is an error naming its path), overrides are applied to the raw dict, and the dataclasses then
+check their fields. Every failure is a one-line :class:`~coopctrl.errors.ScenarioError`.
+"""
+
+from __future__ import annotations
+
+import copy
+import re
+import tomllib
+from dataclasses import MISSING as NO_DEFAULT
+from dataclasses import fields, is_dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+from coopctrl.errors import ScenarioError
+from coopctrl.scenario.arm import ArmConfig
+from coopctrl.scenario.checks import MISSING, field_scope, join_path
+from coopctrl.scenario.controllers import ControllersConfig, FollowerControllerConfig, LeaderControllerConfig
+from coopctrl.scenario.load_distribution import LoadDistributionConfig
+from coopctrl.scenario.object_config import ObjectConfig
+from coopctrl.scenario.scenario import Scenario, default_arms, default_object_pose, default_trajectory
+from coopctrl.scenario.scene import SceneConfig
+from coopctrl.scenario.sensors import SensorConfig, SensorsConfig
+from coopctrl.scenario.simulation import SimulationConfig
+from coopctrl.scenario.spring import SpringConfig
+from coopctrl.scenario.trajectory import TrajectoryConfig, ViaPoint
+
+#: Sections of each dataclass: a dataclass (a TOML table) or a one-element list (an array of tables).
+SECTIONS: dict[type, dict[str, Any]] = {
+    Scenario: {
+        "scene": SceneConfig,
+        "object": ObjectConfig,
+        "arms": [ArmConfig],
+        "springs": [SpringConfig],
+        "trajectory": TrajectoryConfig,
+        "load_distribution": LoadDistributionConfig,
+        "controllers": ControllersConfig,
+        "sensors": SensorsConfig,
+        "simulation": SimulationConfig,
+    },
+    TrajectoryConfig: {"via": [ViaPoint]},
+    ControllersConfig: {"leader": LeaderControllerConfig, "followers": FollowerControllerConfig},
+    SensorsConfig: {"joints": SensorConfig, "forces": SensorConfig, "object": SensorConfig},
+}
+
+#: Fields that are not keys of the file.
+_NOT_KEYS = {Scenario: {"source"}}
+
+
+def _keys(cls: type) -> list[str]:
+    skip = _NOT_KEYS.get(cls, set())
+    return [f.name for f in fields(cls) if f.init and f.name not in skip]
+
+
+def _where(path: str) -> str:
+    return f"[{path}]" if path else "the top level"
+
+
+def _file_error(source: str, message: str, value: Any = None) -> ScenarioError:
+    """A file-level ScenarioError (path ``""``) whose message is ``"<source>: <message>"``."""
+    err = ScenarioError("", value, message, source=source)
+    err.args = (f"{source}: {message}",)
+    return err
+
+
+# ---------------------------------------------------------------------- building
+def build_section(cls: type, data: Any, path: str = ""):
+    """Build the dataclass ``cls`` from the TOML table ``data`` found at ``path``."""
+    if not isinstance(data, Mapping):
+        raise ScenarioError(path, data, f"a table of the keys {', '.join(_keys(cls))}")
+    keys = _keys(cls)
+    for key, value in data.items():
+        if key not in keys:
+            raise ScenarioError(join_path(path, key), value, f"no unknown key: the keys of {_where(path)} are {', '.join(keys)}")
+    kwargs: dict[str, Any] = {}
+    for f in fields(cls):
+        if f.name not in keys:
+            continue
+        if f.name not in data:
+            if f.default is NO_DEFAULT and f.default_factory is NO_DEFAULT:
+                raise ScenarioError(join_path(path, f.name), MISSING, "a value: this key is required")
+            continue
+        value = data[f.name]
+        sub = SECTIONS.get(cls, {}).get(f.name)
+        sub_path = join_path(path, f.name)
+        if isinstance(sub, list):
+            if not isinstance(value, list):
+                raise ScenarioError(sub_path, value, f"a list of tables ([[{sub_path}]] or [{{...}}, ...])")
+            value = tuple(build_section(sub[0], item, f"{sub_path}[{k}]") for k, item in enumerate(value))
+        elif sub is not None:
+            value = build_section(sub, value, sub_path)
+        kwargs[f.name] = value
+    with field_scope(path):
+        return cls(**kwargs)
+
+
+def scenario_from_dict(data: Mapping, *, source: str | None = None, overrides: Mapping[str, Any] | None = None) -> Scenario:
+    """Build a :class:`Scenario` from a TOML-shaped dict, after applying ``overrides``."""
+    raw = copy.deepcopy(dict(data))
+    try:
+        if overrides:
+            apply_overrides(raw, overrides)
+        if "source" in raw:
+            raise ScenarioError("source", raw["source"], f"no unknown key: the keys of the top level are {', '.join(_keys(Scenario))}")
+        scenario = build_section(Scenario, raw)
+    except ScenarioError as err:
+        if source and not err.source:
+            raise ScenarioError(err.path, err.value, err.allowed, source) from None
+        raise
+    if source is not None:
+        object.__setattr__(scenario, "source", str(source))
+    return scenario
+
+
+def load_scenario(path: str | Path | None, overrides: Mapping[str, Any] | None = None) -> Scenario:
+    """Load, override and check a scenario file.
+
+    Args:
+        path: Path of a ``.toml`` file, or ``None`` for the built-in default scene.
+        overrides: Dotted path (``"simulation.integrator"``, ``"springs[0].stiffness"``,
+            ``"arms[1].grasp"``) to value. A string value is read as a TOML value if it parses
+            (``"1e6"`` is a float, ``"[0, 0.1, 0]"`` a list), else kept as a bare string.
+
+    Raises:
+        ScenarioError: Missing or unreadable file, TOML syntax error, unknown key or override
+            path, or any invalid field (the message names its dotted path).
+    """
+    if path is None:
+        return scenario_from_dict({}, overrides=overrides)
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise _file_error(source, "file not found; give the path of a scenario .toml file (see `coopctrl list`)", source) from None
+    except (OSError, UnicodeDecodeError) as err:
+        reason = err.strerror if isinstance(err, OSError) and err.strerror else str(err)
+        raise _file_error(source, f"cannot read the file ({reason}); give a readable UTF-8 .toml file", source) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        msg = str(err).replace("\n", " ")
+        raise _file_error(source, f"TOML syntax error: {msg}; fix the syntax (https://toml.io)", source) from None
+    return scenario_from_dict(data, source=source, overrides=overrides)
+
+
+# ---------------------------------------------------------------------- overrides
+_PART = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)$")
+
+
+def parse_override_value(text: Any) -> Any:
+    """Read a CLI string as a TOML value (``1e6``, ``[0, 0.1, 0]``, ``true``, ``"x"``, ``{...}``);
+    a string that is not TOML (``rk4``) is kept as is. Non-strings are returned unchanged."""
+    if not isinstance(text, str):
+        return text
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def parse_override_path(path: str) -> list[str | int]:
+    """Split ``"springs[0].stiffness"`` into ``["springs", 0, "stiffness"]``."""
+    tokens: list[str | int] = []
+    if not isinstance(path, str) or not path:
+        raise ScenarioError(str(path), path, "a dotted path like simulation.integrator or springs[0].stiffness")
+    for part in path.split("."):
+        match = _PART.match(part.strip())
+        if not match:
+            raise ScenarioError(path, path, "a dotted path like simulation.integrator or springs[0].stiffness")
+        tokens.append(match.group(1))
+        tokens.extend(int(i) for i in re.findall(r"\[(\d+)\]", match.group(2)))
+    return tokens
+
+
+def _default_list(raw: dict, name: str, cls: type) -> list:
+    """The raw default of a list that is absent from the file, so that an override can index it."""
+    if name == "arms":
+        return [_plain(a) for a in default_arms()]
+    if name == "springs":
+        arms = raw.get("arms")
+        m = len(arms) if isinstance(arms, list) else len(default_arms())
+        return [{"pair": [0, k]} for k in range(1, m + 1)]
+    if name == "via":
+        scene = raw.get("scene") if isinstance(raw.get("scene"), dict) else {}
+        space = scene.get("space", "planar")
+        space = space if space in ("planar", "spatial") else "planar"
+        obj = raw.get("object") if isinstance(raw.get("object"), dict) else {}
+        pose = obj.get("pose", default_object_pose(space))
+        try:
+            return _plain(default_trajectory(tuple(pose), space))["via"]
+        except (TypeError, ValueError, IndexError):
+            return []
+    return []
+
+
+def _plain(value):
+    if is_dataclass(value):
+        return {f.name: _plain(getattr(value, f.name)) for f in fields(value) if getattr(value, f.name) is not None}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value
+
+
+def apply_overrides(raw: dict, overrides: Mapping[str, Any]) -> dict:
+    """Apply dotted-path overrides to the raw TOML dict in place (and return it).
+
+    Each path is checked against the scenario schema: an unknown key is a ScenarioError naming
+    the override's path. A missing list (``arms``, ``springs``, ``trajectory.via``) is first
+    filled with its default so that it can be indexed; index ``len`` appends a new table.
+    """
+    for path, value in overrides.items():
+        tokens = parse_override_path(path)
+        value = parse_override_value(value)
+        cls: Any = Scenario
+        node: Any = raw
+        walked = ""
+        root = raw
+        for pos, token in enumerate(tokens):
+            last = pos == len(tokens) - 1
+            if isinstance(token, int):
+                walked_next = f"{walked}[{token}]"
+                if not isinstance(cls, list) or not isinstance(node, list):
+                    raise ScenarioError(path, value, f"a path without an index after {walked} (not a list)")
+                if token > len(node):
+                    raise ScenarioError(path, value, f"an index <= {len(node)} in {walked} (it has {len(node)} entries; {len(node)} appends one)")
+                if token == len(node):
+                    node.append({})
+                if last:
+                    node[token] = value
+                    break
+                cls, node, walked = cls[0], node[token], walked_next
+                if not isinstance(node, dict):
+                    raise ScenarioError(path, value, f"a path into a table, but {walked} is {node!r}")
+                continue
+            if isinstance(cls, list) or not is_dataclass(cls):
+                raise ScenarioError(path, value, f"a path that stops at {walked} (it has no key {token!r})")
+            keys = _keys(cls)
+            if token not in keys:
+                raise ScenarioError(path, value, f"a known key: the keys of {_where(walked)} are {', '.join(keys)}")
+            walked = join_path(walked, token)
+            if last:
+                node[token] = value
+                break
+            sub = SECTIONS.get(cls, {}).get(token)
+            if token not in node:
+                node[token] = _default_list(root, token, sub[0]) if isinstance(sub, list) else {}
+            child = node[token]
+            if sub is None:
+                raise ScenarioError(path, value, f"a path that stops at {walked} (it is a value, not a table)")
+            if isinstance(sub, list) and not isinstance(child, list):
+                raise ScenarioError(walked, child, "a list of tables")
+            if not isinstance(sub, list) and not isinstance(child, dict):
+                raise ScenarioError(walked, child, "a table")
+            cls, node = sub, child
+    return raw

@@ -1,0 +1,277 @@
+"""The :class:`Scenario`: the root of the configuration tree, with the cross-field checks."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, is_dataclass, replace
+
+from coopctrl.errors import ScenarioError
+from coopctrl.scenario.arm import MODEL_SPACES, ArmConfig
+from coopctrl.scenario.checks import field_scope, instance, string
+from coopctrl.scenario.controllers import ControllersConfig
+from coopctrl.scenario.load_distribution import LoadDistributionConfig
+from coopctrl.scenario.object_config import ObjectConfig
+from coopctrl.scenario.scene import SceneConfig
+from coopctrl.scenario.sensors import SensorsConfig
+from coopctrl.scenario.simulation import SimulationConfig
+from coopctrl.scenario.spring import SpringConfig
+from coopctrl.scenario.trajectory import TrajectoryConfig, ViaPoint
+
+#: Default lift of the default trajectory [m] and its duration [s].
+DEFAULT_LIFT_M = 0.1
+DEFAULT_LIFT_TIME_S = 1.0
+
+
+def default_arms() -> tuple[ArmConfig, ...]:
+    """Two planar 3R arms facing each other, holding the object from both sides."""
+    return (
+        ArmConfig(model="planar3r", role="leader", base=(-0.6, 0.0, 0.0), grasp=(-0.1, 0.0, 0.0)),
+        ArmConfig(model="planar3r", role="follower", base=(0.6, 0.0, 0.0), grasp=(0.1, 0.0, math.pi)),
+    )
+
+
+def default_object_pose(space: str) -> tuple[float, ...]:
+    """0.5 m above the origin, not rotated."""
+    return (0.0, 0.5, 0.0) if space == "planar" else (0.0, 0.0, 0.5, 0.0, 0.0, 0.0)
+
+
+def default_trajectory(pose: tuple[float, ...], space: str) -> TrajectoryConfig:
+    """Lift the object by :data:`DEFAULT_LIFT_M` along +z over :data:`DEFAULT_LIFT_TIME_S`."""
+    z = 1 if space == "planar" else 2
+    end = list(pose)
+    end[z] += DEFAULT_LIFT_M
+    return TrajectoryConfig(via=(ViaPoint(0.0, tuple(pose)), ViaPoint(DEFAULT_LIFT_TIME_S, tuple(end))))
+
+
+def _check_euler(path: str, pose: tuple[float, ...]) -> None:
+    """Reject a spatial pose at the Euler-angle singularity cos(theta) = 0 (MODEL.md §2)."""
+    if len(pose) == 6 and abs(math.cos(pose[4])) < 1e-6:
+        raise ScenarioError(path, list(pose), "an orientation with cos(theta) != 0 (Euler singularity, MODEL.md §2)")
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A complete scene: plant, controllers, trajectory and simulation settings.
+
+    Built from a TOML file by :func:`coopctrl.scenario.load_scenario`; ``Scenario()`` is the
+    built-in default scene (two planar 3R arms lifting a 1 kg object by 0.1 m in 1 s).
+    Every field is checked when built; errors are :class:`~coopctrl.errors.ScenarioError`
+    naming the dotted path of the field.
+
+    Attributes:
+        name: Name of the scenario.
+        description: One line, shown by ``coopctrl list``.
+        scene, object, arms, springs, trajectory, load_distribution, controllers, sensors,
+            simulation: The sections (see their classes). ``springs = None`` means one spring
+            per arm between the object (node 0) and the arm's node; ``trajectory = None`` means
+            the default lift from ``object.pose``.
+        source: Path of the file it was loaded from, or ``None`` (not part of the scene).
+    """
+
+    name: str = "default"
+    description: str = "Two planar 3R arms lift a 1 kg object by 0.1 m in 1 s."
+    scene: SceneConfig = field(default_factory=SceneConfig)
+    object: ObjectConfig = field(default_factory=ObjectConfig)
+    arms: tuple[ArmConfig, ...] = field(default_factory=default_arms)
+    springs: tuple[SpringConfig, ...] | None = None
+    trajectory: TrajectoryConfig | None = None
+    load_distribution: LoadDistributionConfig = field(default_factory=LoadDistributionConfig)
+    controllers: ControllersConfig = field(default_factory=ControllersConfig)
+    sensors: SensorsConfig = field(default_factory=SensorsConfig)
+    simulation: SimulationConfig = field(default_factory=SimulationConfig)
+    source: str | None = field(default=None, compare=False)
+
+    # ------------------------------------------------------------------ checks
+    def __post_init__(self) -> None:
+        s = object.__setattr__
+        s(self, "name", string("name", self.name, nonempty=True, one_line=True))
+        s(self, "description", string("description", self.description, one_line=True))
+        for name, cls in (
+            ("scene", SceneConfig),
+            ("object", ObjectConfig),
+            ("load_distribution", LoadDistributionConfig),
+            ("controllers", ControllersConfig),
+            ("sensors", SensorsConfig),
+            ("simulation", SimulationConfig),
+        ):
+            instance(name, getattr(self, name), cls)
+        if self.source is not None:
+            s(self, "source", str(self.source))
+        space = self.scene.space
+        p = self.scene.pose_size
+        r = 1 if space == "planar" else 3  # rotational axes
+        pose_what = "a planar pose [x, z, theta]" if p == 3 else "a spatial pose [x, y, z, psi, theta, phi]"
+
+        # object
+        obj = self.object
+        if obj.inertia is None:
+            obj = replace(obj, inertia=(0.01,) * r)
+        if obj.pose is None:
+            obj = replace(obj, pose=default_object_pose(space))
+        s(self, "object", obj)
+        if len(obj.inertia) != r:
+            raise ScenarioError("object.inertia", list(obj.inertia), f"{r} principal moment(s) in a {space} scene [kg m^2]")
+        if len(obj.pose) != p:
+            raise ScenarioError("object.pose", list(obj.pose), f"{pose_what} in a {space} scene")
+        _check_euler("object.pose", obj.pose)
+
+        # arms
+        if not isinstance(self.arms, (list, tuple)) or len(self.arms) < 2:
+            raise ScenarioError("arms", self.arms, "a list of at least 2 [[arms]] tables")
+        arms = []
+        for k, arm in enumerate(self.arms):
+            path = f"arms[{k}]"
+            instance(path, arm, ArmConfig)
+            if arm.node_inertia is None:
+                arm = replace(arm, node_inertia=(1e-3,) * r)
+            with field_scope(path):
+                if space not in MODEL_SPACES[arm.model]:
+                    fit = [m for m, sp in MODEL_SPACES.items() if space in sp]
+                    raise ScenarioError("model", arm.model, f"one of {', '.join(map(repr, fit))} in a {space} scene")
+                for name in ("base", "grasp"):
+                    if len(getattr(arm, name)) != p:
+                        raise ScenarioError(name, list(getattr(arm, name)), f"{pose_what} in a {space} scene")
+                if len(arm.node_inertia) != r:
+                    raise ScenarioError("node_inertia", list(arm.node_inertia), f"{r} principal moment(s) in a {space} scene [kg m^2]")
+                n = arm.dof(space)
+                for name in ("tau_max", "q0"):
+                    value = getattr(arm, name)
+                    if value is not None and len(value) != n:
+                        raise ScenarioError(name, list(value), f"{n} values, one per joint of a {arm.model} arm")
+            arms.append(arm)
+        s(self, "arms", tuple(arms))
+        leaders = [k for k, arm in enumerate(arms) if arm.role == "leader"]
+        if len(leaders) != 1:
+            path = f"arms[{leaders[1]}].role" if len(leaders) > 1 else "arms"
+            value = "leader" if len(leaders) > 1 else [a.role for a in arms]
+            raise ScenarioError(path, value, f"exactly one arm with role = 'leader' (found {len(leaders)})")
+        m = len(arms)
+
+        # springs
+        springs = self.springs
+        if springs is None:
+            springs = tuple(SpringConfig(pair=(0, k)) for k in range(1, m + 1))
+        if not isinstance(springs, (list, tuple)) or not springs:
+            raise ScenarioError("springs", springs, "a non-empty list of [[springs]] tables")
+        seen: dict[frozenset, int] = {}
+        for k, spring in enumerate(springs):
+            path = f"springs[{k}]"
+            instance(path, spring, SpringConfig)
+            with field_scope(path):
+                if max(spring.pair) > m:
+                    raise ScenarioError("pair", list(spring.pair), f"node indices in 0..{m} (0 = object, 1..{m} = arms)")
+                key = frozenset(spring.pair)
+                if key in seen:
+                    raise ScenarioError("pair", list(spring.pair), f"a pair not already connected by springs[{seen[key]}]")
+                seen[key] = k
+                if isinstance(spring.stiffness, tuple) and len(spring.stiffness) != p - r:
+                    raise ScenarioError("stiffness", list(spring.stiffness), f"a scalar or {p - r} values (translational axes) in a {space} scene [N/m]")
+                if isinstance(spring.torsion, tuple) and len(spring.torsion) != r:
+                    raise ScenarioError("torsion", list(spring.torsion), f"a scalar or {r} value(s) (rotational axes) in a {space} scene [N m/rad]")
+        s(self, "springs", tuple(springs))
+        reached, frontier = {0}, [0]
+        while frontier:
+            node = frontier.pop()
+            for spring in springs:
+                if node in spring.pair:
+                    other = spring.pair[1] if spring.pair[0] == node else spring.pair[0]
+                    if other not in reached:
+                        reached.add(other)
+                        frontier.append(other)
+        if len(reached) != m + 1:
+            lost = sorted(set(range(m + 1)) - reached)
+            raise ScenarioError("springs", [list(sp.pair) for sp in springs], f"pairs connecting the object (node 0) to every arm node (not connected: {lost})")
+
+        # trajectory
+        trajectory = self.trajectory
+        if trajectory is None:
+            trajectory = default_trajectory(obj.pose, space)
+        instance("trajectory", trajectory, TrajectoryConfig)
+        s(self, "trajectory", trajectory)
+        for k, via in enumerate(trajectory.via):
+            path = f"trajectory.via[{k}].pose"
+            if len(via.pose) != p:
+                raise ScenarioError(path, list(via.pose), f"{pose_what} in a {space} scene")
+            _check_euler(path, via.pose)
+        if any(abs(a - b) > 1e-9 for a, b in zip(trajectory.via[0].pose, obj.pose)):
+            raise ScenarioError("trajectory.via[0].pose", list(trajectory.via[0].pose), f"the initial object pose object.pose = {list(obj.pose)}")
+
+        # load distribution
+        ld = self.load_distribution
+        if ld.shares is not None and len(ld.shares) != m:
+            raise ScenarioError("load_distribution.shares", list(ld.shares), f"{m} shares, one per arm")
+        pairs = m * (m - 1) // 2
+        if isinstance(ld.squeeze, tuple) and len(ld.squeeze) != pairs:
+            raise ScenarioError("load_distribution.squeeze", list(ld.squeeze), f"a scalar or {pairs} values, one per contact pair [N]")
+
+    # ------------------------------------------------------------------ views
+    @property
+    def space(self) -> str:
+        """``"planar"`` or ``"spatial"``."""
+        return self.scene.space
+
+    @property
+    def pose_size(self) -> int:
+        """Length p of a pose or a wrench: 3 planar, 6 spatial."""
+        return self.scene.pose_size
+
+    @property
+    def leader(self) -> int:
+        """Index (0-based, into ``arms``) of the leader."""
+        return next(k for k, arm in enumerate(self.arms) if arm.role == "leader")
+
+    @property
+    def followers(self) -> list[int]:
+        """Indices (0-based, into ``arms``) of the followers."""
+        return [k for k, arm in enumerate(self.arms) if arm.role == "follower"]
+
+    @property
+    def dof_per_arm(self) -> list[int]:
+        """Number of joints of each arm."""
+        return [arm.dof(self.space) for arm in self.arms]
+
+    @property
+    def state_size(self) -> int:
+        """Size of the state ``(z, z')`` with ``z = col(q, Y_0)`` (MODEL.md §5): 2 (sum n_i + p)."""
+        return 2 * (sum(self.dof_per_arm) + self.pose_size)
+
+    # ------------------------------------------------------------------ build
+    def plant(self):
+        """The plant of this scene (``coopctrl.scenario.build.build_plant``)."""
+        from coopctrl.scenario import build
+
+        return build.build_plant(self)
+
+    def initial_state(self):
+        """The initial state of the plant (``coopctrl.scenario.build.initial_state``)."""
+        from coopctrl.scenario import build
+
+        return build.initial_state(self)
+
+    # ------------------------------------------------------------------ dicts
+    def to_dict(self) -> dict:
+        """A TOML-shaped dict (tables, lists, numbers, strings; absent options left out) that
+        :meth:`from_dict` turns back into an equal scenario. ``source`` is not included."""
+        out = _to_plain(self)
+        out.pop("source", None)
+        return out
+
+    @classmethod
+    def from_dict(cls, data: dict, *, source: str | None = None) -> "Scenario":
+        """Build a scenario from a TOML-shaped dict, rejecting unknown keys."""
+        from coopctrl.scenario.loader import scenario_from_dict
+
+        return scenario_from_dict(data, source=source)
+
+
+def _to_plain(value):
+    if is_dataclass(value):
+        out = {}
+        for f in fields(value):
+            v = getattr(value, f.name)
+            if v is not None:
+                out[f.name] = _to_plain(v)
+        return out
+    if isinstance(value, (list, tuple)):
+        return [_to_plain(v) for v in value]
+    return value

@@ -1,0 +1,37 @@
+"""``[scene]``: the kind of scene (planar or spatial) and its environment."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from coopctrl.scenario.checks import choice, number
+
+SPACES = ("planar", "spatial")
+UNLOADED_STATES = ("mobile", "immobile")
+
+
+@dataclass(frozen=True)
+class SceneConfig:
+    """The scene.
+
+    Attributes:
+        space: ``"planar"`` (bodies move in the vertical x-z plane, poses ``[x, z, theta]``) or
+            ``"spatial"`` (poses ``[x, y, z, psi, theta, phi]``). MODEL.md §2.
+        unloaded_state: ``"mobile"`` (general model, MODEL.md §3, (113)) or ``"immobile"``
+            (linear plant about a fixed unloaded state, (95-102)).
+        gravity: Magnitude of gravity along -z in [m/s^2].
+    """
+
+    space: str = "planar"
+    unloaded_state: str = "mobile"
+    gravity: float = 9.81
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "space", choice("space", self.space, SPACES))
+        object.__setattr__(self, "unloaded_state", choice("unloaded_state", self.unloaded_state, UNLOADED_STATES))
+        object.__setattr__(self, "gravity", number("gravity", self.gravity, nonnegative=True, unit="m/s^2"))
+
+    @property
+    def pose_size(self) -> int:
+        """Length of a pose: 3 planar, 6 spatial."""
+        return 3 if self.space == "planar" else 6

@@ -1,0 +1,63 @@
+"""``[[springs]]``: one elastic interconnection between two nodes (MODEL.md §3, (106-111))."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from coopctrl.errors import ScenarioError
+from coopctrl.scenario.checks import choice, number, scalar_or_vector
+
+ELEMENTS = ("central", "offset")
+
+
+@dataclass(frozen=True)
+class SpringConfig:
+    """One interconnection between nodes ``pair = [i, j]`` (0 = object, k = arm k's node).
+
+    Attributes:
+        pair: The two node indices, distinct, each in 0..m.
+        stiffness: Translational stiffness ``c_ij`` in [N/m], > 0: a scalar or one value per
+            translational axis (2 planar: x, z; 3 spatial: x, y, z).
+        torsion: Torsional stiffness ``cA_ij`` in [N m/rad], >= 0: a scalar or one value per
+            rotational axis (1 planar; 3 spatial: psi, theta, phi). 0 drops the torsion springs.
+        damping: Damping along the line ``d_ij`` in [N s/m], >= 0 (110-111).
+        torsion_damping: Rotational damping ``dA_ij`` in [N m s/rad], >= 0.
+        element: ``"central"`` (the book's spring with rest length plus Euler-difference torsion
+            springs; no lateral stiffness without pre-tension) or ``"offset"`` (rest offset fixed in
+            the object frame, so it also has shear stiffness; MODEL.md §3, known limit).
+    """
+
+    pair: tuple[int, int]
+    stiffness: float | tuple[float, ...] = 1.0e4
+    torsion: float | tuple[float, ...] = 10.0
+    damping: float = 20.0
+    torsion_damping: float = 0.05
+    element: str = "offset"
+
+    def __post_init__(self) -> None:
+        s = object.__setattr__
+        pair = self.pair
+        allowed = "two distinct node indices [i, j] >= 0 (0 = object, k = arm k)"
+        if (
+            not isinstance(pair, (list, tuple))
+            or len(pair) != 2
+            or any(isinstance(p, bool) or not isinstance(p, int) or p < 0 for p in pair)
+            or pair[0] == pair[1]
+        ):
+            raise ScenarioError("pair", pair, allowed)
+        s(self, "pair", (int(pair[0]), int(pair[1])))
+        s(self, "stiffness", scalar_or_vector("stiffness", self.stiffness, positive=True, unit="N/m"))
+        s(self, "torsion", scalar_or_vector("torsion", self.torsion, nonnegative=True, unit="N m/rad"))
+        s(self, "damping", number("damping", self.damping, nonnegative=True, unit="N s/m"))
+        s(self, "torsion_damping", number("torsion_damping", self.torsion_damping, nonnegative=True, unit="N m s/rad"))
+        s(self, "element", choice("element", self.element, ELEMENTS))
+
+    def stiffness_per_axis(self, space: str) -> tuple[float, ...]:
+        """Translational stiffness per axis [N/m] (2 planar, 3 spatial)."""
+        n = 2 if space == "planar" else 3
+        return self.stiffness if isinstance(self.stiffness, tuple) else (self.stiffness,) * n
+
+    def torsion_per_axis(self, space: str) -> tuple[float, ...]:
+        """Torsional stiffness per axis [N m/rad] (1 planar, 3 spatial)."""
+        n = 1 if space == "planar" else 3
+        return self.torsion if isinstance(self.torsion, tuple) else (self.torsion,) * n

@@ -1,0 +1,60 @@
+"""``[trajectory]``: the object's nominal motion through via poses, minimum-jerk in between."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from coopctrl.errors import ScenarioError
+from coopctrl.scenario.checks import field_scope, instance, number, vector
+
+
+@dataclass(frozen=True)
+class ViaPoint:
+    """One via pose of the object MC.
+
+    Attributes:
+        time: Time in [s], >= 0.
+        pose: Absolute object MC pose (planar ``[x, z, theta]``, spatial
+            ``[x, y, z, psi, theta, phi]``) in [m] and [rad].
+    """
+
+    time: float
+    pose: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "time", number("time", self.time, nonnegative=True, unit="s"))
+        object.__setattr__(self, "pose", vector("pose", self.pose, lengths=(3, 6), what="a pose, m and rad"))
+
+
+@dataclass(frozen=True)
+class TrajectoryConfig:
+    """The nominal object trajectory.
+
+    Attributes:
+        via: Via points with strictly increasing times; the first is at time 0 and is the
+            initial object pose. Between two vias the motion is minimum-jerk (rest to rest).
+    """
+
+    via: tuple[ViaPoint, ...]
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.via, (list, tuple)) or not self.via:
+            raise ScenarioError("via", self.via, "a non-empty list of {time = t, pose = [...]} tables")
+        for k, point in enumerate(self.via):
+            instance(f"via[{k}]", point, ViaPoint)
+        object.__setattr__(self, "via", tuple(self.via))
+        if self.via[0].time != 0.0:
+            with field_scope("via[0]"):
+                raise ScenarioError("time", self.via[0].time, "0 (the first via is the initial pose)")
+        for k in range(1, len(self.via)):
+            if self.via[k].time <= self.via[k - 1].time:
+                with field_scope(f"via[{k}]"):
+                    raise ScenarioError("time", self.via[k].time, f"a time > {self.via[k - 1].time} s (strictly increasing)")
+        sizes = {len(p.pose) for p in self.via}
+        if len(sizes) > 1:
+            raise ScenarioError("via", [list(p.pose) for p in self.via], "poses all of the same length")
+
+    @property
+    def end_time(self) -> float:
+        """Time of the last via [s]."""
+        return self.via[-1].time

@@ -1,0 +1,246 @@
+"""Tests of the coopctrl command line: subprocesses for user errors, in-process with a fake simulator."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from coopctrl import cli
+from coopctrl.io import dumps_toml
+from coopctrl.scenario import Scenario
+
+REPO = Path(__file__).resolve().parent.parent
+HAS_SIMULATE = importlib.util.find_spec("coopctrl.simulate") is not None
+needs_simulate = pytest.mark.skipif(not HAS_SIMULATE, reason="coopctrl.simulate is not written yet")
+
+
+def coopctrl(*args, cwd=None):
+    env = {**os.environ, "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    return subprocess.run([sys.executable, "-m", "coopctrl", *map(str, args)], capture_output=True, text=True, env=env, cwd=cwd or REPO, timeout=600)
+
+
+def assert_user_error(proc, *needles):
+    assert proc.returncode == 2, proc
+    assert "Traceback" not in proc.stderr
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("coopctrl: error: ")
+    for needle in needles:
+        assert needle in lines[0], lines[0]
+    assert proc.stdout == ""
+
+
+@pytest.fixture
+def scene(tmp_path):
+    path = tmp_path / "scene.toml"
+    path.write_text(dumps_toml(Scenario().to_dict()))
+    return path
+
+
+def bad_scene(tmp_path, mutate):
+    data = Scenario().to_dict()
+    mutate(data)
+    path = tmp_path / "bad.toml"
+    path.write_text(dumps_toml(data))
+    return path
+
+
+# ---------------------------------------------------------------------- help
+@pytest.mark.parametrize("args", [["--help"], ["run", "--help"], ["list", "--help"], ["check", "--help"]])
+def test_help_exits_zero(args):
+    proc = coopctrl(*args)
+    assert proc.returncode == 0 and "usage: coopctrl" in proc.stdout
+
+
+def test_every_registered_subcommand_has_help(capsys):
+    sub = next(a for a in cli.build_parser()._actions if a.dest == "command")
+    for name in sub.choices:
+        assert cli.main([name, "--help"]) == 0
+    assert {"run", "list", "check"} <= set(sub.choices)
+
+
+# ---------------------------------------------------------------------- check
+def test_check_valid_file(scene):
+    proc = coopctrl("check", scene)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith("ok: default (planar, 2 arms, state size 18")
+
+
+def test_check_with_override(scene):
+    proc = coopctrl("check", scene, "--set", "simulation.integrator=euler", "--set", "springs[0].stiffness=1e6")
+    assert proc.returncode == 0, proc.stderr
+
+
+@pytest.mark.parametrize(
+    "mutate, field",
+    [
+        (lambda d: d["arms"][1].update(grasp=[0.1, 0.0]), "arms[1].grasp"),
+        (lambda d: d["springs"][0].update(stiffness=-1.0), "springs[0].stiffness"),
+        (lambda d: d["simulation"].update(substeps=0), "simulation.substeps"),
+        (lambda d: d["simulation"].update(bogus=1), "simulation.bogus"),
+        (lambda d: d["arms"][1].update(role="leader"), "arms[1].role"),
+        (lambda d: d["object"].update(mass=float("nan")), "object.mass"),
+    ],
+)
+def test_check_bad_field(tmp_path, mutate, field):
+    assert_user_error(coopctrl("check", bad_scene(tmp_path, mutate)), field)
+
+
+def test_check_missing_file(tmp_path):
+    assert_user_error(coopctrl("check", tmp_path / "nope.toml"), "nope.toml", "not found")
+
+
+def test_check_toml_syntax_error(tmp_path):
+    path = tmp_path / "broken.toml"
+    path.write_text("[simulation\nduration = 1\n")
+    assert_user_error(coopctrl("check", path), "broken.toml", "line 1")
+
+
+@pytest.mark.parametrize(
+    "setting, field",
+    [
+        ("simulation.integrator=rk45", "simulation.integrator"),
+        ("springs[0].stiffness=abc", "springs[0].stiffness"),
+        ("simulation.nope=1", "simulation.nope"),
+        ("springs[9].stiffness=1", "springs[9].stiffness"),
+        ("simulation.integrator", "--set"),
+    ],
+)
+def test_bad_set(scene, setting, field):
+    assert_user_error(coopctrl("check", scene, "--set", setting), field)
+
+
+@pytest.mark.parametrize("args", [[], ["frobnicate"], ["check"], ["run", "--bogus"]])
+def test_usage_errors_are_one_line(args):
+    assert_user_error(coopctrl(*args))
+
+
+def test_run_bad_input_exits_2_before_simulating(tmp_path):
+    path = bad_scene(tmp_path, lambda d: d["simulation"].update(substeps=0))
+    assert_user_error(coopctrl("run", path, "--json"), "simulation.substeps")
+    assert_user_error(coopctrl("run", "--set", "simulation.integrator=leapfrog"), "simulation.integrator")
+
+
+# ---------------------------------------------------------------------- list
+def test_list_directory(tmp_path):
+    (tmp_path / "b_scene.toml").write_text('description = "The second one."\n')
+    (tmp_path / "a_scene.toml").write_text('name = "a"\ndescription = "The first one."\n')
+    (tmp_path / "broken.toml").write_text("[[[")
+    proc = coopctrl("list", "--dir", tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert lines[0].split() == ["a_scene", "The", "first", "one."]
+    assert lines[1].startswith("b_scene ") and lines[2].startswith("broken ")
+    assert "Traceback" not in proc.stderr
+
+
+def test_list_builtin():
+    proc = coopctrl("list")
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr
+
+
+def test_builtin_scenarios_are_valid():
+    for path in sorted((REPO / "scenarios").glob("*.toml")):
+        assert cli.main(["check", str(path)]) == 0, path
+
+
+# ---------------------------------------------------------------------- run, with a fake simulator
+@pytest.fixture
+def fake_simulate(monkeypatch):
+    from test_results import synthetic
+
+    calls = []
+
+    def install(status="ok", exc=None):
+        def simulate(scenario, progress=False):
+            calls.append((scenario, progress))
+            if exc is not None:
+                raise exc
+            result = synthetic(status=status)
+            result.scenario = scenario.name
+            return result
+
+        monkeypatch.setattr(cli, "_simulate_function", lambda: simulate)
+        return calls
+
+    return install
+
+
+def test_run_prints_table(fake_simulate, capsys):
+    calls = fake_simulate()
+    assert cli.main(["run", "--set", "simulation.integrator=euler"]) == 0
+    out = capsys.readouterr()
+    assert "status" in out.out and "ok" in out.out and out.err == ""
+    scenario, progress = calls[0]
+    assert scenario.simulation.integrator == "euler" and progress is False  # stderr is not a terminal
+
+
+def test_run_json_only_json_on_stdout(fake_simulate, capsys, tmp_path):
+    fake_simulate()
+    assert cli.main(["run", "--json", "--out", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr()
+    summary = json.loads(out.out)
+    assert summary["status"] == "ok" and summary["scenario"] == "default"
+    names = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert names == ["contact_forces.png", "joint_torques.png", "object_pose.png", "qp_solve_times.png",
+                     "result.csv", "result.npz", "summary.json"]
+
+
+def test_run_diverged_exits_1_with_one_line(fake_simulate, capsys):
+    fake_simulate(status="diverged")
+    assert cli.main(["run", "--quiet"]) == 1
+    out = capsys.readouterr()
+    assert out.out == ""
+    assert out.err.splitlines() == ["coopctrl: diverged: deformation 0.06 m > 0.05 m at t = 0.19 s"]
+
+
+def test_run_divergence_exception_exits_1(fake_simulate, capsys):
+    from coopctrl.errors import DivergenceError
+
+    fake_simulate(exc=DivergenceError(0.3, "max deformation", 0.07, 1e-4))
+    assert cli.main(["run", "-q"]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("coopctrl: diverged: diverged at t = 0.3 s")
+
+
+def test_keyboard_interrupt_exits_130(fake_simulate, capsys):
+    fake_simulate(exc=KeyboardInterrupt())
+    assert cli.main(["run"]) == 130
+    assert "Traceback" not in capsys.readouterr().err
+
+
+def test_cli_import_is_light():
+    code = (
+        "import sys, coopctrl; before = set(sys.modules); import coopctrl.cli; "
+        "new = set(sys.modules) - before; "
+        "print(sorted(m for m in new if m.split('.')[0] in ('numpy', 'matplotlib', 'control', 'scipy', 'numba', 'tqdm')))"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO, check=True)
+    assert proc.stdout.strip() == "[]"
+
+
+# ---------------------------------------------------------------------- run, with the real simulator
+@needs_simulate
+def test_run_default_scene_json(tmp_path):
+    proc = coopctrl("run", "--json", "--out", tmp_path / "out", "--set", "simulation.duration=0.05")
+    assert proc.returncode in (0, 1), proc.stderr
+    assert "Traceback" not in proc.stderr
+    summary = json.loads(proc.stdout)
+    assert summary["status"] in ("ok", "diverged", "qp_failed")
+    for name in ("result.npz", "result.csv", "summary.json", "object_pose.png"):
+        assert (tmp_path / "out" / name).stat().st_size > 0
+    if proc.returncode == 1:
+        assert len(proc.stderr.splitlines()) == 1
+
+
+@needs_simulate
+def test_run_default_scene_table():
+    proc = coopctrl("run", "--set", "simulation.duration=0.05")
+    assert proc.returncode in (0, 1), proc.stderr
+    assert "status" in proc.stdout and "Traceback" not in proc.stderr

@@ -1,0 +1,335 @@
+"""Tests of coopctrl.scenario: defaults, TOML round trip, every kind of bad input, overrides."""
+
+from __future__ import annotations
+
+import copy
+import math
+import sys
+import tomllib
+
+import pytest
+
+from coopctrl.errors import ScenarioError
+from coopctrl.io import dumps_toml
+from coopctrl.scenario import (
+    ArmConfig,
+    Scenario,
+    SimulationConfig,
+    SpringConfig,
+    load_scenario,
+    parse_override_value,
+    scenario_from_dict,
+)
+
+
+def write(tmp_path, data, name="scene.toml"):
+    path = tmp_path / name
+    path.write_text(dumps_toml(data) if isinstance(data, dict) else data, encoding="utf-8")
+    return path
+
+
+def base() -> dict:
+    return Scenario().to_dict()
+
+
+def spatial() -> dict:
+    return {
+        "name": "spatial_two_puma",
+        "description": "Two PUMA 560 arms lift a box.",
+        "scene": {"space": "spatial"},
+        "object": {"mass": 2.0, "inertia": [0.02, 0.02, 0.03], "pose": [0.0, 0.0, 0.6, 0.0, 0.0, 0.0]},
+        "arms": [
+            {"model": "puma560", "role": "leader", "base": [-0.7, 0, 0, 0, 0, 0], "grasp": [-0.1, 0, 0, 0, 0, 0]},
+            {"model": "puma560", "role": "follower", "base": [0.7, 0, 0, 0, 0, 0], "grasp": [0.1, 0, 0, math.pi, 0, 0]},
+        ],
+    }
+
+
+def raises(match_path, fn, *args, **kwargs) -> ScenarioError:
+    with pytest.raises(ScenarioError) as info:
+        fn(*args, **kwargs)
+    err = info.value
+    message = str(err)
+    assert "\n" not in message, message
+    assert err.path == match_path, message
+    assert match_path in message
+    return err
+
+
+# ---------------------------------------------------------------------- valid scenes
+def test_defaults_are_valid_planar_two_arm_scene():
+    s = Scenario()
+    assert s.space == "planar" and len(s.arms) == 2
+    assert s.leader == 0 and s.followers == [1]
+    assert [sp.pair for sp in s.springs] == [(0, 1), (0, 2)]
+    assert s.trajectory.via[0].pose == s.object.pose
+    assert s.trajectory.via[-1].pose[1] == pytest.approx(s.object.pose[1] + 0.1)
+    assert s.state_size == 2 * (3 + 3 + 3)
+    assert load_scenario(None) == s
+
+
+def test_empty_file_gives_defaults(tmp_path):
+    assert load_scenario(write(tmp_path, "")) == Scenario()
+
+
+def test_sections_are_frozen():
+    s = Scenario()
+    with pytest.raises(AttributeError):
+        s.simulation.substeps = 3  # type: ignore[misc]
+
+
+def test_round_trip_through_toml(tmp_path):
+    s = load_scenario(write(tmp_path, spatial()))
+    text = dumps_toml(s.to_dict())
+    again = load_scenario(write(tmp_path, text, "again.toml"))
+    assert again == s
+    assert again.source.endswith("again.toml")
+    assert tomllib.loads(text) == s.to_dict()
+
+
+def test_round_trip_defaults_dict():
+    assert Scenario.from_dict(Scenario().to_dict()) == Scenario()
+
+
+def test_spatial_scene_and_node_defaults(tmp_path):
+    s = load_scenario(write(tmp_path, spatial()))
+    assert s.pose_size == 6
+    assert s.arms[0].node_inertia == (1e-3,) * 3
+    assert s.state_size == 2 * (6 + 6 + 6)
+    assert s.trajectory.via[1].pose[2] == pytest.approx(0.7)
+
+
+def test_three_arms_get_one_spring_each(tmp_path):
+    data = base()
+    data.pop("springs")
+    data["arms"].append({"model": "contact_point", "role": "follower", "base": [0, 0, 0], "grasp": [0, 0.1, -1.57]})
+    s = load_scenario(write(tmp_path, data))
+    assert [sp.pair for sp in s.springs] == [(0, 1), (0, 2), (0, 3)]
+    assert s.load_distribution.squeeze_per_pair(3) == (5.0, 5.0, 5.0)
+
+
+def test_per_axis_stiffness_and_torsion(tmp_path):
+    data = base()
+    data["springs"][0]["stiffness"] = [1e4, 2e4]
+    data["springs"][0]["torsion"] = 0
+    s = load_scenario(write(tmp_path, data))
+    assert s.springs[0].stiffness_per_axis("planar") == (1e4, 2e4)
+    assert s.springs[0].torsion_per_axis("planar") == (0.0,)
+
+
+# ---------------------------------------------------------------------- file errors
+def test_missing_file(tmp_path):
+    err = raises("", load_scenario, tmp_path / "nope.toml")
+    assert "nope.toml" in str(err) and "not found" in str(err)
+
+
+def test_toml_syntax_error_names_line(tmp_path):
+    path = write(tmp_path, 'name = "x"\n[simulation]\nduration = = 2\n')
+    err = raises("", load_scenario, path)
+    assert "line 3" in str(err) and "scene.toml" in str(err)
+
+
+# ---------------------------------------------------------------------- bad fields
+def _set(data, dotted, value):
+    node = data
+    parts = dotted.split(".")
+    for part in parts[:-1]:
+        if "[" in part:
+            name, index = part[:-1].split("[")
+            node = node[name][int(index)]
+        else:
+            node = node.setdefault(part, {})
+    node[parts[-1]] = value
+    return data
+
+
+BAD = [
+    ("bogus", 1, "bogus"),
+    ("simulation.bogus", 1, "simulation.bogus"),
+    ("controllers.leader.bogus", 1, "controllers.leader.bogus"),
+    ("arms[1].bogus", 1, "arms[1].bogus"),
+    ("trajectory.via[1].bogus", 1, "trajectory.via[1].bogus"),
+    ("object.mass", "heavy", "object.mass"),
+    ("object.mass", -1.0, "object.mass"),
+    ("object.mass", 0.0, "object.mass"),
+    ("object.mass", float("nan"), "object.mass"),
+    ("object.mass", float("inf"), "object.mass"),
+    ("object.mass", True, "object.mass"),
+    ("arms[1].node_mass", -0.1, "arms[1].node_mass"),
+    ("springs[0].stiffness", -1e4, "springs[0].stiffness"),
+    ("springs[0].stiffness", float("nan"), "springs[0].stiffness"),
+    ("springs[1].stiffness", "stiff", "springs[1].stiffness"),
+    ("springs[0].stiffness", [1e4, 1e4, 1e4], "springs[0].stiffness"),
+    ("springs[0].torsion", -1.0, "springs[0].torsion"),
+    ("springs[0].damping", float("inf"), "springs[0].damping"),
+    ("springs[0].element", "rubber", "springs[0].element"),
+    ("springs[1].pair", [0, 3], "springs[1].pair"),
+    ("springs[1].pair", [1, 1], "springs[1].pair"),
+    ("springs[1].pair", [0, 1], "springs[1].pair"),
+    ("simulation.substeps", 0, "simulation.substeps"),
+    ("simulation.substeps", 1.5, "simulation.substeps"),
+    ("simulation.integrator", "rk45", "simulation.integrator"),
+    ("simulation.duration", "1 s", "simulation.duration"),
+    ("simulation.control_period", 0.0, "simulation.control_period"),
+    ("scene.space", "3d", "scene.space"),
+    ("scene.gravity", -9.81, "scene.gravity"),
+    ("object.pose", [0.0, 0.5], "object.pose"),
+    ("object.pose", [0.0, 0.0, 0.5, 0.0, 0.0, 0.0], "object.pose"),
+    ("object.inertia", [0.01, 0.01, 0.01], "object.inertia"),
+    ("arms[1].grasp", [0.1, 0.0], "arms[1].grasp"),
+    ("arms[1].grasp", [0.1, 0.0, 0.0, 0.0, 0.0, 0.0], "arms[1].grasp"),
+    ("arms[0].base", "origin", "arms[0].base"),
+    ("arms[1].role", "leader", "arms[1].role"),
+    ("arms[0].model", "puma560", "arms[0].model"),
+    ("arms[0].model", "ur5", "arms[0].model"),
+    ("arms[0].tau_max", [10.0, 10.0], "arms[0].tau_max"),
+    ("arms[0].q0", [0.0, 0.1, "a"], "arms[0].q0"),
+    ("trajectory.via[1].time", 0.0, "trajectory.via[1].time"),
+    ("trajectory.via[0].pose", [0.0, 0.4, 0.0], "trajectory.via[0].pose"),
+    ("trajectory.via[1].pose", [0.0, 0.4], "trajectory.via[1].pose"),
+    ("load_distribution.split", "equal", "load_distribution.split"),
+    ("load_distribution.shares", [1.0, 1.0, 1.0], "load_distribution.shares"),
+    ("load_distribution.squeeze", -5.0, "load_distribution.squeeze"),
+    ("load_distribution.friction_facets", 2, "load_distribution.friction_facets"),
+    ("load_distribution.torque_limits", "yes", "load_distribution.torque_limits"),
+    ("controllers.followers.force_kp", -1.0, "controllers.followers.force_kp"),
+    ("sensors.forces.noise_std", -0.1, "sensors.forces.noise_std"),
+    ("simulation", 3, "simulation"),
+    ("arms", {"model": "planar3r"}, "arms"),
+    ("description", "two\nlines", "description"),
+]
+
+
+@pytest.mark.parametrize("dotted, value, path", BAD, ids=[f"{d}={v!r}" for d, v, _ in BAD])
+def test_bad_field_names_its_path(tmp_path, dotted, value, path):
+    data = _set(base(), dotted, value)
+    err = raises(path, load_scenario, write(tmp_path, data))
+    assert "scene.toml" in str(err)
+    assert "expected" in str(err)
+
+
+def test_unknown_key_lists_allowed_keys(tmp_path):
+    err = raises("arms[1].grasps", load_scenario, write(tmp_path, _set(base(), "arms[1].grasps", [0, 0, 0])))
+    assert "grasp" in err.allowed and "node_mass" in err.allowed
+
+
+def test_missing_required_arm_key(tmp_path):
+    data = base()
+    del data["arms"][1]["grasp"]
+    raises("arms[1].grasp", load_scenario, write(tmp_path, data))
+
+
+def test_two_leaders(tmp_path):
+    raises("arms[1].role", load_scenario, write(tmp_path, _set(base(), "arms[1].role", "leader")))
+
+
+def test_no_leader(tmp_path):
+    raises("arms", load_scenario, write(tmp_path, _set(base(), "arms[0].role", "follower")))
+
+
+def test_one_arm_is_not_enough(tmp_path):
+    data = base()
+    data["arms"] = data["arms"][:1]
+    data.pop("springs")
+    raises("arms", load_scenario, write(tmp_path, data))
+
+
+def test_disconnected_springs(tmp_path):
+    data = base()
+    data["springs"] = data["springs"][:1]
+    err = raises("springs", load_scenario, write(tmp_path, data))
+    assert "[2]" in str(err)
+
+
+def test_planar_arm_in_spatial_scene(tmp_path):
+    data = spatial()
+    data["arms"][1]["model"] = "planar3r"
+    raises("arms[1].model", load_scenario, write(tmp_path, data))
+
+
+def test_euler_singularity_rejected(tmp_path):
+    data = spatial()
+    data["object"]["pose"] = [0.0, 0.0, 0.6, 0.0, math.pi / 2, 0.0]
+    raises("object.pose", load_scenario, write(tmp_path, data))
+
+
+def test_direct_construction_checks_fields():
+    raises("substeps", SimulationConfig, substeps=0)
+    raises("pair", SpringConfig, pair=(0, -1))
+    raises("grasp", ArmConfig, model="planar3r", role="leader", base=(0, 0, 0), grasp=(0, 0))
+    raises("simulation", Scenario, simulation={"substeps": 2})
+
+
+# ---------------------------------------------------------------------- overrides
+def test_override_integrator_and_stiffness(tmp_path):
+    s = load_scenario(write(tmp_path, base()), {"simulation.integrator": "euler", "springs[0].stiffness": "1e6"})
+    assert s.simulation.integrator == "euler"
+    assert s.springs[0].stiffness == 1e6 and isinstance(s.springs[0].stiffness, float)
+
+
+def test_override_list_value_and_python_value():
+    s = load_scenario(None, {"arms[1].grasp": "[0.12, 0, 3.0]", "simulation.substeps": 4, "object.mass": 2})
+    assert s.arms[1].grasp == (0.12, 0.0, 3.0)
+    assert s.simulation.substeps == 4 and s.object.mass == 2.0
+
+
+def test_override_into_defaults_without_file():
+    s = load_scenario(None, {"springs[1].stiffness": "2e4", "trajectory.via[1].time": "2", "controllers.leader.natural_frequency": "40"})
+    assert s.springs[1].stiffness == 2e4
+    assert s.trajectory.via[1].time == 2.0
+    assert s.controllers.leader.natural_frequency == 40.0
+
+
+def test_override_does_not_mutate_input():
+    data = base()
+    before = copy.deepcopy(data)
+    scenario_from_dict(data, overrides={"simulation.integrator": "euler"})
+    assert data == before
+
+
+@pytest.mark.parametrize(
+    "path, value, named",
+    [
+        ("simulation.bogus", "1", "simulation.bogus"),
+        ("bogus", "1", "bogus"),
+        ("bogus.deeper", "1", "bogus.deeper"),
+        ("springs[7].stiffness", "1e6", "springs[7].stiffness"),
+        ("arms[0].grasp.x", "1", "arms[0].grasp.x"),
+        ("simulation[0]", "1", "simulation[0]"),
+        ("simulation..x", "1", "simulation..x"),
+    ],
+)
+def test_override_unknown_path(tmp_path, path, value, named):
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(write(tmp_path, base()), {path: value})
+    assert named in str(info.value) and "\n" not in str(info.value)
+
+
+def test_override_bad_value_names_path(tmp_path):
+    raises("simulation.substeps", load_scenario, write(tmp_path, base()), {"simulation.substeps": "0"})
+    raises("springs[0].stiffness", load_scenario, write(tmp_path, base()), {"springs[0].stiffness": "nan"})
+
+
+def test_override_can_fix_a_bad_file(tmp_path):
+    path = write(tmp_path, _set(base(), "simulation.substeps", 0))
+    assert load_scenario(path, {"simulation.substeps": "2"}).simulation.substeps == 2
+
+
+@pytest.mark.parametrize(
+    "text, value",
+    [("1e6", 1e6), ("3", 3), ("[0,0.1,0]", [0, 0.1, 0]), ("rk4", "rk4"), ("true", True), ('"x y"', "x y"), ("{a = 1}", {"a": 1})],
+)
+def test_parse_override_value(text, value):
+    assert parse_override_value(text) == value
+
+
+def test_loading_does_not_import_numpy():
+    import subprocess
+
+    code = (
+        "import sys, coopctrl; before = 'numpy' in sys.modules; "
+        "from coopctrl.scenario import load_scenario; load_scenario(None); "
+        "print(before or 'numpy' not in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "True"
