@@ -1,0 +1,35 @@
+"""coopctrl: the control layer over the elastic cooperative plant (:mod:`plants`).
+
+Public API (notebooks and outside checks use these names):
+
+- :func:`load_scenario` - a validated scenario from a TOML file (plus ``--set``-style overrides);
+- :func:`simulate` - run a scenario's closed loop and get a :class:`SimulationResult`.
+
+Heavy modules are imported lazily so that ``coopctrl --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+__all__ = ["load_scenario", "simulate", "SimulationResult"]
+
+
+def load_scenario(path=None, overrides=None):
+    """A validated :class:`~coopctrl.scenario.Scenario` from ``path`` (None: the default scene)."""
+    from coopctrl.scenario import load_scenario as _load
+
+    return _load(path, overrides)
+
+
+def simulate(scenario, progress: bool = False):
+    """Run the closed loop of ``scenario``; returns a :class:`~coopctrl.results.SimulationResult`."""
+    from coopctrl.simulate import simulate as _simulate
+
+    return _simulate(scenario, progress=progress)
+
+
+def __getattr__(name):
+    if name == "SimulationResult":
+        from coopctrl.results import SimulationResult
+
+        return SimulationResult
+    raise AttributeError(name)

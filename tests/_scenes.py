@@ -9,8 +9,7 @@ from plants.cooperative import ContactPoint, assemble_plant
 from plants.elastic import Interconnection, Node
 from plants.frames import rotation_zyx
 
-PUMA_TOOL = np.array([[0.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.05], [0.0, 0.0, 0.0, 1.0]])
-"""Node frame of a Puma: x along the flange's approach axis, 5 cm beyond the flange."""
+from plants.arms.puma560 import GRIPPER_TOOL as PUMA_TOOL  # noqa: E402
 
 
 def _T(xyz, A):

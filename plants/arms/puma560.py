@@ -75,3 +75,9 @@ def puma560(base=None, tool=None, motor_inertia: bool = False, viscous_friction:
         tau_max=PUMA560_TAU_MAX,
         q_limits=PUMA560_Q_LIMITS,
     )
+
+
+#: Node frame of a Puma 560 gripper [4x4]: the node's x axis is the flange's approach axis (z6),
+#: and the node sits 5 cm beyond the flange. With it, a node whose frame is aligned with the
+#: object's frame is approached along +x, away from the ZYX singularity at pitch +-90 deg.
+GRIPPER_TOOL = np.array([[0.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.05], [0.0, 0.0, 0.0, 1.0]])

@@ -2,7 +2,8 @@
 
 from plants.cooperative.assembly import assemble_plant
 from plants.cooperative.contact_point import ContactPoint
+from plants.cooperative.control_terms import ControlTerms
 from plants.cooperative.cooperative_plant import CooperativePlant
 from plants.cooperative.loaded_state import nominal_node_motion, nominal_node_poses
 
-__all__ = ["assemble_plant", "ContactPoint", "CooperativePlant", "nominal_node_motion", "nominal_node_poses"]
+__all__ = ["assemble_plant", "ContactPoint", "ControlTerms", "CooperativePlant", "nominal_node_motion", "nominal_node_poses"]

@@ -8,6 +8,7 @@ import numpy as np
 
 from plants.cooperative import _planar_kernel, _spatial_kernel
 from plants.cooperative.contact_point import ContactPoint
+from plants.cooperative.control_terms import ControlTerms
 from plants.elastic import ElasticSystem
 from plants.elastic._layout import (
     STATUS_COINCIDENT_NODES,
@@ -16,7 +17,8 @@ from plants.elastic._layout import (
     STATUS_SINGULAR_MASS,
 )
 from plants.errors import EulerSingularityError, ParameterError, SingularJacobianError
-from plants.frames import rotation_zyx
+from plants.elastic._spatial_kernels import node_terms as _spatial_node_terms
+from plants.frames import body_rate_map_inv, rotation_zyx
 
 _POSE_NAMES = {"spatial": ("x", "y", "z", "psi", "theta", "phi"), "planar": ("x", "z", "theta")}
 _INPUT_NAMES = {"spatial": ("fx", "fy", "fz", "Qpsi", "Qtheta", "Qphi"), "planar": ("fx", "fz", "n")}
@@ -222,6 +224,29 @@ class CooperativePlant:
         G[-p:, -p:] = W[:p, :p]
         return G
 
+    def control_terms(self, x) -> ControlTerms:
+        """:class:`ControlTerms` at state ``x`` (three kernel calls)."""
+        Y, dY, H, h, J, Jdq = self._node_state(x)
+        N, p = self.node_count, self.p
+        if self.space == "spatial":
+            Wr = np.empty((N, 3, 3))
+            w_free = np.empty((N, 6))
+            _spatial_node_terms(Y, dY, self._node_params, self._gravity, self._Y_ref, self._immobile, Wr, w_free)
+            W = np.zeros((N, 6, 6))
+            W[:, 0, 0] = W[:, 1, 1] = W[:, 2, 2] = self._node_params[:, 0]
+            W[:, 3:, 3:] = Wr
+        else:
+            W = np.zeros((N, 3, 3))
+            W[:, 0, 0] = W[:, 1, 1] = self._node_params[:, 0]
+            W[:, 2, 2] = self._node_params[:, 1]
+            w_free = np.zeros((N, 3))
+            w_free[:, :2] = -self._node_params[:, :1] * self._gravity[None, :]
+        S, Fw, ok = self._kern.interconnection_kernel(Y, dY, self.arm_count, self._edge_index, self._edge_params,
+                                                      self._Y_ref, self._immobile)
+        if not ok:
+            raise EulerSingularityError("object", float(Y[0, 4]), float(np.cos(Y[0, 4])))
+        return ControlTerms(Y, dY, H, h, J, Jdq, W, w_free, S, Fw)
+
     # ------------------------------------------------------------------ energy
     def elastic_potential(self, Y) -> float:
         """``Pi(Y)`` [J] of the interconnections (see :class:`ElasticSystem`)."""
@@ -272,7 +297,6 @@ class CooperativePlant:
             d = Y[c] - Y[0]
             if self.space == "spatial":
                 A0 = Y[0, 3:6]
-                from plants.frames import body_rate_map_inv
                 tau_body = body_rate_map_inv(A0, "object").T @ Q[3:6]
                 tau_world = rotation_zyx(A0) @ tau_body
                 f = Q[:3]
@@ -354,3 +378,4 @@ class CooperativePlant:
         names = self.state_names()
         return control.ss(A, B, np.eye(A.shape[0]), np.zeros((A.shape[0], B.shape[1])),
                           states=names, inputs=self.input_names(), outputs=names, name="cooperative_plant")
+

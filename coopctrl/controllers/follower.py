@@ -1,0 +1,74 @@
+"""A follower arm: elastic-force regulation around a computed-torque motion loop (MODEL.md s.6)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from coopctrl.controllers.computed_torque import node_computed_torque, pose_error
+from coopctrl.errors import ScenarioError
+
+
+class FollowerForceController:
+    """Drive the wrench of follower ``i``'s interconnection to its QP setpoint ``F_i^*``.
+
+    Outer force loop (PI on the wrench error, in displacement units through the grasp
+    compliance ``C_i = K_i^+`` of :class:`GraspCompliance`):
+
+    .. math::
+        e = F_i^* - F_i^{meas}, \\quad
+        \\delta = C_i \\big(k_p e + k_i \\textstyle\\int e\\, dt\\big), \\quad
+        Y_i^{cmd} = \\underbrace{Y_i^{rigid} + C_i F_i^*}_{\\text{feedforward}} + \\delta
+
+    Inner motion loop: computed torque tracking ``Y_i^cmd`` with ``omega_m``, ``zeta_m``
+    (as :class:`LeaderController`).
+
+    Bandwidth. The interconnection turns a node displacement into a wrench through
+    ``K_i``: ``F = K_i (Y_i - Y_i^{rigid})``. With the motion loop ``M(s) = omega_m^2 /
+    (s^2 + 2 zeta_m omega_m s + omega_m^2)`` the force loop is
+
+    .. math:: L(s) = \\Big(k_p + \\frac{k_i}{s}\\Big) M(s)
+
+    so for ``omega_m >> k_i`` the force error decays at ``omega_F ~ k_i / (1 + k_p)`` [rad/s]
+    and the static error of a pure P loop is ``1 / (1 + k_p)``. The elastic mode of the
+    grasp, ``omega_e = sqrt(k / m_eff)`` (node against object), sets the ceiling: the motion loop must
+    stay below it (``omega_m < omega_e``) so that the computed torque does not excite the
+    interconnection, and the force loop below the motion loop (``omega_F < omega_m / 3``).
+
+    With ``force_loop=False`` the follower only tracks the feedforward pose (position control).
+    """
+
+    def __init__(self, plant, index: int, compliance, kp: float, ki: float, natural_frequency: float,
+                 damping_ratio: float, force_loop: bool = True, integral_limit: float = 1e3):
+        for name, value in (("force_kp", kp), ("force_ki", ki)):
+            if not value >= 0:
+                raise ScenarioError(f"controllers.followers.{name}", value, "a gain >= 0")
+        if not natural_frequency > 0:
+            raise ScenarioError("controllers.followers.natural_frequency", natural_frequency, "a frequency > 0 rad/s")
+        if not damping_ratio > 0:
+            raise ScenarioError("controllers.followers.damping_ratio", damping_ratio, "a ratio > 0")
+        self.plant = plant
+        self.index = index
+        self.compliance = compliance
+        self.kp = float(kp)
+        self.ki = float(ki)
+        self.force_loop = bool(force_loop)
+        self.Kp = natural_frequency**2
+        self.Kd = 2.0 * damping_ratio * natural_frequency
+        self.integral_limit = integral_limit  # [N s] anti-windup bound on each component
+        self.integral = np.zeros(plant.p)
+
+    def reset(self) -> None:
+        self.integral[:] = 0.0
+
+    def torque(self, terms, F_set, F_meas, Y_rigid, dY_ref, ddY_ref, Y0, dt: float) -> np.ndarray:
+        """Follower torques [N m]; updates the integral of the force error over ``dt`` [s]."""
+        k = self.index + 1
+        correction = F_set
+        if self.force_loop:
+            e = F_set - F_meas
+            self.integral += e * dt
+            np.clip(self.integral, -self.integral_limit, self.integral_limit, out=self.integral)
+            correction = F_set + self.kp * e + self.ki * self.integral
+        Y_cmd = Y_rigid + self.compliance.pose_increment(self.index, correction, Y0, Y_rigid)
+        a = ddY_ref + self.Kd * (dY_ref - terms.dY[k]) + self.Kp * pose_error(Y_cmd, terms.Y[k], self.plant.space)
+        return node_computed_torque(self.plant, terms, self.index, a)

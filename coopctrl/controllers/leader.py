@@ -1,0 +1,46 @@
+"""The leader arm: computed torque tracking its nominal node trajectory (MODEL.md s.6)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from coopctrl.controllers.computed_torque import node_computed_torque, pose_error
+from coopctrl.errors import ScenarioError
+
+
+class LeaderController:
+    """Computed torque on the full model for the leader ``v``:
+
+    .. math::
+        a_{cmd} = \\ddot Y_v^N + K_d (\\dot Y_v^N - \\dot Y_v) + K_p (Y_v^N - Y_v), \\quad
+        K_p = \\omega_n^2, \\; K_d = 2 \\zeta \\omega_n
+
+    then :func:`node_computed_torque`. ``Y_v^N`` is the nominal leader node trajectory: the
+    object's nominal motion carried to the grasp (148) plus the nominal deformation that makes
+    the leader's interconnection carry its QP share. With an exact model the node error obeys
+    ``e'' + 2 zeta omega_n e' + omega_n^2 e = 0``.
+
+    Args:
+        plant: The cooperative plant (the controller's model).
+        index: The leader's arm index.
+        natural_frequency: ``omega_n`` [rad/s] > 0.
+        damping_ratio: ``zeta`` [-] > 0.
+    """
+
+    def __init__(self, plant, index: int, natural_frequency: float, damping_ratio: float):
+        if not natural_frequency > 0:
+            raise ScenarioError("controllers.leader.natural_frequency", natural_frequency, "a frequency > 0 rad/s")
+        if not damping_ratio > 0:
+            raise ScenarioError("controllers.leader.damping_ratio", damping_ratio, "a ratio > 0")
+        self.plant = plant
+        self.index = index
+        self.Kp = natural_frequency**2
+        self.Kd = 2.0 * damping_ratio * natural_frequency
+
+    def acceleration(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:
+        k = self.index + 1
+        return ddY_ref + self.Kd * (dY_ref - terms.dY[k]) + self.Kp * pose_error(Y_ref, terms.Y[k], self.plant.space)
+
+    def torque(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:
+        """Leader torques [N m] for the reference ``(Y_ref, dY_ref, ddY_ref)`` of its node."""
+        return node_computed_torque(self.plant, terms, self.index, self.acceleration(terms, Y_ref, dY_ref, ddY_ref))

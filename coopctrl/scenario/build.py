@@ -1,0 +1,124 @@
+"""From a validated :class:`Scenario` to the objects of the closed loop: plant, state, QP, controllers.
+
+Every physical error found while building (an unreachable grasp, an Euler singularity, a torque
+limit below the static load) is re-raised as a :class:`ScenarioError` naming the scenario field,
+so that it is reported before any simulation starts.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from coopctrl.errors import ScenarioError
+from plants.arms import planar3r, puma560
+from plants.arms.puma560 import GRIPPER_TOOL
+from plants.cooperative import ContactPoint, assemble_plant, nominal_node_poses
+from plants.elastic import Interconnection, Node
+from plants.errors import EulerSingularityError, ParameterError, UnreachablePoseError
+from plants.frames import rotation_zyx
+
+_CACHE: dict[int, tuple] = {}
+
+
+def _pose_matrix(pose) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3] = rotation_zyx(np.asarray(pose[3:], dtype=float))
+    T[:3, 3] = pose[:3]
+    return T
+
+
+def make_arm(scenario, k: int):
+    """The arm model of ``arms[k]``."""
+    cfg = scenario.arms[k]
+    space = scenario.space
+    if cfg.model == "contact_point":
+        return ContactPoint(space, name=f"arms[{k}]")
+    if cfg.model == "puma560":
+        arm = puma560(base=_pose_matrix(cfg.base), tool=GRIPPER_TOOL, name=f"arms[{k}]")
+    else:
+        arm = planar3r(base=np.asarray(cfg.base, dtype=float), gravity=(0.0, -scenario.scene.gravity), name=f"arms[{k}]")
+    if cfg.tau_max is not None:
+        if len(cfg.tau_max) != arm.dof:
+            raise ScenarioError(f"arms[{k}].tau_max", list(cfg.tau_max), f"{arm.dof} torque limits [N m]")
+        from dataclasses import replace
+
+        arm = replace(arm, tau_max=np.asarray(cfg.tau_max, dtype=float))
+    return arm
+
+
+def _build(scenario):
+    key = id(scenario)
+    if key in _CACHE and _CACHE[key][0] is scenario:
+        return _CACHE[key][1]
+    space = scenario.space
+    obj = scenario.object
+    arms = [make_arm(scenario, k) for k in range(len(scenario.arms))]
+    nodes = [Node(a.node_mass, a.node_inertia, name=f"arms[{k}].node") for k, a in enumerate(scenario.arms)]
+    springs = []
+    for e, s in enumerate(scenario.springs):
+        springs.append(Interconnection(tuple(s.pair), stiffness=s.stiffness_per_axis(space),
+                                       torsion=s.torsion_per_axis(space), damping=s.damping,
+                                       torsion_damping=s.torsion_damping, element=s.element, name=f"springs[{e}]"))
+    grasps = np.array([a.grasp for a in scenario.arms], dtype=float)
+    q0 = [None if a.q0 is None else np.asarray(a.q0, dtype=float) for a in scenario.arms]
+    try:
+        plant, x0 = assemble_plant(space, Node(obj.mass, obj.inertia, name="object"), np.asarray(obj.pose, float),
+                                   arms, grasps, nodes, springs, gravity=scenario.scene.gravity,
+                                   unloaded_state=scenario.scene.unloaded_state, leader=scenario.leader, q0=q0)
+    except UnreachablePoseError as exc:
+        k = int(exc.arm.split("[")[1].split("]")[0]) if exc.arm.startswith("arms[") else 0
+        raise ScenarioError(f"arms[{k}].grasp", list(scenario.arms[k].grasp),
+                            f"a grasp within reach of the arm at base {list(scenario.arms[k].base)} "
+                            f"(inverse kinematics residual {exc.residual:.3g})", scenario.source) from None
+    except EulerSingularityError as exc:
+        raise ScenarioError("arms[*].grasp", exc.where, "grasp orientations away from pitch = +-90 deg "
+                            "(ZYX Euler singularity)", scenario.source) from None
+    except ParameterError as exc:
+        raise ScenarioError(exc.parameter, exc.value, exc.allowed, scenario.source) from None
+    _check_static_torques(scenario, plant, x0)
+    _CACHE.clear()
+    _CACHE[key] = (scenario, (plant, x0))
+    return plant, x0
+
+
+def _check_static_torques(scenario, plant, x0) -> None:
+    """Reject torque limits below the static load: arm gravity, node weight and an equal share
+    of the object's weight, at the initial configuration."""
+    terms = plant.control_terms(x0)
+    m = plant.arm_count
+    npos = 3 if plant.space == "spatial" else 2
+    share = np.zeros(plant.p)
+    share[:npos] = -scenario.object.mass * plant.elastic.gravity / m
+    for i, arm in enumerate(plant.arms):
+        if isinstance(arm, ContactPoint):
+            continue
+        n = arm.dof
+        J = terms.J[i, :, :n]
+        tau = terms.h[i, :n] + J.T @ (terms.w_free[i + 1] + share)
+        ratio = np.abs(tau) / arm.tau_max
+        if np.any(ratio > 1.0):
+            j = int(np.argmax(ratio))
+            raise ScenarioError(
+                f"arms[{i}].tau_max", [float(v) for v in arm.tau_max],
+                f"limits above the static load at the initial pose (joint {j + 1} needs {abs(tau[j]):.3g} N m "
+                "for the arm, its node and its share of the object's weight)", scenario.source)
+
+
+def build_plant(scenario):
+    """The :class:`~plants.cooperative.CooperativePlant` of a scenario."""
+    return _build(scenario)[0]
+
+
+def initial_state(scenario) -> np.ndarray:
+    """The state the run starts from: the unloaded configuration, at rest (springs undeformed)."""
+    return _build(scenario)[1].copy()
+
+
+def nominal_grasps(scenario) -> np.ndarray:
+    """(m, p) grasp poses in the object frame, as the controllers know them."""
+    return np.array([a.grasp for a in scenario.arms], dtype=float)
+
+
+def reference_poses(scenario) -> np.ndarray:
+    """(m + 1, p) unloaded node poses."""
+    return nominal_node_poses(np.asarray(scenario.object.pose, float), nominal_grasps(scenario), scenario.space)

@@ -1,0 +1,74 @@
+"""``simulate(scenario)``: build the closed loop of a scenario, run it, and return its result."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from coopctrl.closed_loop import ClosedLoop
+from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
+from coopctrl.integrators import get_integrator
+from coopctrl.load_distribution import LoadDistribution
+from coopctrl.load_distribution import LoadDistributionConfig as QPConfig
+from coopctrl.results import SimulationResult
+from coopctrl.scenario import build
+from coopctrl.sensors import SensorConfig, SensorSuite
+from coopctrl.trajectory import MinimumJerkTrajectory
+
+
+def _qp_config(cfg) -> QPConfig:
+    return QPConfig(split=cfg.split, shares=cfg.shares, squeeze=cfg.squeeze, min_grip=cfg.min_grip,
+                    friction_coefficient=cfg.friction_coefficient, friction_facets=cfg.friction_facets,
+                    torque_limits=cfg.torque_limits, solver=cfg.solver, eps_abs=cfg.eps_abs,
+                    max_consecutive_failures=cfg.max_consecutive_failures)
+
+
+def _sensor(cfg) -> SensorConfig:
+    return SensorConfig(noise_std=cfg.noise_std, quantization=cfg.quantization)
+
+
+def closed_loop(scenario) -> ClosedLoop:
+    """The :class:`ClosedLoop` of a scenario, every part built and wired explicitly."""
+    plant = build.build_plant(scenario)
+    space, m = scenario.space, len(scenario.arms)
+    via = scenario.trajectory.via
+    trajectory = MinimumJerkTrajectory([v.time for v in via], [v.pose for v in via], space)
+    compliance = GraspCompliance(plant)
+    ctrl = scenario.controllers
+    leader = LeaderController(plant, scenario.leader, ctrl.leader.natural_frequency, ctrl.leader.damping_ratio)
+    f = ctrl.followers
+    followers = {i: FollowerForceController(plant, i, compliance, f.force_kp, f.force_ki, f.natural_frequency,
+                                            f.damping_ratio, f.force_loop) for i in scenario.followers}
+    s = scenario.sensors
+    sensors = SensorSuite(_sensor(s.joints), _sensor(s.forces), _sensor(s.object), scenario.simulation.seed)
+    sim = scenario.simulation
+    return ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
+                      LoadDistribution(_qp_config(scenario.load_distribution), space, m), compliance, leader,
+                      followers, sensors, get_integrator(sim.integrator), sim.control_period, sim.substeps,
+                      scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
+                      torque_limits=scenario.load_distribution.torque_limits, name=scenario.name)
+
+
+def simulate(scenario, progress: bool = False) -> SimulationResult:
+    """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`."""
+    loop = closed_loop(scenario)
+    plant = loop.plant
+    sim = scenario.simulation
+    rec = loop.run(build.initial_state(scenario), sim.duration, progress=progress)
+    p, nz = plant.p, plant.nz
+    x = rec["x"]
+    Y0 = x[:, nz - p:nz]
+    squeeze = np.array([loop.squeeze_of(F, r, y[:loop.npos]) for F, r, y in
+                        zip(rec["F_measured"], rec["r_contacts"], Y0)]) if len(x) else np.zeros((0, len(loop.squeeze_desired)))
+    report = plant.size_report()
+    model = {"arms": report["arms"], "dof_per_arm": report["dof_per_arm"], "space": plant.space,
+             "unloaded_state": plant.unloaded_state, "state_size": plant.state_size,
+             "arm_models": [a.model for a in scenario.arms]}
+    return SimulationResult(
+        scenario=scenario.name, space=plant.space, t=rec["t"], x=x, tau=rec["tau"], Y0=Y0,
+        Y0_nominal=rec["Y0_nominal"], F_measured=rec["F_measured"], F_commanded=rec["F_commanded"],
+        F_external=rec["F_external"], F_internal=rec["F_internal"], squeeze=squeeze,
+        squeeze_desired=np.asarray(loop.squeeze_desired, dtype=float), tau_max=loop.tau_max,
+        qp_status=rec["qp_status"], qp_iterations=rec["qp_iterations"], qp_solve_time_s=rec["qp_solve_time_s"],
+        events=rec["events"], status=rec["status"], reason=rec["reason"], model=model, integrator=sim.integrator,
+        step_s=sim.step, control_period_s=sim.control_period, duration_s=sim.duration,
+        wall_time_s=rec["wall_time_s"], leader=scenario.leader, followers=list(scenario.followers))
