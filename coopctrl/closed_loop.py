@@ -35,6 +35,10 @@ from plants.errors import PlantError
 from plants.frames import body_rate_map, rotation_zyx
 
 
+#: Fraction of each joint torque limit the load-distribution QP may plan with [-].
+TORQUE_HEADROOM = 0.9
+
+
 class ClosedLoop:
     """A fixed-step closed loop over a cooperative plant.
 
@@ -81,6 +85,11 @@ class ClosedLoop:
         self.object_inertia = el.node_params[0, 1:].copy()
         self.gravity = el.gravity.copy()
         self.tau_max = np.concatenate([np.asarray(a.tau_max, dtype=float) for a in plant.arms])
+        #: The QP plans torques within ``TORQUE_HEADROOM`` of each limit, leaving the rest for
+        #: the feedback terms; the applied torques are saturated at the limit (actuators).
+        self._qp_tau_max = [TORQUE_HEADROOM * np.asarray(a.tau_max, dtype=float) for a in plant.arms]
+        self._x_ref = None
+        self._omega_cache = None
         Yr = el.Y_ref
         self._rho = np.array([self._to_object_frame(Yr[0], Yr[i + 1, :self.npos] - Yr[0, :self.npos])
                               for i in range(plant.arm_count)])
@@ -102,17 +111,20 @@ class ClosedLoop:
                 worst, which = v, i
         return worst, which
 
-    def omega_max(self) -> float:
-        """Highest elastic mode [rad/s]: generalized eigenvalues of the immobile ``K`` against ``W(Y_ref)``.
+    def omega_max(self, x=None) -> float:
+        """Highest mode [rad/s] of the plant linearized at ``x`` (default: the state the last run
+        started from; before any run, the unloaded state): ``max |eig(df/dx)|``.
 
-        Contact nodes are taken with their own mass only (the arms add inertia and lower the
-        true mode), so the estimate errs on the high side and the suggested step on the safe side.
+        The arms' inertia is included, so this is the frequency the integrator actually meets.
         """
-        el = self.plant.elastic
-        K = el.stiffness_matrix()
-        W = el.inertia(el.Y_ref)
-        ev = np.linalg.eigvals(np.linalg.solve(W, K))
-        return float(np.sqrt(max(np.max(ev.real), 0.0)))
+        if x is None:
+            x = self._x_ref
+        if self._omega_cache is not None and self._omega_cache[0] is x:
+            return self._omega_cache[1]
+        A, _ = self.plant.jacobians(x, np.zeros(self.plant.input_size))
+        w = float(np.max(np.abs(np.linalg.eigvals(A))))
+        self._omega_cache = (x, w)
+        return w
 
     def suggested_step(self) -> float:
         """A step [s] the chosen integrator should survive: half its predicted limit at ``omega_max``."""
@@ -121,6 +133,35 @@ class ClosedLoop:
         if limit == 0.0 or not math.isfinite(limit):
             limit = 2.0 * math.sqrt(2.0) / w if w > 0 else self.h  # RK4's limit as a reference
         return 0.5 * min(limit, self.h * 10)
+
+    def _step_hint(self):
+        """A suggested step when the step is beyond the predicted stability limit, else None."""
+        return None if self.numerically_stable_step() else self.suggested_step()
+
+    def numerically_stable_step(self) -> bool:
+        """True if the integration step is within the chosen integrator's predicted limit."""
+        w = self.omega_max()
+        return w == 0 or self.h <= self.integrator.predicted_max_step(w)
+
+    def diagnose(self, x) -> str:
+        """Why a run at state ``x`` (the loaded start) cannot stay bounded, if the physics says so.
+
+        Checks the object's stiffness with the contact nodes held (:meth:`ElasticSystem.node_stiffness`):
+        a negative eigenvalue is a static instability of the grasp, whatever the step.
+        """
+        Y = self.plant.node_poses(x)
+        K0 = self.plant.elastic.node_stiffness(Y, 0)
+        npos = self.npos
+        ev, vec = np.linalg.eigh(K0[:npos, :npos])
+        if ev[0] < 0:
+            d = vec[:, 0] * np.sign(vec[np.argmax(np.abs(vec[:, 0])), 0])
+            axes = "xyz" if npos == 3 else "xz"
+            direction = ", ".join(f"{c}: {v:+.2f}" for c, v in zip(axes, d))
+            return (f"the grasp is statically unstable: the object's translational stiffness has a negative "
+                    f"eigenvalue {ev[0]:.4g} N/m along ({direction}); central springs carry lateral load only "
+                    "through tension and squeeze makes their lateral stiffness negative, so the object buckles out "
+                    "of the grasp line (MODEL.md s.3). Use element = \"offset\" (shear stiffness) or less squeeze")
+        return ""
 
     def _torque_model(self, terms, ddYn):
         """QP torque-limit rows: ``tau_i = Jg_i^T F_i + bias_i`` with the nominal node accelerations."""
@@ -159,6 +200,41 @@ class ClosedLoop:
                 out[i] = (math.cos(Y[i + 1, 2]), math.sin(Y[i + 1, 2]))
         return out
 
+    def loaded_state(self, x_unloaded) -> np.ndarray:
+        """The loaded state at rest at t = 0, as the controllers plan it.
+
+        The object is on its nominal pose; each contact node is at the pose that makes its
+        interconnection carry the QP split of t = 0 (with the desired squeeze); each arm reaches
+        its node by inverse kinematics (seeded with the unloaded configuration).
+        """
+        plant = self.plant
+        p, npos, m = plant.p, self.npos, plant.arm_count
+        Y0N, dY0N, ddY0N = self.trajectory.evaluate(0.0)
+        Yn = nominal_node_motion(Y0N, dY0N, ddY0N, self.grasps, self.space)[0]
+        w_N = required_object_wrench(self.space, self.object_mass, self.object_inertia, self.gravity, Y0N, dY0N, ddY0N)
+        from coopctrl.load_distribution import LoadDistribution
+
+        ld = LoadDistribution(self.ld.config, self.space, m)
+        terms = plant.control_terms(x_unloaded)
+        kwargs = {}
+        if self.ld.config.min_grip is not None or self.ld.config.friction_coefficient is not None:
+            kwargs["normals"] = self._normals(terms)
+        if self.torque_limits:
+            kwargs["jacobians"], kwargs["biases"] = self._torque_model(terms, np.zeros((m + 1, p)))
+            kwargs["tau_max"] = self._qp_tau_max
+        if self.ld.config.split == "elastic":
+            kwargs["K"] = self.compliance.stiffness_world(Y0N)
+        F = ld.solve(Yn[1:, :npos], Y0N[:npos], w_N, **kwargs).F
+        x = np.array(x_unloaded, dtype=float)
+        nz = plant.nz
+        x[nz:] = 0.0
+        x[nz - p:nz] = Y0N
+        for i, arm in enumerate(plant.arms):
+            Yi = self.compliance.deformation(i, F[i], Y0N, Yn[i + 1])
+            sl = plant.q_slice(i)
+            x[sl] = arm.inverse_kinematics(Yi, x_unloaded[sl]) if not isinstance(arm, ContactPoint) else Yi
+        return x
+
     # ------------------------------------------------------------------ the loop
     def run(self, x0, duration: float, progress: bool = False) -> dict:
         """Simulate ``duration`` [s] from ``x0``; returns the recorded arrays and the run status."""
@@ -177,6 +253,7 @@ class ClosedLoop:
         events: list[tuple[float, str, str]] = []
         status, reason = "ok", ""
         x = np.array(x0, dtype=float)
+        self._x_ref = x.copy()
         q_slices = [plant.q_slice(i) for i in range(m)]
         nz = plant.nz
         rhs = plant.rhs
@@ -190,6 +267,8 @@ class ClosedLoop:
         state_exact = self.sensors.joints.config.is_exact and self.sensors.object.config.is_exact
         wall0 = _time.perf_counter()
         qp_time = 0.0
+        saturated = 0
+        binding_counts: dict[str, int] = {}
         try:
             for k in range(N):
                 t = k * self.T
@@ -206,14 +285,14 @@ class ClosedLoop:
                 F_meas = self.sensors.read_forces(true_terms.Fw)
                 # ---- divergence checks on the state we are at
                 if not np.all(np.isfinite(x)):
-                    raise DivergenceError(t, "state (non-finite)", float("nan"), self.suggested_step())
+                    raise DivergenceError(t, "state (non-finite)", float("nan"), self._step_hint())
                 dmax, which = self._deformation(true_terms.Y)
                 if dmax > self.max_deformation:
-                    raise DivergenceError(t, f"deformation of contact {which} [m]", dmax, self.suggested_step())
+                    raise DivergenceError(t, f"deformation of contact {which} [m]", dmax, self._step_hint())
                 if self.max_energy is not None:
                     E = plant.energy(x)
                     if not abs(E) <= self.max_energy:
-                        raise DivergenceError(t, "energy [J]", E, self.suggested_step())
+                        raise DivergenceError(t, "energy [J]", E, self._step_hint())
                 # ---- nominal motion and load
                 Y0N, dY0N, ddY0N = self.trajectory.evaluate(t)
                 Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, self.grasps, self.space)
@@ -224,7 +303,7 @@ class ClosedLoop:
                     kwargs["normals"] = self._normals(terms)
                 if self.torque_limits:
                     kwargs["jacobians"], kwargs["biases"] = self._torque_model(terms, ddYn)
-                    kwargs["tau_max"] = [np.asarray(a.tau_max, dtype=float) for a in plant.arms]
+                    kwargs["tau_max"] = self._qp_tau_max
                 if self.ld.config.split == "elastic":
                     kwargs["K"] = self.compliance.stiffness_world(Y0N)
                 q0 = _time.perf_counter()
@@ -234,6 +313,8 @@ class ClosedLoop:
                     events.append((t, "qp_held", f"QP status '{split.status}' (binding: {', '.join(split.binding) or '-'}); "
                                                  "holding the last feasible split"))
                 F_set = split.F
+                for fam in split.binding:
+                    binding_counts[fam] = binding_counts.get(fam, 0) + 1
                 # ---- controllers
                 Yv = self.compliance.deformation(self.leader.index, F_set[self.leader.index], Y0N, Yn[self.leader.index + 1])
                 tau[q_slices[self.leader.index]] = self.leader.torque(terms, Yv, dYn[self.leader.index + 1],
@@ -241,6 +322,10 @@ class ClosedLoop:
                 for i, ctrl in self.followers.items():
                     tau[q_slices[i]] = ctrl.torque(terms, F_set[i], F_meas[i], Yn[i + 1], dYn[i + 1], ddYn[i + 1],
                                                    Y0N, self.T)
+                # ---- actuator saturation
+                if np.any(np.abs(tau) > self.tau_max):
+                    saturated += 1
+                    np.clip(tau, -self.tau_max, self.tau_max, out=tau)
                 # ---- record
                 rec["t"][k] = t
                 rec["x"][k] = x
@@ -264,7 +349,10 @@ class ClosedLoop:
                     bar.update(50)
         except DivergenceError as exc:
             status, reason = "diverged", str(exc)
-            events.append((exc.time, "diverged", str(exc)))
+            why = self.diagnose(np.asarray(x0, dtype=float))
+            if why:
+                reason = f"{reason}: {why}"
+            events.append((exc.time, "diverged", reason))
         except InfeasibleLoad as exc:
             status, reason = "qp_failed", str(exc)
             events.append((k * self.T, "qp_failed", str(exc)))
@@ -280,7 +368,10 @@ class ClosedLoop:
         for key, val in rec.items():
             if isinstance(val, np.ndarray):
                 rec[key] = val[:k_done]
-        rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=qp_time)
+        if saturated:
+            events.append((0.0, "torque_saturation", f"commanded torques clipped at their limits on {saturated} ticks"))
+        rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=qp_time,
+                   qp_binding_counts=binding_counts, saturated_ticks=saturated)
         return rec
 
     # ------------------------------------------------------------------ post-processing

@@ -77,6 +77,9 @@ class SimulationResult:
     energy_conserving: bool = False
     leader: int = 0
     followers: list[int] = field(default_factory=list)
+    qp_active_constraints: dict[str, int] = field(default_factory=dict)
+    qp_time_s: float = float("nan")
+    torque_saturated_ticks: int = 0
 
     def __post_init__(self) -> None:
         if self.space not in ("planar", "spatial"):

@@ -33,6 +33,9 @@ class ArmConfig:
         node_inertia: Principal moments of the node in [kg m^2] (1 planar, 3 spatial);
             ``None`` = 1e-3 per axis.
         tau_max: Per-joint torque limits in [N m] overriding the model's, or ``None``.
+        grasp_error: Offset of the true grasp from ``grasp`` that the controllers do not know
+            (same shape as a pose) [m, rad], or ``None`` (exact grasp). It models the
+            calibration error that force regulation exists to absorb.
         q0: Seed of the inverse kinematics for the initial configuration in [rad], or ``None``.
     """
 
@@ -44,6 +47,7 @@ class ArmConfig:
     node_inertia: tuple[float, ...] | None = None
     tau_max: tuple[float, ...] | None = None
     q0: tuple[float, ...] | None = None
+    grasp_error: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -55,6 +59,7 @@ class ArmConfig:
         s(self, "node_inertia", optional_vector("node_inertia", self.node_inertia, lengths=(1, 3), positive=True, what="kg m^2"))
         s(self, "tau_max", optional_vector("tau_max", self.tau_max, positive=True, what="N m per joint"))
         s(self, "q0", optional_vector("q0", self.q0, what="rad per joint"))
+        s(self, "grasp_error", optional_vector("grasp_error", self.grasp_error, lengths=(3, 6), what="a pose offset, m and rad"))
 
     def dof(self, space: str) -> int:
         """Number of joints of this arm in a scene of the given ``space``."""

@@ -59,7 +59,7 @@ def _build(scenario):
         springs.append(Interconnection(tuple(s.pair), stiffness=s.stiffness_per_axis(space),
                                        torsion=s.torsion_per_axis(space), damping=s.damping,
                                        torsion_damping=s.torsion_damping, element=s.element, name=f"springs[{e}]"))
-    grasps = np.array([a.grasp for a in scenario.arms], dtype=float)
+    grasps = true_grasps(scenario)
     q0 = [None if a.q0 is None else np.asarray(a.q0, dtype=float) for a in scenario.arms]
     try:
         plant, x0 = assemble_plant(space, Node(obj.mass, obj.inertia, name="object"), np.asarray(obj.pose, float),
@@ -82,26 +82,23 @@ def _build(scenario):
 
 
 def _check_static_torques(scenario, plant, x0) -> None:
-    """Reject torque limits below the static load: arm gravity, node weight and an equal share
-    of the object's weight, at the initial configuration."""
+    """Reject torque limits below the arm's own static gravity load (links and node) at the
+    initial configuration: no load split can help such an arm. (Whether the object's weight
+    can be shared within the limits is the QP's question, asked at every step.)"""
     terms = plant.control_terms(x0)
-    m = plant.arm_count
-    npos = 3 if plant.space == "spatial" else 2
-    share = np.zeros(plant.p)
-    share[:npos] = -scenario.object.mass * plant.elastic.gravity / m
     for i, arm in enumerate(plant.arms):
         if isinstance(arm, ContactPoint):
             continue
         n = arm.dof
         J = terms.J[i, :, :n]
-        tau = terms.h[i, :n] + J.T @ (terms.w_free[i + 1] + share)
+        tau = terms.h[i, :n] + J.T @ terms.w_free[i + 1]
         ratio = np.abs(tau) / arm.tau_max
         if np.any(ratio > 1.0):
             j = int(np.argmax(ratio))
             raise ScenarioError(
                 f"arms[{i}].tau_max", [float(v) for v in arm.tau_max],
-                f"limits above the static load at the initial pose (joint {j + 1} needs {abs(tau[j]):.3g} N m "
-                "for the arm, its node and its share of the object's weight)", scenario.source)
+                f"limits above the arm's own gravity load at the initial pose (joint {j + 1} needs "
+                f"{abs(tau[j]):.3g} N m to hold the arm and its node)", scenario.source)
 
 
 def build_plant(scenario):
@@ -109,9 +106,30 @@ def build_plant(scenario):
     return _build(scenario)[0]
 
 
-def initial_state(scenario) -> np.ndarray:
-    """The state the run starts from: the unloaded configuration, at rest (springs undeformed)."""
+def unloaded_state(scenario) -> np.ndarray:
+    """The unloaded configuration at rest: every interconnection at its rest length."""
     return _build(scenario)[1].copy()
+
+
+def initial_state(scenario) -> np.ndarray:
+    """The state the run starts from (``simulation.start``): the unloaded state, or the loaded
+    state of :meth:`ClosedLoop.loaded_state` (object on its nominal pose, grasps carrying the
+    QP split of t = 0)."""
+    x = unloaded_state(scenario)
+    if scenario.simulation.start == "unloaded":
+        return x
+    from coopctrl.simulate import closed_loop
+
+    try:
+        return closed_loop(scenario).loaded_state(x)
+    except UnreachablePoseError as exc:
+        raise ScenarioError("simulation.start", "loaded", f"a loaded pose within reach ({exc})", scenario.source) from None
+
+
+def true_grasps(scenario) -> np.ndarray:
+    """(m, p) grasp poses the plant is built with: ``grasp + grasp_error``."""
+    return np.array([np.add(a.grasp, a.grasp_error) if a.grasp_error is not None else a.grasp
+                     for a in scenario.arms], dtype=float)
 
 
 def nominal_grasps(scenario) -> np.ndarray:

@@ -128,8 +128,8 @@ class Scenario:
                 if space not in MODEL_SPACES[arm.model]:
                     fit = [m for m, sp in MODEL_SPACES.items() if space in sp]
                     raise ScenarioError("model", arm.model, f"one of {', '.join(map(repr, fit))} in a {space} scene")
-                for name in ("base", "grasp"):
-                    if len(getattr(arm, name)) != p:
+                for name in ("base", "grasp", "grasp_error"):
+                    if getattr(arm, name) is not None and len(getattr(arm, name)) != p:
                         raise ScenarioError(name, list(getattr(arm, name)), f"{pose_what} in a {space} scene")
                 if len(arm.node_inertia) != r:
                     raise ScenarioError("node_inertia", list(arm.node_inertia), f"{r} principal moment(s) in a {space} scene [kg m^2]")

@@ -8,6 +8,7 @@ from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import choice, integer, number, optional_number
 
 INTEGRATORS = ("rk4", "euler", "symplectic_euler", "implicit_midpoint")
+STARTS = ("loaded", "unloaded")
 
 
 @dataclass(frozen=True)
@@ -22,6 +23,10 @@ class SimulationConfig:
         seed: Seed of the sensor noise generator.
         max_deformation: Divergence bound on any interconnection deformation in [m], > 0.
         max_energy: Divergence bound on the total energy in [J], or ``None``.
+        start: ``"loaded"`` starts at rest in the loaded state (object on its nominal pose,
+            interconnections deformed to carry the QP split of t = 0, arms placed by inverse
+            kinematics); ``"unloaded"`` starts with every interconnection at rest length (the
+            gripping phase: forces build up from zero).
     """
 
     duration: float = 1.5
@@ -31,6 +36,7 @@ class SimulationConfig:
     seed: int = 0
     max_deformation: float = 0.05
     max_energy: float | None = None
+    start: str = "loaded"
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -43,6 +49,7 @@ class SimulationConfig:
         s(self, "seed", integer("seed", self.seed, minimum=0))
         s(self, "max_deformation", number("max_deformation", self.max_deformation, positive=True, unit="m"))
         s(self, "max_energy", optional_number("max_energy", self.max_energy, positive=True, unit="J"))
+        s(self, "start", choice("start", self.start, STARTS))
 
     @property
     def step(self) -> float:

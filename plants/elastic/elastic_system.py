@@ -294,6 +294,20 @@ class ElasticSystem:
         dYf = np.asarray(dY, dtype=float).reshape(-1)
         return 0.5 * float(dYf @ self.inertia(Y) @ dYf) + self.elastic_potential(Y) + self.gravity_potential(Y)
 
+    def node_stiffness(self, Y, k: int = 0, step: float = 1e-7) -> np.ndarray:
+        """``d F_e,k / d Y_k`` (p x p): the stiffness node k feels with every other node held,
+        by central differences of the exact elastic force. A negative eigenvalue means node k
+        is statically unstable there (e.g. the squeezed central springs of MODEL.md s.3)."""
+        Y = self._Y(Y).copy()
+        p = self.p
+        Kk = np.empty((p, p))
+        for a in range(p):
+            Yp, Ym = Y.copy(), Y.copy()
+            Yp[k, a] += step
+            Ym[k, a] -= step
+            Kk[:, a] = (self.elastic_force(Yp)[k * p:(k + 1) * p] - self.elastic_force(Ym)[k * p:(k + 1) * p]) / (2 * step)
+        return 0.5 * (Kk + Kk.T)
+
     # ------------------------------------------------------------------ immobile model (4.5)
     def _laplacian(self, diag_of) -> np.ndarray:
         N, p = self.node_count, self.p
