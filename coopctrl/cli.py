@@ -191,8 +191,11 @@ def _list_parser(sub) -> None:
 
 # ---------------------------------------------------------------------- check
 def cmd_check(args) -> int:
-    """Validate a scenario without simulating it."""
+    """Validate a scenario without simulating it: its fields, then the physics it implies (every grasp
+    within reach, torque limits above the arms' own gravity load, the loaded initial state)."""
     scenario = _load(args)
+    scenario.plant()
+    scenario.initial_state()
     print(
         f"ok: {scenario.name} ({scenario.space}, {len(scenario.arms)} arms, state size {scenario.state_size}, "
         f"{scenario.simulation.control_steps} control steps of {scenario.simulation.control_period:g} s)"

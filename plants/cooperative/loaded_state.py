@@ -7,12 +7,16 @@ exact only when the rotations commute; we compose rotations and extract the ZYX 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 
 from plants.frames import (
     body_rate_map,
     body_rate_map_dot,
-    body_rate_map_inv,
+    body_rate_map_inverse,
+    check_euler,
     euler_zyx_from_rotation,
     rotation_zyx,
 )
@@ -40,45 +44,82 @@ def nominal_node_motion(Y0, dY0, ddY0, grasps, space: str = "spatial"):
 
     with world angular velocity ``omega = R_0 L(A_0) dA_0`` and ``alpha = R_0 (L ddA_0 + dL dA_0)``;
     each node's Euler rates follow from ``dA_j = L(A_j)^-1 R_j^T omega`` and
-    ``ddA_j = L(A_j)^-1 (R_j^T alpha - dL_j dA_j)``.
+    ``ddA_j = L(A_j)^-1 (R_j^T alpha - dL_j dA_j)``. Raises
+    :class:`~plants.errors.EulerSingularityError` if a node's frame is at pitch +-90 deg.
     """
-    Y0 = np.asarray(Y0, dtype=float)
-    dY0 = np.asarray(dY0, dtype=float)
-    ddY0 = np.asarray(ddY0, dtype=float)
-    G = np.atleast_2d(np.asarray(grasps, dtype=float))
-    m = G.shape[0]
-    p = Y0.size
-    Y = np.empty((m + 1, p))
-    dY = np.empty((m + 1, p))
-    ddY = np.empty((m + 1, p))
-    Y[0], dY[0], ddY[0] = Y0, dY0, ddY0
+    Y0 = np.ascontiguousarray(Y0, dtype=float)
+    dY0 = np.ascontiguousarray(dY0, dtype=float)
+    ddY0 = np.ascontiguousarray(ddY0, dtype=float)
+    G = np.ascontiguousarray(np.atleast_2d(np.asarray(grasps, dtype=float)))
     if space == "planar":
-        th, w, al = Y0[2], dY0[2], ddY0[2]
-        c, s = np.cos(th), np.sin(th)
-        for j in range(m):
-            d = np.array([c * G[j, 0] - s * G[j, 1], s * G[j, 0] + c * G[j, 1]])
-            perp = np.array([-d[1], d[0]])  # omega x d in the plane
-            Y[j + 1, :2] = Y0[:2] + d
-            Y[j + 1, 2] = th + G[j, 2]
-            dY[j + 1, :2] = dY0[:2] + w * perp
-            dY[j + 1, 2] = w
-            ddY[j + 1, :2] = ddY0[:2] + al * perp - w * w * d
-            ddY[j + 1, 2] = al
-        return Y, dY, ddY
+        return _planar_motion(Y0, dY0, ddY0, G)
+    Y, dY, ddY, bad = _spatial_motion(Y0, dY0, ddY0, G)
+    if bad >= 0:
+        check_euler(Y[bad, 3:], f"nominal pose of contact node {bad}")
+    return Y, dY, ddY
+
+
+@njit(cache=True)
+def _planar_motion(Y0, dY0, ddY0, G):
+    m = G.shape[0]
+    Y = np.empty((m + 1, 3))
+    dY = np.empty((m + 1, 3))
+    ddY = np.empty((m + 1, 3))
+    Y[0], dY[0], ddY[0] = Y0, dY0, ddY0
+    th, w, al = Y0[2], dY0[2], ddY0[2]
+    c, s = math.cos(th), math.sin(th)
+    for j in range(m):
+        d0 = c * G[j, 0] - s * G[j, 1]
+        d1 = s * G[j, 0] + c * G[j, 1]
+        Y[j + 1, 0] = Y0[0] + d0
+        Y[j + 1, 1] = Y0[1] + d1
+        Y[j + 1, 2] = th + G[j, 2]
+        dY[j + 1, 0] = dY0[0] - w * d1
+        dY[j + 1, 1] = dY0[1] + w * d0
+        dY[j + 1, 2] = w
+        ddY[j + 1, 0] = ddY0[0] - al * d1 - w * w * d0
+        ddY[j + 1, 1] = ddY0[1] + al * d0 - w * w * d1
+        ddY[j + 1, 2] = al
+    return Y, dY, ddY
+
+
+@njit(cache=True)
+def _cross(a, b):
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
+@njit(cache=True)
+def _spatial_motion(Y0, dY0, ddY0, G):
+    m = G.shape[0]
+    Y = np.empty((m + 1, 6))
+    dY = np.empty((m + 1, 6))
+    ddY = np.empty((m + 1, 6))
+    Y[0], dY[0], ddY[0] = Y0, dY0, ddY0
     A0, dA0, ddA0 = Y0[3:], dY0[3:], ddY0[3:]
     R0 = rotation_zyx(A0)
     L0 = body_rate_map(A0)
     omega = R0 @ (L0 @ dA0)
     alpha = R0 @ (L0 @ ddA0 + body_rate_map_dot(A0, dA0) @ dA0)
+    Linv = np.empty((3, 3))
+    bad = -1
     for j in range(m):
         d = R0 @ G[j, :3]
         Rj = R0 @ rotation_zyx(G[j, 3:])
         Aj = euler_zyx_from_rotation(Rj)
-        Linv = body_rate_map_inv(Aj, f"nominal pose of contact node {j + 1}")
+        wxd = _cross(omega, d)
+        acc = _cross(alpha, d) + _cross(omega, wxd)
+        for a in range(3):
+            Y[j + 1, a] = Y0[a] + d[a]
+            Y[j + 1, 3 + a] = Aj[a]
+            dY[j + 1, a] = dY0[a] + wxd[a]
+            ddY[j + 1, a] = ddY0[a] + acc[a]
+        if not body_rate_map_inverse(Aj, Linv):
+            bad = j + 1
+            dY[j + 1, 3:] = 0.0
+            ddY[j + 1, 3:] = 0.0
+            continue
         dAj = Linv @ (Rj.T @ omega)
         ddAj = Linv @ (Rj.T @ alpha - body_rate_map_dot(Aj, dAj) @ dAj)
-        wxd = np.cross(omega, d)
-        Y[j + 1] = np.r_[Y0[:3] + d, Aj]
-        dY[j + 1] = np.r_[dY0[:3] + wxd, dAj]
-        ddY[j + 1] = np.r_[ddY0[:3] + np.cross(alpha, d) + np.cross(omega, wxd), ddAj]
-    return Y, dY, ddY
+        dY[j + 1, 3:] = dAj
+        ddY[j + 1, 3:] = ddAj
+    return Y, dY, ddY, bad
