@@ -22,7 +22,7 @@ def load_scenario(path=None, overrides=None):
 
 def simulate(scenario, progress: bool = False):
     """Run the closed loop of ``scenario``; returns a :class:`~coopctrl.results.SimulationResult`."""
-    from coopctrl.simulate import simulate as _simulate
+    from coopctrl.simulator import simulate as _simulate
 
     return _simulate(scenario, progress=progress)
 

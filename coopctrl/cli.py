@@ -97,18 +97,10 @@ def _one_line(text: str) -> str:
 
 # ---------------------------------------------------------------------- run
 def _simulate_function():
-    import importlib
+    """The simulator (imported lazily: it pulls in numpy, numba and the solvers)."""
+    from coopctrl.simulator import simulate
 
-    try:
-        module = importlib.import_module("coopctrl.simulate")
-    except ModuleNotFoundError as err:
-        if err.name in ("coopctrl.simulate",):
-            raise CoopctrlError("the simulator coopctrl.simulate is not installed in this version; use `coopctrl check` to validate scenarios") from None
-        raise
-    function = getattr(module, "simulate", None)
-    if not callable(function):
-        raise CoopctrlError("coopctrl.simulate has no simulate() function; reinstall coopctrl")
-    return function
+    return simulate
 
 
 def cmd_run(args) -> int:

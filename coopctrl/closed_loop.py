@@ -243,13 +243,28 @@ class ClosedLoop:
         n_ticks = int(round(duration / self.T))
         nx, nu = plant.state_size, plant.input_size
         N = n_ticks + 1
-        rec = {
+        rec = self.empty_record(N)
+        return self._run(rec, x0, N, progress)
+
+    def empty_record(self, N: int = 0) -> dict:
+        """The arrays a run records, for ``N`` samples (NaN-filled; a run truncates them)."""
+        plant = self.plant
+        m, p = plant.arm_count, plant.p
+        nx, nu = plant.state_size, plant.input_size
+        return {
             "t": np.full(N, np.nan), "x": np.full((N, nx), np.nan), "tau": np.full((N, nu), np.nan),
             "Y0_nominal": np.full((N, p), np.nan), "F_measured": np.full((N, m, p), np.nan),
             "F_commanded": np.full((N, m, p), np.nan), "F_external": np.full((N, m, p), np.nan),
             "F_internal": np.full((N, m, p), np.nan), "r_contacts": np.full((N, m, self.npos), np.nan),
             "qp_status": [], "qp_iterations": np.full(N, -1, dtype=np.int64), "qp_solve_time_s": np.full(N, np.nan),
+            "status": "ok", "reason": "", "events": [], "wall_time_s": 0.0, "qp_time_s": 0.0,
+            "qp_binding_counts": {}, "saturated_ticks": 0,
         }
+
+    def _run(self, rec, x0, N, progress):
+        plant = self.plant
+        m, p = plant.arm_count, plant.p
+        nu = plant.input_size
         events: list[tuple[float, str, str]] = []
         status, reason = "ok", ""
         x = np.array(x0, dtype=float)

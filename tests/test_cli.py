@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import subprocess
@@ -16,8 +15,6 @@ from coopctrl.io import dumps_toml
 from coopctrl.scenario import Scenario
 
 REPO = Path(__file__).resolve().parent.parent
-HAS_SIMULATE = importlib.util.find_spec("coopctrl.simulate") is not None
-needs_simulate = pytest.mark.skipif(not HAS_SIMULATE, reason="coopctrl.simulate is not written yet")
 
 
 def coopctrl(*args, cwd=None):
@@ -226,7 +223,6 @@ def test_cli_import_is_light():
 
 
 # ---------------------------------------------------------------------- run, with the real simulator
-@needs_simulate
 def test_run_default_scene_json(tmp_path):
     proc = coopctrl("run", "--json", "--out", tmp_path / "out", "--set", "simulation.duration=0.05")
     assert proc.returncode in (0, 1), proc.stderr
@@ -239,7 +235,6 @@ def test_run_default_scene_json(tmp_path):
         assert len(proc.stderr.splitlines()) == 1
 
 
-@needs_simulate
 def test_run_default_scene_table():
     proc = coopctrl("run", "--set", "simulation.duration=0.05")
     assert proc.returncode in (0, 1), proc.stderr

@@ -129,6 +129,9 @@ class LoadDistribution:
         self._stats.append(QPStats(status, res.iterations, res.solve_time_s, objective))
         if not ok:
             self.solver.reset()
+            cause = self._infeasibility_cause()
+            if cause:
+                binding = cause
             self._failures += 1
             self._held.append(True)
             if self._last is None:
@@ -153,6 +156,35 @@ class LoadDistribution:
         self._held.append(False)
         self._last = split
         return split
+
+    def _infeasibility_cause(self) -> tuple[str, ...]:
+        """The inequality families without which the failed problem becomes feasible.
+
+        Each enabled family is dropped in turn and the problem re-solved exactly (daqp); the
+        families whose removal restores feasibility are the binding ones. Runs only after a
+        failure, so it costs nothing on normal steps.
+        """
+        import qpsolvers as qps
+
+        pb = self.problem
+        families = [name for name, sl in pb.rows.items() if sl.stop > sl.start]
+        if not families or "daqp" not in qps.available_solvers:
+            return ()
+        cause = []
+        for drop in families:
+            keep = np.ones(pb.n_in, dtype=bool)
+            keep[pb.rows[drop]] = False
+            C, l, u = pb.C[keep], pb.l[keep], pb.u[keep]
+            up, lo = np.isfinite(u), np.isfinite(l)
+            Gin = np.vstack((C[up], -C[lo])) if keep.any() else None
+            hin = np.concatenate((u[up], -l[lo])) if keep.any() else None
+            try:
+                sol = qps.solve_problem(qps.Problem(pb.P, pb.g, Gin, hin, pb.G, pb.w), solver="daqp")
+                if sol.found and sol.x is not None and np.all(np.isfinite(sol.x)):
+                    cause.append(drop)
+            except (qps.QPError, ValueError, ArithmeticError):
+                pass
+        return tuple(cause)
 
     def _active_families(self, z: np.ndarray) -> tuple[str, ...]:
         pb = self.problem

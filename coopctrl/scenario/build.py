@@ -118,7 +118,7 @@ def initial_state(scenario) -> np.ndarray:
     x = unloaded_state(scenario)
     if scenario.simulation.start == "unloaded":
         return x
-    from coopctrl.simulate import closed_loop
+    from coopctrl.simulator import closed_loop
 
     try:
         return closed_loop(scenario).loaded_state(x)

@@ -18,7 +18,7 @@ from plants.elastic._layout import (
 )
 from plants.errors import EulerSingularityError, ParameterError, SingularJacobianError
 from plants.elastic._spatial_kernels import node_terms as _spatial_node_terms
-from plants.frames import body_rate_map_inv, rotation_zyx
+from plants.frames import body_rate_map_inv, euler_zyx_from_rotation, rotation_zyx
 
 _POSE_NAMES = {"spatial": ("x", "y", "z", "psi", "theta", "phi"), "planar": ("x", "z", "theta")}
 _INPUT_NAMES = {"spatial": ("fx", "fy", "fz", "Qpsi", "Qtheta", "Qphi"), "planar": ("fx", "fz", "n")}
@@ -153,13 +153,16 @@ class CooperativePlant:
         if code == STATUS_OK:
             return
         if code == STATUS_EULER_SINGULAR:
-            node = "object" if where == 0 else f"contact node {where} (arm {where - 1})"
+            node = "object" if where == 0 else f"contact node {where} (arms[{where - 1}])"
             theta = float("nan")
             if x is not None:
-                try:
-                    theta = float(self.node_poses(x).reshape(self.node_count, self.p)[where, 4])
-                except Exception:  # the pose itself may be what failed
-                    pass
+                if where == 0:
+                    theta = float(x[self.nz - 6 + 4])
+                elif isinstance(self.arms[where - 1], ContactPoint):
+                    theta = float(x[self.q_slice(where - 1)][4])
+                else:
+                    T = self.arms[where - 1].tip_transform(x[self.q_slice(where - 1)])[0]
+                    theta = float(euler_zyx_from_rotation(np.ascontiguousarray(T[:3, :3]))[1])
             raise EulerSingularityError(node, theta, float(np.cos(theta)) if theta == theta else 0.0)
         if code == STATUS_COINCIDENT_NODES:
             raise ParameterError("Y", "coincident nodes",
@@ -329,19 +332,19 @@ class CooperativePlant:
         names = []
         for i, arm in enumerate(self.arms):
             if isinstance(arm, ContactPoint):
-                names += [f"arm{i + 1}.{c}" for c in _POSE_NAMES[self.space]]
+                names += [f"arm{i + 1}_{c}" for c in _POSE_NAMES[self.space]]
             else:
-                names += [f"arm{i + 1}.q{k + 1}" for k in range(arm.dof)]
-        names += [f"object.{c}" for c in _POSE_NAMES[self.space]]
+                names += [f"arm{i + 1}_q{k + 1}" for k in range(arm.dof)]
+        names += [f"object_{c}" for c in _POSE_NAMES[self.space]]
         return names + ["d" + n for n in names]
 
     def input_names(self) -> list[str]:
         names = []
         for i, arm in enumerate(self.arms):
             if isinstance(arm, ContactPoint):
-                names += [f"arm{i + 1}.{c}" for c in _INPUT_NAMES[self.space]]
+                names += [f"arm{i + 1}_{c}" for c in _INPUT_NAMES[self.space]]
             else:
-                names += [f"arm{i + 1}.tau{k + 1}" for k in range(arm.dof)]
+                names += [f"arm{i + 1}_tau{k + 1}" for k in range(arm.dof)]
         return names
 
     def jacobians(self, x_eq, tau_eq, rel_step: float = 1e-6):

@@ -125,16 +125,13 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
         j = edge_index[e, 1]
         p = edge_params[e]
         for k in range(3):
-            yi = Y[i, k] - Y_ref[i, k]
-            yj = Y[j, k] - Y_ref[j, k]
+            diff = (Y[i, k] - Y_ref[i, k]) - (Y[j, k] - Y_ref[j, k])
             if k == 2:
-                yi = wrap_angle(yi)
-                yj = wrap_angle(yj)
+                diff = wrap_angle(diff)  # a common rotation is a zero mode, also across +-pi
                 dk = p[8]
             else:
                 dk = p[7]
             kk = p[k]
-            diff = yi - yj
             Pi += 0.5 * kk * diff * diff
             f = kk * diff + dk * (dY[i, k] - dY[j, k])
             F[i, k] += f

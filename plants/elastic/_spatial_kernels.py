@@ -201,17 +201,13 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
         j = edge_index[e, 1]
         p = edge_params[e]
         for k in range(6):
-            yi = Y[i, k] - Y_ref[i, k]
-            yj = Y[j, k] - Y_ref[j, k]
+            diff = (Y[i, k] - Y_ref[i, k]) - (Y[j, k] - Y_ref[j, k])
+            kk = p[k]
             if k >= 3:
-                yi = wrap_angle(yi)
-                yj = wrap_angle(yj)
-                kk = p[k]
+                diff = wrap_angle(diff)  # a common rotation is a zero mode, also across +-pi
                 dk = p[14]
             else:
-                kk = p[k]
                 dk = p[13]
-            diff = yi - yj
             Pi += 0.5 * kk * diff * diff
             f = kk * diff + dk * (dY[i, k] - dY[j, k])
             F[i, k] += f

@@ -153,8 +153,10 @@ class ElasticSystem:
                 Rj = rotation_zyx(Yr[j, 3:6])
                 rho = Ri.T @ (Yr[j, :3] - Yr[i, :3]) if ic.rest_offset is None else v.finite_array(
                     f"{name}.rest_offset", ic.rest_offset, (3,))
+                # cA is given per Euler axis (psi, theta, phi) = body (z, y, x) at the reference;
+                # kappa is per body axis (x, y, z): cA_body = cA[::-1].
                 S = cA.sum() / 2.0
-                kappa = S - cA if ic.element == "offset" else np.zeros(3)
+                kappa = S - cA[::-1] if ic.element == "offset" else np.zeros(3)
                 if np.any(kappa < 0):
                     raise ParameterError(
                         f"{name}.torsion", ic.torsion,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from coopctrl.closed_loop import ClosedLoop
+from coopctrl.errors import InfeasibleLoad
 from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
 from coopctrl.integrators import get_integrator
 from coopctrl.load_distribution import LoadDistribution
@@ -53,7 +54,14 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     loop = closed_loop(scenario)
     plant = loop.plant
     sim = scenario.simulation
-    rec = loop.run(build.initial_state(scenario), sim.duration, progress=progress)
+    try:
+        x0 = build.initial_state(scenario)
+    except InfeasibleLoad as exc:  # the loaded start already needs a split that does not exist
+        rec = loop.empty_record()
+        rec.update(status="qp_failed", reason=f"at t = 0 s (loaded start): {exc}",
+                   events=[(0.0, "qp_failed", str(exc))])
+    else:
+        rec = loop.run(x0, sim.duration, progress=progress)
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]
