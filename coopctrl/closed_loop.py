@@ -60,7 +60,8 @@ class ClosedLoop:
 
     def __init__(self, plant, trajectory, grasps, load_distribution, compliance, leader, followers, sensors,
                  integrator, control_period: float, substeps: int, squeeze_desired, max_deformation: float,
-                 max_energy: float | None = None, torque_limits: bool = False, name: str = "scenario"):
+                 max_energy: float | None = None, torque_limits: bool = False, name: str = "scenario",
+                 enabled: bool = True):
         self.plant = plant
         self.trajectory = trajectory
         self.grasps = np.asarray(grasps, dtype=float)
@@ -78,6 +79,7 @@ class ClosedLoop:
         self.max_energy = max_energy
         self.torque_limits = bool(torque_limits)
         self.name = name
+        self.enabled = bool(enabled)
         self.space = plant.space
         self.npos = 3 if self.space == "spatial" else 2
         el = plant.elastic
@@ -259,6 +261,7 @@ class ClosedLoop:
             "qp_status": [], "qp_iterations": np.full(N, -1, dtype=np.int64), "qp_solve_time_s": np.full(N, np.nan),
             "status": "ok", "reason": "", "events": [], "wall_time_s": 0.0, "qp_time_s": 0.0,
             "qp_binding_counts": {}, "saturated_ticks": 0,
+            "energy": np.full(N, np.nan), "kinetic_energy": np.full(N, np.nan),
         }
 
     def _run(self, rec, x0, N, progress):
@@ -310,6 +313,18 @@ class ClosedLoop:
                         raise DivergenceError(t, "energy [J]", E, self._step_hint())
                 # ---- nominal motion and load
                 Y0N, dY0N, ddY0N = self.trajectory.evaluate(t)
+                if not self.enabled:  # passive run: no QP, no torques; the energy is recorded
+                    rec["t"][k], rec["x"][k], rec["tau"][k], rec["Y0_nominal"][k] = t, x, tau, Y0N
+                    rec["F_measured"][k] = F_meas
+                    rec["r_contacts"][k] = true_terms.Y[1:, :self.npos]
+                    rec["energy"][k] = plant.energy(x)
+                    rec["kinetic_energy"][k] = plant.kinetic_energy(x)
+                    k_done = k + 1
+                    if k == N - 1:
+                        break
+                    for s in range(self.substeps):
+                        x = self.integrator.step(rhs, t + s * self.h, x, tau, self.h)
+                    continue
                 Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, self.grasps, self.space)
                 w_N = required_object_wrench(self.space, self.object_mass, self.object_inertia, self.gravity,
                                              Y0N, dY0N, ddY0N)

@@ -46,7 +46,8 @@ def closed_loop(scenario) -> ClosedLoop:
                       LoadDistribution(_qp_config(scenario.load_distribution), space, m), compliance, leader,
                       followers, sensors, get_integrator(sim.integrator), sim.control_period, sim.substeps,
                       scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
-                      torque_limits=scenario.load_distribution.torque_limits, name=scenario.name)
+                      torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
+                      enabled=scenario.controllers.enabled)
 
 
 def simulate(scenario, progress: bool = False) -> SimulationResult:
@@ -81,4 +82,8 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
         step_s=sim.step, control_period_s=sim.control_period, duration_s=sim.duration,
         wall_time_s=rec["wall_time_s"], leader=scenario.leader, followers=list(scenario.followers),
         qp_active_constraints=rec["qp_binding_counts"], qp_time_s=rec["qp_time_s"],
-        torque_saturated_ticks=rec["saturated_ticks"])
+        torque_saturated_ticks=rec["saturated_ticks"],
+        energy=None if scenario.controllers.enabled else rec["energy"],
+        kinetic_energy=None if scenario.controllers.enabled else rec["kinetic_energy"],
+        energy_conserving=(not scenario.controllers.enabled and all(
+            sp.damping == 0 and sp.torsion_damping == 0 for sp in scenario.springs)))

@@ -124,3 +124,16 @@ def test_sensor_noise_is_seeded():
     np.testing.assert_array_equal(a.x, b.x)
     assert not np.array_equal(a.x, c.x)
     assert a.status == "ok"
+
+
+def test_passive_run_reports_energy_drift():
+    """Without control and damping the summary reports the energy drift; RK4 at h = 0.5 ms keeps
+    it small (h * omega_max ~ 0.3 here: RK4's error per period ~ (h omega)^4 / 120)."""
+    undamped = {f"springs[{i}].{k}": 0.0 for i in (0, 1) for k in ("damping", "torsion_damping")}
+    passive = {"controllers.enabled": False, "simulation.duration": 1.0, "simulation.control_period": 5e-4}
+    s = run("planar_two_arm_lift", **passive, **undamped).summary()
+    assert s["status"] == "ok"
+    assert s["energy_drift_rel"] is not None and s["energy_drift_rel"] <= 1e-5
+    assert s["qp_solves"] == 0
+    damped = run("planar_two_arm_lift", **passive).summary()
+    assert damped["energy_drift_rel"] is None

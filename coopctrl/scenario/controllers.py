@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import boolean, instance, number
 
 
@@ -53,11 +54,19 @@ class FollowerControllerConfig:
 
 @dataclass(frozen=True)
 class ControllersConfig:
-    """``[controllers]``: the leader's and the followers' controllers."""
+    """``[controllers]``: the leader's and the followers' controllers.
+
+    Attributes:
+        enabled: ``false`` runs the plant without control (zero torques, no QP): a passive
+            run, whose energy drift is reported when nothing dissipates (no spring damping).
+    """
 
     leader: LeaderControllerConfig = field(default_factory=LeaderControllerConfig)
     followers: FollowerControllerConfig = field(default_factory=FollowerControllerConfig)
+    enabled: bool = True
 
     def __post_init__(self) -> None:
+        if not isinstance(self.enabled, bool):
+            raise ScenarioError("enabled", self.enabled, "true or false")
         instance("leader", self.leader, LeaderControllerConfig)
         instance("followers", self.followers, FollowerControllerConfig)

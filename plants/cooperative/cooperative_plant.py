@@ -259,13 +259,18 @@ class CooperativePlant:
         """``F_e = dPi/dY`` (exact gradient), flat."""
         return self.elastic.elastic_force(Y)
 
+    def kinetic_energy(self, x) -> float:
+        """``T = 1/2 z'^T Gamma(z) z'`` [J]: arms and nodes."""
+        x = np.ascontiguousarray(x, dtype=float)
+        dz = x[self.nz:]
+        return 0.5 * float(dz @ self.mass_matrix(x) @ dz)
+
     def energy(self, x) -> float:
         """Total energy [J]: kinetic (arms and nodes), elastic, and gravitational (nodes and links).
 
         Conserved by :meth:`rhs` without damping and input (MODEL.md s.3)."""
         x = np.ascontiguousarray(x, dtype=float)
-        dz = x[self.nz:]
-        T = 0.5 * float(dz @ self.mass_matrix(x) @ dz)
+        T = self.kinetic_energy(x)
         Y = self.node_poses(x)
         U_arms = self._kern.arm_potential_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
                                                 self._dh_off, self._bases, self._gravity)
