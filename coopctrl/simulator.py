@@ -9,18 +9,10 @@ from coopctrl.errors import InfeasibleLoad
 from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
 from coopctrl.integrators import get_integrator
 from coopctrl.load_distribution import LoadDistribution
-from coopctrl.load_distribution import LoadDistributionConfig as QPConfig
 from coopctrl.results import SimulationResult
 from coopctrl.scenario import build
 from coopctrl.sensors import SensorConfig, SensorSuite
 from coopctrl.trajectory import MinimumJerkTrajectory
-
-
-def _qp_config(cfg) -> QPConfig:
-    return QPConfig(split=cfg.split, shares=cfg.shares, squeeze=cfg.squeeze, min_grip=cfg.min_grip,
-                    friction_coefficient=cfg.friction_coefficient, friction_facets=cfg.friction_facets,
-                    torque_limits=cfg.torque_limits, solver=cfg.solver, eps_abs=cfg.eps_abs,
-                    max_consecutive_failures=cfg.max_consecutive_failures)
 
 
 def _sensor(cfg) -> SensorConfig:
@@ -43,7 +35,7 @@ def closed_loop(scenario) -> ClosedLoop:
     sensors = SensorSuite(_sensor(s.joints), _sensor(s.forces), _sensor(s.object), scenario.simulation.seed)
     sim = scenario.simulation
     return ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
-                      LoadDistribution(_qp_config(scenario.load_distribution), space, m), compliance, leader,
+                      LoadDistribution(scenario.load_distribution, space, m), compliance, leader,
                       followers, sensors, get_integrator(sim.integrator), sim.control_period, sim.substeps,
                       scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
                       torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,

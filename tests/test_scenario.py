@@ -321,15 +321,3 @@ def test_override_can_fix_a_bad_file(tmp_path):
 )
 def test_parse_override_value(text, value):
     assert parse_override_value(text) == value
-
-
-def test_loading_does_not_import_numpy():
-    import subprocess
-
-    code = (
-        "import sys, coopctrl; before = 'numpy' in sys.modules; "
-        "from coopctrl.scenario import load_scenario; load_scenario(None); "
-        "print(before or 'numpy' not in sys.modules)"
-    )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
-    assert out == "True"
