@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from coopctrl.controllers._kernels import node_torque
 from plants.cooperative import ContactPoint
 from plants.errors import SingularJacobianError
 
@@ -28,21 +29,16 @@ def node_computed_torque(plant, terms, i: int, a_cmd) -> np.ndarray:
 
     where ``w_i = w_free + S_i`` holds the gyroscopic and gravity terms and the
     interconnection forces at the node (from ``terms``). For a contact point ``tau = F_i``.
-    Redundant or deficient arms use the least-squares ``J^+``.
+    Arms must be square (``n = p``: the Puma in space, the 3R arm in the plane); a singular
+    ``J`` raises :class:`~plants.errors.SingularJacobianError`. Compiled in
+    :func:`coopctrl.controllers._kernels.node_torque`.
     """
     k = i + 1
-    F_node = terms.W[k] @ a_cmd + terms.w_free[k] + terms.S[k]
     arm = plant.arms[i]
-    if isinstance(arm, ContactPoint):
-        return F_node
+    contact = isinstance(arm, ContactPoint)
     n = arm.dof
-    J = terms.J[i, :, :n]
-    rhs = a_cmd - terms.Jdq[i]
-    try:
-        if J.shape[0] == n:
-            qdd = np.linalg.solve(J, rhs)
-        else:
-            qdd = np.linalg.lstsq(J, rhs, rcond=None)[0]
-    except np.linalg.LinAlgError:
-        raise SingularJacobianError(f"Jacobian of arm {i} ('{arm.name}')", float("inf")) from None
-    return terms.H[i, :n, :n] @ qdd + terms.h[i, :n] + J.T @ F_node
+    tau, ok = node_torque(terms.W[k], terms.w_free[k], terms.S[k], terms.H[i, :n, :n], terms.h[i, :n],
+                          terms.J[i, :, :n], terms.Jdq[i], np.ascontiguousarray(a_cmd, dtype=float), contact)
+    if not ok:
+        raise SingularJacobianError(f"Jacobian of arm {i} ('{arm.name}')", float("inf"))
+    return tau

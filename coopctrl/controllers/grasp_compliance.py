@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from coopctrl.controllers._kernels import pose_increment_planar, pose_increment_spatial
 from plants.frames import body_rate_map_inv, euler_zyx_from_rotation, rotation_zyx
 
 
@@ -97,19 +98,16 @@ class GraspCompliance:
         return Y_rigid + self.pose_increment(i, F_world, Y0, Y_rigid)
 
     def pose_increment(self, i: int, F_world, Y0, Yi) -> np.ndarray:
-        """Pose-coordinate increment of node i that changes its wrench on the object by ``F_world`` (linear)."""
+        """Pose-coordinate increment of node i that changes its wrench on the object by ``F_world`` (linear).
+
+        Compiled in :func:`coopctrl.controllers._kernels.pose_increment_spatial` (``_planar``)."""
+        F = np.ascontiguousarray(F_world, dtype=float)
         if self.space == "planar":
-            c, s = np.cos(Y0[2]), np.sin(Y0[2])
-            Fo = np.array([c * F_world[0] + s * F_world[1], -s * F_world[0] + c * F_world[1], F_world[2]])
-            d = self.C[i] @ Fo
-            return np.array([c * d[0] - s * d[1], s * d[0] + c * d[1], d[2]])
-        R0 = rotation_zyx(Y0[3:6])
-        Fo = np.concatenate([R0.T @ F_world[:3], R0.T @ F_world[3:]])
-        d = self.C[i] @ Fo
-        dr = R0 @ d[:3]
-        dth = R0 @ d[3:]
-        dA = body_rate_map_inv(Yi[3:6], f"contact node {i + 1}") @ (rotation_zyx(Yi[3:6]).T @ dth)
-        return np.concatenate([dr, dA])
+            return pose_increment_planar(self.C[i], F, float(Y0[2]))
+        out, ok = pose_increment_spatial(self.C[i], F, np.ascontiguousarray(Y0[3:6]), np.ascontiguousarray(Yi[3:6]))
+        if not ok:
+            body_rate_map_inv(Yi[3:6], f"contact node {i + 1}")  # raises EulerSingularityError
+        return out
 
     def stiffness_world(self, Y0) -> np.ndarray:
         """Block-diagonal grasp stiffness (m p x m p) in the world frame, for the elastic split ``A_K``."""
