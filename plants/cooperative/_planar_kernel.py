@@ -16,7 +16,7 @@ from numba import njit
 from plants.arms._planar_kernels import planar_arm_potential, planar_arm_terms
 from plants.cooperative._linalg import cholesky_solve
 from plants.elastic._layout import STATUS_OK, STATUS_SINGULAR_MASS
-from plants.elastic._planar_kernels import damping_edges, elastic_edges, linear_edges
+from plants.elastic._planar_kernels import damping_edges, elastic_edges, interconnection_terms, linear_edges
 
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
@@ -86,14 +86,10 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, to
     for k in range(N):
         w[k, 0] = -node_params[k, 0] * gravity[0]
         w[k, 1] = -node_params[k, 0] * gravity[1]
-    if immobile:
-        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
-    else:
-        _, st = elastic_edges(Y, edge_index, edge_params, w)
-        if st != STATUS_OK:
-            status[0] = st
-            return dx
-        damping_edges(Y, dY, edge_index, edge_params, w)
+    st = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    if st != STATUS_OK:
+        status[0] = st
+        return dx
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]

@@ -26,6 +26,7 @@ from plants.frames import body_rate_map_inverse, rotation_zyx
 from plants.elastic._spatial_kernels import (
     damping_edges,
     elastic_edges,
+    interconnection_terms,
     linear_edges,
     node_terms,
     solve_node_rotation,
@@ -106,14 +107,10 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
     Wr = np.empty((N, 3, 3))
     w = np.empty((N, 6))
     node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w)
-    if immobile:
-        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
-    else:
-        _, st = elastic_edges(Y, edge_index, edge_params, w)
-        if st != STATUS_OK:
-            status[0] = st
-            return dx
-        damping_edges(Y, dY, edge_index, edge_params, w)
+    st = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    if st != STATUS_OK:
+        status[0] = st
+        return dx
     b3 = np.empty(3)
     o3 = np.empty(3)
     for i in range(m):

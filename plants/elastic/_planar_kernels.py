@@ -140,6 +140,19 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
 
 
 @njit(cache=True)
+def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
+    """Add every interconnection's part of ``w`` into ``w`` (planar); returns a status code."""
+    if immobile:
+        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
+        return STATUS_OK
+    _, status = elastic_edges(Y, edge_index, edge_params, w)
+    if status != STATUS_OK:
+        return status
+    damping_edges(Y, dY, edge_index, edge_params, w)
+    return STATUS_OK
+
+
+@njit(cache=True)
 def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravity, Y_ref, immobile):
     """``Y''`` of the free planar elastic system ``W Y'' + w = F`` with ``F_0 = 0``; ``(ddY, status)``."""
     N = Y.shape[0]
@@ -147,13 +160,9 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
     for k in range(N):
         w[k, 0] = -node_params[k, 0] * gravity[0]
         w[k, 1] = -node_params[k, 0] * gravity[1]
-    if immobile:
-        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
-    else:
-        _, status = elastic_edges(Y, edge_index, edge_params, w)
-        if status != STATUS_OK:
-            return np.zeros((N, 3)), status
-        damping_edges(Y, dY, edge_index, edge_params, w)
+    status = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    if status != STATUS_OK:
+        return np.zeros((N, 3)), status
     ddY = np.empty((N, 3))
     for k in range(N):
         for a in range(3):

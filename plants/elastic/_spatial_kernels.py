@@ -301,6 +301,20 @@ def solve_node_rotation(A, I, b, out):
 
 
 @njit(cache=True)
+def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
+    """Add every interconnection's part of ``w`` (113) into ``w``: ``dPi/dY + dD/d(dY)``, or the
+    immobile model's ``K y + D dy``. Returns a status code."""
+    if immobile:
+        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
+        return STATUS_OK
+    _, status = elastic_edges(Y, edge_index, edge_params, w)
+    if status != STATUS_OK:
+        return status
+    damping_edges(Y, dY, edge_index, edge_params, w)
+    return STATUS_OK
+
+
+@njit(cache=True)
 def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravity, Y_ref, immobile):
     """``Y''`` of the free elastic system ``W(Y) Y'' + w(Y, Y') = F`` (113) with ``F_0 = 0``.
 
@@ -311,13 +325,9 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
     Wr = np.empty((N, 3, 3))
     w = np.empty((N, 6))
     node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w)
-    if immobile:
-        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
-    else:
-        _, status = elastic_edges(Y, edge_index, edge_params, w)
-        if status != STATUS_OK:
-            return np.zeros((N, 6)), status
-        damping_edges(Y, dY, edge_index, edge_params, w)
+    status = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    if status != STATUS_OK:
+        return np.zeros((N, 6)), status
     ddY = np.empty((N, 6))
     b = np.empty(3)
     out = np.empty(3)
