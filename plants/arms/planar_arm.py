@@ -9,6 +9,7 @@ import numpy as np
 from plants.arms._dls_ik import damped_least_squares
 from plants.arms._planar_kernels import planar_arm_potential, planar_arm_terms
 from plants.arms._validation import check_limits, check_vector, wrap_angle
+from plants.arms.arm_queries import ArmQueries
 from plants.arms.arm_terms import ArmTerms
 from plants.arms.planar_link import PlanarLink
 from plants.errors import ParameterError, UnreachablePoseError
@@ -18,7 +19,7 @@ IK_TOLERANCE = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
-class PlanarArm:
+class PlanarArm(ArmQueries):
     """A planar serial arm: ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q) = (x, z, theta)``.
 
     All joints turn about the normal of the x-z plane; ``theta`` [rad] is measured from +x
@@ -89,34 +90,9 @@ class PlanarArm:
         planar_arm_terms(q, dq, self._table, self.base, self.tool, self.gravity, H, h, Y, J, Jdq)
         return ArmTerms(H, h, Y, J, Jdq)
 
-    def inertia(self, q) -> np.ndarray:
-        """Joint-space inertia ``H(q)`` [kg m^2]."""
-        return self.terms(q, np.zeros(self.dof)).H
-
-    def bias(self, q, dq) -> np.ndarray:
-        """``h(q, dq)``: Coriolis, centrifugal, gravity and viscous torques [N m]."""
-        return self.terms(q, dq).h
-
-    def pose(self, q) -> np.ndarray:
-        """Node pose ``Y = (x, z, theta)`` [m, m, rad]."""
-        return self.terms(q, np.zeros(self.dof)).Y
-
-    def jacobian(self, q) -> np.ndarray:
-        """Jacobian ``J = dY/dq`` (3, n)."""
-        return self.terms(q, np.zeros(self.dof)).J
-
-    def jacobian_dot_qd(self, q, dq) -> np.ndarray:
-        """``dJ/dt dq``: the node acceleration when ``qdd = 0``."""
-        return self.terms(q, dq).Jdq
-
     def potential(self, q) -> float:
         """Gravitational potential energy of the links [J]."""
         return float(planar_arm_potential(self._joint_vector("q", q), self._table, self.base, self.gravity))
-
-    def kinetic(self, q, dq) -> float:
-        """Kinetic energy ``1/2 dq^T H dq`` [J]."""
-        dq = self._joint_vector("dq", dq)
-        return 0.5 * float(dq @ self.inertia(q) @ dq)
 
     def with_base(self, base) -> "PlanarArm":
         """A copy of this arm with joint 1 at ``base = (x, z, theta)``."""

@@ -10,6 +10,7 @@ from scipy.spatial.transform import Rotation
 from plants.arms._dls_ik import damped_least_squares
 from plants.arms._spatial_kernels import spatial_arm_potential, spatial_arm_terms, spatial_arm_tip
 from plants.arms._validation import check_limits, check_pose4, check_vector
+from plants.arms.arm_queries import ArmQueries
 from plants.arms.arm_terms import ArmTerms
 from plants.arms.dh_link import DHLink
 from plants.errors import EulerSingularityError, ParameterError, UnreachablePoseError
@@ -20,7 +21,7 @@ IK_TOLERANCE = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
-class SerialArm:
+class SerialArm(ArmQueries):
     """A spatial serial arm: ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)`` (166, 169).
 
     The node pose ``Y = (r, A)``: ``r`` [m] world position of the tool frame origin, ``A``
@@ -97,34 +98,9 @@ class SerialArm:
             raise EulerSingularityError(f"arm '{self.name}' tip", theta, float(np.cos(theta)))
         return ArmTerms(H, h, Y, J, Jdq)
 
-    def inertia(self, q) -> np.ndarray:
-        """Joint-space inertia ``H(q)`` [kg m^2]."""
-        return self.terms(q, np.zeros(self.dof)).H
-
-    def bias(self, q, dq) -> np.ndarray:
-        """``h(q, dq)``: Coriolis, centrifugal, gravity and viscous torques [N m]."""
-        return self.terms(q, dq).h
-
-    def pose(self, q) -> np.ndarray:
-        """Node pose ``Y = Phi(q)``: position [m] and ZYX Euler angles [rad] (169)."""
-        return self.terms(q, np.zeros(self.dof)).Y
-
-    def jacobian(self, q) -> np.ndarray:
-        """Analytic Jacobian ``J = dY/dq`` (6, n) (170)."""
-        return self.terms(q, np.zeros(self.dof)).J
-
-    def jacobian_dot_qd(self, q, dq) -> np.ndarray:
-        """``dJ/dt dq`` (171): the node acceleration in ``Y`` coordinates when ``qdd = 0``."""
-        return self.terms(q, dq).Jdq
-
     def potential(self, q) -> float:
         """Gravitational potential energy of the links [J] (``-sum m g . p_com``)."""
         return float(spatial_arm_potential(self._joint_vector("q", q), self._dh, self.base, self.gravity))
-
-    def kinetic(self, q, dq) -> float:
-        """Kinetic energy ``1/2 dq^T H dq`` [J] (motor inertias included when on)."""
-        dq = self._joint_vector("dq", dq)
-        return 0.5 * float(dq @ self.inertia(q) @ dq)
 
     def tip_transform(self, q) -> tuple:
         """``(T, Jg)``: tool-frame world pose 4x4 and geometric Jacobian (v; omega_world).
