@@ -163,7 +163,7 @@ def fake_simulate(monkeypatch):
             result.scenario = scenario.name
             return result
 
-        monkeypatch.setattr(cli, "_simulate_function", lambda: simulate)
+        monkeypatch.setattr(cli.run, "_simulate_function", lambda: simulate)
         return calls
 
     return install

@@ -1,0 +1,86 @@
+"""Shared parts of the command line: the subcommand registry, the parser whose errors are
+exceptions, scenario resolution and ``--set`` parsing."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Callable, Sequence
+
+from coopctrl.errors import CoopctrlError
+
+PROG = "coopctrl"
+
+#: Functions that each add one subcommand to the subparsers, in the order of ``--help``.
+SUBCOMMANDS: list[Callable[[argparse._SubParsersAction], None]] = []
+
+
+class UsageError(CoopctrlError, ValueError):
+    """Bad command-line usage (unknown option, ``--set`` without ``=``, ...)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are exceptions, so that :func:`main` prints one line."""
+
+    def error(self, message: str):  # noqa: D102 - argparse API
+        raise UsageError(f"{message}; see `{self.prog} --help`")
+
+
+def subcommand(configure: Callable[[argparse._SubParsersAction], None]):
+    """Register a function that adds a subcommand (``sub.add_parser(...)`` and
+    ``set_defaults(handler=...)``)."""
+    SUBCOMMANDS.append(configure)
+    return configure
+
+
+def scenarios_dir() -> Path:
+    """The directory of the built-in scenarios, ``scenarios/`` at the repository root."""
+    import coopctrl
+
+    return Path(coopctrl.__file__).resolve().parent.parent / "scenarios"
+
+
+def resolve_scenario(argument: str) -> Path:
+    """A path as given if it exists, else a built-in scenario by file name or stem
+    (``coopctrl run two_arm_lift``), else the path as given (load reports it missing)."""
+    path = Path(argument)
+    if path.exists():
+        return path
+    for candidate in (scenarios_dir() / argument, scenarios_dir() / f"{argument}.toml"):
+        if candidate.is_file():
+            return candidate
+    return path
+
+
+def parse_sets(items: Sequence[str] | None) -> dict[str, str]:
+    """``["simulation.integrator=rk4", ...]`` to ``{"simulation.integrator": "rk4", ...}``."""
+    overrides: dict[str, str] = {}
+    for item in items or ():
+        path, sep, value = item.partition("=")
+        if not sep or not path.strip():
+            raise UsageError(f"--set {item!r} is invalid: expected PATH=VALUE, e.g. --set simulation.integrator=rk4")
+        overrides[path.strip()] = value.strip()
+    return overrides
+
+
+def _add_set_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--set",
+        dest="sets",
+        action="append",
+        default=[],
+        metavar="PATH=VALUE",
+        help="override a field by its dotted path, value in TOML syntax "
+        "(--set simulation.integrator=rk4 --set 'springs[0].stiffness=1e6' --set 'arms[1].grasp=[0.1,0,3.14]'); repeatable",
+    )
+
+
+def _load(args):
+    from coopctrl.scenario import load_scenario
+
+    path = resolve_scenario(args.scenario) if args.scenario else None
+    return load_scenario(path, parse_sets(args.sets))
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).splitlines()).strip()

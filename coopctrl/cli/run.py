@@ -1,0 +1,62 @@
+"""``coopctrl run``: simulate a scenario and print its summary."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand
+from coopctrl.errors import DivergenceError, InfeasibleLoad
+
+def _simulate_function():
+    """The simulator (imported lazily: it pulls in numpy, numba and the solvers)."""
+    from coopctrl.simulator import simulate
+
+    return simulate
+
+
+def cmd_run(args) -> int:
+    """Load, simulate, print the summary, save and plot with ``--out``."""
+    import json
+
+    scenario = _load(args)
+    simulate = _simulate_function()
+    progress = not (args.quiet or args.json) and sys.stderr.isatty()
+    try:
+        result = simulate(scenario, progress=progress)
+    except (DivergenceError, InfeasibleLoad) as err:
+        kind = "diverged" if isinstance(err, DivergenceError) else "qp_failed"
+        print(f"{PROG}: {kind}: {_one_line(err)}", file=sys.stderr)
+        return 1
+    from coopctrl.results import summary_table
+
+    summary = result.summary()
+    if args.out is not None:
+        result.save(args.out)
+        result.plot(args.out)
+    if args.json:
+        print(json.dumps(summary, indent=2, allow_nan=False))
+    elif not args.quiet:
+        print(summary_table(summary))
+        if args.out is not None:
+            print(f"outputs written to {args.out}")
+    if result.status != "ok":
+        print(f"{PROG}: {result.status}: {_one_line(result.reason) or 'no reason given'}", file=sys.stderr)
+        return 1
+    return 0
+
+
+@subcommand
+def _run_parser(sub) -> None:
+    parser = sub.add_parser(
+        "run",
+        help="simulate a scenario and print its summary",
+        description="Simulate a scenario (default: the built-in default scene) and print a summary table. "
+        "Exit 0 if the run is ok, 1 if it diverged or the load distribution failed, 2 for bad input.",
+    )
+    parser.add_argument("scenario", nargs="?", help="scenario .toml file, or the name of one in scenarios/ (default: built-in default scene)")
+    _add_set_option(parser)
+    parser.add_argument("--out", type=Path, metavar="DIR", help="write result.npz, result.csv, summary.json and PNG plots into DIR")
+    parser.add_argument("--json", action="store_true", help="print the summary as JSON on stdout (nothing else on stdout)")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary table")
+    parser.set_defaults(handler=cmd_run)
