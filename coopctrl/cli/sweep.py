@@ -1,0 +1,88 @@
+"""``coopctrl sweep``: the Cartesian product of overrides of one scenario, one summary row per run."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from coopctrl.cli._core import PROG, _add_set_option, parse_sets, resolve_scenario, subcommand
+
+
+def _run_function():
+    """The function each run executes (tests replace it; imported lazily: it pulls in the simulator)."""
+    from coopctrl.sweep.worker import simulate_run
+
+    return simulate_run
+
+
+def _jobs(text: str) -> int:
+    try:
+        jobs = int(text)
+    except ValueError:
+        jobs = 0
+    if jobs < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected an integer >= 1 (1 runs in this process)")
+    return jobs
+
+
+def _emit(result, args) -> None:
+    if args.json:
+        print(result.to_json())
+    elif not args.quiet:
+        print(result.table())
+        if args.out is not None:
+            print(f"rows written to {args.out / 'sweep.csv'} and {args.out / 'sweep.json'}")
+
+
+def cmd_sweep(args) -> int:
+    """Validate every combination, run them, print the rows; exit 0 even when some runs failed (their
+    rows are results), 2 for bad input, 130 when interrupted (after saving the finished rows)."""
+    from coopctrl.sweep import SweepGrid, SweepInterrupted, run_sweep
+
+    grid = SweepGrid.parse(args.grid)
+    sets = parse_sets(args.sets)
+    progress = not (args.quiet or args.json) and sys.stderr.isatty()
+    try:
+        result = run_sweep(resolve_scenario(args.scenario), grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
+                           progress=progress, out=args.out, run_function=_run_function())
+    except SweepInterrupted as stop:
+        partial = stop.result
+        _emit(partial, args)
+        kept = f"kept in {args.out}" if args.out is not None else "printed above (use --out DIR to keep them in files)"
+        print(f"{PROG}: interrupted: {len(partial.rows)} of {partial.runs} runs finished, {kept}", file=sys.stderr)
+        return 130
+    _emit(result, args)
+    if result.failed:
+        print(f"{PROG}: {len(result.failed)} of {result.runs} runs failed (see their status and reason)", file=sys.stderr)
+    return 0
+
+
+@subcommand
+def _sweep_parser(sub) -> None:
+    parser = sub.add_parser(
+        "sweep",
+        help="run a scenario over a grid of overrides and tabulate one row per run",
+        description="Run the Cartesian product of the --grid values (last --grid varying fastest) and print one summary "
+        "row per run. Every combination is validated before any run starts. A failed run (diverged, QP failed, error) "
+        "is a row with its reason. Rows do not depend on --jobs except the timing columns (realtime_factor, wall_time_s). "
+        "Exit 0 when the sweep completes (even with failed runs), 2 for bad input, 130 when interrupted "
+        "(the finished rows are kept in --out).",
+    )
+    parser.add_argument("scenario", help="scenario .toml file, or the name of one in scenarios/")
+    parser.add_argument(
+        "--grid", action="append", default=[], metavar="PATH=V1,V2,...",
+        help="sweep a field over values in TOML syntax; values split on commas outside brackets and quotes "
+        "(--grid simulation.integrator=rk4,euler --grid 'arms[1].grasp=[0.1,0,3.14],[0.1,0,3.0]'); repeatable",
+    )
+    _add_set_option(parser)
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--jobs", "-j", type=_jobs, metavar="N",
+                       help="local worker processes (default: CPU count; 1 runs in this process)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on the Dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786 "
+                       "(pip install 'coopctrl[distributed]')")
+    parser.add_argument("--out", type=Path, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
+    parser.add_argument("--json", action="store_true", help="print one JSON document {scenario, grid, set, ..., rows} on stdout")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no table")
+    parser.set_defaults(handler=cmd_sweep)

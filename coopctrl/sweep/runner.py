@@ -1,0 +1,194 @@
+"""``run_sweep``: validate every run, execute them on an executor, collect one row per run.
+
+Guarantees:
+
+- Nothing runs unless every combination's scenario is valid (:func:`~coopctrl.sweep.plan.plan_sweep`).
+- A failed run (divergence, infeasible QP, any exception) is a row with its status and reason; it
+  never loses the other rows. If a worker process dies (a crash, the out-of-memory killer), the
+  runs in flight on that pool become ``error`` rows naming ``BrokenProcessPool`` and the remaining
+  runs go to a fresh pool.
+- Rows are ordered by run index, whatever the executor and the order of completion.
+- With ``out``, ``sweep.csv`` and ``sweep.json`` are rewritten atomically as rows finish (at most
+  every ``save_interval_s``) and once more at the end. On Ctrl-C (or an exception from ``on_row``)
+  the finished rows are saved before the interruption propagates, as :class:`SweepInterrupted`.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor, Future, wait
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+from coopctrl.sweep.errors import SweepInterrupted
+from coopctrl.sweep.executors import SerialExecutor, make_executor
+from coopctrl.sweep.grid import SweepGrid
+from coopctrl.sweep.plan import SweepPlan, SweepRun, plan_sweep
+from coopctrl.sweep.results import SweepResult, make_row
+from coopctrl.sweep.worker import RunFunction, execute_run, simulate_run
+
+
+def _lost_row(run: SweepRun, exc: BaseException) -> dict[str, Any]:
+    """The row of a run whose future failed outside the run function (a worker process died, a
+    task could not be pickled, the cluster lost it)."""
+    return make_row(run.index, run.columns, "error", f"{type(exc).__name__}: {exc}", None, None)
+
+
+class _Collector:
+    """The rows so far, and their periodic atomic saving."""
+
+    def __init__(self, plan: SweepPlan, out: Path | None, save_interval_s: float):
+        self.plan = plan
+        self.out = out
+        self.save_interval_s = save_interval_s
+        self.rows: dict[int, dict[str, Any]] = {}
+        self._saved_at = -float("inf")
+
+    def result(self) -> SweepResult:
+        p = self.plan
+        return SweepResult(p.name, p.source, p.grid, p.sets, tuple(self.rows.values()), len(p.runs))
+
+    def add(self, row: dict[str, Any]) -> None:
+        self.rows[row["run"]] = row
+        if self.out is not None and time.monotonic() - self._saved_at >= self.save_interval_s:
+            self.save()
+
+    def save(self) -> SweepResult:
+        result = self.result()
+        if self.out is not None:
+            result.save(self.out)
+            self._saved_at = time.monotonic()
+        return result
+
+
+def _failed(exc: BaseException) -> Future:
+    """A future that failed with ``exc`` (a run that could not be submitted)."""
+    future: Future = Future()
+    future.set_exception(exc)
+    return future
+
+
+def _row_of(future: Future, run: SweepRun) -> dict[str, Any]:
+    try:
+        return future.result()
+    except (Exception, CancelledError) as exc:  # noqa: BLE001 - a lost run is a row, not a lost sweep
+        return _lost_row(run, exc)
+
+
+def run_sweep(
+    scenario_path: str | Path | None,
+    grid: SweepGrid,
+    *,
+    sets: Mapping[str, Any] | None = None,
+    executor: Executor | None = None,
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = False,
+    on_row: Callable[[dict[str, Any]], None] | None = None,
+    out: str | Path | None = None,
+    run_function: RunFunction = simulate_run,
+    save_interval_s: float = 1.0,
+) -> SweepResult:
+    """Run the Cartesian product of ``grid`` over a scenario; one row per run.
+
+    Args:
+        scenario_path: Scenario ``.toml`` file, or ``None`` for the built-in default scene.
+        grid: The swept axes (:meth:`SweepGrid.parse` of ``--grid`` arguments).
+        sets: Fixed overrides applied to every run (``--set``), ``{path: value}``.
+        executor: Any :class:`concurrent.futures.Executor`; it is left open. ``None``: one made by
+            :func:`~coopctrl.sweep.executors.make_executor` from ``jobs`` and ``scheduler`` (and
+            shut down at the end).
+        jobs: Local workers (1: in this process; default ``os.cpu_count()``, at most one per run).
+        scheduler: Address of a Dask scheduler instead of local workers.
+        progress: Show a tqdm progress bar on stderr, advanced as runs finish.
+        on_row: Called in this process with each row as its run finishes (completion order).
+        out: Directory for ``sweep.csv`` and ``sweep.json`` (created; rewritten as rows finish).
+        run_function: Module-level function ``SweepRun -> summary dict`` executed for each run (a
+            process pool pickles it by name); :func:`~coopctrl.sweep.worker.simulate_run` simulates.
+        save_interval_s: Least time between two saves while running [s].
+
+    Returns:
+        The :class:`SweepResult`, rows by run index.
+
+    Raises:
+        ScenarioError, GridError: Bad input, before anything runs.
+        SweepInterrupted: Ctrl-C (``KeyboardInterrupt``) during the sweep; its ``result`` holds the
+            finished rows, already saved into ``out``.
+    """
+    if executor is not None and (jobs is not None or scheduler is not None):
+        raise ValueError("run_sweep: give either an executor or jobs/scheduler, not both")
+    plan = plan_sweep(scenario_path, grid, sets)
+    owned = executor is None
+    if owned:
+        if scheduler is None and jobs is None:
+            jobs = os.cpu_count() or 1
+        if isinstance(jobs, int) and jobs > len(plan.runs):
+            jobs = len(plan.runs)  # no idle workers to start
+        executor = make_executor(jobs, scheduler)
+    # Serial: submit one run at a time so that rows stream. Otherwise keep every worker busy with one
+    # more run queued each; an executor of unknown size gets every run at once.
+    workers = getattr(executor, "workers", None)
+    limit = 1 if isinstance(executor, SerialExecutor) else (2 * workers if workers else len(plan.runs))
+    collector = _Collector(plan, None if out is None else Path(out), save_interval_s)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(plan.runs), desc=plan.name, unit="run", file=sys.stderr, mininterval=0.2)
+    queue = iter(plan.runs)
+    pending: dict[Future, SweepRun] = {}
+    interrupted = False
+    try:
+        while True:
+            while len(pending) < limit:
+                run = next(queue, None)
+                if run is None:
+                    break
+                try:
+                    future = executor.submit(execute_run, run_function, run)
+                except BrokenExecutor as exc:  # a worker process died (crash, out of memory): its runs in
+                    if not owned:              # flight are error rows; the rest go to a fresh pool
+                        future = _failed(exc)
+                    else:
+                        executor.shutdown(wait=False, cancel_futures=True)
+                        executor = make_executor(jobs, scheduler)
+                        future = executor.submit(execute_run, run_function, run)
+                pending[future] = run
+            if not pending:
+                break
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for future in sorted(done, key=lambda f: pending[f].index):
+                row = _row_of(future, pending.pop(future))
+                collector.add(row)
+                if bar is not None:
+                    bar.update(1)
+                    bar.set_postfix(failed=sum(r["status"] != "ok" for r in collector.rows.values()), refresh=False)
+                if on_row is not None:
+                    on_row(row)
+    except BaseException as exc:
+        interrupted = True
+        for future, run in list(pending.items()):  # rows that finished but were not collected yet
+            if future.done() and not future.cancelled() and future.exception() is None and run.index not in collector.rows:
+                collector.rows[run.index] = future.result()
+            future.cancel()
+        if owned:  # a caller's executor is theirs to stop; its queued runs were cancelled above
+            stop = getattr(executor, "interrupt", None)
+            if stop is not None:
+                stop()
+            else:
+                executor.shutdown(wait=False, cancel_futures=True)
+        if bar is not None:
+            bar.close()
+            bar = None
+        partial = collector.save()
+        if isinstance(exc, KeyboardInterrupt) and not isinstance(exc, SweepInterrupted):
+            raise SweepInterrupted(partial) from None
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+        if owned and not interrupted:
+            executor.shutdown(wait=True)
+    return collector.save()
