@@ -1,0 +1,97 @@
+"""``coopctrl tradeoff``: speed against accuracy of the integrators, against a reference solution."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand
+from coopctrl.errors import ScenarioError
+
+#: Reference methods offered on the command line (see coopctrl.analysis.reference; kept here as
+#: plain strings so that the parser does not import numpy).
+_METHODS = ("DOP853", "Radau")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected an integer >= 1")
+    return value
+
+
+def _print_progress(label: str) -> None:
+    print(f"\r{PROG} tradeoff: {label:<32}", end="", file=sys.stderr, flush=True)
+
+
+def cmd_tradeoff(args) -> int:
+    """Run the grid; print the table or the JSON; write the files with ``--out``."""
+    import json
+
+    from coopctrl.analysis.reference import ReferenceConfig
+    from coopctrl.analysis.tradeoff import ReferenceFailed, parse_integrators, parse_steps, run_tradeoff
+
+    scenario = _load(args)
+    integrators = parse_integrators(args.integrators) if args.integrators else None
+    substeps = parse_steps(args.steps, scenario.simulation.control_period) if args.steps else None
+    try:
+        reference = ReferenceConfig(args.reference_method, args.reference_rtol, args.reference_atol)
+    except ScenarioError as err:  # name the option, not the dataclass field
+        raise ScenarioError("--" + err.path.replace(".", "-"), err.value, err.allowed) from None
+    progress = _print_progress if not (args.json or args.quiet) and sys.stderr.isatty() else None
+    try:
+        result = run_tradeoff(scenario, integrators, substeps, reference, repeats=args.repeat, progress=progress)
+    except ReferenceFailed as err:
+        print(f"{PROG}: failed: {_one_line(err)}", file=sys.stderr)
+        return 1
+    finally:
+        if progress is not None:
+            print("\r" + " " * 52 + "\r", end="", file=sys.stderr, flush=True)
+    if args.out is not None:
+        result.save(args.out)
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
+    elif not args.quiet:
+        print(result.table())
+        if args.out is not None:
+            print(f"outputs written to {args.out}")
+    return 0
+
+
+@subcommand
+def _tradeoff_parser(sub) -> None:
+    parser = sub.add_parser(
+        "tradeoff",
+        help="speed vs accuracy of the integrators against a reference solution (work-precision)",
+        description="Simulate the scenario's closed loop with a reference solution (scipy solve_ivp over each "
+        "control period, tight tolerances) and with each integrator at each step h = T/n, and report for each run "
+        "the error against the reference (object position and orientation, contact forces; maximum over the run), "
+        "the wall time, the real-time factor and the status, with the Pareto front of (wall time, error). "
+        "The simulated time is the scenario's: shorten it with --set simulation.duration=0.3. "
+        "Exit 0 when the grid ran (rows that diverged are results), 1 if the reference failed, 2 for bad input.",
+    )
+    parser.add_argument("scenario", help="scenario .toml file, or the name of one in scenarios/")
+    _add_set_option(parser)
+    parser.add_argument("--integrators", action="append", metavar="NAMES",
+                        help="comma-separated integrators (default: euler,symplectic_euler,rk4,implicit_midpoint); "
+                        "repeatable")
+    parser.add_argument("--steps", action="append", metavar="STEPS",
+                        help="comma-separated steps, each in seconds (2.5e-4) or as T/n (T/4), dividing the control "
+                        "period T (default: T/1,T/2,T/4,T/8,T/16); repeatable")
+    parser.add_argument("--reference-method", choices=_METHODS, default="DOP853",
+                        help="solve_ivp method of the reference (default DOP853; Radau for very stiff scenes)")
+    parser.add_argument("--reference-rtol", type=float, default=1e-11, metavar="RTOL",
+                        help="relative tolerance of the reference (default 1e-11)")
+    parser.add_argument("--reference-atol", type=float, default=1e-12, metavar="ATOL",
+                        help="absolute tolerance of the reference, state units (default 1e-12)")
+    parser.add_argument("--repeat", type=_positive_int, default=1, metavar="N",
+                        help="run each grid point N times and report the smallest wall time (default 1)")
+    parser.add_argument("--out", type=Path, metavar="DIR",
+                        help="write tradeoff.json, tradeoff.csv and work_precision.png into DIR")
+    parser.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress and no table")
+    parser.set_defaults(handler=cmd_tradeoff)
