@@ -15,9 +15,14 @@
 
 The controller runs at the control period ``T``; the torques are held (zero-order hold) while
 the plant is integrated with ``substeps`` fixed steps ``h = T / substeps`` of the chosen
-integrator. Divergence (a non-finite state, a deformation beyond ``max_deformation``, an
-energy beyond ``max_energy``, or a numerical failure of the plant) stops the run with a
-diagnostic naming the time, the quantity and a suggested step; it never runs on silently.
+integrator, or with a free step ``h <= T`` (:meth:`ClosedLoop.set_step`): ``floor(T / h)`` steps
+of ``h`` and one shorter remainder step that lands on the next control instant. Divergence (a
+non-finite state, a deformation beyond ``max_deformation``, an energy beyond ``max_energy``, or a
+numerical failure of the plant) stops the run with a diagnostic naming the time, the quantity and
+a suggested step (half the integrator's predicted stability limit, :mod:`coopctrl.analysis.modes`);
+it never runs on silently. A spatial node whose pitch comes within
+:data:`~coopctrl.analysis.euler_singularity.EULER_PITCH_MARGIN_DEG` of +-90 deg stops the run as
+an Euler-angle singularity (and a nominal path that does is refused when the loop is built).
 """
 
 from __future__ import annotations
@@ -27,16 +32,29 @@ import time as _time
 
 import numpy as np
 
+from coopctrl.analysis.euler_singularity import (
+    EULER_PITCH_MARGIN_DEG,
+    SingularityHit,
+    check_nominal_path,
+    closest_to_singularity,
+    fix_hint,
+    margin_cos,
+)
 from coopctrl.controllers import required_object_wrench
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 from coopctrl.load_distribution import grasp_matrix, internal_force_basis
 from plants.cooperative import ContactPoint, nominal_node_motion
-from plants.errors import PlantError
+from plants.errors import EulerSingularityError, PlantError
 from plants.frames import body_rate_map, rotation_zyx
 
 
 #: Fraction of each joint torque limit the load-distribution QP may plan with [-].
 TORQUE_HEADROOM = 0.9
+
+#: Control ticks before the failure at which a diverged run is diagnosed [-]: the state of the last
+#: tick may already be far into the blow-up (an unstable mode grows geometrically), so its
+#: linearization would not be the one that failed.
+DIAGNOSIS_TICKS_BACK = 5
 
 
 class ClosedLoop:
@@ -53,6 +71,8 @@ class ClosedLoop:
         sensors: :class:`~coopctrl.sensors.SensorSuite`.
         integrator: A fixed-step integrator (``step(f, t, x, u, h)``).
         control_period: ``T`` [s]; substeps: integration steps per period.
+        step: Optional free plant step ``h`` [s], ``0 < h <= T``, instead of ``T / substeps``
+            (see :meth:`set_step`).
         squeeze_desired: (n_pairs,) desired virtual-linkage squeeze [N].
         max_deformation: Divergence bound on any node's displacement from its rigid pose [m].
         max_energy: Optional bound on the total energy [J].
@@ -61,7 +81,7 @@ class ClosedLoop:
     def __init__(self, plant, trajectory, grasps, load_distribution, compliance, leader, followers, sensors,
                  integrator, control_period: float, substeps: int, squeeze_desired, max_deformation: float,
                  max_energy: float | None = None, torque_limits: bool = False, name: str = "scenario",
-                 enabled: bool = True):
+                 enabled: bool = True, step: float | None = None):
         self.plant = plant
         self.trajectory = trajectory
         self.grasps = np.asarray(grasps, dtype=float)
@@ -74,6 +94,9 @@ class ClosedLoop:
         self.T = float(control_period)
         self.substeps = int(substeps)
         self.h = self.T / self.substeps
+        self._steps = (self.h,) * self.substeps
+        if step is not None:
+            self.set_step(step)
         self.squeeze_desired = np.asarray(squeeze_desired, dtype=float)
         self.max_deformation = float(max_deformation)
         self.max_energy = max_energy
@@ -91,7 +114,9 @@ class ClosedLoop:
         #: the feedback terms; the applied torques are saturated at the limit (actuators).
         self._qp_tau_max = [TORQUE_HEADROOM * np.asarray(a.tau_max, dtype=float) for a in plant.arms]
         self._x_ref = None
-        self._omega_cache = None
+        self._modes_cache: dict[int, tuple] = {}
+        if self.space == "spatial":  # a nominal path through the Euler singularity is bad input
+            check_nominal_path(trajectory, self.grasps)
         Yr = el.Y_ref
         self._rho = np.array([self._to_object_frame(Yr[0], Yr[i + 1, :self.npos] - Yr[0, :self.npos])
                               for i in range(plant.arm_count)])
@@ -113,37 +138,94 @@ class ClosedLoop:
                 worst, which = v, i
         return worst, which
 
+    def set_step(self, h: float, uniform: bool = False) -> None:
+        """Integrate the plant with a free step ``h`` [s], ``0 < h <= T``.
+
+        Each control period is ``n = floor(T / h)`` steps of ``h`` and, when ``T - n h`` is more
+        than ``1e-9 T``, one remainder step ``T - n h < h``; the controller instants stay exactly
+        ``k T``. For a Runge-Kutta scheme the one-step maps ``R(h A)`` of different steps commute
+        (functions of the same ``A``), so the shorter remainder step cannot destabilize a stable
+        ``h``; for symplectic Euler they do not, and a remainder step lowers its stability limit
+        (to 0.8 of the uniform-step limit on an undamped scene). With ``uniform=True`` the period
+        is instead split into ``n = ceil(T / h)`` equal steps ``T / n <= h`` (the largest step not
+        above ``h`` that divides ``T``). ``h`` and ``substeps`` are updated to the steps taken.
+        """
+        h = float(h)
+        if not (h > 0.0 and math.isfinite(h)) or h > self.T * (1.0 + 1e-12):
+            raise ValueError(f"step = {h!r} is invalid: expected 0 < step <= control period {self.T:g} s")
+        if uniform:
+            n = max(1, int(math.ceil(self.T / h * (1.0 - 1e-12))))
+            self.h, self.substeps = self.T / n, n
+            self._steps = (self.h,) * n
+            return
+        n = max(1, int(math.floor(self.T / h * (1.0 + 1e-12))))
+        rest = self.T - n * h
+        self.h = h
+        self.substeps = n
+        self._steps = (h,) * n + ((rest,) if rest > 1e-9 * self.T else ())
+
+    def modes(self, x=None):
+        """:class:`~coopctrl.analysis.modes.ModalAnalysis` of the plant about ``x`` (default: the state
+        the last run started from; ``ValueError`` before any run); cached per state."""
+        from coopctrl.analysis.modes import linear_modes
+
+        if x is None:
+            if self._x_ref is None:
+                raise ValueError("no state to linearize about: pass x, or run the loop first")
+            x = self._x_ref
+        x = np.asarray(x, dtype=float)
+        key = hash(x.tobytes())
+        hit = self._modes_cache.get(key)
+        if hit is None or not np.array_equal(hit[0], x):
+            hit = (x.copy(), linear_modes(self.plant, x))
+            self._modes_cache[key] = hit
+        return hit[1]
+
     def omega_max(self, x=None) -> float:
-        """Highest mode [rad/s] of the plant linearized at ``x`` (default: the state the last run
-        started from; before any run, the unloaded state): ``max |eig(df/dx)|``.
+        """Highest elastic mode [rad/s] of the plant linearized at ``x`` (see :meth:`modes`):
+        ``sqrt`` of the largest generalized eigenvalue of the stiffness against ``Gamma``.
 
         The arms' inertia is included, so this is the frequency the integrator actually meets.
         """
-        if x is None:
-            x = self._x_ref
-        if self._omega_cache is not None and self._omega_cache[0] is x:
-            return self._omega_cache[1]
-        A, _ = self.plant.jacobians(x, np.zeros(self.plant.input_size))
-        w = float(np.max(np.abs(np.linalg.eigvals(A))))
-        self._omega_cache = (x, w)
-        return w
+        return self.modes(x).omega_max
 
-    def suggested_step(self) -> float:
-        """A step [s] the chosen integrator should survive: half its predicted limit at ``omega_max``."""
-        w = self.omega_max()
-        limit = self.integrator.predicted_max_step(w) if w > 0 else math.inf
-        if limit == 0.0 or not math.isfinite(limit):
-            limit = 2.0 * math.sqrt(2.0) / w if w > 0 else self.h  # RK4's limit as a reference
-        return 0.5 * min(limit, self.h * 10)
+    def predicted_max_step(self, x=None) -> float:
+        """The chosen integrator's largest stable step [s] on the linearization at ``x``, with the
+        damping and coupling of every mode (:meth:`Integrator.max_stable_step`)."""
+        return self.modes(x).predicted_max_step(self.integrator)
 
-    def _step_hint(self):
-        """A suggested step when the step is beyond the predicted stability limit, else None."""
-        return None if self.numerically_stable_step() else self.suggested_step()
+    def suggested_step(self, x=None) -> float | None:
+        """A step [s] the chosen integrator should survive: half its predicted limit at ``x``, at most
+        ``T``; ``None`` when no step helps (explicit Euler on an undamped mode: limit 0)."""
+        limit = self.predicted_max_step(x)
+        if limit == 0.0:
+            return None
+        return 0.5 * min(limit, 2.0 * self.T)
+
+    def _step_advice(self, x_fail=None) -> tuple[float | None, str]:
+        """``(suggested step, advice)`` after a failure at step ``h``: when ``h`` exceeds the predicted
+        limit at the start state or at a state ``x_fail`` shortly before the failure, half the smaller
+        limit (which is below ``h``); otherwise no step and a sentence saying the step is not the likely
+        cause."""
+        limits = [self.predicted_max_step()]
+        if x_fail is not None and np.all(np.isfinite(x_fail)):
+            try:
+                limits.append(self.predicted_max_step(x_fail))
+            except (PlantError, np.linalg.LinAlgError, ValueError):
+                pass
+        limit = min(limits)
+        name = getattr(self.integrator, "name", type(self.integrator).__name__)
+        if limit == 0.0:
+            return None, (f"{name} is unstable at every step on an undamped mode of this plant: use "
+                          "symplectic_euler, rk4 or implicit_midpoint")
+        if self.h > limit:
+            return 0.5 * limit, ""
+        return None, (f"the step h = {self.h:.3g} s is within {name}'s predicted stability limit {limit:.3g} s, "
+                      "so the step is not the likely cause")
 
     def numerically_stable_step(self) -> bool:
         """True if the integration step is within the chosen integrator's predicted limit."""
-        w = self.omega_max()
-        return w == 0 or self.h <= self.integrator.predicted_max_step(w)
+        return self.h <= self.predicted_max_step()
 
     def diagnose(self, x) -> str:
         """Why a run at state ``x`` (the loaded start) cannot stay bounded, if the physics says so.
@@ -279,7 +361,7 @@ class ClosedLoop:
         if progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=n_ticks, unit="tick", desc=self.name, leave=False, mininterval=0.2)
+            bar = tqdm(total=N - 1, unit="tick", desc=self.name, leave=False, mininterval=0.2)
         tau = np.zeros(nu)
         k_done = 0
         state_exact = self.sensors.joints.config.is_exact and self.sensors.object.config.is_exact
@@ -287,6 +369,16 @@ class ClosedLoop:
         qp_time = 0.0
         saturated = 0
         binding_counts: dict[str, int] = {}
+        steps = self._steps
+        integrator_step = self.integrator.step
+        spatial = self.space == "spatial"
+        band = margin_cos()
+        near = margin_cos(2.0 * EULER_PITCH_MARGIN_DEG)  # a failure this close is blamed on the singularity
+        x_good = x.copy()  # the last state that passed the checks (for the failure diagnosis)
+        t_good = 0.0
+        # a diverging state overflows before the next check stops the run: detect it, do not warn about it
+        errstate = np.errstate(over="ignore", invalid="ignore")
+        errstate.__enter__()  # left in the ``finally`` below
         try:
             for k in range(N):
                 t = k * self.T
@@ -303,14 +395,18 @@ class ClosedLoop:
                 F_meas = self.sensors.read_forces(true_terms.Fw)
                 # ---- divergence checks on the state we are at
                 if not np.all(np.isfinite(x)):
-                    raise DivergenceError(t, "state (non-finite)", float("nan"), self._step_hint())
+                    raise DivergenceError(t, "state (non-finite)", float("nan"))
+                if spatial and min(abs(math.cos(v)) for v in true_terms.Y[:, 4].tolist()) < band:
+                    raise _NearSingularity(closest_to_singularity(true_terms.Y, t))
                 dmax, which = self._deformation(true_terms.Y)
                 if dmax > self.max_deformation:
-                    raise DivergenceError(t, f"deformation of contact {which} [m]", dmax, self._step_hint())
+                    raise DivergenceError(t, f"deformation of contact {which} [m]", dmax)
                 if self.max_energy is not None:
                     E = plant.energy(x)
                     if not abs(E) <= self.max_energy:
-                        raise DivergenceError(t, "energy [J]", E, self._step_hint())
+                        raise DivergenceError(t, "energy [J]", E)
+                x_good[:] = x
+                t_good = t
                 # ---- nominal motion and load
                 Y0N, dY0N, ddY0N = self.trajectory.evaluate(t)
                 if not self.enabled:  # passive run: no QP, no torques; the energy is recorded
@@ -322,8 +418,10 @@ class ClosedLoop:
                     k_done = k + 1
                     if k == N - 1:
                         break
-                    for s in range(self.substeps):
-                        x = self.integrator.step(rhs, t + s * self.h, x, tau, self.h)
+                    ts = t
+                    for hs in steps:
+                        x = integrator_step(rhs, ts, x, tau, hs)
+                        ts += hs
                     continue
                 Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, self.grasps, self.space)
                 w_N = required_object_wrench(self.space, self.object_mass, self.object_inertia, self.gravity,
@@ -373,25 +471,36 @@ class ClosedLoop:
                 if k == N - 1:
                     break
                 # ---- plant, zero-order hold over the period
-                for s in range(self.substeps):
-                    x = self.integrator.step(rhs, t + s * self.h, x, tau, self.h)
+                ts = t
+                for hs in steps:
+                    x = integrator_step(rhs, ts, x, tau, hs)
+                    ts += hs
                 if bar is not None and k % 50 == 0:
                     bar.update(50)
-        except DivergenceError as exc:
-            status, reason = "diverged", str(exc)
-            why = self.diagnose(np.asarray(x0, dtype=float))
-            if why:
-                reason = f"{reason}: {why}"
-            events.append((exc.time, "diverged", reason))
+        except _NearSingularity as exc:
+            status, reason = "diverged", self._singularity_reason(exc.hit)
+            events.append((exc.hit.time, "euler_singularity", reason))
+        except (DivergenceError, PlantError) as exc:
+            status = "diverged"
+            hit = self._nearest_singularity(x, k * self.T, x_good, t_good) if spatial else None
+            if isinstance(exc, EulerSingularityError) or (hit is not None and hit.cos_theta < near):
+                if isinstance(exc, EulerSingularityError) and (hit is None or hit.cos_theta >= near):
+                    hit = _hit_from_plant_error(exc, k * self.T)  # reached inside a control period
+                reason = self._singularity_reason(hit, f"{exc}" if isinstance(exc, DivergenceError) else "")
+                events.append((hit.time, "euler_singularity", reason))
+            else:
+                # the advice is taken a few ticks before the failure: the last good state may already be wild
+                back = max(0, k_done - 1 - DIAGNOSIS_TICKS_BACK)
+                x_back = rec["x"][back] if k_done else np.asarray(x0, dtype=float)
+                t_back = float(rec["t"][back]) if k_done else 0.0
+                chart = self._chart_stiffening(x_back, t_back, np.asarray(x0, dtype=float)) if spatial else ""
+                reason = self._divergence_reason(exc, k * self.T, x_back, np.asarray(x0, dtype=float), chart)
+                events.append((getattr(exc, "time", k * self.T), "euler_singularity" if chart else "diverged", reason))
         except InfeasibleLoad as exc:
             status, reason = "qp_failed", str(exc)
             events.append((k * self.T, "qp_failed", str(exc)))
-        except PlantError as exc:
-            t_fail = k * self.T
-            status = "diverged"
-            reason = f"at t = {t_fail:.6g} s: {exc}; suggested step {self.suggested_step():.3g} s"
-            events.append((t_fail, "diverged", reason))
         finally:
+            errstate.__exit__(None, None, None)
             if bar is not None:
                 bar.close()
         wall = _time.perf_counter() - wall0
@@ -403,6 +512,82 @@ class ClosedLoop:
         rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=qp_time,
                    qp_binding_counts=binding_counts, saturated_ticks=saturated)
         return rec
+
+    def _chart_stiffening(self, x_back, t_back: float, x0) -> str:
+        """Why the step failed, if it is the Euler-angle chart; else ``""``.
+
+        Blamed on the chart when, at the state ``x_back`` a few ticks before the failure (or else at the
+        start state ``x0``), the step is beyond the integrator's predicted limit and the mode that sets
+        that limit lives mostly (share > 1/2,
+        :func:`~coopctrl.analysis.euler_singularity.chart_mode_share`) on the Euler angles of nodes
+        pitched beyond 45 deg: rotational stiffness and damping written in Euler-angle coordinates act
+        on the inertia ``L^T I L``, which loses rank like ``cos^2(theta)`` (MODEL.md s.2), so such a
+        mode stiffens like ``1 / cos^2(theta)`` on the way to the singularity.
+        """
+        from coopctrl.analysis.euler_singularity import chart_mode_share
+
+        for x, t in ((x_back, t_back), (x0, 0.0)):
+            try:
+                modes = self.modes(x)
+                limit = modes.predicted_max_step(self.integrator)
+                k = modes.limiting_mode(self.integrator)
+                if k is None or not self.h > limit:
+                    continue
+                share, hit = chart_mode_share(self.plant, x, modes.eigenvectors[:, k])
+            except (PlantError, np.linalg.LinAlgError, ValueError):
+                continue
+            if share > 0.5:
+                break
+        else:
+            return ""
+        hit = SingularityHit(hit.node, hit.theta, hit.cos_theta, t)
+        name = getattr(self.integrator, "name", type(self.integrator).__name__)
+        return (f"approaching the Euler-angle singularity: {hit.describe()}; the mode that limits {name} there "
+                f"({abs(modes.eigenvalues[k]):.4g} rad/s, {100 * share:.0f} % on the Euler angles of pitched nodes) "
+                "is stiffened by the Euler-angle chart (rotational stiffness and damping in Euler-angle coordinates act "
+                "on an inertia L^T I L that vanishes like cos^2(theta)); a smaller step only helps until the pitch "
+                f"grows further; {fix_hint()}")
+
+    def _divergence_reason(self, exc, t_fail: float, x_back, x0, chart: str = "") -> str:
+        """One line: what left its bounds and when, then the step advice (predicted limits at the start
+        and at ``x_back``, a few ticks before the failure), then the physics' diagnosis."""
+        step, advice = self._step_advice(x_back)
+        if isinstance(exc, DivergenceError):
+            if type(exc) is DivergenceError:
+                reason = str(DivergenceError(exc.time, exc.quantity, exc.value, step))
+            else:  # an integrator's own failure (Newton): its message already says what to change
+                reason = str(exc) + (f"; the predicted stability limit suggests at most {step:.3g} s" if step else "")
+                advice = ""
+        else:
+            reason = f"diverged at t = {t_fail:.6g} s: {exc}" + (f"; try a step of at most {step:.3g} s" if step else "")
+        if chart:
+            return f"{reason}; {chart}"
+        if advice:
+            reason = f"{reason}; {advice}"
+        quantity = getattr(exc, "quantity", "")
+        if getattr(exc, "time", None) == 0.0 and quantity.startswith("deformation"):
+            reason = (f"{reason}: the start state already deforms the grasp beyond simulation.max_deformation = "
+                      f"{self.max_deformation:g} m (a static deflection |F| / k: the interconnections are too soft for "
+                      "the load); raise the stiffness, lower the load or raise max_deformation")
+        why = self.diagnose(x0)
+        return f"{reason}: {why}" if why else reason
+
+    def _nearest_singularity(self, x, t: float, x_good, t_good: float) -> SingularityHit:
+        """The node closest to pitch +-90 deg in the failing state ``x`` (if finite) or the last good one."""
+        hits = []
+        for state, when in ((x, t), (x_good, t_good)):
+            if np.all(np.isfinite(state)):
+                try:
+                    hits.append(closest_to_singularity(self.plant.node_poses(state).reshape(-1, self.plant.p), when))
+                except PlantError:
+                    pass
+        return min(hits, key=lambda h: h.cos_theta) if hits else SingularityHit(0, 0.0, 1.0, t_good)
+
+    def _singularity_reason(self, hit, detail: str = "") -> str:
+        """One line for a run stopped at the Euler-angle singularity."""
+        after = f" (the integration then failed: {detail})" if detail else ""
+        return (f"Euler-angle singularity at t = {hit.time:.6g} s: {hit.describe(with_time=False)}{after}; a smaller step does not "
+                f"help: {fix_hint()}")
 
     # ------------------------------------------------------------------ post-processing
     def squeeze_of(self, F, r_contacts, r_object) -> np.ndarray:
@@ -416,3 +601,23 @@ class ClosedLoop:
         f_int = f - np.linalg.pinv(G) @ (G @ f)
         E = internal_force_basis(r_contacts, self.space)
         return np.linalg.lstsq(E, f_int, rcond=None)[0]
+
+
+class _NearSingularity(Exception):
+    """Internal: a node of the running state entered the band around pitch +-90 deg."""
+
+    def __init__(self, hit):
+        super().__init__(hit.describe())
+        self.hit = hit
+
+
+def _hit_from_plant_error(exc, t: float) -> SingularityHit:
+    """A :class:`SingularityHit` from the plant's :class:`EulerSingularityError` (or an unknown place)."""
+    theta = float(getattr(exc, "theta", math.nan))
+    node = 0
+    where = str(getattr(exc, "where", ""))
+    if where.startswith("contact node "):
+        digits = where[len("contact node "):].split()[0]
+        node = int(digits) if digits.isdigit() else 0
+    c = abs(math.cos(theta)) if math.isfinite(theta) else 0.0
+    return SingularityHit(node, theta if math.isfinite(theta) else 0.5 * math.pi, c, t)

@@ -11,8 +11,11 @@ from test_cli import assert_user_error, bad_scene, coopctrl
 
 REPO = Path(__file__).resolve().parent.parent
 SHIPPED = sorted(p.stem for p in (REPO / "scenarios").glob("*.toml"))
-#: Scenes that are meant to fail, and the status they must end with.
-EXPECTED_FAILURE = {"central_spring_buckling": "diverged"}
+#: Scenes that are meant to fail: the status they must end with and a word their reason must contain.
+EXPECTED_FAILURE = {
+    "central_spring_buckling": ("diverged", "buckles"),
+    "euler_singularity": ("diverged", "approaching the Euler-angle singularity"),
+}
 REQUIRED_KEYS = {
     "scenario", "status", "reason", "model", "integrator", "step_s", "control_period_s", "duration_s",
     "wall_time_s", "realtime_factor", "object_position_error_rms_m", "object_position_error_max_m",
@@ -26,14 +29,16 @@ def test_the_library_is_complete():
     assert set(SHIPPED) >= {
         "planar_two_arm_lift", "spatial_two_puma_carry", "spatial_three_arm_carry", "gripping_immobile_object",
         "heavy_payload_torque_limits", "stiff_grasp_extreme", "central_spring_buckling", "contact_points_only",
+        "euler_singularity",
     }
 
 
 @pytest.mark.parametrize("name", SHIPPED)
 def test_shipped_scenario_runs_briefly(name):
-    """0.1 s of each scene (0.1 s is past the buckling scene's failure at ~0.06 s)."""
+    """0.1 s of each scene (0.1 s is past the buckling scene's failure at ~0.06 s and the Euler scene's
+    at ~0.02 s)."""
     proc = coopctrl("run", REPO / "scenarios" / f"{name}.toml", "--set", "simulation.duration=0.1", "--json")
-    expected = EXPECTED_FAILURE.get(name, "ok")
+    expected, needle = EXPECTED_FAILURE.get(name, ("ok", ""))
     assert proc.returncode == (0 if expected == "ok" else 1), proc.stderr
     assert "Traceback" not in proc.stderr
     summary = json.loads(proc.stdout)
@@ -43,7 +48,7 @@ def test_shipped_scenario_runs_briefly(name):
     assert summary["scenario"] == name
     if expected != "ok":
         assert summary["reason"] and len(proc.stderr.splitlines()) == 1
-        assert "buckles" in summary["reason"]
+        assert needle in summary["reason"]
 
 
 def test_run_writes_outputs(tmp_path):

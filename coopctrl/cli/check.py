@@ -6,10 +6,14 @@ from coopctrl.cli._core import _add_set_option, _load, subcommand
 
 def cmd_check(args) -> int:
     """Validate a scenario without simulating it: its fields, then the physics it implies (every grasp
-    within reach, torque limits above the arms' own gravity load, the loaded initial state)."""
+    within reach, torque limits above the arms' own gravity load, the loaded initial state, a nominal
+    path clear of the Euler-angle singularity)."""
     scenario = _load(args)
     scenario.plant()
     scenario.initial_state()
+    from coopctrl.simulator import closed_loop
+
+    closed_loop(scenario)  # refuses a nominal path near the Euler-angle singularity (coopctrl.analysis.euler_singularity)
     print(
         f"ok: {scenario.name} ({scenario.space}, {len(scenario.arms)} arms, state size {scenario.state_size}, "
         f"{scenario.simulation.control_steps} control steps of {scenario.simulation.control_period:g} s)"

@@ -8,6 +8,11 @@ name                      class                       order  undamped stability 
 ``"rk4"``                 :class:`RungeKutta4`        4      ``<= 2 sqrt(2) ~= 2.828`` (real axis 2.785)
 ``"implicit_midpoint"``   :class:`ImplicitMidpoint`   2      unconditional (A-stable, symplectic)
 ========================  ==========================  =====  ==========================================
+
+With damping ratio ``zeta`` (``predicted_max_step(omega, zeta)``): explicit Euler ``h omega <= 2 zeta``,
+symplectic Euler ``h omega <= 2 / (zeta + sqrt(1 + zeta^2))``, RK4 2.6 to 2.96. On a linearization
+``dx/dt = A x`` (every mode, coupled and damped), ``max_stable_step(A)``; see
+:mod:`coopctrl.integrators.base` and :mod:`coopctrl.analysis.stability`.
 """
 
 from __future__ import annotations

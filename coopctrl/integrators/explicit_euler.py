@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import math
-
-from coopctrl.integrators.base import Integrator, check_omega_max
+from coopctrl.integrators.base import Integrator, check_damping_ratio, check_omega_max
 
 
 class ExplicitEuler(Integrator):
@@ -19,13 +17,16 @@ class ExplicitEuler(Integrator):
     (centre -1, radius 1), which touches the imaginary axis only at 0. For an undamped oscillator
     of frequency ``omega`` (``lambda = +-i omega``), ``|1 + i h omega| = sqrt(1 + h^2 omega^2) > 1``:
     the amplitude grows at **every** step ``h > 0``, so :meth:`predicted_max_step` is ``0.0``.
-    (With damping ratio ``zeta`` the scheme is stable for ``h <= 2 zeta / omega``.)
+    With damping ratio ``zeta`` the mode is stable for ``h <= -2 Re(lambda) / |lambda|^2``, i.e.
+    ``h omega <= 2 zeta`` (``zeta <= 1``) or ``h omega <= 2 / (zeta + sqrt(zeta^2 - 1))``
+    (``zeta > 1``, set by the faster real eigenvalue).
 
     One call of ``f`` per step.
     """
 
     name = "euler"
     order = 1
+    stability_polynomial = (1.0, 1.0)
 
     def step(self, f, t, x, u, h):
         dx = f(t, x, u)
@@ -33,5 +34,7 @@ class ExplicitEuler(Integrator):
         dx += x
         return dx
 
-    def predicted_max_step(self, omega_max: float) -> float:
-        return math.inf if check_omega_max(omega_max) == 0.0 else 0.0
+    def predicted_max_step(self, omega_max: float, damping_ratio: float = 0.0) -> float:
+        """Largest stable step [s] on the oscillator ``(omega_max [rad/s], damping_ratio [-])``
+        (``0.0`` undamped: unstable at every step)."""
+        return self._mode_max_step(check_omega_max(omega_max), check_damping_ratio(damping_ratio))

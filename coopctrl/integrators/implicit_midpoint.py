@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from coopctrl.errors import DivergenceError
-from coopctrl.integrators.base import Integrator, check_omega_max
+from coopctrl.integrators.base import MARGINAL_REAL_PART, Integrator, check_damping_ratio, check_omega_max
 
 _EPS = np.finfo(float).eps
 _SQRT_EPS = math.sqrt(_EPS)
@@ -55,8 +55,11 @@ class ImplicitMidpoint(Integrator):
     (``2 n`` extra calls of ``f``). ``M`` is kept across iterations and across steps while
     Newton converges fast (contraction rate at most ``reuse_rate``); it is refreshed at the
     current iterate when convergence slows, and when ``f``, ``h`` or the state size change. Convergence:
-    ``h max|dk| <= atol + rtol max(max|x_k|, h max|k|)``. Failure raises :class:`NewtonConvergenceError`
-    (an :class:`ArithmeticError`).
+    ``h max|dk| <= atol + rtol max(max|x_k|, h max|k|)``, or the round-off floor of ``f``: with a
+    fresh Jacobian the correction stops shrinking (rate above 1/2) while already below
+    ``sqrt(eps) max(max|x_k|, h max|k|)`` (a very stiff spring, ``k / m ~ 1e12``, turns the last bits of
+    the positions into accelerations that no Newton step can reduce further). Failure raises
+    :class:`NewtonConvergenceError` (an :class:`ArithmeticError`).
 
     Stability: ``R(z) = (1 + z/2) / (1 - z/2)``; ``|R(z)| <= 1`` on the whole closed left
     half-plane (A-stable), ``|R(i y)| = 1`` on the imaginary axis: an undamped oscillator keeps
@@ -108,9 +111,21 @@ class ImplicitMidpoint(Integrator):
         self._h = None
         self._k = None  # last converged midpoint slope (predictor)
 
-    def predicted_max_step(self, omega_max: float) -> float:
+    def predicted_max_step(self, omega_max: float, damping_ratio: float = 0.0) -> float:
+        """``math.inf``: A-stable, every mode with ``Re(lambda) <= 0`` is stable at any step."""
         check_omega_max(omega_max)
+        check_damping_ratio(damping_ratio)
         return math.inf
+
+    def stability_function(self, z):
+        """``R(z) = (1 + z/2) / (1 - z/2)``."""
+        return (1.0 + 0.5 * z) / (1.0 - 0.5 * z)
+
+    def eigenvalue_max_step(self, lam: complex) -> float:
+        """``math.inf`` for ``Re(lambda) <= 0`` (A-stable; within ``MARGINAL_REAL_PART |lambda|`` of 0
+        counts as 0), else ``0.0`` (it then grows, as the exact flow does)."""
+        lam = complex(lam)
+        return math.inf if lam.real <= MARGINAL_REAL_PART * abs(lam) else 0.0
 
     def _jacobian(self, f, t, x, u, fx):
         jac = getattr(f, "jac", None)
@@ -178,10 +193,13 @@ class ImplicitMidpoint(Integrator):
                 k = f(t, x, u)  # the stale matrix threw the iterate away: restart
                 M = None
                 continue
+            rate = correction / previous
+            if fresh and rate > 0.5 and correction <= _SQRT_EPS * max(float(np.abs(x).max()),
+                                                                       h * float(np.abs(k).max())):
+                break  # stagnating at the round-off floor of f: as converged as it can be
             if total >= self.max_iterations:
                 self.reset()
                 raise NewtonConvergenceError(t, correction, total, h)
-            rate = correction / previous
             if rate > self.reuse_rate:
                 M = None  # slow: re-evaluate the Jacobian at the current iterate
             previous = correction

@@ -1,0 +1,443 @@
+"""Stability limits of the integrators on a scenario: predicted from the linearization, measured
+by bisection on the actual closed loop.
+
+**Predicted.** :func:`~coopctrl.analysis.modes.linear_modes` about the state the run starts from
+(``build.initial_state``: the loaded state at rest, or the unloaded one for ``start = "unloaded"``)
+gives ``omega_max`` and the damping of the highest mode; each integrator's largest stable step is
+:meth:`Integrator.max_stable_step` of the linearization ``A`` (every mode, with its damping; the
+physically unstable modes skipped, since no step cures them).
+
+**Measured.** The scenario's own closed loop (controllers, sensors, QP: :func:`coopctrl.simulator.closed_loop`)
+is run from the same state over a short horizon with a free plant step ``h``
+(:meth:`ClosedLoop.set_step`), the controller still at its period ``T``. A trial step is *stable*
+when the run ends with status ``"ok"`` and the elastic energy of the interconnections (every
+spring, translational and torsional: ``Pi(Y)`` of MODEL.md s.3) stays within
+``(1 + GROWTH_BOUND)^2`` of the largest one of a reference run over the same time (RK4 at a quarter
+of its predicted limit, at most ``T``), i.e. the deformation amplitude within ``1 + GROWTH_BOUND``::
+
+    max_t Pi(t)  <=  (1 + GROWTH_BOUND)^2  max_t Pi_ref(t)      [J]
+
+Magnitudes are compared, not the difference from the reference: a stable but inaccurate step
+drifts in phase on a lightly damped oscillation (a difference then reaches twice the amplitude)
+without growing, whereas a numerically unstable mode grows geometrically, by ``|R| > 1`` per
+step, and breaks the bound (or a divergence bound) within the horizon. The energy sees every mode,
+also a torsion mode that moves no contact force (a translational measure missed an unstable roll
+mode of the contact nodes). The horizon is at least
+:data:`MIN_PERIODS` control periods and :data:`MIN_STEPS` steps at the predicted limit: just above
+a limit the growth per step is ``1 + kappa delta`` (``delta`` the relative excess, ``kappa`` ~ 2
+to 7 for RK4 and symplectic Euler), so 2 % above it a mode excited at 1e-6 of the force scale
+needs ~ ln(5e5) / 0.04 ~ 330 steps to reach the bound. A step so small that a trial would take
+more than :data:`MAX_TRIAL_STEPS` plant steps is not tried.
+
+Every trial (and the reference) starts from the same state with a seeded perturbation of
+:data:`SEED_PERTURBATION` on each coordinate of ``z`` (1 nm or 1 nrad): a symmetric scene leaves
+its out-of-plane modes *exactly* unexcited (their coordinates stay 0.0 in floating point), so an
+unstable one would never show; the seed gives every mode a start 7 orders of magnitude above
+round-off and far below anything the accuracy notices.
+
+A trial step ``h`` that does not divide ``T`` is taken as ``floor(T / h)`` steps of ``h`` plus a
+shorter remainder step for the Runge-Kutta schemes (whose one-step maps commute, so the remainder
+cannot destabilize), and as ``T / ceil(T / h)`` uniform steps for symplectic Euler (whose maps do
+not commute: a remainder step lowers its limit by ~20 %); see :meth:`ClosedLoop.set_step`. Its
+measured limit is therefore a step ``T / n``, resolved to ``1 / n`` relative.
+
+The bisection works on ``log h`` to a relative resolution (:data:`RESOLUTION`, 2 %). The loop
+cannot take a step longer than ``T``: when ``h = T`` is stable the result is reported as
+``measured = T`` with ``limited_by_control_period = True`` (a lower bound); implicit midpoint,
+unconditionally stable, is only tried at ``T``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from coopctrl.analysis.modes import ModalAnalysis, damping_ratio_of, linear_modes
+from coopctrl.integrators import INTEGRATORS, get_integrator
+
+#: Relative bisection resolution on the measured limit [-].
+RESOLUTION = 0.02
+#: Allowed growth of the largest contact force over the reference run's [-].
+GROWTH_BOUND = 0.5
+#: Fewest control periods [-] and fewest plant steps at the predicted limit [-] of a trial run.
+MIN_PERIODS = 50
+MIN_STEPS = 400
+#: Most plant steps in one trial [-] (bounds the cost of the search below a tiny predicted limit).
+MAX_TRIAL_STEPS = 200_000
+#: Size of the seeded perturbation of the generalized coordinates ``z`` of the start state [m or rad].
+SEED_PERTURBATION = 1e-9
+#: Relative difference [-] between measured and predicted beyond which the report explains it.
+AGREEMENT = 0.2
+#: Why a measurement on the closed loop may differ from the open-loop plant's prediction.
+_CLOSED_LOOP = ("the closed loop is not the open-loop plant that was linearized: the controllers act on the "
+                "limiting mode at every control instant (computed torque cancels the plant's own forces there)")
+#: Integrator and fraction of its predicted limit used for the reference run.
+REFERENCE_INTEGRATOR = "rk4"
+REFERENCE_FRACTION = 0.25
+
+
+@dataclass(frozen=True)
+class StabilityRow:
+    """Predicted and measured largest stable step of one integrator.
+
+    Attributes:
+        integrator: Registry name; ``order`` its order of accuracy.
+        predicted_max_step_s: From the linearization [s]; ``inf`` = no limit, ``0`` = unstable at every step.
+        limiting_mode_rad_s: ``|lambda|`` [rad/s] of the mode that sets the prediction (``nan`` if none).
+        limiting_mode_damping_ratio: Its damping ratio ``-Re(lambda) / |lambda|`` [-].
+        measured_max_step_s: Largest stable step found on the closed loop [s], or ``None`` (not measured).
+        limited_by_control_period: True when ``h = T`` was stable: the measured value is a lower bound.
+        first_unstable_step_s: The smallest step found unstable [s], or ``None``.
+        failure: Why that trial failed (its reason, or the force growth it showed).
+        trials: Number of closed-loop trials run.
+        horizon_s: Simulated time of each trial [s].
+        note: Anything that qualifies the figures.
+    """
+
+    integrator: str
+    order: int
+    predicted_max_step_s: float
+    limiting_mode_rad_s: float = math.nan
+    limiting_mode_damping_ratio: float = math.nan
+    measured_max_step_s: float | None = None
+    limited_by_control_period: bool = False
+    first_unstable_step_s: float | None = None
+    failure: str = ""
+    trials: int = 0
+    horizon_s: float = 0.0
+    note: str = ""
+
+    @property
+    def ratio(self) -> float | None:
+        """``measured / predicted`` [-] when both are finite and positive and the measurement is not a bound."""
+        p, m = self.predicted_max_step_s, self.measured_max_step_s
+        if m is None or self.limited_by_control_period or not (0.0 < p < math.inf):
+            return None
+        return m / p
+
+
+@dataclass(frozen=True)
+class StabilityReport:
+    """``omega_max`` of a scenario and the stability limits of its integrators.
+
+    Attributes:
+        scenario: Name of the scenario.
+        state: The state linearized about and started from (``"loaded"`` or ``"unloaded"`` at t = 0).
+        omega_max_rad_s: Highest elastic mode [rad/s] (generalized eigenvalues of K against Gamma).
+        damping_ratio: Damping ratio of that mode [-], from the eigenvalues of ``A``
+            (:func:`~coopctrl.analysis.modes.linear_modes`); ``modal_damping_ratio`` its classical modal one.
+        fastest_eigenvalue: Eigenvalue of ``A`` of largest magnitude [1/s].
+        stiffness_asymmetry: ``|K - K^T| / |K|`` [-] (dropped for ``omega``).
+        unstable_stiffness_modes: Number of negative ``omega^2`` (static instabilities).
+        control_period_s: ``T`` [s], the longest step the loop can take.
+        reference: ``{"integrator", "step_s", "status", "reason", "horizon_s", "elastic_energy_max_J"}`` of the
+            reference run, or ``{}``.
+        rows: One :class:`StabilityRow` per integrator.
+    """
+
+    scenario: str
+    state: str
+    omega_max_rad_s: float
+    damping_ratio: float
+    modal_damping_ratio: float
+    fastest_eigenvalue: complex
+    stiffness_asymmetry: float
+    unstable_stiffness_modes: int
+    control_period_s: float
+    reference: dict = field(default_factory=dict)
+    rows: tuple[StabilityRow, ...] = ()
+
+    def row(self, integrator: str) -> StabilityRow:
+        """The row of one integrator."""
+        for r in self.rows:
+            if r.integrator == integrator:
+                return r
+        raise KeyError(integrator)
+
+    def to_dict(self) -> dict:
+        """A JSON-ready dict (no NaN or infinity: ``None`` with a note instead)."""
+        from coopctrl.results.summary import json_safe
+
+        lam = self.fastest_eigenvalue
+        rows = []
+        for r in self.rows:
+            notes = [r.note] if r.note else []
+            if r.predicted_max_step_s == math.inf:
+                notes.append("predicted: no limit (unconditionally stable on every mode)")
+            m = r.measured_max_step_s
+            rows.append({
+                "integrator": r.integrator,
+                "order": r.order,
+                "predicted_max_step_s": r.predicted_max_step_s,
+                "measured_max_step_s": m,
+                "limited_by_control_period": r.limited_by_control_period,
+                "ratio_measured_predicted": r.ratio,
+                "h_omega_max_at_measured": None if m is None else m * self.omega_max_rad_s,
+                "limiting_mode_rad_s": r.limiting_mode_rad_s,
+                "limiting_mode_damping_ratio": r.limiting_mode_damping_ratio,
+                "first_unstable_step_s": r.first_unstable_step_s,
+                "failure": r.failure,
+                "trials": r.trials,
+                "horizon_s": r.horizon_s,
+                "note": "; ".join(notes),
+            })
+        return json_safe({
+            "scenario": self.scenario,
+            "state": self.state,
+            "omega_max_rad_s": self.omega_max_rad_s,
+            "damping_ratio": self.damping_ratio,
+            "modal_damping_ratio": self.modal_damping_ratio,
+            "fastest_mode_rad_s": abs(lam),
+            "fastest_mode_damping_ratio": damping_ratio_of(lam) if lam != 0 else None,
+            "stiffness_asymmetry": self.stiffness_asymmetry,
+            "unstable_stiffness_modes": self.unstable_stiffness_modes,
+            "control_period_s": self.control_period_s,
+            "reference": self.reference,
+            "rows": rows,
+        })
+
+    def table(self) -> str:
+        """The report as text: the modes, then one line per integrator."""
+        lam = self.fastest_eigenvalue
+        zeta_fast = damping_ratio_of(lam)
+        lines = [
+            f"scenario                    {self.scenario}",
+            f"linearized at               {self.state} state at t = 0",
+            f"omega_max_rad_s             {self.omega_max_rad_s:.6g}",
+            f"damping ratio (that mode)   {self.damping_ratio:.3g}",
+            f"fastest eigenvalue of A     |lambda| = {abs(lam):.6g} rad/s, zeta = {zeta_fast:.3g}",
+            f"static instabilities        {self.unstable_stiffness_modes} (negative stiffness eigenvalues; no step cures them)",
+            f"control period              {self.control_period_s:g} s (the longest step the loop can take)",
+        ]
+        ref = self.reference
+        if ref:
+            why = f" ({ref['reason']})" if ref["status"] != "ok" else ""
+            lines.append(f"reference run               {ref['integrator']} at {ref['step_s']:.4g} s: {ref['status']}{why}")
+        header = ("integrator", "order", "predicted [s]", "measured [s]", "measured/pred", "h*omega_max", "limiting mode")
+        body = []
+        for r in self.rows:
+            pred = "no limit" if r.predicted_max_step_s == math.inf else f"{r.predicted_max_step_s:.4g}"
+            m = r.measured_max_step_s
+            meas = "-" if m is None else (f">= {m:.4g}" if r.limited_by_control_period else f"{m:.4g}")
+            ratio = "-" if r.ratio is None else f"{r.ratio:.3f}"
+            hw = "-" if m is None else (f">= {m * self.omega_max_rad_s:.3g}" if r.limited_by_control_period
+                                        else f"{m * self.omega_max_rad_s:.3g}")
+            mode = ("-" if not math.isfinite(r.limiting_mode_rad_s)
+                    else f"{r.limiting_mode_rad_s:.4g} rad/s, zeta {r.limiting_mode_damping_ratio:.2g}")
+            body.append((r.integrator, str(r.order), pred, meas, ratio, hw, mode))
+        widths = [max(len(h), *(len(b[i]) for b in body)) if body else len(h) for i, h in enumerate(header)]
+        fmt = lambda cells: "  ".join(c.ljust(w) for c, w in zip(cells, widths)).rstrip()  # noqa: E731
+        lines += ["", fmt(header)] + [fmt(b) for b in body]
+        notes = [f"{r.integrator}: {r.note}" for r in self.rows if r.note]
+        if notes:
+            lines += [""] + notes
+        return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------- prediction
+def limiting_mode(modes: ModalAnalysis, integrator) -> tuple[float, float]:
+    """``(|lambda| [rad/s], zeta [-])`` of the mode that sets ``integrator``'s limit
+    (:meth:`ModalAnalysis.limiting_mode`); ``(nan, nan)`` when no mode limits the step."""
+    k = modes.limiting_mode(integrator)
+    if k is None:
+        return math.nan, math.nan
+    v = complex(modes.eigenvalues[k])
+    return abs(v), damping_ratio_of(v)
+
+
+# ---------------------------------------------------------------------- measurement
+def commutes(scheme) -> bool:
+    """True when the scheme's one-step map is a function of ``h A`` (so steps of different sizes
+    commute on a linear system): it has a scalar stability function."""
+    try:
+        scheme.eigenvalue_max_step(-1.0)
+    except NotImplementedError:
+        return False
+    return True
+
+
+def effective_step(scheme, h: float, control_period: float) -> float:
+    """The step [s] a trial at ``h`` takes: ``h`` itself, or ``T / ceil(T / h)`` for a scheme that
+    does not commute (see :meth:`ClosedLoop.set_step`)."""
+    h = min(h, control_period)
+    if commutes(scheme):
+        return h
+    return control_period / max(1, math.ceil(control_period / h * (1.0 - 1e-12)))
+
+
+def _run(scenario, x0, integrator: str, h: float, horizon: float) -> dict:
+    """One closed-loop trial: the scenario's loop with ``integrator`` at plant step ``h`` [s]."""
+    from coopctrl.simulator import closed_loop
+
+    loop = closed_loop(scenario)
+    loop.integrator = get_integrator(integrator)
+    loop.set_step(min(h, loop.T), uniform=not commutes(loop.integrator))
+    return loop.run(x0, horizon)
+
+
+def elastic_energy(plant, rec: dict) -> np.ndarray:
+    """``Pi(Y(t))`` [J] of the interconnections at each recorded tick of a run."""
+    return np.array([plant.elastic_potential(plant.node_poses(x)) for x in rec["x"]])
+
+
+def trial_verdict(plant, rec: dict, ref_energy: np.ndarray) -> tuple[bool, str]:
+    """``(stable, why not)`` of a trial run against the reference run's elastic energy (module docstring)."""
+    if rec["status"] != "ok":
+        return False, rec["reason"] or rec["status"]
+    E = elastic_energy(plant, rec)
+    n = min(len(E), len(ref_energy))
+    if n == 0:
+        return True, ""
+    scale = float(np.max(ref_energy[:n]))
+    worst = float(np.max(E[:n]))
+    if not math.isfinite(worst):
+        return False, "non-finite elastic energy"
+    if worst > (1.0 + GROWTH_BOUND) ** 2 * scale:
+        t = float(rec["t"][int(np.argmax(E[:n]))])
+        return False, (f"elastic energy grew to {worst:.3g} J at t = {t:.4g} s (reference at most {scale:.3g} J; "
+                       f"bound x{(1.0 + GROWTH_BOUND) ** 2:g})")
+    return True, ""
+
+
+def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np.ndarray, horizon: float, x0,
+                     resolution: float = RESOLUTION, max_trials: int = 40) -> dict:
+    """Bisect the largest stable plant step [s] of ``integrator`` on the scenario's closed loop.
+
+    ``h = T`` is tried first (the cap); if unstable, a stable lower bracket is searched from
+    ``min(predicted, T)`` (halving), then the bracket is bisected in ``log h`` until
+    ``hi / lo - 1 <= resolution``. Returns ``{"measured", "limited", "first_unstable", "failure",
+    "trials", "note"}``.
+    """
+    from coopctrl.scenario import build
+
+    plant = build.build_plant(scenario)
+    T = scenario.simulation.control_period
+    scheme = get_integrator(integrator)
+    trials = 0
+
+    def stable(h):
+        nonlocal trials
+        trials += 1
+        return trial_verdict(plant, _run(scenario, x0, integrator, h, horizon), ref_energy)
+
+    ok, why = stable(T)
+    if ok:
+        return {"measured": T, "limited": True, "first_unstable": None, "failure": "", "trials": trials, "note": ""}
+    hi, hi_why = T, why
+    lo = min(predicted, T) if 0.0 < predicted < math.inf else 0.25 * T
+    lo = effective_step(scheme, lo if lo < hi else 0.5 * hi, T)
+    while True:
+        if trials >= max_trials or horizon / lo > MAX_TRIAL_STEPS:
+            return {"measured": None, "limited": False, "first_unstable": hi, "failure": hi_why, "trials": trials,
+                    "note": f"no stable step found down to {hi:.3g} s (smaller steps would take more than "
+                            f"{MAX_TRIAL_STEPS} plant steps per trial)"}
+        ok, why = stable(lo)
+        if ok:
+            break
+        hi, hi_why = lo, why
+        lo = effective_step(scheme, 0.5 * lo, T)
+    while hi / lo - 1.0 > resolution and trials < max_trials:
+        mid = effective_step(scheme, math.sqrt(lo * hi), T)
+        if mid in (lo, hi):  # no step T / n between them: resolved as far as the loop allows
+            break
+        ok, why = stable(mid)
+        if ok:
+            lo = mid
+        else:
+            hi, hi_why = mid, why
+    return {"measured": lo, "limited": False, "first_unstable": hi, "failure": hi_why, "trials": trials, "note": ""}
+
+
+def trial_horizon(control_period: float, predicted: float) -> float:
+    """Simulated time [s] of each trial: at least :data:`MIN_PERIODS` control periods and
+    :data:`MIN_STEPS` steps at a finite, positive predicted limit (capped at the control period), a
+    whole number of periods."""
+    periods = MIN_PERIODS
+    if 0.0 < predicted < math.inf:
+        periods = max(periods, math.ceil(MIN_STEPS * min(predicted, control_period) / control_period))
+    return periods * control_period
+
+
+def seeded_start(x, nz: int, size: float = SEED_PERTURBATION, seed: int = 0) -> np.ndarray:
+    """``x`` with ``size * N(0, 1)`` added to each generalized coordinate ``z = x[:nz]`` (seeded)."""
+    out = np.array(x, dtype=float)
+    out[:nz] += size * np.random.default_rng(seed).standard_normal(nz)
+    return out
+
+
+# ---------------------------------------------------------------------- report
+def stability_report(scenario, integrators=None, measure: bool = True, resolution: float = RESOLUTION) -> StabilityReport:
+    """Predicted and (optionally) measured stability limits of ``integrators`` on ``scenario``.
+
+    Args:
+        scenario: A :class:`~coopctrl.scenario.Scenario`.
+        integrators: Registry names (default: all four built-in schemes).
+        measure: Also bisect the limits on the closed loop (a few seconds per integrator).
+        resolution: Relative resolution of the bisection [-].
+    """
+    from coopctrl.errors import ScenarioError
+    from coopctrl.scenario import build
+
+    names = list(INTEGRATORS) if integrators is None else list(integrators)
+    for name in names:
+        get_integrator(name)  # an unknown name is a ScenarioError listing the valid ones
+    if not names:
+        raise ScenarioError("integrators", names, "at least one integrator name")
+    plant = build.build_plant(scenario)
+    x_start = build.initial_state(scenario)
+    modes = linear_modes(plant, x_start)
+    x0 = seeded_start(x_start, plant.nz)
+    T = scenario.simulation.control_period
+    predicted = {name: modes.predicted_max_step(get_integrator(name)) for name in names}
+
+    reference: dict = {}
+    ref_rec = None
+    if measure:
+        p_rk4 = modes.predicted_max_step(get_integrator(REFERENCE_INTEGRATOR))
+        h_ref = min(T, REFERENCE_FRACTION * p_rk4) if 0.0 < p_rk4 < math.inf else T
+        horizon = max(trial_horizon(T, p) for p in predicted.values())
+        ref_rec = _run(scenario, x0, REFERENCE_INTEGRATOR, h_ref, horizon)
+        ref_energy = elastic_energy(plant, ref_rec)
+        reference = {"integrator": REFERENCE_INTEGRATOR, "step_s": h_ref, "status": ref_rec["status"],
+                     "reason": ref_rec["reason"], "horizon_s": horizon,
+                     "elastic_energy_max_J": float(np.max(ref_energy)) if ref_energy.size else 0.0}
+
+    rows = []
+    for name in names:
+        scheme = get_integrator(name)
+        p = predicted[name]
+        w, z = limiting_mode(modes, scheme)
+        row = dict(integrator=name, order=scheme.order, predicted_max_step_s=p, limiting_mode_rad_s=w,
+                   limiting_mode_damping_ratio=z)
+        notes = []
+        if p == 0.0:
+            notes.append(f"predicted 0: the mode at {w:.4g} rad/s (zeta {z:.2g}) grows at every step in the open-loop "
+                         "linearization (explicit Euler has no stable step on an undamped mode)")
+        if measure:
+            if ref_rec["status"] != "ok":
+                notes.append("not measured: the reference run failed (see reference)")
+            else:
+                horizon = trial_horizon(T, p)
+                # h = T is tried first: an unconditionally stable scheme normally stops there
+                got = measure_max_step(scenario, name, p, ref_energy, horizon, x0, resolution)
+                row.update(measured_max_step_s=got["measured"], limited_by_control_period=got["limited"],
+                           first_unstable_step_s=got["first_unstable"], failure=got["failure"],
+                           trials=got["trials"], horizon_s=horizon)
+                if got["note"]:
+                    notes.append(got["note"])
+                measured = got["measured"]
+                if got["limited"] and 0.0 < p < T:
+                    notes.append(f"stable at the control period although predicted unstable above {p:.3g} s: {_CLOSED_LOOP}, "
+                                 "or the mode grows too slowly to show within the horizon")
+                elif measured is not None and not got["limited"] and 0.0 < p < math.inf and not (
+                        1.0 - AGREEMENT <= measured / p <= 1.0 + AGREEMENT):
+                    notes.append(f"measured / predicted = {measured / p:.3g}: {_CLOSED_LOOP}")
+        rows.append(StabilityRow(note="; ".join(notes), **row))
+    lam = modes.fastest_eigenvalue
+    return StabilityReport(
+        scenario=scenario.name, state=scenario.simulation.start, omega_max_rad_s=modes.omega_max,
+        damping_ratio=modes.damping_ratio, modal_damping_ratio=modes.modal_damping_ratio, fastest_eigenvalue=lam, stiffness_asymmetry=modes.stiffness_asymmetry,
+        unstable_stiffness_modes=modes.unstable_stiffness_modes, control_period_s=T, reference=reference,
+        rows=tuple(rows))

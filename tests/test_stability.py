@@ -1,0 +1,364 @@
+"""Stability limits (issue 5): the integrators' predicted limits against the spectral radius of their own
+one-step maps, omega_max against closed-form modes, the free plant step of the closed loop, the
+measured limits against the predicted ones, the divergence diagnostics and ``coopctrl stability``."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from coopctrl.analysis.modes import linear_modes
+from coopctrl.analysis.stability import stability_report
+from coopctrl.integrators import get_integrator
+from coopctrl.integrators.base import Integrator, spectral_radius
+from coopctrl.scenario import Scenario, build, load_scenario
+from coopctrl.simulator import closed_loop
+from test_cli import REPO, assert_user_error, coopctrl
+
+SCHEMES = ("euler", "symplectic_euler", "rk4", "implicit_midpoint")
+
+
+# ---------------------------------------------------------------------- scenes
+def planar_contact_points(k=2e4, node_mass=0.3, damping=60.0, torsion=1.0, torsion_damping=0.0, enabled=False,
+                          element="central", **simulation) -> Scenario:
+    """The default planar scene with both arms replaced by contact points (no arm dynamics).
+
+    With central springs (along the line joining the nodes, rest length 0.1 m) the fastest mode is the
+    three-mass chain node-object-node along x: ``omega^2 = k / m + 2 k / M`` (nodes in phase against the
+    object), with the damping ratio ``zeta = d omega / (2 k)`` of a damper ``d`` parallel to each spring;
+    the torsion springs (``torsion`` N m/rad on 1e-3 kg m^2) stay far below it.
+    """
+    d = Scenario().to_dict()
+    for arm in d["arms"]:
+        arm["model"] = "contact_point"
+        arm["node_mass"] = node_mass
+    d["springs"] = [{"pair": [0, i], "stiffness": k, "torsion": torsion, "damping": damping,
+                     "torsion_damping": torsion_damping, "element": element} for i in (1, 2)]
+    d["controllers"] = {"enabled": enabled}
+    d["simulation"].update(simulation)
+    return Scenario.from_dict(d)
+
+
+UNDAMPED_SPATIAL = {"controllers.enabled": "false", "simulation.control_period": "0.1", "simulation.duration": "1",
+                    **{f"springs[{i}].{k}": "0" for i in (0, 1) for k in ("damping", "torsion_damping")}}
+
+
+def undamped_contact_points():
+    """``contact_points_only`` passive (no controller) and undamped: a free-falling elastic system whose
+    relative motion is the springs' alone; the control period 0.1 s leaves the step free up to it."""
+    return load_scenario(REPO / "scenarios" / "contact_points_only.toml", UNDAMPED_SPATIAL)
+
+
+# ---------------------------------------------------------------------- integrators
+def oscillator_matrix(omega, zeta):
+    return np.array([[0.0, 1.0], [-omega * omega, -2.0 * zeta * omega]])
+
+
+def first_unstable_step(scheme, A, h_max, n=4000):
+    """Smallest ``h`` on a fine grid in (0, h_max] with ``rho(M(h)) > 1``, from the scheme's own
+    :meth:`step` (``Integrator.one_step_matrix`` applies it to the identity), refined by bisection."""
+    grid = np.linspace(h_max / n, h_max, n)
+    rho = np.array([spectral_radius(Integrator.one_step_matrix(scheme, A, h)) for h in grid])
+    bad = np.flatnonzero(rho > 1.0 + 1e-12)
+    if bad.size == 0:
+        return math.inf
+    if bad[0] == 0:
+        return 0.0
+    lo, hi = grid[bad[0] - 1], grid[bad[0]]
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        if spectral_radius(Integrator.one_step_matrix(scheme, A, mid)) > 1.0 + 1e-12:
+            hi = mid
+        else:
+            lo = mid
+    return lo
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.05, 0.3, 0.7, 1.0, 2.5])
+@pytest.mark.parametrize("name", ["euler", "symplectic_euler", "rk4"])
+def test_predicted_step_matches_spectral_radius_of_the_scheme(name, zeta):
+    """The closed forms (Euler 2 zeta / omega, symplectic Euler 2 / (omega (zeta + sqrt(1 + zeta^2))), RK4's
+    polynomial root) against the first step where the scheme's actual one-step matrix has ``rho > 1``.
+    Tolerance 1e-4 relative: the grid is refined by bisection to 1e-12, and the threshold ``rho > 1 + 1e-12``
+    moves a root where ``d rho / dh`` is finite by far less."""
+    omega = 40.0
+    scheme = get_integrator(name)
+    predicted = scheme.predicted_max_step(omega, zeta)
+    measured = first_unstable_step(scheme, oscillator_matrix(omega, zeta), 4.0 / omega)
+    if zeta == 0.0 and name == "euler":
+        assert predicted == 0.0 and measured == 0.0
+        return
+    assert measured == pytest.approx(predicted, rel=1e-4)
+
+
+def test_undamped_limits_are_the_documented_ones():
+    omega = 10.0
+    assert get_integrator("rk4").predicted_max_step(omega, 0.0) == pytest.approx(2 * math.sqrt(2) / omega)
+    assert get_integrator("symplectic_euler").predicted_max_step(omega, 0.0) == pytest.approx(2 / omega)
+    assert get_integrator("euler").predicted_max_step(omega, 0.0) == 0.0
+    # damping lowers symplectic Euler's limit and gives explicit Euler one (2 zeta / omega)
+    assert get_integrator("symplectic_euler").predicted_max_step(omega, 0.5) < 2 / omega
+    assert get_integrator("euler").predicted_max_step(omega, 0.3) == pytest.approx(0.06)
+    assert get_integrator("implicit_midpoint").predicted_max_step(omega, 0.3) == math.inf
+    with pytest.raises(ValueError, match="damping_ratio"):
+        get_integrator("rk4").predicted_max_step(omega, -0.1)
+
+
+def coupled_chain(seed=0):
+    """A 3-DOF spring-damper chain with non-proportional damping (so its modes are coupled), ``(z, dz)``."""
+    rng = np.random.default_rng(seed)
+    m = rng.uniform(0.5, 2.0, 3)
+    k = rng.uniform(1e3, 1e5, 3)
+    d = np.array([0.0, rng.uniform(5, 50), 0.0])  # one damper only: non-proportional
+    K = np.array([[k[0] + k[1], -k[1], 0], [-k[1], k[1] + k[2], -k[2]], [0, -k[2], k[2]]])
+    D = np.array([[d[0] + d[1], -d[1], 0], [-d[1], d[1] + d[2], -d[2]], [0, -d[2], d[2]]])
+    A = np.zeros((6, 6))
+    A[:3, 3:] = np.eye(3)
+    A[3:, :3] = -K / m[:, None]
+    A[3:, 3:] = -D / m[:, None]
+    return A
+
+
+@pytest.mark.parametrize("name", ["euler", "symplectic_euler", "rk4"])
+def test_max_stable_step_on_a_coupled_system(name):
+    """``max_stable_step(A)`` on a coupled, non-proportionally damped chain: just below it the scheme's own
+    one-step matrix has ``rho <= 1`` (to 1e-12, round-off of a 6x6 eigenvalue problem), just above (1 %)
+    ``rho > 1`` (a lightly damped mode crosses gently: Euler's excess there is ~5e-11)."""
+    A = coupled_chain()
+    scheme = get_integrator(name)
+    h = scheme.max_stable_step(A)
+    assert 0.0 < h < math.inf
+    assert spectral_radius(Integrator.one_step_matrix(scheme, A, 0.999 * h)) <= 1.0 + 1e-12
+    assert spectral_radius(Integrator.one_step_matrix(scheme, A, 1.01 * h)) > 1.0
+
+
+def test_physically_unstable_and_zero_modes_do_not_limit_the_step():
+    """A fast oscillator (100 rad/s) beside a statically unstable mode (negative stiffness, 2 rad/s growth)
+    and a free body (zero mode): the predicted limits are the fast oscillator's alone."""
+    A = np.zeros((6, 6))
+    A[:3, 3:] = np.eye(3)
+    A[3, 0] = -100.0**2  # fast oscillator
+    A[4, 1] = +2.0**2  # inverted pendulum: grows at 2 /s whatever the step
+    # coordinate 2: a free body, A[5, 2] = 0
+    for name in ("rk4", "symplectic_euler"):
+        scheme = get_integrator(name)
+        assert scheme.max_stable_step(A) == pytest.approx(scheme.predicted_max_step(100.0), rel=1e-5)
+
+
+def test_one_step_matrix_is_the_scheme():
+    """Symplectic Euler's closed-form one-step matrix equals the one built from its step()."""
+    A = coupled_chain(1)
+    scheme = get_integrator("symplectic_euler")
+    np.testing.assert_allclose(scheme.one_step_matrix(A, 1e-3), Integrator.one_step_matrix(scheme, A, 1e-3),
+                               rtol=0, atol=1e-12)
+
+
+# ---------------------------------------------------------------------- modes of a plant
+@pytest.mark.parametrize("k, node_mass", [(2e4, 0.3), (1e9, 1e-3)])
+def test_omega_max_matches_the_three_mass_chain(k, node_mass):
+    """omega_max and its damping ratio against the closed form of the node-object-node chain (the default
+    object is 1 kg); 1e-8 relative: the central differences of the Jacobian are accurate to ~1e-10."""
+    scenario = planar_contact_points(k=k, node_mass=node_mass)
+    modes = linear_modes(scenario.plant(), build.initial_state(scenario))
+    omega = math.sqrt(k / node_mass + 2 * k / scenario.object.mass)
+    assert modes.omega_max == pytest.approx(omega, rel=1e-8)
+    assert modes.damping_ratio == pytest.approx(60.0 * omega / (2 * k), rel=1e-6)
+    # the rigid-body modes of the free-floating scene are zero modes, not limits: RK4's limit is the
+    # damped chain mode's
+    assert modes.predicted_max_step(get_integrator("rk4")) == pytest.approx(
+        get_integrator("rk4").predicted_max_step(omega, 60.0 * omega / (2 * k)), rel=1e-6)
+
+
+def test_squeezed_central_springs_show_static_instability():
+    """Squeeze on central springs gives negative lateral stiffness (MODEL.md s.3): counted, not a limit."""
+    modes = linear_modes(planar_contact_points().plant(), build.initial_state(planar_contact_points()))
+    assert modes.unstable_stiffness_modes >= 1
+    assert modes.stiffness_asymmetry < 1e-6
+
+
+# ---------------------------------------------------------------------- free plant step
+def _passive_run(scenario, h=None, substeps=None, duration=0.05):
+    """A run with the scenario's ``simulation.substeps`` (or ``substeps``), or with ``set_step(h)``."""
+    from dataclasses import replace
+
+    if substeps is not None:
+        scenario = replace(scenario, simulation=replace(scenario.simulation, substeps=substeps))
+    loop = closed_loop(scenario)
+    if h is not None:
+        loop.set_step(h)
+    return loop, loop.run(build.initial_state(scenario), duration)
+
+
+def test_set_step_splits_the_period():
+    loop = closed_loop(planar_contact_points())
+    T = loop.T
+    loop.set_step(0.3 * T)
+    assert loop._steps[:3] == (0.3 * T,) * 3 and loop._steps[3] == pytest.approx(0.1 * T)
+    assert sum(loop._steps) == pytest.approx(T, rel=1e-12)
+    loop.set_step(0.3 * T, uniform=True)
+    assert loop._steps == (T / 4,) * 4 and loop.h == T / 4
+    loop.set_step(T / 4)
+    assert loop._steps == (T / 4,) * 4  # a divisor: no remainder step
+    for bad in (0.0, -1e-3, 1.5 * T, math.nan):
+        with pytest.raises(ValueError, match="step"):
+            loop.set_step(bad)
+
+
+def test_free_step_equals_substeps_when_it_divides_the_period():
+    """The normal path (substeps) and set_step(T / n) integrate identically (bit for bit)."""
+    scenario = planar_contact_points(damping=0.0, control_period=0.002)
+    _, a = _passive_run(scenario, substeps=4)
+    _, b = _passive_run(scenario, h=0.0005)
+    np.testing.assert_array_equal(a["x"], b["x"])
+
+
+def test_free_step_accuracy_lies_between_its_neighbours():
+    """RK4 at a step T / 3.5 (three steps and a half step per period) is more accurate than at T / 3 and
+    less than at T / 4, against T / 64: the loop really integrates with the free step (error ~ h^4)."""
+    scenario = planar_contact_points(damping=0.0, control_period=0.004)
+    _, ref = _passive_run(scenario, substeps=64)
+
+    def error(**kw):
+        return float(np.max(np.abs(_passive_run(scenario, **kw)[1]["x"] - ref["x"])))
+
+    e3, e35, e4 = error(substeps=3), error(h=scenario.simulation.control_period / 3.5), error(substeps=4)
+    assert e4 < e35 < e3
+
+
+# ---------------------------------------------------------------------- measured against predicted
+@pytest.fixture(scope="module")
+def undamped_report():
+    return stability_report(undamped_contact_points(), ["symplectic_euler", "rk4", "euler"])
+
+
+def test_measured_limits_agree_with_predicted_within_20_percent(undamped_report):
+    """The issue's acceptance test, on an undamped scene: the passive contact-point carry (no controller, so
+    the control period, 0.1 s, does not cap the step, and the dynamics the integrator meets are the plant's
+    whose linearization makes the prediction). Measured: RK4 1.00, symplectic Euler 0.98 (uniform steps
+    T / n, resolved to 4 %)."""
+    for name in ("rk4", "symplectic_euler"):
+        row = undamped_report.row(name)
+        assert not row.limited_by_control_period
+        assert 0.8 <= row.ratio <= 1.2, (name, row)
+        # the prediction is the undamped one at omega_max (h omega = 2 sqrt 2 and 2)
+        assert row.predicted_max_step_s == pytest.approx(
+            get_integrator(name).predicted_max_step(undamped_report.omega_max_rad_s), rel=1e-6)
+    assert undamped_report.damping_ratio == pytest.approx(0.0, abs=1e-9)
+
+
+def test_explicit_euler_has_no_stable_step_on_an_undamped_scene(undamped_report):
+    row = undamped_report.row("euler")
+    assert row.predicted_max_step_s == 0.0
+    assert row.measured_max_step_s is None and "no stable step" in row.note
+    assert "unstable at every step" in row.failure
+
+
+def test_report_is_valid_json(undamped_report):
+    data = undamped_report.to_dict()
+    text = json.dumps(data, allow_nan=False)
+    assert {"scenario", "omega_max_rad_s", "damping_ratio", "rows"} <= data.keys()
+    rows = {r["integrator"]: r for r in data["rows"]}
+    assert rows["euler"]["measured_max_step_s"] is None and rows["euler"]["ratio_measured_predicted"] is None
+    assert rows["rk4"]["h_omega_max_at_measured"] == pytest.approx(2 * math.sqrt(2), rel=0.2)
+    assert "omega_max_rad_s" in undamped_report.table() and "NaN" not in text
+
+
+def test_unconditionally_stable_scheme_is_capped_at_the_control_period():
+    report = stability_report(undamped_contact_points(), ["implicit_midpoint"])
+    row = report.row("implicit_midpoint")
+    assert row.predicted_max_step_s == math.inf
+    assert row.limited_by_control_period and row.measured_max_step_s == pytest.approx(0.1)
+    assert row.trials == 1
+    assert report.to_dict()["rows"][0]["predicted_max_step_s"] is None  # JSON: no infinity
+
+
+# ---------------------------------------------------------------------- divergence diagnostics
+def test_divergence_suggests_half_the_damped_prediction():
+    """RK4 at 1.3 times its predicted limit on the undamped passive scene: stopped with the time, the
+    quantity and a suggested step, half the predicted limit (< the failing step); the suggestion runs."""
+    scenario = undamped_contact_points()
+    loop = closed_loop(scenario)
+    x0 = build.initial_state(scenario)
+    limit = loop.modes(x0).predicted_max_step(loop.integrator)
+    loop.set_step(1.3 * limit)
+    rec = loop.run(x0, 1.0)
+    assert rec["status"] == "diverged"
+    assert rec["reason"].startswith("diverged at t = ") and "try a step of at most" in rec["reason"]
+    suggested = float(rec["reason"].split("try a step of at most ")[1].split(" s")[0])
+    assert suggested < 1.3 * limit
+    assert suggested <= 0.5 * limit * 1.01  # the reason prints 3 significant digits
+    assert np.all(np.isfinite(rec["x"]))
+    loop = closed_loop(scenario)
+    loop.set_step(suggested)
+    assert loop.run(x0, 1.0)["status"] == "ok"
+
+
+def test_divergence_of_the_closed_loop_uses_the_damped_prediction():
+    """Explicit Euler on the stiff grasp at a 2 ms period diverges; its suggested step is half the limit
+    predicted with damping (finite: the undamped Euler limit would be 0) and below the failing step."""
+    scenario = load_scenario(REPO / "scenarios" / "stiff_grasp_extreme.toml",
+                             {"simulation.integrator": "euler", "simulation.control_period": "0.002",
+                              "simulation.duration": "0.3"})
+    loop = closed_loop(scenario)
+    x0 = build.initial_state(scenario)
+    rec = loop.run(x0, 0.3)
+    assert rec["status"] == "diverged"
+    suggested = float(rec["reason"].split("try a step of at most ")[1].split(" s")[0])
+    start_limit = loop.predicted_max_step(x0)
+    assert 0.0 < start_limit < 0.002
+    assert 0.0 < suggested <= 0.5 * start_limit * 1.01 < 0.002
+
+
+def test_euler_on_an_undamped_mode_is_told_to_change_scheme():
+    scenario = load_scenario(REPO / "scenarios" / "contact_points_only.toml",
+                             {**UNDAMPED_SPATIAL, "simulation.integrator": "euler", "simulation.control_period": "0.001"})
+    loop = closed_loop(scenario)
+    rec = loop.run(build.initial_state(scenario), 1.0)
+    assert rec["status"] == "diverged"
+    assert "unstable at every step on an undamped mode" in rec["reason"]
+    assert "use symplectic_euler, rk4 or implicit_midpoint" in rec["reason"]
+
+
+def test_failure_within_the_predicted_limit_says_the_step_is_not_the_cause():
+    """The buckling scene fails by physics at a stable step: the reason says so and explains the physics."""
+    r = closed_loop(load_scenario(REPO / "scenarios" / "central_spring_buckling.toml"))
+    scenario = load_scenario(REPO / "scenarios" / "central_spring_buckling.toml")
+    rec = r.run(build.initial_state(scenario), 0.1)
+    assert rec["status"] == "diverged"
+    assert "not the likely cause" in rec["reason"] and "buckles" in rec["reason"]
+    assert "try a step" not in rec["reason"]
+
+
+# ---------------------------------------------------------------------- command line
+def test_cli_stability_prints_the_table():
+    proc = coopctrl("stability", "stiff_grasp_extreme", "--integrators", "rk4,euler")
+    assert proc.returncode == 0, proc.stderr
+    out = proc.stdout
+    assert "omega_max_rad_s" in out and "damping ratio" in out and "loaded state" in out
+    for word in ("integrator", "predicted [s]", "measured [s]", "measured/pred", "h*omega_max", "rk4", "euler"):
+        assert word in out
+    assert "symplectic_euler" not in out
+
+
+def test_cli_stability_json_without_measuring():
+    proc = coopctrl("stability", "spatial_two_puma_carry", "--json", "--no-measure")
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads(proc.stdout)
+    assert data["scenario"] == "spatial_two_puma_carry"
+    assert data["omega_max_rad_s"] > 0 and 0 < data["damping_ratio"] < 1
+    assert [r["integrator"] for r in data["rows"]] == list(SCHEMES)
+    assert all(r["measured_max_step_s"] is None for r in data["rows"])
+    rk4 = next(r for r in data["rows"] if r["integrator"] == "rk4")
+    assert rk4["order"] == 4 and rk4["predicted_max_step_s"] > 0
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["stability", "planar_two_arm_lift", "--integrators", "rk5"], "--integrators"),
+    (["stability", "planar_two_arm_lift", "--set", "springs[0].stiffness=-1"], "springs[0].stiffness"),
+    (["stability", "nope.toml"], "nope.toml"),
+])
+def test_cli_stability_bad_input(args, needle):
+    assert_user_error(coopctrl(*args), needle)
