@@ -37,13 +37,13 @@ REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 
 import coopctrl  # noqa: E402
-from coopctrl.integrators import get_integrator  # noqa: E402
+from coopctrl.integrators import INTEGRATORS as REGISTRY, get_integrator  # noqa: E402
 from coopctrl.simulator import closed_loop, simulate  # noqa: E402
 
 from bench_plant import median_us  # noqa: E402
 
 SCENE = REPO / "scenarios" / "spatial_two_puma_carry.toml"
-INTEGRATORS = ("euler", "symplectic_euler", "rk4", "implicit_midpoint")
+INTEGRATORS = tuple(REGISTRY)  # every built-in scheme
 SUBSTEPS = (1, 2, 4, 8)
 
 
@@ -141,7 +141,7 @@ def main(argv=None) -> int:
                 rows_stable, step_us, limits, T)
     print("\nRT factor: simulated time / closed-loop wall time (higher is faster); us/tick: wall time per "
           "control period (QP, controllers and the plant's substeps); plant step: one integration step of "
-          "the plant alone from the loaded state (implicit_midpoint keeps its Newton matrix between calls); pred. limit: the integrator's predicted stable step at omega_max "
+          "the plant alone from the loaded state (the implicit schemes keep their Newton matrix between calls); pred. limit: the integrator's predicted stable step at omega_max "
           "(none = unstable for an undamped mode at any step; the springs' damping is what lets Euler run).")
     return 0
 

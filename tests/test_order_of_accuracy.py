@@ -3,7 +3,7 @@ reference falls like ``h^order`` on a smooth scene.
 
 Scene: ``planar_two_arm_lift`` for 0.2 s (the loaded start and the first 2.5 mm of the lift).
 ``omega_max`` there is 243 rad/s, so ``h omega_max <= 0.25`` for every step of the grid (T/1 ..
-T/8 of T = 1 ms): the asymptotic range of all four schemes, far from any stability limit. The
+T/8 of T = 1 ms): the asymptotic range of all five schemes, far from any stability limit. The
 controller is sampled at the same instants in every run, so the error measured is the
 integration error, fed back through the same controller; for a smooth closed loop it is
 ``O(h^p)`` like the open-loop global error.
@@ -29,7 +29,7 @@ from coopctrl.scenario import build
 
 SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
 SUBSTEPS = (1, 2, 4, 8)
-ORDERS = {"euler": 1, "symplectic_euler": 1, "rk4": 4, "implicit_midpoint": 2}
+ORDERS = {"euler": 1, "symplectic_euler": 1, "rk4": 4, "implicit_midpoint": 2, "implicit_euler": 1}
 #: Slope tolerance, see the module docstring.
 SLOPE_TOLERANCE = 0.2
 #: An error enters the fit only if it is this many times the reference's own error: then the
@@ -114,7 +114,7 @@ def test_halving_the_step_divides_the_error_by_2_to_the_order(grid):
     """The same, pointwise, between T/1 and T/2 for the first-order and second-order schemes, whose
     errors are far above the reference's error at every step (ratio within 10% of 2^p: the
     next-order term is O(h omega_max) <= 0.25 relative at T/1, and halves from T/1 to T/2)."""
-    for name in ("euler", "symplectic_euler", "implicit_midpoint"):
+    for name in ("euler", "symplectic_euler", "implicit_midpoint", "implicit_euler"):
         ratio = grid.row(name, 1).position_error_m / grid.row(name, 2).position_error_m
         assert ratio == pytest.approx(2 ** ORDERS[name], rel=0.1)
         assert math.isfinite(ratio)

@@ -18,7 +18,7 @@ from coopctrl.scenario import Scenario, build, load_scenario
 from coopctrl.simulator import closed_loop
 from test_cli import REPO, assert_user_error, coopctrl
 
-SCHEMES = ("euler", "symplectic_euler", "rk4", "implicit_midpoint")
+SCHEMES = ("euler", "symplectic_euler", "rk4", "implicit_midpoint", "implicit_euler")
 
 
 # ---------------------------------------------------------------------- scenes
@@ -103,6 +103,7 @@ def test_undamped_limits_are_the_documented_ones():
     assert get_integrator("symplectic_euler").predicted_max_step(omega, 0.5) < 2 / omega
     assert get_integrator("euler").predicted_max_step(omega, 0.3) == pytest.approx(0.06)
     assert get_integrator("implicit_midpoint").predicted_max_step(omega, 0.3) == math.inf
+    assert get_integrator("implicit_euler").predicted_max_step(omega, 0.3) == math.inf
     with pytest.raises(ValueError, match="damping_ratio"):
         get_integrator("rk4").predicted_max_step(omega, -0.1)
 
@@ -267,12 +268,13 @@ def test_report_is_valid_json(undamped_report):
 
 
 def test_unconditionally_stable_scheme_is_capped_at_the_control_period():
-    report = stability_report(undamped_contact_points(), ["implicit_midpoint"])
-    row = report.row("implicit_midpoint")
-    assert row.predicted_max_step_s == math.inf
-    assert row.limited_by_control_period and row.measured_max_step_s == pytest.approx(0.1)
-    assert row.trials == 1
-    assert report.to_dict()["rows"][0]["predicted_max_step_s"] is None  # JSON: no infinity
+    report = stability_report(undamped_contact_points(), ["implicit_midpoint", "implicit_euler"])
+    for i, name in enumerate(("implicit_midpoint", "implicit_euler")):
+        row = report.row(name)
+        assert row.predicted_max_step_s == math.inf
+        assert row.limited_by_control_period and row.measured_max_step_s == pytest.approx(0.1)
+        assert row.trials == 1
+        assert report.to_dict()["rows"][i]["predicted_max_step_s"] is None  # JSON: no infinity
 
 
 # ---------------------------------------------------------------------- divergence diagnostics

@@ -43,8 +43,8 @@ measured limit is therefore a step ``T / n``, resolved to ``1 / n`` relative.
 
 The bisection works on ``log h`` to a relative resolution (:data:`RESOLUTION`, 2 %). The loop
 cannot take a step longer than ``T``: when ``h = T`` is stable the result is reported as
-``measured = T`` with ``limited_by_control_period = True`` (a lower bound); implicit midpoint,
-unconditionally stable, is only tried at ``T``.
+``measured = T`` with ``limited_by_control_period = True`` (a lower bound); the implicit schemes
+(implicit midpoint, implicit Euler), unconditionally stable, are only tried at ``T``.
 """
 
 from __future__ import annotations
@@ -373,7 +373,7 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
 
     Args:
         scenario: A :class:`~coopctrl.scenario.Scenario`.
-        integrators: Registry names (default: all four built-in schemes).
+        integrators: Registry names (default: every built-in scheme, :data:`~coopctrl.integrators.INTEGRATORS`).
         measure: Also bisect the limits on the closed loop (a few seconds per integrator).
         resolution: Relative resolution of the bisection [-].
     """

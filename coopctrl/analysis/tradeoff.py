@@ -166,7 +166,7 @@ class _CountingIntegrator(Integrator):
     """Wraps an integrator to count right-hand-side calls (one Python call of overhead each).
 
     The counted ``f`` is built once per ``f`` and kept, so that a scheme caching on the identity of
-    ``f`` (the implicit midpoint's Newton matrix) sees the same function at every step; a ``jac``
+    ``f`` (the Newton matrix of the implicit schemes) sees the same function at every step; a ``jac``
     of ``f`` or of its object is forwarded.
     """
 

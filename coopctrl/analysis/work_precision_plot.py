@@ -17,7 +17,7 @@ from coopctrl.io.atomic import atomic_write
 if TYPE_CHECKING:
     from coopctrl.analysis.tradeoff import TradeoffResult
 
-_MARKERS = {"euler": "o", "symplectic_euler": "s", "rk4": "D", "implicit_midpoint": "^"}
+_MARKERS = {"euler": "o", "symplectic_euler": "s", "rk4": "D", "implicit_midpoint": "^", "implicit_euler": "v"}
 
 
 def work_precision_figure(result: "TradeoffResult"):

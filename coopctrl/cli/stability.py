@@ -7,7 +7,7 @@ import sys
 from coopctrl.cli._core import PROG, UsageError, _add_set_option, _load, _one_line, subcommand
 
 #: The built-in integrators (kept here as plain strings so that the parser does not import numpy).
-_INTEGRATORS = ("euler", "symplectic_euler", "rk4", "implicit_midpoint")
+_INTEGRATORS = ("euler", "symplectic_euler", "rk4", "implicit_midpoint", "implicit_euler")
 
 
 def parse_integrators(text: str) -> list[str]:

@@ -77,8 +77,8 @@ def _tradeoff_parser(sub) -> None:
     parser.add_argument("scenario", help="scenario .toml file, or the name of one in scenarios/")
     _add_set_option(parser)
     parser.add_argument("--integrators", action="append", metavar="NAMES",
-                        help="comma-separated integrators (default: euler,symplectic_euler,rk4,implicit_midpoint); "
-                        "repeatable")
+                        help="comma-separated integrators (default: euler,symplectic_euler,rk4,implicit_midpoint,"
+                        "implicit_euler); repeatable")
     parser.add_argument("--steps", action="append", metavar="STEPS",
                         help="comma-separated steps, each in seconds (2.5e-4) or as T/n (T/4), dividing the control "
                         "period T (default: T/1,T/2,T/4,T/8,T/16); repeatable")

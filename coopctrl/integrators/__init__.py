@@ -7,6 +7,7 @@ name                      class                       order  undamped stability 
 ``"symplectic_euler"``    :class:`SymplecticEuler`    1      ``< 2``
 ``"rk4"``                 :class:`RungeKutta4`        4      ``<= 2 sqrt(2) ~= 2.828`` (real axis 2.785)
 ``"implicit_midpoint"``   :class:`ImplicitMidpoint`   2      unconditional (A-stable, symplectic)
+``"implicit_euler"``      :class:`ImplicitEuler`      1      unconditional (L-stable: damps stiff modes)
 ========================  ==========================  =====  ==========================================
 
 With damping ratio ``zeta`` (``predicted_max_step(omega, zeta)``): explicit Euler ``h omega <= 2 zeta``,
@@ -19,8 +20,10 @@ from __future__ import annotations
 
 from coopctrl.errors import ScenarioError
 from coopctrl.integrators.base import Integrator, RightHandSide
+from coopctrl.integrators.diagonally_implicit import DiagonallyImplicitRungeKutta, NewtonConvergenceError
 from coopctrl.integrators.explicit_euler import ExplicitEuler
-from coopctrl.integrators.implicit_midpoint import ImplicitMidpoint, NewtonConvergenceError
+from coopctrl.integrators.implicit_euler import ImplicitEuler
+from coopctrl.integrators.implicit_midpoint import ImplicitMidpoint
 from coopctrl.integrators.integrate import IntegrationResult, integrate
 from coopctrl.integrators.rk4 import RK4_IMAGINARY_AXIS_LIMIT, RK4_REAL_AXIS_LIMIT, RungeKutta4
 from coopctrl.integrators.symplectic_euler import SymplecticEuler
@@ -31,6 +34,7 @@ INTEGRATORS: dict[str, type[Integrator]] = {
     "symplectic_euler": SymplecticEuler,
     "rk4": RungeKutta4,
     "implicit_midpoint": ImplicitMidpoint,
+    "implicit_euler": ImplicitEuler,
 }
 
 
@@ -39,8 +43,9 @@ def get_integrator(name: str, **options) -> Integrator:
 
     Args:
         name: One of :data:`INTEGRATORS` (``"euler"``, ``"symplectic_euler"``, ``"rk4"``,
-            ``"implicit_midpoint"``).
-        options: Keyword arguments of the class (only :class:`ImplicitMidpoint` takes any);
+            ``"implicit_midpoint"``, ``"implicit_euler"``).
+        options: Keyword arguments of the class (only the implicit schemes take any: Newton
+            tolerances, see :class:`DiagonallyImplicitRungeKutta`);
             an unknown keyword raises ``TypeError``.
 
     Raises:
@@ -56,7 +61,9 @@ def get_integrator(name: str, **options) -> Integrator:
 
 __all__ = [
     "INTEGRATORS",
+    "DiagonallyImplicitRungeKutta",
     "ExplicitEuler",
+    "ImplicitEuler",
     "ImplicitMidpoint",
     "IntegrationResult",
     "Integrator",

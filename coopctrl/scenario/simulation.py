@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import choice, integer, number, optional_number
 
-INTEGRATORS = ("rk4", "euler", "symplectic_euler", "implicit_midpoint")
+INTEGRATORS = ("rk4", "euler", "symplectic_euler", "implicit_midpoint", "implicit_euler")
 STARTS = ("loaded", "unloaded")
 
 
@@ -18,7 +18,9 @@ class SimulationConfig:
     Attributes:
         duration: Simulated time in [s], > 0 and >= control_period.
         control_period: Control period in [s] (zero-order hold on the torques), > 0.
-        integrator: ``"rk4"``, ``"euler"``, ``"symplectic_euler"`` or ``"implicit_midpoint"``.
+        integrator: ``"rk4"``, ``"euler"``, ``"symplectic_euler"``, ``"implicit_midpoint"`` or
+            ``"implicit_euler"`` (L-stable: for stiff interconnections at steps far beyond the
+            explicit limits).
         substeps: Plant integration steps per control period (>= 1); step = period / substeps.
         seed: Seed of the sensor noise generator.
         max_deformation: Divergence bound on any interconnection deformation in [m], > 0.
