@@ -217,7 +217,7 @@ class ClosedLoop:
         name = getattr(self.integrator, "name", type(self.integrator).__name__)
         if limit == 0.0:
             return None, (f"{name} is unstable at every step on an undamped mode of this plant: use "
-                          "symplectic_euler, rk4 or implicit_midpoint")
+                          "symplectic_euler, rk4, or implicit_euler for stiff grasps")
         if self.h > limit:
             return 0.5 * limit, ""
         return None, (f"the step h = {self.h:.3g} s is within {name}'s predicted stability limit {limit:.3g} s, "
