@@ -364,3 +364,28 @@ def test_cli_stability_json_without_measuring():
 ])
 def test_cli_stability_bad_input(args, needle):
     assert_user_error(coopctrl(*args), needle)
+
+
+def test_measured_limit_holds_over_the_whole_run():
+    """A trial predicted unstable is run for the scenario's whole duration, not a short window.
+
+    On the two-Puma carry explicit Euler at ``h = T = 1 ms`` is 4.6 times beyond its open-loop limit
+    (a lightly damped 207 rad/s mode, ``|1 + h lambda| ~ 1.017`` per step) but the closed loop grows so
+    slowly that it diverges only at t ~ 2.39 s of the 2.5 s run. The measured limit must therefore be
+    below T, and the full scenario must run at it and diverge just above it.
+    """
+    scenario = load_scenario(REPO / "scenarios" / "spatial_two_puma_carry.toml")
+    row = stability_report(scenario, ["euler"]).to_dict()["rows"][0]
+    T = scenario.simulation.control_period
+    assert row["limited_by_control_period"] is False
+    h_ok, h_bad = row["measured_max_step_s"], row["first_unstable_step_s"]
+    assert row["predicted_max_step_s"] < h_ok < h_bad <= T
+
+    def full_run(h):
+        loop = closed_loop(scenario)
+        loop.integrator = get_integrator("euler")
+        loop.set_step(h)
+        return loop.run(build.initial_state(scenario), scenario.simulation.duration)["status"]
+
+    assert full_run(h_ok) == "ok"
+    assert full_run(T) == "diverged"

@@ -26,8 +26,15 @@ mode of the contact nodes). The horizon is at least
 :data:`MIN_PERIODS` control periods and :data:`MIN_STEPS` steps at the predicted limit: just above
 a limit the growth per step is ``1 + kappa delta`` (``delta`` the relative excess, ``kappa`` ~ 2
 to 7 for RK4 and symplectic Euler), so 2 % above it a mode excited at 1e-6 of the force scale
-needs ~ ln(5e5) / 0.04 ~ 330 steps to reach the bound. A step so small that a trial would take
-more than :data:`MAX_TRIAL_STEPS` plant steps is not tried.
+needs ~ ln(5e5) / 0.04 ~ 330 steps to reach the bound. Far above a limit the growth can still be
+slow when the limiting mode is damped (explicit Euler on a lightly damped mode grows by
+``|1 + h lambda| ~ 1.02`` per step at several times its limit), and slower still in the closed loop,
+whose controllers act on the mode at every control instant (on ``spatial_two_puma_carry`` explicit
+Euler at ``h = T`` is predicted to grow by 1e7 within 0.98 s and diverges at 2.39 s). So a trial
+whose step the linearization predicts unstable (``rho(M(h)) > 1``, ``rho`` the spectral radius of
+the scheme's one-step matrix) runs for the scenario's whole duration (:func:`growth_horizon`): the
+measured limit is the largest step that survives the scenario's own run, not a short window of it. A step so
+small that a trial would take more than :data:`MAX_TRIAL_STEPS` plant steps is not tried.
 
 Every trial (and the reference) starts from the same state with a seeded perturbation of
 :data:`SEED_PERTURBATION` on each coordinate of ``z`` (1 nm or 1 nrad): a symmetric scene leaves
@@ -302,13 +309,15 @@ def trial_verdict(plant, rec: dict, ref_energy: np.ndarray) -> tuple[bool, str]:
 
 
 def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np.ndarray, horizon: float, x0,
-                     resolution: float = RESOLUTION, max_trials: int = 40) -> dict:
+                     resolution: float = RESOLUTION, max_trials: int = 40, modes: ModalAnalysis | None = None,
+                     longest: float | None = None) -> dict:
     """Bisect the largest stable plant step [s] of ``integrator`` on the scenario's closed loop.
 
     ``h = T`` is tried first (the cap); if unstable, a stable lower bracket is searched from
     ``min(predicted, T)`` (halving), then the bracket is bisected in ``log h`` until
-    ``hi / lo - 1 <= resolution``. Returns ``{"measured", "limited", "first_unstable", "failure",
-    "trials", "note"}``.
+    ``hi / lo - 1 <= resolution``. With ``modes`` (the linearization), each trial's horizon is
+    :func:`growth_horizon` at its step, between ``horizon`` and ``longest`` [s] (``ref_energy`` must
+    cover ``longest``). Returns ``{"measured", "limited", "first_unstable", "failure", "trials", "note"}``.
     """
     from coopctrl.scenario import build
 
@@ -320,7 +329,10 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
     def stable(h):
         nonlocal trials
         trials += 1
-        return trial_verdict(plant, _run(scenario, x0, integrator, h, horizon), ref_energy)
+        span = horizon
+        if modes is not None and longest is not None and longest > horizon:
+            span = growth_horizon(modes, scheme, h, T, horizon, longest)
+        return trial_verdict(plant, _run(scenario, x0, integrator, h, span), ref_energy)
 
     ok, why = stable(T)
     if ok:
@@ -357,6 +369,23 @@ def trial_horizon(control_period: float, predicted: float) -> float:
     periods = MIN_PERIODS
     if 0.0 < predicted < math.inf:
         periods = max(periods, math.ceil(MIN_STEPS * min(predicted, control_period) / control_period))
+    return periods * control_period
+
+
+def growth_horizon(modes: ModalAnalysis, scheme, h: float, control_period: float, shortest: float,
+                   longest: float) -> float:
+    """Simulated time [s] of a trial at step ``h``: ``shortest`` when the linearization predicts the
+    step stable (``rho <= 1``, ``rho`` the spectral radius of the scheme's one-step matrix on the
+    linearization with its static instabilities removed), else ``longest`` (the scenario's duration):
+    a predicted growth is given the whole run to show, since the closed loop grows more slowly than
+    the open-loop prediction (which needs ``ln(1e7) / ln rho`` steps to lift the seeded perturbation to a grasp's deformation). Whole control periods."""
+    from coopctrl.integrators.base import spectral_radius, without_static_instability
+
+    h = effective_step(scheme, h, control_period)
+    rho = spectral_radius(scheme.one_step_matrix(without_static_instability(modes.A), h))
+    if not rho > 1.0 + 1e-12:
+        return shortest
+    periods = math.ceil(max(shortest, longest) / control_period - 1e-9)
     return periods * control_period
 
 
@@ -398,10 +427,12 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
         p_rk4 = modes.predicted_max_step(get_integrator(REFERENCE_INTEGRATOR))
         h_ref = min(T, REFERENCE_FRACTION * p_rk4) if 0.0 < p_rk4 < math.inf else T
         horizon = max(trial_horizon(T, p) for p in predicted.values())
-        ref_rec = _run(scenario, x0, REFERENCE_INTEGRATOR, h_ref, horizon)
+        # the trials may run as long as the scenario (growth_horizon): the reference covers that
+        longest = max(horizon, scenario.simulation.control_steps * T)
+        ref_rec = _run(scenario, x0, REFERENCE_INTEGRATOR, h_ref, longest)
         ref_energy = elastic_energy(plant, ref_rec)
         reference = {"integrator": REFERENCE_INTEGRATOR, "step_s": h_ref, "status": ref_rec["status"],
-                     "reason": ref_rec["reason"], "horizon_s": horizon,
+                     "reason": ref_rec["reason"], "horizon_s": longest,
                      "elastic_energy_max_J": float(np.max(ref_energy)) if ref_energy.size else 0.0}
 
     rows = []
@@ -421,7 +452,8 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
             else:
                 horizon = trial_horizon(T, p)
                 # h = T is tried first: an unconditionally stable scheme normally stops there
-                got = measure_max_step(scenario, name, p, ref_energy, horizon, x0, resolution)
+                got = measure_max_step(scenario, name, p, ref_energy, horizon, x0, resolution, modes=modes,
+                                       longest=longest)
                 row.update(measured_max_step_s=got["measured"], limited_by_control_period=got["limited"],
                            first_unstable_step_s=got["first_unstable"], failure=got["failure"],
                            trials=got["trials"], horizon_s=horizon)
