@@ -322,11 +322,7 @@ class ClosedLoop:
     # ------------------------------------------------------------------ the loop
     def run(self, x0, duration: float, progress: bool = False) -> dict:
         """Simulate ``duration`` [s] from ``x0``; returns the recorded arrays and the run status."""
-        plant = self.plant
-        m, p = plant.arm_count, plant.p
-        n_ticks = int(round(duration / self.T))
-        nx, nu = plant.state_size, plant.input_size
-        N = n_ticks + 1
+        N = int(round(duration / self.T)) + 1
         rec = self.empty_record(N)
         return self._run(rec, x0, N, progress)
 
@@ -371,6 +367,14 @@ class ClosedLoop:
         binding_counts: dict[str, int] = {}
         steps = self._steps
         integrator_step = self.integrator.step
+
+        def advance(x, t):
+            """The plant over one control period from ``t``, the torques ``tau`` held (ZOH)."""
+            for hs in steps:
+                x = integrator_step(rhs, t, x, tau, hs)
+                t += hs
+            return x
+
         spatial = self.space == "spatial"
         band = margin_cos()
         near = margin_cos(2.0 * EULER_PITCH_MARGIN_DEG)  # a failure this close is blamed on the singularity
@@ -418,10 +422,7 @@ class ClosedLoop:
                     k_done = k + 1
                     if k == N - 1:
                         break
-                    ts = t
-                    for hs in steps:
-                        x = integrator_step(rhs, ts, x, tau, hs)
-                        ts += hs
+                    x = advance(x, t)
                     continue
                 Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, self.grasps, self.space)
                 w_N = required_object_wrench(self.space, self.object_mass, self.object_inertia, self.gravity,
@@ -471,10 +472,7 @@ class ClosedLoop:
                 if k == N - 1:
                     break
                 # ---- plant, zero-order hold over the period
-                ts = t
-                for hs in steps:
-                    x = integrator_step(rhs, ts, x, tau, hs)
-                    ts += hs
+                x = advance(x, t)
                 if bar is not None and k % 50 == 0:
                     bar.update(50)
         except _NearSingularity as exc:
