@@ -53,13 +53,8 @@ class ImplicitEuler(DiagonallyImplicitRungeKutta):
     tracked the position 17 times better there but the forces 18 times worse (8.5 N: ``|R(33 i)| = 0.14``
     against backward Euler's 0.030) with twice the right-hand-side calls, so it is not offered.
 
-    Args:
-        rtol: Relative Newton tolerance [-].
-        atol: Absolute Newton tolerance, in the units of ``x``.
-        max_iterations: Newton iterations allowed per step.
-        reuse_rate: Largest contraction rate [-] ``|dk_j| / |dk_(j-1)|`` at which ``M`` is kept,
-            within the step and for the next one; above it the Jacobian is re-evaluated at the
-            current iterate (full Newton in the worst case).
+    Args: the Newton options of :class:`~coopctrl.integrators.diagonally_implicit.DiagonallyImplicitRungeKutta`
+        (``rtol``, ``atol``, ``max_iterations``, ``reuse_rate``).
     """
 
     name = "implicit_euler"

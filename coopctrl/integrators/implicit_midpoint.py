@@ -31,13 +31,8 @@ class ImplicitMidpoint(DiagonallyImplicitRungeKutta):
     In a closed loop that samples the contact forces every period, that undamped stiff mode is fed
     back; use :class:`~coopctrl.integrators.implicit_euler.ImplicitEuler` there.
 
-    Args:
-        rtol: Relative Newton tolerance [-].
-        atol: Absolute Newton tolerance, in the units of ``x``.
-        max_iterations: Newton iterations allowed per step.
-        reuse_rate: Largest contraction rate [-] ``|dk_j| / |dk_(j-1)|`` at which ``M`` is kept,
-            within the step and for the next one; above it the Jacobian is re-evaluated at the
-            current iterate (full Newton in the worst case).
+    Args: the Newton options of :class:`~coopctrl.integrators.diagonally_implicit.DiagonallyImplicitRungeKutta`
+        (``rtol``, ``atol``, ``max_iterations``, ``reuse_rate``).
     """
 
     name = "implicit_midpoint"
