@@ -42,6 +42,8 @@ def spatial() -> dict:
             {"model": "puma560", "role": "leader", "base": [-0.7, 0, 0, 0, 0, 0], "grasp": [-0.1, 0, 0, 0, 0, 0]},
             {"model": "puma560", "role": "follower", "base": [0.7, 0, 0, 0, 0, 0], "grasp": [0.1, 0, 0, math.pi, 0, 0]},
         ],
+        "trajectory": {"via": [{"time": 0.0, "pose": [0.0, 0.0, 0.6, 0.0, 0.0, 0.0]},
+                               {"time": 1.0, "pose": [0.0, 0.0, 0.7, 0.0, 0.0, 0.0]}]},
     }
 
 
@@ -68,8 +70,52 @@ def test_defaults_are_valid_planar_two_arm_scene():
     assert load_scenario(None) == s
 
 
-def test_empty_file_gives_defaults(tmp_path):
-    assert load_scenario(write(tmp_path, "")) == Scenario()
+def test_empty_file_is_refused_and_says_what_it_lacks(tmp_path):
+    # The built-in default scene is `coopctrl run` without a file; an empty file is a mistake.
+    err = raises("arms", load_scenario, write(tmp_path, ""))
+    assert "the file is empty" in str(err) and "without a file" in str(err)
+    assert scenario_from_dict({}) == Scenario()  # the Python API keeps the default scene
+
+
+def test_spatial_file_without_arms_names_what_it_wrote(tmp_path):
+    data = spatial()
+    del data["arms"]
+    err = raises("arms", load_scenario, write(tmp_path, data))
+    # it lists the spatial models, never the planar3r default the user did not write
+    assert "'puma560'" in str(err) and "planar3r" not in str(err)
+    assert "it sets: name, description, scene, object, trajectory" in str(err)
+
+
+def test_file_without_trajectory_is_refused(tmp_path):
+    data = spatial()
+    del data["trajectory"]
+    err = raises("trajectory", load_scenario, write(tmp_path, data))
+    assert "via" in str(err)
+
+
+def test_object_pose_comes_from_the_trajectory(tmp_path):
+    data = spatial()
+    del data["object"]["pose"]
+    s = load_scenario(write(tmp_path, data))
+    assert s.object.pose == tuple(data["trajectory"]["via"][0]["pose"])
+    data["object"]["pose"] = [0.0, 0.0, 0.61, 0.0, 0.0, 0.0]
+    err = raises("object.pose", load_scenario, write(tmp_path, data))
+    assert "trajectory.via[0].pose = [0.0, 0.0, 0.6" in str(err) and "leave object.pose out" in str(err)
+
+
+RANGES = [  # issue 11 items 4 and 7: values that hung or crashed before the schema had ranges
+    ("springs[0].stiffness", 1.7976931348623157e308, "<= 1e10 [N/m]"),
+    ("simulation.duration", 1e300, "<= 10000 [s]"),
+    ("simulation.control_period", 1e-300, ">= 1e-6"),
+    ("controllers.leader.natural_frequency", 1e300, "<= 100000 [rad/s]"),
+    ("object.mass", 1e-300, ">= 0.0001"),
+]
+
+
+@pytest.mark.parametrize("dotted, value, allowed", RANGES, ids=[d for d, _, _ in RANGES])
+def test_values_outside_the_schema_ranges_are_refused(tmp_path, dotted, value, allowed):
+    err = raises(dotted, load_scenario, write(tmp_path, base()), {dotted: value})
+    assert allowed in str(err)
 
 
 def test_sections_are_frozen():
@@ -185,7 +231,7 @@ BAD = [
     ("arms[0].tau_max", [10.0, 10.0], "arms[0].tau_max"),
     ("arms[0].q0", [0.0, 0.1, "a"], "arms[0].q0"),
     ("trajectory.via[1].time", 0.0, "trajectory.via[1].time"),
-    ("trajectory.via[0].pose", [0.0, 0.4, 0.0], "trajectory.via[0].pose"),
+    ("trajectory.via[0].pose", [0.0, 0.4, 0.0], "object.pose"),  # both given and different: the check names object.pose
     ("trajectory.via[1].pose", [0.0, 0.4], "trajectory.via[1].pose"),
     ("load_distribution.split", "equal", "load_distribution.split"),
     ("load_distribution.shares", [1.0, 1.0, 1.0], "load_distribution.shares"),

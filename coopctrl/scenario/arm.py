@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from coopctrl.scenario.checks import choice, number, optional_vector, vector
+from coopctrl.scenario.schema import key, limits
 
 ARM_MODELS = ("puma560", "planar3r", "contact_point")
 ROLES = ("leader", "follower")
@@ -43,7 +44,7 @@ class ArmConfig:
     role: str
     base: tuple[float, ...]
     grasp: tuple[float, ...]
-    node_mass: float = 0.1
+    node_mass: float = key(0.1, unit="kg", ge=1e-4, le=1e3, why="from 0.1 g to 1 t, as the object's mass")
     node_inertia: tuple[float, ...] | None = None
     tau_max: tuple[float, ...] | None = None
     q0: tuple[float, ...] | None = None
@@ -55,7 +56,7 @@ class ArmConfig:
         s(self, "role", choice("role", self.role, ROLES))
         s(self, "base", vector("base", self.base, lengths=(3, 6), what="a pose, m and rad"))
         s(self, "grasp", vector("grasp", self.grasp, lengths=(3, 6), what="a pose, m and rad"))
-        s(self, "node_mass", number("node_mass", self.node_mass, positive=True, unit="kg"))
+        s(self, "node_mass", number("node_mass", self.node_mass, **limits(self, "node_mass")))
         s(self, "node_inertia", optional_vector("node_inertia", self.node_inertia, lengths=(1, 3), positive=True, what="kg m^2"))
         s(self, "tau_max", optional_vector("tau_max", self.tau_max, positive=True, what="N m per joint"))
         s(self, "q0", optional_vector("q0", self.q0, what="rad per joint"))

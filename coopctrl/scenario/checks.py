@@ -54,19 +54,56 @@ def _is_number(value) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def number(path: str, value, *, positive: bool = False, nonnegative: bool = False, unit: str = "") -> float:
-    """A finite float; optionally > 0 or >= 0. ``unit`` is only used in the message."""
-    what = "a finite number"
+def fmt_bound(value: float) -> str:
+    """A bound as short text: ``1e10``, ``1e-06`` -> ``1e-6``, ``0.05``."""
+    text = f"{value:g}"
+    if "e" in text:
+        mant, exp = text.split("e")
+        text = f"{mant}e{int(exp)}"
+    return text
+
+
+def _range_text(positive: bool, nonnegative: bool, minimum, maximum) -> str:
+    parts = []
     if positive:
-        what = "a finite number > 0"
+        parts.append("> 0")
     elif nonnegative:
-        what = "a finite number >= 0"
+        parts.append(">= 0")
+    if minimum is not None:
+        parts.append(f">= {fmt_bound(minimum)}")
+    if maximum is not None:
+        parts.append(f"<= {fmt_bound(maximum)}")
+    return " and ".join(parts)
+
+
+def number(
+    path: str,
+    value,
+    *,
+    positive: bool = False,
+    nonnegative: bool = False,
+    minimum: float | None = None,
+    maximum: float | None = None,
+    unit: str = "",
+) -> float:
+    """A finite float; optionally > 0 or >= 0, and within ``[minimum, maximum]`` (the range the
+    schema states, :mod:`coopctrl.scenario.schema`). ``unit`` is only used in the message."""
+    what = "a finite number"
+    bounds = _range_text(positive, nonnegative, minimum, maximum)
+    if bounds:
+        what += " " + bounds
     if unit:
         what += f" [{unit}]"
     if not _is_number(value):
         raise ScenarioError(path, value, what)
     value = float(value)
-    if not math.isfinite(value) or (positive and value <= 0.0) or (nonnegative and value < 0.0):
+    if (
+        not math.isfinite(value)
+        or (positive and value <= 0.0)
+        or (nonnegative and value < 0.0)
+        or (minimum is not None and value < minimum)
+        or (maximum is not None and value > maximum)
+    ):
         raise ScenarioError(path, value, what)
     return value
 
@@ -76,12 +113,16 @@ def optional_number(path: str, value, **kwargs) -> float | None:
     return None if value is None else number(path, value, **kwargs)
 
 
-def integer(path: str, value, *, minimum: int | None = None) -> int:
-    """An integer (not a bool), optionally >= ``minimum``."""
-    what = "an integer" if minimum is None else f"an integer >= {minimum}"
+def integer(path: str, value, *, minimum: int | None = None, maximum: int | None = None) -> int:
+    """An integer (not a bool), optionally >= ``minimum`` and <= ``maximum``."""
+    what = "an integer"
+    if minimum is not None:
+        what += f" >= {minimum}"
+    if maximum is not None:
+        what += (" and" if minimum is not None else "") + f" <= {maximum}"
     if isinstance(value, bool) or not isinstance(value, int):
         raise ScenarioError(path, value, what)
-    if minimum is not None and value < minimum:
+    if (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
         raise ScenarioError(path, value, what)
     return int(value)
 
@@ -118,17 +159,20 @@ def vector(
     lengths: Iterable[int] | None = None,
     positive: bool = False,
     nonnegative: bool = False,
+    minimum: float | None = None,
+    maximum: float | None = None,
     what: str = "",
+    unit: str = "",
 ) -> tuple[float, ...]:
-    """A list of finite numbers, of one of the ``lengths`` if given."""
+    """A list of finite numbers, of one of the ``lengths`` if given, each within the bounds."""
     lengths = tuple(lengths) if lengths is not None else None
     desc = "a list of finite numbers"
-    if positive:
-        desc = "a list of finite numbers > 0"
-    elif nonnegative:
-        desc = "a list of finite numbers >= 0"
+    bounds = _range_text(positive, nonnegative, minimum, maximum)
+    if bounds:
+        desc += " " + bounds
     if lengths:
         desc += " of length " + " or ".join(str(n) for n in lengths)
+    what = what or unit
     if what:
         desc += f" ({what})"
     if not isinstance(value, (list, tuple)):
@@ -140,7 +184,13 @@ def vector(
         if not _is_number(item):
             raise ScenarioError(path, value, desc)
         item = float(item)
-        if not math.isfinite(item) or (positive and item <= 0.0) or (nonnegative and item < 0.0):
+        if (
+            not math.isfinite(item)
+            or (positive and item <= 0.0)
+            or (nonnegative and item < 0.0)
+            or (minimum is not None and item < minimum)
+            or (maximum is not None and item > maximum)
+        ):
             raise ScenarioError(path, value, desc)
         out.append(item)
     return tuple(out)
@@ -152,14 +202,22 @@ def optional_vector(path: str, value, **kwargs) -> tuple[float, ...] | None:
 
 
 def scalar_or_vector(
-    path: str, value, *, positive: bool = False, nonnegative: bool = False, unit: str = ""
+    path: str,
+    value,
+    *,
+    positive: bool = False,
+    nonnegative: bool = False,
+    minimum: float | None = None,
+    maximum: float | None = None,
+    unit: str = "",
 ) -> float | tuple[float, ...]:
     """A finite number or a non-empty list of them (per-axis values); length checked by the caller."""
+    kw = dict(positive=positive, nonnegative=nonnegative, minimum=minimum, maximum=maximum)
     if isinstance(value, (list, tuple)):
         if not value:
             raise ScenarioError(path, value, "a number or a non-empty list of numbers" + (f" [{unit}]" if unit else ""))
-        return vector(path, value, positive=positive, nonnegative=nonnegative, what=unit)
-    return number(path, value, positive=positive, nonnegative=nonnegative, unit=unit)
+        return vector(path, value, what=unit, **kw)
+    return number(path, value, unit=unit, **kw)
 
 
 def instance(path: str, value, cls: type):

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import boolean, instance, number
+from coopctrl.scenario.schema import key, limits
 
 
 @dataclass(frozen=True)
@@ -17,12 +18,12 @@ class LeaderControllerConfig:
         damping_ratio: Closed-loop damping ratio [-].
     """
 
-    natural_frequency: float = 30.0
-    damping_ratio: float = 1.0
+    natural_frequency: float = key(30.0, unit="rad/s", gt=0, le=1e5, why="1e5 rad/s (16 kHz) is beyond any motion loop; the gain wn^2 stays far from overflow (1e300 overflowed)")
+    damping_ratio: float = key(1.0, gt=0, le=100.0, why="beyond 100 the loop is a pure damper")
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "natural_frequency", number("natural_frequency", self.natural_frequency, positive=True, unit="rad/s"))
-        object.__setattr__(self, "damping_ratio", number("damping_ratio", self.damping_ratio, positive=True))
+        object.__setattr__(self, "natural_frequency", number("natural_frequency", self.natural_frequency, **limits(self, "natural_frequency")))
+        object.__setattr__(self, "damping_ratio", number("damping_ratio", self.damping_ratio, **limits(self, "damping_ratio")))
 
 
 @dataclass(frozen=True)
@@ -38,18 +39,18 @@ class FollowerControllerConfig:
     """
 
     force_loop: bool = True
-    force_kp: float = 0.5
-    force_ki: float = 10.0
-    natural_frequency: float = 30.0
-    damping_ratio: float = 1.0
+    force_kp: float = key(0.5, ge=0, le=1e3, why="a force gain of 1000 turns 1 mN of error into a 1 N correction each period")
+    force_ki: float = key(10.0, unit="1/s", ge=0, le=1e6, why="an integral time constant of at least 1 us")
+    natural_frequency: float = key(30.0, unit="rad/s", gt=0, le=1e5, why="1e5 rad/s (16 kHz) is beyond any motion loop; the gain wn^2 stays far from overflow (1e300 overflowed)")
+    damping_ratio: float = key(1.0, gt=0, le=100.0, why="beyond 100 the loop is a pure damper")
 
     def __post_init__(self) -> None:
         s = object.__setattr__
         s(self, "force_loop", boolean("force_loop", self.force_loop))
-        s(self, "force_kp", number("force_kp", self.force_kp, nonnegative=True))
-        s(self, "force_ki", number("force_ki", self.force_ki, nonnegative=True, unit="1/s"))
-        s(self, "natural_frequency", number("natural_frequency", self.natural_frequency, positive=True, unit="rad/s"))
-        s(self, "damping_ratio", number("damping_ratio", self.damping_ratio, positive=True))
+        s(self, "force_kp", number("force_kp", self.force_kp, **limits(self, "force_kp")))
+        s(self, "force_ki", number("force_ki", self.force_ki, **limits(self, "force_ki")))
+        s(self, "natural_frequency", number("natural_frequency", self.natural_frequency, **limits(self, "natural_frequency")))
+        s(self, "damping_ratio", number("damping_ratio", self.damping_ratio, **limits(self, "damping_ratio")))
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from coopctrl.errors import ScenarioError
-from coopctrl.scenario.arm import ArmConfig
+from coopctrl.scenario.arm import MODEL_SPACES, ArmConfig
 from coopctrl.scenario.checks import MISSING, field_scope, join_path
 from coopctrl.scenario.controllers import ControllersConfig, FollowerControllerConfig, LeaderControllerConfig
 from coopctrl.scenario.load_distribution import LoadDistributionConfig
@@ -97,12 +97,46 @@ def build_section(cls: type, data: Any, path: str = ""):
         return cls(**kwargs)
 
 
-def scenario_from_dict(data: Mapping, *, source: str | None = None, overrides: Mapping[str, Any] | None = None) -> Scenario:
-    """Build a :class:`Scenario` from a TOML-shaped dict, after applying ``overrides``."""
+#: Sections a scene file must have: the built-in default scene (``coopctrl run`` without a file,
+#: ``Scenario()``) supplies its own arms and a 0.1 m lift, but a file that leaves them out would
+#: silently get planar arms or a lift the user never asked for.
+REQUIRED_IN_FILE = ("arms", "trajectory")
+
+
+def _check_file_sections(raw: Mapping) -> None:
+    """Refuse a scene file without ``[[arms]]`` or ``[trajectory]``, saying what it has."""
+    wrote = ", ".join(k for k in raw) or "nothing (the file is empty)"
+    scene = raw.get("scene") if isinstance(raw.get("scene"), Mapping) else {}
+    space = scene.get("space", "planar")
+    if "arms" not in raw:
+        models = " or ".join(repr(m) for m, spaces in MODEL_SPACES.items() if space in spaces) or "..."
+        raise ScenarioError("arms", MISSING, f"at least 2 [[arms]] tables (model = {models}) in a {space} scene file; "
+                            f"the file has no [[arms]] (it sets: {wrote}); `coopctrl run` without a file runs the "
+                            "built-in default scene")
+    if "trajectory" not in raw:
+        raise ScenarioError("trajectory", MISSING, "a [trajectory] with via = [{time = 0.0, pose = [...]}, ...] "
+                            f"(the object's start pose and its motion); the file has none (it sets: {wrote})")
+
+
+def scenario_from_dict(
+    data: Mapping,
+    *,
+    source: str | None = None,
+    overrides: Mapping[str, Any] | None = None,
+    file: bool = False,
+) -> Scenario:
+    """Build a :class:`Scenario` from a TOML-shaped dict, after applying ``overrides``.
+
+    ``file=True`` applies the rules of a scene file: ``[[arms]]`` and ``[trajectory]`` are
+    required (:data:`REQUIRED_IN_FILE`). Without it, absent sections take the built-in default
+    scene's (``scenario_from_dict({})`` is ``Scenario()``).
+    """
     raw = copy.deepcopy(dict(data))
     try:
         if overrides:
             apply_overrides(raw, overrides)
+        if file:
+            _check_file_sections(raw)
         if "source" in raw:
             raise ScenarioError("source", raw["source"], f"no unknown key: the keys of the top level are {', '.join(_keys(Scenario))}")
         scenario = build_section(Scenario, raw)
@@ -119,7 +153,8 @@ def load_scenario(path: str | Path | None, overrides: Mapping[str, Any] | None =
     """Load, override and check a scenario file.
 
     Args:
-        path: Path of a ``.toml`` file, or ``None`` for the built-in default scene.
+        path: Path of a ``.toml`` file (it must have ``[[arms]]`` and ``[trajectory]``), or
+            ``None`` for the built-in default scene.
         overrides: Dotted path (``"simulation.integrator"``, ``"springs[0].stiffness"``,
             ``"arms[1].grasp"``) to value. A string value is read as a TOML value if it parses
             (``"1e6"`` is a float, ``"[0, 0.1, 0]"`` a list), else kept as a bare string.
@@ -143,7 +178,7 @@ def load_scenario(path: str | Path | None, overrides: Mapping[str, Any] | None =
     except tomllib.TOMLDecodeError as err:
         msg = str(err).replace("\n", " ")
         raise _file_error(source, f"TOML syntax error: {msg}; fix the syntax (https://toml.io)", source) from None
-    return scenario_from_dict(data, source=source, overrides=overrides)
+    return scenario_from_dict(data, source=source, overrides=overrides, file=True)
 
 
 # ---------------------------------------------------------------------- overrides

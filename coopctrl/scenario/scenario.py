@@ -63,8 +63,9 @@ class Scenario:
         description: One line, shown by ``coopctrl list``.
         scene, object, arms, springs, trajectory, load_distribution, controllers, sensors,
             simulation: The sections (see their classes). ``springs = None`` means one spring
-            per arm between the object (node 0) and the arm's node; ``trajectory = None`` means
-            the default lift from ``object.pose``.
+            per arm between the object (node 0) and the arm's node. ``object.pose = None`` means
+            the trajectory's first via pose. ``trajectory = None`` (allowed only outside a file,
+            for the built-in default scene) means a 0.1 m lift in 1 s from ``object.pose``.
         source: Path of the file it was loaded from, or ``None`` (not part of the scene).
     """
 
@@ -106,14 +107,17 @@ class Scenario:
         obj = self.object
         if obj.inertia is None:
             obj = replace(obj, inertia=(0.01,) * r)
+        given_pose = obj.pose
         if obj.pose is None:
-            obj = replace(obj, pose=default_object_pose(space))
+            start = self.trajectory.via[0].pose if isinstance(self.trajectory, TrajectoryConfig) else None
+            obj = replace(obj, pose=start if start is not None else default_object_pose(space))
         s(self, "object", obj)
         if len(obj.inertia) != r:
             raise ScenarioError("object.inertia", list(obj.inertia), f"{r} principal moment(s) in a {space} scene [kg m^2]")
+        pose_path = "object.pose" if given_pose is not None or self.trajectory is None else "trajectory.via[0].pose"
         if len(obj.pose) != p:
-            raise ScenarioError("object.pose", list(obj.pose), f"{pose_what} in a {space} scene")
-        _check_euler("object.pose", obj.pose)
+            raise ScenarioError(pose_path, list(obj.pose), f"{pose_what} in a {space} scene")
+        _check_euler(pose_path, obj.pose)
 
         # arms
         if not isinstance(self.arms, (list, tuple)) or len(self.arms) < 2:
@@ -193,8 +197,10 @@ class Scenario:
             if len(via.pose) != p:
                 raise ScenarioError(path, list(via.pose), f"{pose_what} in a {space} scene")
             _check_euler(path, via.pose)
-        if any(abs(a - b) > 1e-9 for a, b in zip(trajectory.via[0].pose, obj.pose)):
-            raise ScenarioError("trajectory.via[0].pose", list(trajectory.via[0].pose), f"the initial object pose object.pose = {list(obj.pose)}")
+        if given_pose is not None and any(abs(a - b) > 1e-9 for a, b in zip(trajectory.via[0].pose, obj.pose)):
+            raise ScenarioError("object.pose", list(obj.pose), f"the trajectory's start trajectory.via[0].pose = "
+                                f"{list(trajectory.via[0].pose)} (the object starts where its trajectory starts: "
+                                "leave object.pose out)")
 
         # load distribution
         ld = self.load_distribution

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from coopctrl.scenario.checks import choice, number
+from coopctrl.scenario.schema import key, limits
 
 SPACES = ("planar", "spatial")
 UNLOADED_STATES = ("mobile", "immobile")
@@ -22,14 +23,14 @@ class SceneConfig:
         gravity: Magnitude of gravity along -z in [m/s^2].
     """
 
-    space: str = "planar"
-    unloaded_state: str = "mobile"
-    gravity: float = 9.81
+    space: str = key("planar", allowed=SPACES)
+    unloaded_state: str = key("mobile", allowed=UNLOADED_STATES)
+    gravity: float = key(9.81, unit="m/s^2", ge=0, le=100.0, why="up to ten times the Earth's (Jupiter: 24.8)")
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "space", choice("space", self.space, SPACES))
         object.__setattr__(self, "unloaded_state", choice("unloaded_state", self.unloaded_state, UNLOADED_STATES))
-        object.__setattr__(self, "gravity", number("gravity", self.gravity, nonnegative=True, unit="m/s^2"))
+        object.__setattr__(self, "gravity", number("gravity", self.gravity, **limits(self, "gravity")))
 
     @property
     def pose_size(self) -> int:

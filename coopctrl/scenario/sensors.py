@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from coopctrl.scenario.checks import instance, number
+from coopctrl.scenario.schema import key, limits
 
 
 @dataclass(frozen=True)
@@ -17,12 +18,13 @@ class SensorConfig:
         quantization: Quantization step in the same unit, >= 0 (0 = off).
     """
 
-    noise_std: float = 0.0
-    quantization: float = 0.0
+    noise_std: float = key(0.0, ge=0, le=1e6,
+                           why="a noise a million times the unit buries any signal")
+    quantization: float = key(0.0, ge=0, le=1e6, why="as noise_std")
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "noise_std", number("noise_std", self.noise_std, nonnegative=True))
-        object.__setattr__(self, "quantization", number("quantization", self.quantization, nonnegative=True))
+        object.__setattr__(self, "noise_std", number("noise_std", self.noise_std, **limits(self, "noise_std")))
+        object.__setattr__(self, "quantization", number("quantization", self.quantization, **limits(self, "quantization")))
 
 
 @dataclass(frozen=True)

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import choice, integer, number, optional_number
+from coopctrl.scenario.schema import key, limits
 
 INTEGRATORS = ("rk4", "euler", "symplectic_euler", "implicit_midpoint", "implicit_euler")
 STARTS = ("loaded", "unloaded")
@@ -31,26 +32,30 @@ class SimulationConfig:
             gripping phase: forces build up from zero).
     """
 
-    duration: float = 1.5
-    control_period: float = 0.001
-    integrator: str = "rk4"
-    substeps: int = 1
-    seed: int = 0
-    max_deformation: float = 0.05
-    max_energy: float | None = None
-    start: str = "loaded"
+    duration: float = key(1.5, unit="s", gt=0, le=1e4,
+                          why="2.8 h of simulated time; the record grows with duration / control_period "
+                          "(1e300 s overflowed its allocation)")
+    control_period: float = key(0.001, unit="s", ge=1e-6, le=1.0,
+                                why="1 us is faster than any arm controller (the extremes grid goes down to it); "
+                                "a period above 1 s controls no arm")
+    integrator: str = key("rk4", allowed=INTEGRATORS)
+    substeps: int = key(1, ge=1, le=10000, why="an integration step of at least 1e-4 control periods")
+    seed: int = key(0, ge=0)
+    max_deformation: float = key(0.05, unit="m", gt=0, le=10.0, why="no grasp deforms by metres")
+    max_energy: float | None = key(None, unit="J", gt=0, le=1e12, why="absent = no energy bound")
+    start: str = key("loaded", allowed=STARTS)
 
     def __post_init__(self) -> None:
         s = object.__setattr__
-        s(self, "duration", number("duration", self.duration, positive=True, unit="s"))
-        s(self, "control_period", number("control_period", self.control_period, positive=True, unit="s"))
+        s(self, "duration", number("duration", self.duration, **limits(self, "duration")))
+        s(self, "control_period", number("control_period", self.control_period, **limits(self, "control_period")))
         if self.control_period > self.duration:
             raise ScenarioError("control_period", self.control_period, f"a period <= duration = {self.duration} s")
         s(self, "integrator", choice("integrator", self.integrator, INTEGRATORS))
-        s(self, "substeps", integer("substeps", self.substeps, minimum=1))
+        s(self, "substeps", integer("substeps", self.substeps, minimum=1, maximum=10000))
         s(self, "seed", integer("seed", self.seed, minimum=0))
-        s(self, "max_deformation", number("max_deformation", self.max_deformation, positive=True, unit="m"))
-        s(self, "max_energy", optional_number("max_energy", self.max_energy, positive=True, unit="J"))
+        s(self, "max_deformation", number("max_deformation", self.max_deformation, **limits(self, "max_deformation")))
+        s(self, "max_energy", optional_number("max_energy", self.max_energy, **limits(self, "max_energy")))
         s(self, "start", choice("start", self.start, STARTS))
 
     @property

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import choice, number, scalar_or_vector
+from coopctrl.scenario.schema import key, limits
 
 ELEMENTS = ("central", "offset")
 
@@ -28,11 +29,16 @@ class SpringConfig:
     """
 
     pair: tuple[int, int]
-    stiffness: float | tuple[float, ...] = 1.0e4
-    torsion: float | tuple[float, ...] = 10.0
-    damping: float = 20.0
-    torsion_damping: float = 0.05
-    element: str = "offset"
+    stiffness: float | tuple[float, ...] = key(
+        1.0e4, unit="N/m", gt=0, le=1e10,
+        why="a steel-on-steel contact is about 1e9 N/m; beyond 1e10 N/m a grasp is rigid for any step "
+        "the simulation can take (1.8e308 hung the pseudo-inverse of the grasp compliance)")
+    torsion: float | tuple[float, ...] = key(
+        10.0, unit="N m/rad", ge=0, le=1e9, why="1e9 N m/rad is stiffer than any gripper's wrist joint by decades")
+    damping: float = key(20.0, unit="N s/m", ge=0, le=1e7,
+                         why="1e7 N s/m damps a 1e10 N/m spring on a 1 kg node far beyond critical")
+    torsion_damping: float = key(0.05, unit="N m s/rad", ge=0, le=1e6, why="as damping, for rotations")
+    element: str = key("offset", allowed=ELEMENTS)
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -46,10 +52,10 @@ class SpringConfig:
         ):
             raise ScenarioError("pair", pair, allowed)
         s(self, "pair", (int(pair[0]), int(pair[1])))
-        s(self, "stiffness", scalar_or_vector("stiffness", self.stiffness, positive=True, unit="N/m"))
-        s(self, "torsion", scalar_or_vector("torsion", self.torsion, nonnegative=True, unit="N m/rad"))
-        s(self, "damping", number("damping", self.damping, nonnegative=True, unit="N s/m"))
-        s(self, "torsion_damping", number("torsion_damping", self.torsion_damping, nonnegative=True, unit="N m s/rad"))
+        s(self, "stiffness", scalar_or_vector("stiffness", self.stiffness, **limits(self, "stiffness")))
+        s(self, "torsion", scalar_or_vector("torsion", self.torsion, **limits(self, "torsion")))
+        s(self, "damping", number("damping", self.damping, **limits(self, "damping")))
+        s(self, "torsion_damping", number("torsion_damping", self.torsion_damping, **limits(self, "torsion_damping")))
         s(self, "element", choice("element", self.element, ELEMENTS))
 
     def stiffness_per_axis(self, space: str) -> tuple[float, ...]:

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import field_scope, instance, number, vector
+from coopctrl.scenario.schema import key, limits
 
 
 @dataclass(frozen=True)
@@ -18,11 +19,11 @@ class ViaPoint:
             ``[x, y, z, psi, theta, phi]``) in [m] and [rad].
     """
 
-    time: float
-    pose: tuple[float, ...]
+    time: float = key(unit="s", ge=0, le=1e4, why="as simulation.duration")
+    pose: tuple[float, ...] = key(unit="m, rad")
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "time", number("time", self.time, nonnegative=True, unit="s"))
+        object.__setattr__(self, "time", number("time", self.time, **limits(self, "time")))
         object.__setattr__(self, "pose", vector("pose", self.pose, lengths=(3, 6), what="a pose, m and rad"))
 
 
