@@ -40,8 +40,8 @@ class ArmConfig:
         q0: Seed of the inverse kinematics for the initial configuration in [rad], or ``None``.
     """
 
-    model: str
-    role: str
+    model: str = key(allowed=ARM_MODELS)
+    role: str = key(allowed=ROLES)
     base: tuple[float, ...]
     grasp: tuple[float, ...]
     node_mass: float = key(0.1, unit="kg", ge=1e-4, le=1e3, why="from 0.1 g to 1 t, as the object's mass")

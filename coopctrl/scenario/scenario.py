@@ -61,11 +61,19 @@ class Scenario:
     Attributes:
         name: Name of the scenario.
         description: One line, shown by ``coopctrl list``.
-        scene, object, arms, springs, trajectory, load_distribution, controllers, sensors,
-            simulation: The sections (see their classes). ``springs = None`` means one spring
-            per arm between the object (node 0) and the arm's node. ``object.pose = None`` means
-            the trajectory's first via pose. ``trajectory = None`` (allowed only outside a file,
-            for the built-in default scene) means a 0.1 m lift in 1 s from ``object.pose``.
+        scene: ``[scene]``: planar or spatial, gravity.
+        object: ``[object]``: the carried body. ``object.pose`` absent = the trajectory's first
+            via pose.
+        arms: ``[[arms]]``: at least two, exactly one leader. Required in a file; the built-in
+            default scene has two planar 3R arms.
+        springs: ``[[springs]]``: the interconnections. Absent = one spring per arm between the
+            object (node 0) and the arm's node, with the defaults below.
+        trajectory: ``[trajectory]``: the object's nominal motion. Required in a file; absent
+            (only outside a file, the built-in default scene) = a 0.1 m lift in 1 s.
+        load_distribution: ``[load_distribution]``: the load-distribution QP.
+        controllers: ``[controllers]``: the leader's and the followers' gains.
+        sensors: ``[sensors]``: measurement noise and quantization.
+        simulation: ``[simulation]``: duration, control period, integrator.
         source: Path of the file it was loaded from, or ``None`` (not part of the scene).
     """
 

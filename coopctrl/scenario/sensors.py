@@ -18,9 +18,9 @@ class SensorConfig:
         quantization: Quantization step in the same unit, >= 0 (0 = off).
     """
 
-    noise_std: float = key(0.0, ge=0, le=1e6,
+    noise_std: float = key(0.0, unit="unit of the sensor", ge=0, le=1e6,
                            why="a noise a million times the unit buries any signal")
-    quantization: float = key(0.0, ge=0, le=1e6, why="as noise_std")
+    quantization: float = key(0.0, unit="unit of the sensor", ge=0, le=1e6, why="as noise_std")
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "noise_std", number("noise_std", self.noise_std, **limits(self, "noise_std")))
