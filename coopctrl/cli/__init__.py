@@ -24,6 +24,7 @@ from coopctrl.cli import run as _run  # noqa: E402,F401
 from coopctrl.cli import list_scenarios as _list  # noqa: E402,F401
 from coopctrl.cli import check as _check  # noqa: E402,F401
 from coopctrl.cli import show as _show  # noqa: E402,F401
+from coopctrl.cli import view as _view  # noqa: E402,F401
 from coopctrl.cli import tradeoff as _tradeoff  # noqa: E402,F401
 from coopctrl.cli import sweep as _sweep  # noqa: E402,F401
 from coopctrl.cli import fidelity as _fidelity  # noqa: E402,F401

@@ -34,6 +34,9 @@ def cmd_run(args) -> int:
     if args.out is not None:
         result.save(args.out)
         result.plot(args.out)
+        from coopctrl.replay import write_replay
+
+        write_replay(result, scenario, args.out)  # replay.html and scenario.toml (for `coopctrl view`)
     if args.json:
         print(json.dumps(summary, indent=2, allow_nan=False))
     elif not args.quiet:
@@ -56,7 +59,7 @@ def _run_parser(sub) -> None:
     )
     parser.add_argument("scenario", nargs="?", help="scenario .toml file, or the name of one in scenarios/ (default: built-in default scene)")
     _add_set_option(parser)
-    parser.add_argument("--out", type=Path, metavar="DIR", help="write result.npz, result.csv, summary.json and PNG plots into DIR")
+    parser.add_argument("--out", type=Path, metavar="DIR", help="write result.npz, result.csv, summary.json, PNG plots, replay.html (3-D replay) and scenario.toml into DIR")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON on stdout (nothing else on stdout)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary table")
     parser.set_defaults(handler=cmd_run)
