@@ -186,7 +186,7 @@ def test_run_json_only_json_on_stdout(fake_simulate, capsys, tmp_path):
     assert summary["status"] == "ok" and summary["scenario"] == "default"
     names = sorted(p.name for p in (tmp_path / "out").iterdir())
     assert names == ["contact_forces.png", "joint_torques.png", "object_pose.png", "qp_solve_times.png",
-                     "result.csv", "result.npz", "summary.json"]
+                     "replay.html", "result.csv", "result.npz", "scenario.toml", "summary.json"]
 
 
 def test_run_diverged_exits_1_with_one_line(fake_simulate, capsys):

@@ -133,7 +133,10 @@ def test_save_writes_three_files_and_loads_back(tmp_path):
     paths = r.save(out)
     assert sorted(p.name for p in paths) == ["result.csv", "result.npz", "summary.json"]
     header = (out / "result.csv").read_text().splitlines()[0].split(",")
-    assert header[0] == "t" and "Y0_psi" in header and "F_measured_3_mz" in header and "tau_17" in header
+    # units in the header; arms and joints numbered from 1 alike (contact k is arm k)
+    assert header[0] == "t [s]" and "Y0_psi [rad]" in header and "F_measured_arm3_mz [N m]" in header
+    assert "tau_arm3_j6 [N m]" in header and "q_arm1_j1 [rad]" in header and "qd_arm2_j4 [rad/s]" in header
+    assert "squeeze_1_3 [N]" in header and "squeeze_desired_2_3 [N]" in header
     table = np.loadtxt(out / "result.csv", delimiter=",", skiprows=1)
     assert table.shape == (r.t.size, len(header))
     back = SimulationResult.load(out)

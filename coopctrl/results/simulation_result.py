@@ -163,6 +163,21 @@ class SimulationResult:
 
         return load_result(directory)
 
+    def to_pandas(self, units_in_names: bool = False):
+        """A pandas DataFrame (index ``t``, one named column per signal; units in
+        ``df.attrs["units"]``); see :func:`coopctrl.results.export.to_pandas`. Needs pandas
+        (``pip install 'coopctrl[pandas]'``)."""
+        from coopctrl.results.export import to_pandas
+
+        return to_pandas(self, units_in_names=units_in_names)
+
+    def to_time_response(self):
+        """A python-control ``TimeResponseData`` (inputs: joint torques; states: x; outputs: the
+        other signals, named; ``.units``); see :func:`coopctrl.results.export.to_time_response`."""
+        from coopctrl.results.export import to_time_response
+
+        return to_time_response(self)
+
     def plot(self, directory: str | Path) -> list[Path]:
         """Write the PNG plots (``object_pose``, ``contact_forces``, ``joint_torques``,
         ``qp_solve_times``) into ``directory``. Returns the paths written."""

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from coopctrl.io.atomic import atomic_write
+from coopctrl.results.signals import pose_names, signals, wrench_names  # noqa: F401 (API)
 
 if TYPE_CHECKING:
     from coopctrl.results.simulation_result import SimulationResult
@@ -25,37 +26,14 @@ META_FIELDS = (
 )
 
 
-def pose_names(p: int) -> list[str]:
-    """Coordinate names of a pose (MODEL.md §2)."""
-    return ["x", "z", "theta"] if p == 3 else ["x", "y", "z", "psi", "theta", "phi"]
-
-
-def wrench_names(p: int) -> list[str]:
-    """Component names of a wrench."""
-    return ["fx", "fz", "my"] if p == 3 else ["fx", "fy", "fz", "mx", "my", "mz"]
-
-
 def csv_columns(result: "SimulationResult") -> tuple[list[str], np.ndarray]:
-    """Header names and the (N, columns) table written to ``result.csv``."""
-    r = result
-    n, p, m = r.t.shape[0], r.pose_size, r.arms
-    names, blocks = ["t"], [r.t[:, None]]
-    names += [f"Y0_{c}" for c in pose_names(p)]
-    blocks.append(r.Y0)
-    names += [f"Y0_nominal_{c}" for c in pose_names(p)]
-    blocks.append(r.Y0_nominal)
-    for field in ("F_measured", "F_commanded", "F_external", "F_internal"):
-        names += [f"{field}_{k + 1}_{c}" for k in range(m) for c in wrench_names(p)]
-        blocks.append(getattr(r, field).reshape(n, m * p))
-    names += [f"squeeze_{k}" for k in range(r.squeeze.shape[1])]
-    blocks.append(r.squeeze)
-    names += [f"tau_{j}" for j in range(r.tau.shape[1])]
-    blocks.append(r.tau)
-    for field in ("qp_iterations", "qp_solve_time_s", "energy"):
-        value = getattr(r, field)
-        if value is not None and value.shape[0] == n:
-            names.append(field)
-            blocks.append(value[:, None])
+    """Header names ``"name [unit]"`` and the (N, columns) table written to ``result.csv``:
+    time, then every signal of :func:`coopctrl.results.signals.signals` (named and numbered as
+    documented there)."""
+    n = result.t.shape[0]
+    table = signals(result)
+    names = ["t [s]"] + [f"{name} [{unit}]" for name, unit, _ in table]
+    blocks = [result.t[:, None]] + [values[:, None] for _, _, values in table]
     return names, np.hstack(blocks) if n else np.zeros((0, len(names)))
 
 
