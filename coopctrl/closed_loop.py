@@ -336,7 +336,7 @@ class ClosedLoop:
             "Y0_nominal": np.full((N, p), np.nan), "F_measured": np.full((N, m, p), np.nan),
             "F_commanded": np.full((N, m, p), np.nan), "F_external": np.full((N, m, p), np.nan),
             "F_internal": np.full((N, m, p), np.nan), "r_contacts": np.full((N, m, self.npos), np.nan),
-            "qp_status": [], "qp_iterations": np.full(N, -1, dtype=np.int64), "qp_solve_time_s": np.full(N, np.nan),
+            "qp_status": [], "qp_binding": [], "qp_iterations": np.full(N, -1, dtype=np.int64), "qp_solve_time_s": np.full(N, np.nan),
             "status": "ok", "reason": "", "events": [], "wall_time_s": 0.0, "qp_time_s": 0.0,
             "qp_binding_counts": {}, "saturated_ticks": 0,
             "energy": np.full(N, np.nan), "kinetic_energy": np.full(N, np.nan),
@@ -466,6 +466,7 @@ class ClosedLoop:
                 rec["F_internal"][k] = split.internal
                 rec["r_contacts"][k] = true_terms.Y[1:, :self.npos]
                 rec["qp_status"].append(split.status)
+                rec["qp_binding"].append("+".join(split.binding))  # families binding this tick (plots)
                 rec["qp_iterations"][k] = split.iterations
                 rec["qp_solve_time_s"][k] = split.solve_time_s
                 k_done = k + 1

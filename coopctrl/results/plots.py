@@ -1,4 +1,17 @@
-"""PNG plots of a :class:`~coopctrl.results.SimulationResult` (matplotlib's Agg canvas, no pyplot)."""
+"""Plots of a :class:`~coopctrl.results.SimulationResult` that answer the engineer's questions.
+
+Each function returns a matplotlib :class:`~matplotlib.figure.Figure` (Agg canvas, no pyplot, no
+window) titled with the scenario and the status, and writes it as a PNG only when given a
+``path``. A failed run gets a red vertical line where it stopped on every panel.
+
+- :func:`plot_tracking`: did the object track? Pose against nominal, and the error per coordinate.
+- :func:`plot_force_regulation`: were the forces regulated? Measured against commanded per
+  contact, forces [N] and moments [N m] on separate axes (world frame, on the object, at the
+  contact node), the squeeze of each pair against its setpoint and the force error per contact.
+- :func:`plot_limits`: where did the limits bind? Torque as a fraction of its limit per arm,
+  saturated stretches shaded, and the QP's binding constraint families over time.
+- :func:`plot_qp_solve_times`: the QP's solve time per period and its histogram.
+"""
 
 from __future__ import annotations
 
@@ -8,113 +21,231 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from coopctrl.io.atomic import atomic_write
-from coopctrl.results.storage import pose_names, wrench_names
-from coopctrl.results.summary import orientation_error, position_error, qp_failed
+from coopctrl.results.signals import dof_per_arm, pair_labels, pose_names, pose_unit, wrench_names
+from coopctrl.results.summary import qp_failed
 
 if TYPE_CHECKING:
     from coopctrl.results.simulation_result import SimulationResult
 
+#: Where the contact wrenches are expressed (stated on the force plot).
+WRENCH_FRAME = "world frame, wrench on the object at the contact node"
+#: |tau| / tau_max at or above this counts as saturated (the loop clips torques exactly at the limit).
+SATURATED = 1.0 - 1e-9
+#: Failure kinds of ``result.events`` whose time marks where a run stopped.
+FAILURE_EVENTS = ("diverged", "qp_failed", "euler_singularity")
 
-def _figure(rows: int, cols: int, height: float = 2.2, width: float = 6.0):
+
+def _figure(rows: int, cols: int, height: float = 2.2, width: float = 6.0, sharex: bool = True):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(width * cols, max(3.0, height * rows)), layout="constrained")
     FigureCanvasAgg(fig)
-    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
+    axes = fig.subplots(rows, cols, squeeze=False, sharex=sharex)
     return fig, axes
 
 
-def _save(fig, path: Path) -> Path:
-    with atomic_write(path, "wb") as f:
-        fig.savefig(f, format="png", dpi=100)
-    return path
+def _save(fig, path: str | Path | None):
+    if path is not None:
+        with atomic_write(Path(path), "wb") as f:
+            fig.savefig(f, format="png", dpi=100)
+    return fig
 
 
-def _pose_unit(name: str) -> str:
-    return "[m]" if name in ("x", "y", "z") else "[rad]"
+def failure_time(r: "SimulationResult") -> float | None:
+    """Time [s] where a failed run stopped (its failure event, else its last finite sample), or
+    ``None`` for an ok run."""
+    if r.status == "ok":
+        return None
+    times = [t for t, kind, _ in r.events if kind in FAILURE_EVENTS]
+    if times:
+        return float(times[-1])
+    finite = np.nonzero(np.isfinite(r.Y0).all(axis=1))[0]
+    return float(r.t[finite[-1]]) if finite.size else (float(r.t[0]) if r.t.size else 0.0)
 
 
-def _wrench_unit(name: str) -> str:
-    return "[N]" if name.startswith("f") else "[N m]"
+def _title(fig, r: "SimulationResult", question: str) -> None:
+    status = r.status if r.status == "ok" else f"{r.status.upper()}"
+    line = f"{r.scenario}  |  status: {status}  |  {question}"
+    if r.status != "ok" and r.reason:
+        reason = " ".join(r.reason.split())
+        line += "\n" + (reason if len(reason) < 140 else reason[:137] + "...")
+    fig.suptitle(line, color="black" if r.status == "ok" else "#b00000", fontsize="medium")
 
 
-def plot_object_pose(r: "SimulationResult", path: Path) -> Path:
-    """Object pose vs nominal (left) and the position / orientation errors (right)."""
+def _mark_failure(axes, r: "SimulationResult") -> None:
+    t = failure_time(r)
+    if t is None:
+        return
+    for k, ax in enumerate(np.ravel(axes)):
+        if not ax.get_visible():
+            continue
+        ax.axvline(t, color="#d00000", linewidth=1.5, linestyle="-", zorder=5,
+                   label=f"{r.status} at t = {t:.4g} s" if k == 0 else None)
+        if k == 0:
+            ax.annotate(f"{r.status} at t = {t:.4g} s", xy=(t, 1.0), xycoords=("data", "axes fraction"),
+                        xytext=(-4, -4), textcoords="offset points", ha="right", va="top", color="#d00000",
+                        fontsize="small")
+
+
+def _legend_outside(ax, **kwargs) -> None:
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", borderaxespad=0.0, **kwargs)
+
+
+# ---------------------------------------------------------------------- tracking
+def plot_tracking(r: "SimulationResult", path: str | Path | None = None):
+    """Did the object track? Left: each pose coordinate against its nominal. Right: its error
+    (actual - nominal) in [mm] or [mrad]."""
     names = pose_names(r.pose_size)
-    fig, axes = _figure(len(names), 2)
+    fig, axes = _figure(len(names), 2, height=1.9)
     for k, name in enumerate(names):
+        unit = pose_unit(name)
         ax = axes[k, 0]
-        ax.plot(r.t, r.Y0[:, k], label="actual")
-        ax.plot(r.t, r.Y0_nominal[:, k], "--", label="nominal")
-        ax.set_ylabel(f"{name} {_pose_unit(name)}")
-    axes[0, 0].legend(loc="best")
-    axes[0, 0].set_title("object pose")
-    axes[-1, 0].set_xlabel("t [s]")
-    axes[0, 1].plot(r.t, position_error(r.Y0, r.Y0_nominal) * 1e3)
-    axes[0, 1].set_ylabel("position error [mm]")
-    axes[0, 1].set_title("tracking error")
-    axes[1, 1].plot(r.t, orientation_error(r.Y0, r.Y0_nominal) * 1e3)
-    axes[1, 1].set_ylabel("orientation error [mrad]")
-    for ax in axes[2:, 1]:
-        ax.set_visible(False)
-    axes[1, 1].set_xlabel("t [s]")
-    axes[1, 1].xaxis.set_tick_params(labelbottom=True)
+        ax.plot(r.t, r.Y0[:, k], label="actual", color="C0")
+        ax.plot(r.t, r.Y0_nominal[:, k], "--", label="nominal", color="k", linewidth=1.0)
+        ax.set_ylabel(f"{name} [{unit}]")
+        err = r.Y0[:, k] - r.Y0_nominal[:, k]
+        if unit == "rad":
+            err = (err + np.pi) % (2 * np.pi) - np.pi
+        axes[k, 1].plot(r.t, err * 1e3, color="C3")
+        axes[k, 1].axhline(0.0, color="0.6", linewidth=0.8)
+        axes[k, 1].set_ylabel(f"e_{name} [{'mm' if unit == 'm' else 'mrad'}]")
+    _legend_outside(axes[0, 0])
+    axes[0, 0].set_title("object pose against its nominal trajectory")
+    axes[0, 1].set_title("tracking error (actual - nominal)")
+    for ax in axes[-1]:
+        ax.set_xlabel("t [s]")
+    _title(fig, r, "did the object track?")
+    _mark_failure(axes, r)
     return _save(fig, path)
 
 
-def plot_contact_forces(r: "SimulationResult", path: Path) -> Path:
-    """Per contact: commanded vs measured wrench (left); QP split into external and internal (right)."""
+# ---------------------------------------------------------------------- forces
+def plot_force_regulation(r: "SimulationResult", path: str | Path | None = None):
+    """Were the forces regulated? One row per contact: forces [N] (left) and moments [N m]
+    (right), measured (solid) against commanded (dashed). Last row: the squeeze of each pair
+    against its setpoint, and the force error |f_measured - f_commanded| per contact."""
     names = wrench_names(r.pose_size)
-    fig, axes = _figure(r.arms, 2, height=3.0)
-    for k in range(r.arms):
+    nf = 2 if r.pose_size == 3 else 3
+    m = r.arms
+    fig, axes = _figure(m + 1, 2, height=2.3)
+    for k in range(m):
         role = "leader" if k == r.leader else "follower"
-        left, right = axes[k, 0], axes[k, 1]
-        for c, name in enumerate(names):
-            line, = left.plot(r.t, r.F_measured[:, k, c], label=f"{name} measured")
-            left.plot(r.t, r.F_commanded[:, k, c], "--", color=line.get_color(), label=f"{name} commanded")
-            line, = right.plot(r.t, r.F_external[:, k, c], label=f"{name} external")
-            right.plot(r.t, r.F_internal[:, k, c], ":", color=line.get_color(), label=f"{name} internal")
-        left.set_ylabel(f"contact {k + 1} ({role})\n[N], [N m]")
-        left.set_title(f"contact {k + 1}: measured (solid) vs commanded (dashed)")
-        right.set_title(f"contact {k + 1}: QP split, external (solid) / internal (dotted)")
-    axes[0, 0].legend(loc="best", fontsize="x-small", ncol=2)
-    axes[0, 1].legend(loc="best", fontsize="x-small", ncol=2)
-    axes[-1, 0].set_xlabel("t [s]")
-    axes[-1, 1].set_xlabel("t [s]")
+        for col, comps in ((0, range(nf)), (1, range(nf, r.pose_size))):
+            ax = axes[k, col]
+            for c in comps:
+                color = f"C{c % nf}"
+                ax.plot(r.t, r.F_measured[:, k, c], color=color, label=names[c])
+                ax.plot(r.t, r.F_commanded[:, k, c], "--", color=color, linewidth=1.0)
+            ax.set_ylabel(f"arm {k + 1} ({role})\n{'force [N]' if col == 0 else 'moment [N m]'}")
+            if k == 0:
+                ax.plot([], [], "k-", label="measured")
+                ax.plot([], [], "k--", linewidth=1.0, label="commanded")
+                _legend_outside(ax)
+    axes[0, 0].set_title("contact forces")
+    axes[0, 1].set_title("contact moments")
+    ax = axes[m, 0]
+    pairs = pair_labels(m) if r.squeeze.shape[1] == m * (m - 1) // 2 else [str(i + 1) for i in range(r.squeeze.shape[1])]
+    for i, label in enumerate(pairs):
+        line, = ax.plot(r.t, r.squeeze[:, i], label=f"pair {label.replace('_', '-')}")
+        ax.axhline(r.squeeze_desired[i], color=line.get_color(), linestyle="--", linewidth=1.0)
+    ax.plot([], [], "k--", linewidth=1.0, label="setpoint")
+    ax.set_ylabel("squeeze [N]")
+    ax.set_title("internal squeeze against its setpoint")
+    _legend_outside(ax)
+    ax = axes[m, 1]
+    for k in range(m):
+        err = np.linalg.norm(r.F_measured[:, k, :nf] - r.F_commanded[:, k, :nf], axis=1)
+        ax.plot(r.t, err, label=f"arm {k + 1}")
+    ax.set_ylabel("|f_meas - f_cmd| [N]")
+    ax.set_title("force error per contact")
+    _legend_outside(ax)
+    for a in axes[-1]:
+        a.set_xlabel("t [s]")
+    _title(fig, r, f"were the forces regulated? ({WRENCH_FRAME})")
+    _mark_failure(axes, r)
     return _save(fig, path)
 
 
-def plot_joint_torques(r: "SimulationResult", path: Path) -> Path:
-    """Joint torques per arm, with their limits as dashed lines."""
-    dofs = list(r.model.get("dof_per_arm", [])) if r.model else []
-    if not dofs or sum(dofs) != r.tau.shape[1]:
-        dofs = [r.tau.shape[1]]
-    fig, axes = _figure(len(dofs), 1, height=2.8)
+# ---------------------------------------------------------------------- limits
+def _stretches(mask: np.ndarray, t: np.ndarray) -> list[tuple[float, float]]:
+    """(start, width) [s] of the runs of True in ``mask`` (each sample covers one period)."""
+    if not mask.any():
+        return []
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 1.0
+    edges = np.diff(np.concatenate([[0], mask.astype(int), [0]]))
+    starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0]
+    return [(float(t[s]), float(t[e - 1] - t[s] + dt)) for s, e in zip(starts, ends)]
+
+
+def plot_limits(r: "SimulationResult", path: str | Path | None = None):
+    """Where did the limits bind? Per arm, each joint's |tau| / tau_max (1 = the limit),
+    saturated stretches shaded red (torque in [N m] for an arm without limits). Last panel: the
+    constraint families the QP reported binding, and its failed or held solves, over time."""
+    dofs = dof_per_arm(r)
+    fig, axes = _figure(len(dofs) + 1, 1, height=2.3, width=10.0)
     start = 0
+    tau_max = r.tau_max if r.tau_max is not None else np.full(r.tau.shape[1], np.inf)
     for a, n in enumerate(dofs):
         ax = axes[a, 0]
-        for j in range(start, start + n):
-            line, = ax.plot(r.t, r.tau[:, j], label=f"joint {j - start + 1}")
-            if r.tau_max is not None and np.isfinite(r.tau_max[j]):
-                for sign in (1.0, -1.0):
-                    ax.axhline(sign * r.tau_max[j], linestyle="--", linewidth=0.8, color=line.get_color())
-        ax.set_ylabel("torque [N m]")
-        ax.set_title(f"arm {a + 1}" if len(dofs) > 1 else "joint torques")
-        ax.legend(loc="best", fontsize="x-small", ncol=3)
+        cols = range(start, start + n)
+        limited = np.isfinite(tau_max[start:start + n]).any()
+        shaded = False
+        for j in cols:
+            style = "-" if (j - start) < 3 else "--"
+            if limited and np.isfinite(tau_max[j]):
+                ratio = np.abs(r.tau[:, j]) / tau_max[j]
+                ax.plot(r.t, ratio, style, color=f"C{j - start}", label=f"joint {j - start + 1}")
+                for s, w in _stretches(ratio >= SATURATED, r.t):
+                    ax.axvspan(s, s + w, color="#d00000", alpha=0.25, linewidth=0,
+                               label=None if shaded else "saturated")
+                    shaded = True
+            else:
+                ax.plot(r.t, r.tau[:, j], style, color=f"C{j - start}", label=f"joint {j - start + 1}")
+        if limited:
+            ax.axhline(1.0, color="#d00000", linewidth=1.0, label="limit")
+            ax.set_ylim(0.0, max(1.1, float(np.nanmax(np.abs(r.tau[:, cols]) / tau_max[start:start + n], initial=0.0)) * 1.05))
+            ax.set_ylabel(f"arm {a + 1}\n|tau| / tau_max [-]")
+        else:
+            ax.set_ylabel(f"arm {a + 1}\ntau [N m] (no limit)")
+        role = "leader" if a == r.leader else "follower"
+        ax.set_title(f"arm {a + 1} ({role}): joint torque" + (" as a fraction of its limit" if limited else ""))
+        _legend_outside(ax)
         start += n
-    axes[-1, 0].set_xlabel("t [s]")
+    ax = axes[-1, 0]
+    n_solves = min(len(r.qp_status), r.t.size)
+    rows: dict[str, np.ndarray] = {}
+    for k, fams in enumerate(r.qp_binding[:n_solves]):
+        for fam in filter(None, fams.split("+")):
+            rows.setdefault(fam, np.zeros(r.t.size, bool))[k] = True
+    failed = np.zeros(r.t.size, bool)
+    failed[:n_solves] = [qp_failed(s) for s in r.qp_status[:n_solves]]
+    if failed.any():
+        rows["failed / held solve"] = failed
+    for i, (fam, mask) in enumerate(sorted(rows.items())):
+        color = "#d00000" if fam.startswith("failed") else f"C{i}"
+        ax.broken_barh(_stretches(mask, r.t), (i - 0.35, 0.7), color=color)
+    if rows:
+        ax.set_yticks(range(len(rows)), sorted(rows))
+        ax.set_ylim(-0.7, len(rows) - 0.3)
+    else:
+        ax.set_yticks([])
+        ax.text(0.5, 0.5, f"no constraint family bound and no solve failed ({n_solves} QP solves)",
+                transform=ax.transAxes, ha="center", va="center")
+    ax.set_title("load-distribution QP: binding constraint families")
+    ax.set_xlabel("t [s]")
+    if r.t.size:
+        ax.set_xlim(float(r.t[0]), float(r.t[-1]))
+    _title(fig, r, "where did the limits bind?")
+    _mark_failure(axes, r)
     return _save(fig, path)
 
 
-def plot_qp_solve_times(r: "SimulationResult", path: Path) -> Path:
+# ---------------------------------------------------------------------- QP timing
+def plot_qp_solve_times(r: "SimulationResult", path: str | Path | None = None):
     """QP solve time per control period (failed solves marked) and its histogram."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(10.0, 3.5), layout="constrained")
-    FigureCanvasAgg(fig)
-    ax_t, ax_h = fig.subplots(1, 2)
+    fig, axes = _figure(1, 2, height=3.5, width=5.0, sharex=False)
+    ax_t, ax_h = axes[0]
     times_us = r.qp_solve_time_s * 1e6
     n = min(times_us.shape[0], r.t.shape[0])
     ax_t.plot(r.t[:n], times_us[:n], linewidth=0.8)
@@ -124,23 +255,43 @@ def plot_qp_solve_times(r: "SimulationResult", path: Path) -> Path:
         ax_t.legend(loc="best")
     ax_t.set_xlabel("t [s]")
     ax_t.set_ylabel("solve time [us]")
-    ax_t.set_title("load-distribution QP")
+    ax_t.set_title("load-distribution QP solve time")
     finite = times_us[np.isfinite(times_us)]
     if finite.size:
         ax_h.hist(finite, bins=50)
     ax_h.set_xlabel("solve time [us]")
     ax_h.set_ylabel("count [-]")
+    _title(fig, r, "QP cost")
+    _mark_failure([ax_t], r)
     return _save(fig, path)
+
+
+# Names of the files the plots are written to, and the functions that draw them.
+PLOTS = {
+    "object_pose.png": plot_tracking,
+    "contact_forces.png": plot_force_regulation,
+    "joint_torques.png": plot_limits,
+    "qp_solve_times.png": plot_qp_solve_times,
+}
+
+# Former names, kept for callers of the previous API.
+plot_object_pose = plot_tracking
+plot_contact_forces = plot_force_regulation
+plot_joint_torques = plot_limits
+
+
+def figures(result: "SimulationResult") -> dict:
+    """Every plot as ``{file name: Figure}`` (nothing written)."""
+    return {name: draw(result) for name, draw in PLOTS.items()}
 
 
 def plot_result(result: "SimulationResult", directory: str | Path) -> list[Path]:
     """Write ``object_pose.png``, ``contact_forces.png``, ``joint_torques.png`` and
-    ``qp_solve_times.png`` into ``directory`` (created if needed)."""
+    ``qp_solve_times.png`` into ``directory`` (created if needed); returns the paths."""
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    return [
-        plot_object_pose(result, directory / "object_pose.png"),
-        plot_contact_forces(result, directory / "contact_forces.png"),
-        plot_joint_torques(result, directory / "joint_torques.png"),
-        plot_qp_solve_times(result, directory / "qp_solve_times.png"),
-    ]
+    paths = []
+    for name, draw in PLOTS.items():
+        draw(result, directory / name)
+        paths.append(directory / name)
+    return paths

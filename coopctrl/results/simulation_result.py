@@ -33,6 +33,8 @@ class SimulationResult:
         squeeze_desired: Desired squeeze per pair (n_pairs,) [N].
         tau_max: Joint torque limits (nu,) [N m], or ``None``.
         qp_status: Solver status per solve (``"solved"`` counts as success, see :data:`QP_SUCCESS`).
+        qp_binding: Per solve, the constraint families binding (``"torque_limits+friction"``;
+            ``""`` none), as the QP reported them.
         qp_iterations: Solver iterations per solve (N,).
         qp_solve_time_s: Solve time per solve (N,) [s].
         events: ``(t [s], kind, message)`` tuples (saturations, QP failures, ...).
@@ -61,6 +63,7 @@ class SimulationResult:
     squeeze_desired: np.ndarray
     tau_max: np.ndarray | None = None
     qp_status: list[str] = field(default_factory=list)
+    qp_binding: list[str] = field(default_factory=list)
     qp_iterations: np.ndarray | None = None
     qp_solve_time_s: np.ndarray | None = None
     events: list[tuple[float, str, str]] = field(default_factory=list)
@@ -120,6 +123,7 @@ class SimulationResult:
             if self.tau_max.shape[0] != self.tau.shape[1]:
                 raise ValueError(f"SimulationResult: tau_max has shape {self.tau_max.shape}, expected ({self.tau.shape[1]},) like tau's columns")
         self.qp_status = [str(s) for s in self.qp_status]
+        self.qp_binding = [str(s) for s in self.qp_binding]
         for name in ("qp_iterations", "qp_solve_time_s"):
             value = getattr(self, name)
             setattr(self, name, np.zeros(0) if value is None else np.asarray(value, dtype=float).reshape(-1))
@@ -177,6 +181,13 @@ class SimulationResult:
         from coopctrl.results.export import to_time_response
 
         return to_time_response(self)
+
+    def figures(self) -> dict:
+        """Every plot as ``{file name: matplotlib Figure}``, nothing written
+        (:mod:`coopctrl.results.plots`: tracking, force regulation, limits, QP time)."""
+        from coopctrl.results.plots import figures
+
+        return figures(self)
 
     def plot(self, directory: str | Path) -> list[Path]:
         """Write the PNG plots (``object_pose``, ``contact_forces``, ``joint_torques``,

@@ -45,6 +45,7 @@ def save_result(result: "SimulationResult", directory: str | Path) -> list[Path]
 
     arrays = {name: getattr(result, name) for name in ARRAY_FIELDS if getattr(result, name) is not None}
     arrays["qp_status"] = np.array(result.qp_status, dtype=str)
+    arrays["qp_binding"] = np.array(result.qp_binding, dtype=str)
     arrays["events_t"] = np.array([e[0] for e in result.events], dtype=float)
     arrays["events_kind"] = np.array([e[1] for e in result.events], dtype=str)
     arrays["events_message"] = np.array([e[2] for e in result.events], dtype=str)
@@ -82,5 +83,7 @@ def load_result(directory: str | Path) -> "SimulationResult":
             meta[name] = float("nan")
         kwargs = {name: data[name] for name in ARRAY_FIELDS if name in data.files}
         kwargs["qp_status"] = [str(s) for s in data["qp_status"]]
+        if "qp_binding" in data.files:  # results saved before it was recorded have none
+            kwargs["qp_binding"] = [str(s) for s in data["qp_binding"]]
         kwargs["events"] = list(zip(data["events_t"].tolist(), data["events_kind"].tolist(), data["events_message"].tolist()))
     return SimulationResult(**kwargs, **meta)
