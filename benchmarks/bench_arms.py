@@ -2,7 +2,7 @@
 
 Run from the repository root::
 
-    python benchmarks/bench_arms.py
+    python benchmarks/bench_arms.py [--calls 20000] [--quick]
 
 Prints the median time of one warm ``spatial_arm_terms`` call from Python, the same call
 inside numba (loop amortised, what the fused right-hand side pays), and Pinocchio's
@@ -13,6 +13,7 @@ to ~1.5x, compare ratios from one run).
 
 from __future__ import annotations
 
+import argparse
 import os
 import platform
 import sys
@@ -45,7 +46,12 @@ def median_us(fn, repeats=2000):
     return float(np.median(times)) * 1e6
 
 
-def main():
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--calls", type=int, default=20000, help="individually timed calls per measurement (default 20000)")
+    ap.add_argument("--quick", action="store_true", help="2000 timed calls (a smoke run)")
+    args = ap.parse_args(argv)
+    calls = min(args.calls, 2000) if args.quick else args.calls
     arm = puma560()
     rng = np.random.default_rng(0)
     q = rng.uniform(arm.q_limits[:, 0], arm.q_limits[:, 1])
@@ -54,7 +60,7 @@ def main():
     H, h, Y, J, Jdq = np.empty((6, 6)), np.empty(6), np.empty(6), np.empty((6, 6)), np.empty(6)
     spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq)  # warm up / load cache
 
-    ours = median_us(lambda: spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq), 20000)
+    ours = median_us(lambda: spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq), calls)
     count = 10000
     qq = q.copy()
     _repeat_terms(10, qq, dq, dh, base, tool, g, H, h, Y, J, Jdq)
@@ -92,7 +98,7 @@ def main():
         pin.getFrameJacobian(model, data, frame, world)
 
     pinocchio_terms()
-    theirs = median_us(pinocchio_terms, 20000)
+    theirs = median_us(pinocchio_terms, calls)
     print(f"pinocchio crba+nle+jacobian+placement, Python   : {theirs:8.2f} us  (median)")
     print(f"ratio pinocchio / ours (both from Python)       : {theirs / ours:8.2f}")
     print(f"ratio pinocchio / ours (ours inside numba)      : {theirs / inner:8.2f}")

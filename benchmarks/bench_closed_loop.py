@@ -1,6 +1,6 @@
 """Closed-loop real-time factor (plant + QP + leader + followers) per scene, with the QP's share.
 
-Run: python benchmarks/bench_closed_loop.py [--repeats N]
+Run: python benchmarks/bench_closed_loop.py [--repeats N] [--quick]
 
 Each scene runs its full duration at its own control rate (1 kHz, RK4, one substep for the
 spatial carry) ``repeats`` times after a warm-up run; the medians are reported side by side.
@@ -23,8 +23,11 @@ SCENES = ["spatial_two_puma_carry", "spatial_three_arm_carry", "contact_points_o
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs per scene after a warm-up (default 3)")
+    parser.add_argument("--quick", action="store_true", help="1 timed run per scene (a smoke run)")
     args = parser.parse_args(argv)
+    if args.quick:
+        args.repeats = 1
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}")
     rows = []
     for name in SCENES:

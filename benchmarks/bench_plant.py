@@ -2,7 +2,7 @@
 
 Run from the repository root::
 
-    python benchmarks/bench_plant.py [--calls 20000]
+    python benchmarks/bench_plant.py [--calls 20000] [--quick]
 
 For each scene (built with ``tests/_scenes.py``) it prints the median time of one warm
 ``plant.rhs(t, x, tau)`` call (the Python wrapper with its status check) and of the raw numba
@@ -57,8 +57,11 @@ def timer_overhead_us(calls):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--calls", type=int, default=20000, help="timed calls per scene (default 20000)")
+    ap.add_argument("--quick", action="store_true", help="2000 timed calls per scene (a smoke run)")
     args = ap.parse_args(argv)
-    print("command: python benchmarks/bench_plant.py" + (f" --calls {args.calls}" if args.calls != 20000 else ""))
+    if args.quick:
+        args.calls = min(args.calls, 2000)
+    print(f"command: {' '.join(['python', *sys.argv])}")
     print(f"machine: {platform.machine()} {platform.processor() or ''} python {platform.python_version()} "
           f"numpy {np.__version__}, {os.cpu_count()} cpus")
     t0 = time.perf_counter()

@@ -67,8 +67,11 @@ def run(m: int, solver: str, steps: int):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--steps", type=int, default=2000, help="steps per case (1 ms each)")
+    ap.add_argument("--steps", type=int, default=2000, help="steps per case (1 ms each; default 2000)")
+    ap.add_argument("--quick", action="store_true", help="300 steps per case (a smoke run)")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.steps = min(args.steps, 300)
     print("command:", " ".join([pathlib.Path(sys.executable).name] + sys.argv))
     print(f"spatial, 6-joint arms with torque limits, {args.steps} steps of a smooth 1 kHz trajectory, eps_abs=1e-9")
     print(f"{'m':>2} | {'proxsuite solve':>15} | {'daqp solve':>10} | {'ratio':>5} | "
