@@ -7,6 +7,8 @@ held; a field left at ``None`` keeps the scene's value.
 from __future__ import annotations
 
 import math
+import re
+import shlex
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -88,11 +90,13 @@ class Gains:
         """``{dotted path: value}`` of the set fields, for ``load_scenario(path, overrides)``."""
         return {SCENARIO_PATHS[f.name]: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) is not None}
 
-    def as_set_options(self) -> list[str]:
-        """``["--set", "controllers.leader.natural_frequency=60.0", ...]`` for the command line."""
-        out = []
+    def as_set_options(self) -> "SetOptions":
+        """The ``--set`` options of the set fields: a list for ``subprocess`` / ``cli.main``
+        (``["--set", "controllers.leader.natural_frequency=60.0", ...]``) that prints as the
+        text to paste after ``coopctrl run SCENARIO`` (``--set controllers.leader.natural_frequency=60.0 ...``)."""
+        out = SetOptions()
         for path, value in self.as_overrides().items():
-            out += ["--set", f"{path}={'true' if value is True else 'false' if value is False else repr(value)}"]
+            out += ["--set", f"{path}={_toml_value(value)}"]
         return out
 
     def as_toml(self) -> str:
@@ -114,8 +118,10 @@ class Gains:
     def write_to(self, scenario_path, out_path) -> Path:
         """Write the scenario file ``scenario_path`` with these gains to ``out_path`` (atomically).
 
-        The file's own tables are kept (keys it leaves out stay out); comments are not (the
-        file is rewritten by :func:`coopctrl.io.dumps_toml`). The result is checked by
+        The file is kept as written, comments (units) included: only the values of the gains
+        change, a gain the file did not set is added to its table with its unit as a comment,
+        and a missing table is appended. (A file whose gains are inline tables is rewritten by
+        :func:`coopctrl.io.dumps_toml` instead, without comments.) The result is checked by
         loading it before it is written. Returns ``out_path``.
         """
         from coopctrl.io import atomic_write, dumps_toml
@@ -123,11 +129,74 @@ class Gains:
         from coopctrl.scenario.loader import apply_overrides, scenario_from_dict
 
         load_scenario(scenario_path)  # the same one-line ScenarioError as `coopctrl run` for a bad file
-        raw = tomllib.loads(Path(scenario_path).read_text(encoding="utf-8"))
+        text = Path(scenario_path).read_text(encoding="utf-8")
+        raw = tomllib.loads(text)
         apply_overrides(raw, self.as_overrides())
         scenario_from_dict(raw, source=str(out_path))
         header = f"# {Path(scenario_path).name} with controller gains from coopctrl.tuning\n"
+        edited = _edit_gains(text, self.as_overrides())
+        try:
+            body = edited if edited is not None and tomllib.loads(edited) == raw else None
+        except tomllib.TOMLDecodeError:
+            body = None
+        if body is None:
+            body = dumps_toml(raw)
         out_path = Path(out_path)
         with atomic_write(out_path) as handle:
-            handle.write(header + dumps_toml(raw))
+            handle.write(header + body)
         return out_path
+
+
+class SetOptions(list):
+    """``--set`` options: a list of arguments that prints as a shell command-line fragment."""
+
+    def __str__(self) -> str:
+        return " ".join(shlex.quote(a) for a in self)
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return repr(value)
+
+
+def _unit(path: str) -> str:
+    from coopctrl.scenario.controllers import FollowerControllerConfig, LeaderControllerConfig
+    from coopctrl.scenario.schema import spec
+
+    _, section, key = path.split(".")
+    cls = LeaderControllerConfig if section == "leader" else FollowerControllerConfig
+    return spec(cls, key).get("unit", "")
+
+
+def _edit_gains(text: str, overrides: dict) -> str | None:
+    """``text`` with each ``controllers.<section>.<key>`` of ``overrides`` set in place (its line's
+    comment kept; a new key gets its unit as a comment), or ``None`` if the file holds the
+    gains in a form this line editor does not handle (inline tables, dotted keys)."""
+    lines = text.splitlines()
+    header = re.compile(r"^\s*\[\[?\s*([^\]]+?)\s*\]\]?\s*(#.*)?$")
+    for path, value in overrides.items():
+        _, section, key = path.split(".")
+        table = f"controllers.{section}"
+        start = next((i for i, ln in enumerate(lines) if (m := header.match(ln)) and m.group(1) == table), None)
+        new = f"{key} = {_toml_value(value)}"
+        unit = _unit(path)
+        if start is None:
+            if re.search(rf"^\s*(controllers\s*=|{section}\s*=|controllers\.{section}\b)", text, re.M):
+                return None
+            lines += ["", f"[{table}]", new + (f"  # {unit}" if unit else "")]
+            continue
+        end = next((i for i in range(start + 1, len(lines)) if header.match(lines[i])), len(lines))
+        key_line = re.compile(rf"^(\s*{re.escape(key)}\s*=\s*)([^#]*?)(\s*#.*)?$")
+        for i in range(start + 1, end):
+            m = key_line.match(lines[i])
+            if m:
+                comment = m.group(3) or (f"  # {unit}" if unit else "")
+                lines[i] = f"{m.group(1)}{_toml_value(value)}{comment}"
+                break
+        else:
+            insert = end
+            while insert > start + 1 and not lines[insert - 1].strip():
+                insert -= 1
+            lines.insert(insert, new + (f"  # {unit}" if unit else ""))
+    return "\n".join(lines) + "\n"
