@@ -190,3 +190,13 @@ def test_cli_json(tmp_path):
 )
 def test_cli_bad_input_exits_2(args, needles):
     assert_user_error(run_cli("fidelity", *args), *needles)
+
+
+def test_cli_shows_progress_on_stderr_only():
+    proc = run_cli("fidelity", "--set", "simulation.duration=0.05", "--json", "--calls", "50")
+    assert proc.returncode == 0, proc.stderr
+    json.loads(proc.stdout)  # stdout is the JSON alone
+    lines = proc.stderr.splitlines()
+    assert lines[0].startswith("coopctrl fidelity: timing") and lines[-1].startswith("coopctrl fidelity: run 3/3:")
+    quiet = run_cli("fidelity", "--set", "simulation.duration=0.05", "--json", "--calls", "50", "--quiet")
+    assert quiet.returncode == 0 and quiet.stderr == ""

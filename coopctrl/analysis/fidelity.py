@@ -597,7 +597,7 @@ def _with_duration(scenario, duration: float):
 
 
 def compare_fidelity(scenarios: Sequence, *, repeats: int = 1, rhs_calls: int = 5000,
-                     check_task: bool = True) -> FidelityReport:
+                     check_task: bool = True, progress=None) -> FidelityReport:
     """Run the fidelity comparison of ``scenarios`` (see the module docstring).
 
     Args:
@@ -606,6 +606,7 @@ def compare_fidelity(scenarios: Sequence, *, repeats: int = 1, rhs_calls: int = 
             time reported is their median. The outcome is the first run's (runs are deterministic).
         rhs_calls: Individually timed right-hand-side calls per model.
         check_task: Reject scenes that do not describe the same task (:func:`check_same_task`).
+        progress: Called with one line per stage (``"run 2/3: fidelity_planar ..."``), or ``None``.
 
     Raises:
         ScenarioError: Fewer than two scenarios, scenes of different tasks, or a bad scene.
@@ -622,6 +623,8 @@ def compare_fidelity(scenarios: Sequence, *, repeats: int = 1, rhs_calls: int = 
     if check_task:
         check_same_task(scenarios)
     ref_index = max(range(len(scenarios)), key=lambda k: fidelity_rank(scenarios[k]))
+    say = progress or (lambda _message: None)
+    say(f"timing the right-hand side of {len(scenarios)} models ({rhs_calls} calls each)")
 
     # cost of one right-hand side, side by side (plants at their loaded initial state, no torque)
     timed = []
@@ -632,12 +635,15 @@ def compare_fidelity(scenarios: Sequence, *, repeats: int = 1, rhs_calls: int = 
     del timed
 
     # closed loops: warm-up, then round-robin repeats
+    say(f"warm-up runs ({WARM_UP_TICKS} control periods each)")
     for s in scenarios:
         simulate(_with_duration(s, WARM_UP_TICKS * s.simulation.control_period))
     results = [None] * len(scenarios)
     walls: list[list[float]] = [[] for _ in scenarios]
-    for _ in range(repeats):
+    total = repeats * len(scenarios)
+    for rep in range(repeats):
         for k, s in enumerate(scenarios):
+            say(f"run {rep * len(scenarios) + k + 1}/{total}: {s.name} ({s.simulation.duration:g} s simulated)")
             r = simulate(s)
             walls[k].append(r.wall_time_s)
             if results[k] is None:

@@ -29,7 +29,11 @@ def cmd_fidelity(args) -> int:
     scenarios = [load_scenario(resolve_scenario(name), overrides) for name in names]
     from coopctrl.analysis.fidelity import compare_fidelity
 
-    report = compare_fidelity(scenarios, repeats=args.repeats, rhs_calls=args.calls)
+    def progress(message: str) -> None:  # stderr, so that --json keeps stdout clean
+        print(f"{PROG} fidelity: {message}", file=sys.stderr, flush=True)
+
+    report = compare_fidelity(scenarios, repeats=args.repeats, rhs_calls=args.calls,
+                              progress=None if args.quiet else progress)
     if args.out is not None:
         report.save(args.out)
     if args.json:
@@ -60,6 +64,7 @@ def _fidelity_parser(sub) -> None:
                         help=f"scenario .toml files or names in scenarios/ (default: {' '.join(DEFAULT_SCENARIOS)})")
     _add_set_option(parser)
     parser.add_argument("--json", action="store_true", help="print the report as JSON on stdout (nothing else on stdout)")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress lines on stderr")
     parser.add_argument("--out", type=Path, metavar="DIR",
                         help="write fidelity.json and fidelity_traces.npz (the runs mapped into the plane) into DIR")
     parser.add_argument("--repeats", type=int, default=1, metavar="N",
