@@ -155,3 +155,17 @@ def test_browser_planar_scene_is_drawn_in_its_plane(runs, tmp_path):
     cols_blue = np.nonzero(((b > r + 50) & (b > 90)).any(axis=0))[0]
     cols_orange = np.nonzero(((r > 140) & (r > b + 80)).any(axis=0))[0]
     assert np.median(cols_blue) < np.median(cols_orange)
+
+
+@pytest.mark.parametrize("path", sorted((REPO / "scenarios").glob("*.toml")), ids=lambda p: p.stem)
+def test_every_shipped_scene_gives_frames(path):
+    # 20 control periods: enough to build every part of the page; the drawing is what is tested
+    scenario = coopctrl.load_scenario(path, {"simulation.duration": 20 * coopctrl.load_scenario(path).simulation.control_period})
+    result = coopctrl.simulate(scenario)
+    data = replay_data(result, scenario)
+    assert data["frames"] and len(data["frames"][0]["springs"]) == len(scenario.springs)
+    for k, arm in enumerate(scenario.arms):
+        points = np.reshape(data["frames"][0]["arms"][k], (-1, 3))
+        assert (len(points) == 0) == (arm.model == "contact_point")
+        if scenario.space == "planar":
+            assert np.all(points[:, 1] == 0.0)

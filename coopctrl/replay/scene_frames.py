@@ -92,7 +92,10 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
         arms = []
         for i, arm in enumerate(plant.arms):
             pts = arm_polyline(arm, x[plant.q_slice(i)])
-            arms.append(_r(pts) if pts is not None else [])
+            if pts is None and scenario.arms[i].model != "contact_point":
+                # an arm without joint frames here: one segment from its base to its node
+                pts = np.array([_position(np.asarray(scenario.arms[i].base, float), space), nodes[i]])
+            arms.append(_r(pts) if pts is not None else [])  # a contact point is its node alone
         springs, stretch = [], []
         for sp in scenario.springs:
             ends, true_ends = [], []
