@@ -13,7 +13,7 @@ def cmd_view(args) -> int:
     directory = Path(args.directory)
     npz = directory / "result.npz"
     if not npz.is_file():
-        raise UsageError(f"{directory} = {str(directory)!r} is invalid: expected a directory with result.npz "
+        raise UsageError(f"DIR = {str(directory)!r} is invalid: expected a directory with result.npz "
                          "(written by `coopctrl run SCENARIO --out DIR`)")
     from coopctrl.scenario import load_scenario
 
