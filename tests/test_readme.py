@@ -178,3 +178,11 @@ def test_gains_print_as_set_text():
 
     assert "paste after `coopctrl run SCENARIO`" in README
     assert str(Gains(follower_force_kp=0.7).as_set_options()) == "--set controllers.followers.force_kp=0.7"
+
+
+def test_python_example_runs():
+    blocks = re.findall(r"```python\n(.*?)```", README, re.S)
+    block = next(b for b in blocks if "result.figures()" in b)
+    code = block + "\nassert list(df.attrs['units'])[0] == 't' and len(figures) == 4\n"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO, timeout=300)
+    assert proc.returncode == 0, proc.stderr
