@@ -38,7 +38,11 @@ def cmd_view(args) -> int:
                          f"({result.scenario!r}, state size {result.x.shape[1]})")
     from coopctrl.replay import write_replay
 
-    path = write_replay(result, scenario, directory)
+    try:
+        path = write_replay(result, scenario, directory)
+    except OSError as err:
+        raise UsageError(f"DIR = {str(directory)!r} is invalid: expected a writable directory "
+                         f"({err.strerror or err})") from None
     print(f"replay written to {path} (open it in a browser; works offline)")
     return 0
 
