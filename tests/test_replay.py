@@ -129,15 +129,15 @@ def test_browser_spatial_frames_differ_and_show_the_bodies(runs, tmp_path):
     assert "spatial_two_puma_carry replay (ok)" in dom
     last = len(json.loads(page.read_text(encoding="utf-8").split("var DATA = ", 1)[1].split(";\n</script>", 1)[0])["frames"]) - 1
     first = _screenshot(page, 0, tmp_path / "spatial_0.png")
-    middle = _screenshot(page, last // 2, tmp_path / "spatial_mid.png")
     end = _screenshot(page, last, tmp_path / "spatial_end.png")
-    for image in (first, middle, end):
+    for image in (first, end):
         blue, orange = _coloured(image)
-        assert blue > 500 and orange > 500, (blue, orange)  # both arms drawn (each is ~3000 px here)
+        # both arms drawn: measured 4700 (leader) and 7500 (follower) px at 1000x700; 500 allows any renderer
+        assert blue > 500 and orange > 500, (blue, orange)
         assert (image.min(axis=-1) < 200).mean() > 0.01  # bodies and grid on the white background
-    # the arms moved: a visible share of the view changed between frames
+    # the arms moved: 4.3 % of the view's pixels changed between the first and last frames here; a
+    # tenth of a percent (about 500 px) would still be a visible move, a static page gives 0
     assert (np.abs(first - end).max(axis=-1) > 40).mean() > 0.002
-    assert (np.abs(first - middle).max(axis=-1) > 40).mean() > 0.001
 
 
 @needs_chromium
@@ -148,8 +148,8 @@ def test_browser_planar_scene_is_drawn_in_its_plane(runs, tmp_path):
     end = _screenshot(page, 10_000, tmp_path / "planar_end.png")  # past the end: the last frame
     for image in (first, end):
         blue, orange = _coloured(image)
-        assert blue > 500 and orange > 500, (blue, orange)
-    assert (np.abs(first - end).max(axis=-1) > 40).mean() > 0.002
+        assert blue > 500 and orange > 500, (blue, orange)  # measured about 3000 each
+    assert (np.abs(first - end).max(axis=-1) > 40).mean() > 0.002  # measured 3.3 %
     # seen along y, the two arms stand apart left and right (leader base at x = -0.6, follower +0.6)
     r, b = first[..., 0], first[..., 2]
     cols_blue = np.nonzero(((b > r + 50) & (b > 90)).any(axis=0))[0]
