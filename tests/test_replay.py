@@ -127,6 +127,12 @@ def test_browser_spatial_frames_differ_and_show_the_bodies(runs, tmp_path):
     dom = _chromium(page.as_uri() + "#frame=0", "--dump-dom").stdout
     assert 'data-ready="1"' in dom, "the page's script did not finish"
     assert "spatial_two_puma_carry replay (ok)" in dom
+    assert 'data-frame="0"' in dom  # "#frame=0" opens paused on the first frame
+    # without a frame in the URL the page plays: within 1.5 s of (virtual) time it has moved on
+    played = _chromium(page.as_uri(), "--dump-dom").stdout
+    frame = re.search(r'data-frame="(\d+)"', played)
+    assert frame and int(frame.group(1)) > 0, "the replay did not play"
+    assert 'data-frame="7"' in _chromium(page.as_uri() + "#frame=7&speed=4", "--dump-dom").stdout
     last = len(json.loads(page.read_text(encoding="utf-8").split("var DATA = ", 1)[1].split(";\n</script>", 1)[0])["frames"]) - 1
     first = _screenshot(page, 0, tmp_path / "spatial_0.png")
     end = _screenshot(page, last, tmp_path / "spatial_end.png")
