@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from importlib import resources
 
+import numpy as np
+
 from plants.arms.urdf import from_urdf
 
 #: Robot name -> (URDF file in ``plants/arms/data``, base link, tip link).
@@ -16,6 +18,14 @@ NAMED_ROBOTS = {
     "ur5e": ("ur5e.urdf", "base_link", "tool0"),
     "iiwa14": ("iiwa14.urdf", "base", "iiwa_link_ee"),
 }
+
+
+#: Node frame in the tip link frame such that the node's x axis is the approach axis (as the
+#: Puma's ``GRIPPER_TOOL``): a node frame aligned with the object frame is approached along +x,
+#: away from the ZYX singularity at pitch +-90 deg. Panda and UR5e tips approach along their z,
+#: the iiwa's ``iiwa_link_ee`` along its x.
+_Z_TO_X = np.array([[0.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+APPROACH_TOOLS = {"panda": _Z_TO_X, "ur5e": _Z_TO_X, "iiwa14": np.eye(4)}
 
 
 def urdf_path(robot: str) -> str:

@@ -251,7 +251,9 @@ class CooperativePlant:
                                                       self._Y_ref, self._immobile)
         if not ok:
             raise EulerSingularityError("object", float(Y[0, 4]), float(np.cos(Y[0, 4])))
-        return ControlTerms(Y, dY, H, h, J, Jdq, W, w_free, S, Fw)
+        xc = np.array(x, dtype=float)
+        nz = self.nz
+        return ControlTerms(Y, dY, H, h, J, Jdq, W, w_free, S, Fw, xc[:nz], xc[nz:2 * nz])
 
     # ------------------------------------------------------------------ energy
     def elastic_potential(self, Y) -> float:
