@@ -123,17 +123,19 @@ def pose_increment_planar(C, F_world, theta0):
 
 
 @njit(cache=True)
-def node_torque_redundant(W, w_free, S, H, h, J, Jdq, a_cmd, qdd_posture):
-    """Computed torque of a redundant arm (``n > p``) with a null-space posture acceleration.
+def node_torque_redundant(W, w_free, S, H, h, J, Jdq, a_cmd, tau_posture):
+    """Computed torque of a redundant arm (``n > p``) plus a null-space posture torque.
 
     .. math::
         N = H + J^T W J, \\quad J^\\# = N^{-1} J^T (J N^{-1} J^T)^{-1}, \\quad
-        \\ddot q = J^\\# (a - \\dot J \\dot q) + (I - J^\\# J)\\, \\ddot q_0, \\quad
-        \\tau = H \\ddot q + h + J^T (W a + w_{free} + S)
+        \\ddot q = J^\\# (a - \\dot J \\dot q),
+
+        \\tau = H \\ddot q + h + J^T (W a + w_{free} + S) + (I - J^T J^{\\#T})\\, \\tau_0
 
     ``J^#`` is the inertia-weighted (dynamically consistent) generalized inverse, so the
-    posture part of the torque, ``(I - J^T J^{#T}) N qdd_0``, gives the node no acceleration.
-    Returns ``(tau, ok)``; ``ok`` is False when ``N`` or ``J N^-1 J^T`` is singular.
+    null-space torque ``(I - J^T J^{#T}) tau_0`` gives the node no acceleration
+    (``J N^-1 (I - J^T J^{#T}) = 0``). Returns ``(tau, ok)``; ``ok`` is False when ``N`` or
+    ``J N^-1 J^T`` is singular.
     """
     p = a_cmd.shape[0]
     n = H.shape[0]
@@ -143,10 +145,8 @@ def node_torque_redundant(W, w_free, S, H, h, J, Jdq, a_cmd, qdd_posture):
         for c in range(p):
             s += W[r, c] * a_cmd[c]
         F[r] = s
-    # N = H + J^T W J
-    WJ = W @ J
-    Nm = H + J.T @ WJ
-    # X = N^-1 J^T (n x p), A = J X (p x p)
+    Nm = H + J.T @ (W @ J)
+    # X = N^-1 J^T (n x p), A = J X = J N^-1 J^T (p x p)
     X = np.empty((n, p))
     col = np.empty(n)
     for c in range(p):
@@ -158,16 +158,13 @@ def node_torque_redundant(W, w_free, S, H, h, J, Jdq, a_cmd, qdd_posture):
         for r in range(n):
             X[r, c] = x[r]
     A = J @ X
-    # task part: X A^-1 (a - Jdq)
     y, ok = lu_solve(A, a_cmd - Jdq)
     if not ok:
         return np.zeros(n), False
     qdd = X @ y
-    # null space: (I - X A^-1 J) qdd0
-    Jq0 = J @ qdd_posture
-    z, ok = lu_solve(A, Jq0)
+    # null space: tau_0 - J^T A^-1 X^T tau_0  (X^T = J N^-1)
+    z, ok = lu_solve(A, X.T @ tau_posture)
     if not ok:
         return np.zeros(n), False
-    qdd += qdd_posture - X @ z
-    tau = h + H @ qdd + J.T @ F
+    tau = h + H @ qdd + J.T @ F + tau_posture - J.T @ z
     return tau, True

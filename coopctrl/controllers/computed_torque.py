@@ -26,38 +26,43 @@ POSTURE_DAMPING_RATIO = 1.0
 class PostureTask:
     """Damped null-space posture task of a redundant arm (``n > p``) toward a rest posture:
 
-    .. math:: \ddot q_0 = \omega_p^2 (q_{rest} - q) - 2 \zeta_p \omega_p \dot q
+    .. math:: \\tau_0 = \\bar m \\big(\\omega_p^2 (q_{rest} - q) - 2 \\zeta_p \\omega_p \\dot q\\big),
+              \\quad \\bar m = \\mathrm{tr}(H) / n
 
-    ``q_rest`` is the arm's ``q_rest`` when the scene gives one, else the arm's configuration
-    at the first control tick (the start of the run); :meth:`reset` forgets it.
+    applied through the null-space projector ``P^T = I - J^T J^{#T}`` of
+    :func:`node_computed_torque`. Its equilibrium is ``q_rest - q`` in the range of ``J^T``:
+    the configuration of the self-motion manifold nearest to ``q_rest``, the one
+    :meth:`~plants.arms.spatial_ik.SpatialInverseKinematics.inverse_kinematics` starts from.
+    ``q_rest`` is the arm's rest posture (``arm.rest_posture()``: the scene's ``q_rest``, else
+    the middle of the joint limits).
     """
 
     def __init__(self, plant, index: int, natural_frequency: float = POSTURE_NATURAL_FREQUENCY,
                  damping_ratio: float = POSTURE_DAMPING_RATIO):
         arm = plant.arms[index]
+        self.index = index
         self.active = (not isinstance(arm, ContactPoint)) and arm.dof > plant.p
         self.slice = plant.q_slice(index) if self.active else None
+        self.n = arm.dof
         self.Kp = natural_frequency**2
         self.Kd = 2.0 * damping_ratio * natural_frequency
-        given = getattr(arm, "q_rest", None)
-        self._given = None if given is None else np.array(given, dtype=float)
-        self.q_rest = self._given
+        self.q_rest = np.array(arm.rest_posture(), dtype=float) if self.active else None
 
     def reset(self) -> None:
-        self.q_rest = self._given
+        """Nothing to forget (kept for the controllers' ``reset``)."""
 
-    def acceleration(self, terms):
-        """``qdd_0`` [rad/s^2] at ``terms`` (its ``z``, ``dz``), or ``None`` for a square arm."""
+    def torque(self, terms):
+        """``tau_0`` [N m] at ``terms`` (its ``z``, ``dz``, ``H``), or ``None`` for a square arm."""
         if not self.active:
             return None
         q = terms.z[self.slice]
         dq = terms.dz[self.slice]
-        if self.q_rest is None:
-            self.q_rest = np.array(q, dtype=float)
-        return self.Kp * (self.q_rest - q) - self.Kd * dq
+        n = self.n
+        m_bar = float(np.trace(terms.H[self.index, :n, :n])) / n
+        return m_bar * (self.Kp * (self.q_rest - q) - self.Kd * dq)
 
 
-def node_computed_torque(plant, terms, i: int, a_cmd, qdd_posture=None) -> np.ndarray:
+def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.ndarray:
     """Joint torques that give node ``i + 1`` the acceleration ``a_cmd`` on the full model.
 
     With the node equation ``W_i Y_i'' + w_i = F_i`` and the arm equation
@@ -78,12 +83,13 @@ def node_computed_torque(plant, terms, i: int, a_cmd, qdd_posture=None) -> np.nd
     ``J^# = N^-1 J^T (J N^-1 J^T)^-1``,
 
     .. math::
-        \ddot q = J^\# (a_{cmd} - \dot J \dot q) + (I - J^\# J)\, \ddot q_0, \quad
-        \tau = H \ddot q + h + J^T (W_i a_{cmd} + w_i)
+        \\ddot q = J^\\# (a_{cmd} - \\dot J \\dot q), \\quad
+        \\tau = H \\ddot q + h + J^T (W_i a_{cmd} + w_i) + P^T \\tau_0, \\quad
+        P^T = I - J^T J^{\\#T}
 
-    i.e. the task torque plus the null-space torque ``P^T N qdd_0`` with the projector
-    ``P^T = I - J^T J^{#T}``, which gives the node no acceleration (``J N^-1 P^T = 0``).
-    ``qdd_posture`` is ``qdd_0`` (:class:`PostureTask`; ``None`` = 0). Compiled in
+    the task torque plus the null-space torque ``P^T tau_0``, which gives the node no
+    acceleration (``J N^-1 P^T = 0``). ``tau_posture`` is ``tau_0`` (:class:`PostureTask`;
+    ``None`` = 0). Compiled in
     :func:`coopctrl.controllers._kernels.node_torque_redundant`.
     """
     k = i + 1
@@ -91,7 +97,7 @@ def node_computed_torque(plant, terms, i: int, a_cmd, qdd_posture=None) -> np.nd
     contact = isinstance(arm, ContactPoint)
     n = arm.dof
     if not contact and n > plant.p:
-        q0 = np.zeros(n) if qdd_posture is None else np.ascontiguousarray(qdd_posture, dtype=float)
+        q0 = np.zeros(n) if tau_posture is None else np.ascontiguousarray(tau_posture, dtype=float)
         tau, ok = node_torque_redundant(np.ascontiguousarray(terms.W[k]), terms.w_free[k], terms.S[k],
                                         np.ascontiguousarray(terms.H[i, :n, :n]), np.ascontiguousarray(terms.h[i, :n]),
                                         np.ascontiguousarray(terms.J[i, :, :n]), terms.Jdq[i],

@@ -79,4 +79,4 @@ class FollowerForceController:
             correction = F_set + self.kp * e + self.ki * self.integral
         Y_cmd = Y_rigid + self.compliance.pose_increment(self.index, correction, Y0, Y_rigid)
         a = ddY_ref + self.Kd * (dY_ref - terms.dY[k]) + self.Kp * pose_error(Y_cmd, terms.Y[k], self.plant.space)
-        return node_computed_torque(self.plant, terms, self.index, a, self.posture.acceleration(terms))
+        return node_computed_torque(self.plant, terms, self.index, a, self.posture.torque(terms))

@@ -53,4 +53,4 @@ class LeaderController:
     def torque(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:
         """Leader torques [N m] for the reference ``(Y_ref, dY_ref, ddY_ref)`` of its node."""
         return node_computed_torque(self.plant, terms, self.index, self.acceleration(terms, Y_ref, dY_ref, ddY_ref),
-                                    self.posture.acceleration(terms))
+                                    self.posture.torque(terms))

@@ -41,7 +41,8 @@ class SpatialInverseKinematics:
         ``R_target R(q)^T`` [rad], not the Euler-angle difference), clipped to the joint limits,
         from ``q0`` (default: :meth:`rest_posture`) and then ``seeds`` random seeds drawn with
         ``seed``. For a redundant arm (``n > 6``) the solution is then moved inside the
-        self-motion manifold toward ``posture`` (default ``q0``, else the rest posture):
+        self-motion manifold toward ``posture`` (default: :meth:`rest_posture`, the posture the
+        controllers' null-space task holds, so that a start found here leaves it at rest):
 
         .. math:: q \\leftarrow q + s\\, (I - J_g^+ J_g)(q_{post} - q)
 
@@ -70,7 +71,7 @@ class SpatialInverseKinematics:
 
         rng = np.random.default_rng(seed)
         start0 = self.rest_posture() if q0 is None else self._joint_vector("q0", q0)
-        target_posture = start0 if posture is None else self._joint_vector("posture", posture)
+        target_posture = self.rest_posture() if posture is None else self._joint_vector("posture", posture)
         starts = [start0] + [rng.uniform(seed_lower, seed_upper) for _ in range(seeds)]
         best_q, best_res = None, np.inf
         for start in starts:
