@@ -13,8 +13,8 @@ from plants.frames import rotation_zyx
 #: IK convergence: position [m] and rotation [rad] residuals.
 IK_TOLERANCE = 1e-9
 #: Posture refinement of a redundant arm: iterations and step fraction [-].
-POSTURE_ITERATIONS = 30
-POSTURE_STEP = 0.5
+POSTURE_ITERATIONS = 100
+POSTURE_STEP = 1.0
 
 
 def finite_limits(q_limits) -> tuple:
@@ -46,9 +46,11 @@ class SpatialInverseKinematics:
 
         .. math:: q \\leftarrow q + s\\, (I - J_g^+ J_g)(q_{post} - q)
 
-        with ``s`` = :data:`POSTURE_STEP`, each step followed by a damped least-squares
-        correction back onto the target and kept only if it converged within the limits and
-        came closer to ``q_post``.
+        with ``s`` starting at :data:`POSTURE_STEP` (halved after a rejected step), each step
+        followed by a damped least-squares correction back onto the target and kept only if it
+        converged within the limits and reduced the null-space residual
+        ``|(I - J_g^+ J_g)(q_post - q)|``. The result is the configuration of the self-motion
+        manifold nearest to ``q_post`` (within the joint limits; locally).
 
         Raises:
             UnreachablePoseError: No seed reached a residual of 1e-9 m and 1e-9 rad.
@@ -91,14 +93,30 @@ class SpatialInverseKinematics:
         )
 
     def _posture_refine(self, q, posture, error_and_jacobian, converged, lower, upper) -> np.ndarray:
-        dist = float(np.linalg.norm(q - posture))
-        for _ in range(POSTURE_ITERATIONS):
+        """Move ``q`` along the self-motion manifold until the null-space part of
+        ``posture - q``, ``r = |(I - J^+ J)(posture - q)|``, is below 1e-10 or stops falling."""
+
+        def residual(q):
             _, Jg = error_and_jacobian(q)
             P = np.eye(self.dof) - np.linalg.pinv(Jg) @ Jg
-            trial = np.clip(q + POSTURE_STEP * P @ (posture - q), lower, upper)
-            trial, e = damped_least_squares(error_and_jacobian, trial, lower, upper, converged)
-            d = float(np.linalg.norm(trial - posture))
-            if not converged(e) or d >= dist - 1e-9:
+            return P @ (posture - q)
+
+        d = residual(q)
+        r = float(np.linalg.norm(d))
+        step = POSTURE_STEP
+        for _ in range(POSTURE_ITERATIONS):
+            if r <= 1e-10:
                 break
-            q, dist = trial, d
+            trial = np.clip(q + step * d, lower, upper)
+            trial, e = damped_least_squares(error_and_jacobian, trial, lower, upper, converged)
+            if converged(e):
+                d_new = residual(trial)
+                r_new = float(np.linalg.norm(d_new))
+                if r_new < r:
+                    q, d, r = trial, d_new, r_new
+                    step = min(1.0, 2.0 * step)
+                    continue
+            step *= 0.5
+            if step < 1e-3:
+                break
         return q
