@@ -81,8 +81,8 @@ def _spatial_arm(scenario, k: int):
         if field.startswith(where):  # a DH row: arms[k].dh[i].mass
             raise ScenarioError(field, exc.value, exc.allowed, scenario.source) from None
         # an element of the URDF file (joint 'x'.type, link 'y'.inertial): name the file field
-        raise ScenarioError(f"{where}.urdf", cfg.urdf, f"a URDF whose {field} is {exc.allowed} (got {exc.value!r})",
-                            scenario.source) from None
+        got = "" if exc.value is None else f" (got {exc.value!r})"
+        raise ScenarioError(f"{where}.urdf", cfg.urdf, f"a URDF whose {field} is {exc.allowed}{got}", scenario.source) from None
 
 
 def _build(scenario):

@@ -84,45 +84,56 @@ _WORK = 39
 
 @njit(cache=True, inline="always")
 def _link_frame(p, row, qk, c):
-    """Write link frame k (``_R``, ``_O``) and the world joint axis ``_U`` into ``c``.
-
-    The joint frame ``Rj = Rp Ro``, ``oj = op + Rp po`` is written to ``c[_R]`` and
-    ``c[_O]`` first, then turned (revolute) or shifted (prismatic) in place.
-    """
+    """Write link frame k (``_R``, ``_O``) and the world joint axis ``_U`` into ``c``:
+    ``R_k = R_{k-1} (R_o M(q))``, ``o_k = o_{k-1} + R_{k-1} p_o`` (+ ``u q`` if prismatic)."""
+    kind = int(row[COL_TYPE])
+    o00, o01, o02 = row[COL_ROT], row[COL_ROT + 1], row[COL_ROT + 2]
+    o10, o11, o12 = row[COL_ROT + 3], row[COL_ROT + 4], row[COL_ROT + 5]
+    o20, o21, o22 = row[COL_ROT + 6], row[COL_ROT + 7], row[COL_ROT + 8]
+    # local rotation L = R_o M(q) and local joint axis a_o = R_o axis
+    if kind == JOINT_REVOLUTE_Z:
+        ct, st = math.cos(qk), math.sin(qk)
+        l00, l01, l02 = ct * o00 + st * o01, ct * o01 - st * o00, o02
+        l10, l11, l12 = ct * o10 + st * o11, ct * o11 - st * o10, o12
+        l20, l21, l22 = ct * o20 + st * o21, ct * o21 - st * o20, o22
+        ax_, ay_, az_ = o02, o12, o22
+    else:
+        ax, ay, az = row[COL_AXIS], row[COL_AXIS + 1], row[COL_AXIS + 2]
+        ax_ = o00 * ax + o01 * ay + o02 * az
+        ay_ = o10 * ax + o11 * ay + o12 * az
+        az_ = o20 * ax + o21 * ay + o22 * az
+        if kind == JOINT_PRISMATIC:
+            l00, l01, l02 = o00, o01, o02
+            l10, l11, l12 = o10, o11, o12
+            l20, l21, l22 = o20, o21, o22
+        else:
+            # Rodrigues: Rot = c I + s [a]x + (1 - c) a a^T
+            ct, st = math.cos(qk), math.sin(qk)
+            vt = 1.0 - ct
+            m00, m01, m02 = ct + vt * ax * ax, vt * ax * ay - st * az, vt * ax * az + st * ay
+            m10, m11, m12 = vt * ax * ay + st * az, ct + vt * ay * ay, vt * ay * az - st * ax
+            m20, m21, m22 = vt * ax * az - st * ay, vt * ay * az + st * ax, ct + vt * az * az
+            l00 = o00 * m00 + o01 * m10 + o02 * m20
+            l01 = o00 * m01 + o01 * m11 + o02 * m21
+            l02 = o00 * m02 + o01 * m12 + o02 * m22
+            l10 = o10 * m00 + o11 * m10 + o12 * m20
+            l11 = o10 * m01 + o11 * m11 + o12 * m21
+            l12 = o10 * m02 + o11 * m12 + o12 * m22
+            l20 = o20 * m00 + o21 * m10 + o22 * m20
+            l21 = o20 * m01 + o21 * m11 + o22 * m21
+            l22 = o20 * m02 + o21 * m12 + o22 * m22
     ox, oy, oz = row[COL_ORIGIN], row[COL_ORIGIN + 1], row[COL_ORIGIN + 2]
     for i in range(3):
         r0, r1, r2 = p[_R + 3 * i], p[_R + 3 * i + 1], p[_R + 3 * i + 2]
-        c[_R + 3 * i] = r0 * row[COL_ROT] + r1 * row[COL_ROT + 3] + r2 * row[COL_ROT + 6]
-        c[_R + 3 * i + 1] = r0 * row[COL_ROT + 1] + r1 * row[COL_ROT + 4] + r2 * row[COL_ROT + 7]
-        c[_R + 3 * i + 2] = r0 * row[COL_ROT + 2] + r1 * row[COL_ROT + 5] + r2 * row[COL_ROT + 8]
-        c[_O + i] = p[_O + i] + r0 * ox + r1 * oy + r2 * oz
-    kind = int(row[COL_TYPE])
-    if kind == JOINT_REVOLUTE_Z:
-        ct, st = math.cos(qk), math.sin(qk)
-        for i in range(3):
-            a0, a1 = c[_R + 3 * i], c[_R + 3 * i + 1]
-            c[_R + 3 * i] = a0 * ct + a1 * st
-            c[_R + 3 * i + 1] = a1 * ct - a0 * st
-            c[_U + i] = c[_R + 3 * i + 2]
-        return
-    ax, ay, az = row[COL_AXIS], row[COL_AXIS + 1], row[COL_AXIS + 2]
-    for i in range(3):
-        c[_U + i] = c[_R + 3 * i] * ax + c[_R + 3 * i + 1] * ay + c[_R + 3 * i + 2] * az
-    if kind == JOINT_PRISMATIC:
-        for i in range(3):
-            c[_O + i] += c[_U + i] * qk
-        return
-    # Rodrigues: Rot = c I + s [a]x + (1 - c) a a^T
-    ct, st = math.cos(qk), math.sin(qk)
-    vt = 1.0 - ct
-    m00, m01, m02 = ct + vt * ax * ax, vt * ax * ay - st * az, vt * ax * az + st * ay
-    m10, m11, m12 = vt * ax * ay + st * az, ct + vt * ay * ay, vt * ay * az - st * ax
-    m20, m21, m22 = vt * ax * az - st * ay, vt * ay * az + st * ax, ct + vt * az * az
-    for i in range(3):
-        a0, a1, a2 = c[_R + 3 * i], c[_R + 3 * i + 1], c[_R + 3 * i + 2]
-        c[_R + 3 * i] = a0 * m00 + a1 * m10 + a2 * m20
-        c[_R + 3 * i + 1] = a0 * m01 + a1 * m11 + a2 * m21
-        c[_R + 3 * i + 2] = a0 * m02 + a1 * m12 + a2 * m22
+        c[_R + 3 * i] = r0 * l00 + r1 * l10 + r2 * l20
+        c[_R + 3 * i + 1] = r0 * l01 + r1 * l11 + r2 * l21
+        c[_R + 3 * i + 2] = r0 * l02 + r1 * l12 + r2 * l22
+        u = r0 * ax_ + r1 * ay_ + r2 * az_
+        c[_U + i] = u
+        o = p[_O + i] + r0 * ox + r1 * oy + r2 * oz
+        if kind == JOINT_PRISMATIC:
+            o += u * qk
+        c[_O + i] = o
 
 
 @njit(cache=True)
