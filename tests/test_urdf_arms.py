@@ -176,3 +176,24 @@ def test_missing_urdf_file(tmp_path):
     with pytest.raises(ParameterError) as err:
         from_urdf(tmp_path / "missing.urdf", "base", "tip")
     assert err.value.parameter == "urdf"
+
+
+def test_dynamics_damping_and_friction_enter_h(tmp_path):
+    """``<dynamics damping friction>``: ``h`` gains ``damping dq + friction tanh(dq / v_s)``."""
+    from plants.arms._chain_kernels import COULOMB_SMOOTHING
+
+    plain = tmp_path / "plain.urdf"
+    plain.write_text(_RP_URDF)
+    rough = tmp_path / "rough.urdf"
+    rough.write_text(_RP_URDF.replace('<axis xyz="0 0 1"/></joint>', '<axis xyz="0 0 1"/><dynamics damping="0.2" friction="0.5"/></joint>'))
+    q, dq = np.array([0.4, 0.1]), np.array([0.003, -0.2])
+    h0 = from_urdf(plain, "base", "tip").bias(q, dq)
+    h1 = from_urdf(rough, "base", "tip").bias(q, dq)
+    expected = h0 + np.array([0.2 * dq[0] + 0.5 * np.tanh(dq[0] / COULOMB_SMOOTHING), 0.0])
+    assert np.allclose(h1, expected, rtol=0.0, atol=1e-12)
+
+
+def test_motor_inertia_adds_to_the_diagonal():
+    q = np.zeros(6)
+    J_m = np.array([0.1, 0.2, 0.3, 0.01, 0.02, 0.03])
+    assert np.allclose(ur5e(motor_inertia=J_m).inertia(q) - ur5e().inertia(q), np.diag(J_m), atol=1e-12)
