@@ -37,7 +37,6 @@ class ChainArm(ArmQueries, SpatialInverseKinematics):
             continuous joint.
         q_rest: Rest posture of the null-space posture task and of IK [rad or m], or ``None``
             (the middle of the joint limits, 0 for a continuous joint).
-        joint_names: Names of the joints (for messages).
     """
 
     name: str
@@ -92,6 +91,7 @@ class ChainArm(ArmQueries, SpatialInverseKinematics):
 
     @property
     def joint_names(self) -> tuple:
+        """Names of the moving joints, base to tip."""
         return tuple(j.name for j in self.joints)
 
     def kernel_table(self) -> np.ndarray:

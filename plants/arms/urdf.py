@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import os
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 
 import numpy as np
 
@@ -69,7 +70,7 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
     chain = []
     link = tip_link
     while link != base_link:
-        if link not in by_child:
+        if link not in by_child or len(chain) > len(joints):  # not below base_link, or a cycle
             raise ParameterError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree")
         j = by_child[link]
         chain.append(j)
@@ -89,13 +90,11 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
     # Link frames: body k's frame is the child link of moving joint k.
     out = []
     T_fixed = np.eye(4)  # accumulated fixed transforms since the previous moving body frame
-    body_index = 0
     chain_children = {j["child"] for j in moving}
     for j in chain:
         if j["type"] == "fixed":
             T_fixed = T_fixed @ j["origin"]
             continue
-        body_index += 1
         child = j["child"]
         if links[child] is None:
             raise ParameterError(f"link '{child}'.inertial", None,
@@ -106,8 +105,7 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
         kind = "prismatic" if j["type"] == "prismatic" else "revolute"
         out.append(dict(
             joint=ChainJoint(name=j["name"], kind=kind, origin=T_fixed @ j["origin"], axis=j["axis"], mass=mass, com=com,
-                             inertia=inertia, viscous=j["damping"]),
-            coulomb=j["friction"],
+                             inertia=inertia, viscous=j["damping"], coulomb=j["friction"]),
             effort=lim["effort"],
             limits=(-np.inf, np.inf) if j["type"] == "continuous" else (lim["lower"], lim["upper"]),
         ))
@@ -119,14 +117,7 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
         motor = np.array(motor_inertia, dtype=float).reshape(-1)
         if motor.shape != (n,):
             raise ParameterError("motor_inertia", motor_inertia, f"{n} rotor inertias [kg m^2]")
-        from dataclasses import replace
-
         joints_list = [replace(jt, motor_inertia=float(mi)) for jt, mi in zip(joints_list, motor)]
-    coulomb = np.array([o["coulomb"] for o in out])
-    if np.any(coulomb > 0.0):
-        from dataclasses import replace
-
-        joints_list = [replace(jt, coulomb=float(c)) for jt, c in zip(joints_list, coulomb)]
     tau_max = np.array([o["effort"] for o in out], dtype=float)
     q_limits = np.array([o["limits"] for o in out], dtype=float)
     tool_T = np.eye(4) if tool is None else np.asarray(tool, dtype=float)
