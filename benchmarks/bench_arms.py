@@ -5,7 +5,9 @@ Run from the repository root::
     python benchmarks/bench_arms.py [--calls 20000] [--quick]
 
 Prints the median time of one warm ``spatial_arm_terms`` call from Python, the same call
-inside numba (loop amortised, what the fused right-hand side pays), and Pinocchio's
+inside numba (loop amortised, what the fused right-hand side pays), the same two figures for
+the general-chain kernel ``chain_arm_terms`` (the Puma converted from DH, and the Panda, UR5e
+and iiwa 14 from their URDF files), and Pinocchio's
 ``crba + nonLinearEffects + computeFrameJacobian`` (+ the frame placement) for the same
 configuration, with their ratio. Medians over repeated batches (PERFORMANCE.md: runs agree only
 to ~1.5x, compare ratios from one run).
@@ -24,7 +26,8 @@ from numba import njit
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from plants.arms import puma560  # noqa: E402
+from plants.arms import iiwa14, panda, puma560, ur5e  # noqa: E402
+from plants.arms._chain_kernels import chain_arm_terms  # noqa: E402
 from plants.arms._spatial_kernels import spatial_arm_terms  # noqa: E402
 
 
@@ -35,6 +38,37 @@ def _repeat_terms(count, q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq):
         q[0] += 1e-12  # keep the loop from being hoisted
         status += spatial_arm_terms(q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq)
     return status
+
+
+@njit(cache=True)
+def _repeat_chain(count, q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
+    status = 0
+    for i in range(count):
+        q[0] += 1e-12  # keep the loop from being hoisted
+        status += chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq)
+    return status
+
+
+def chain_rows(count=10000):
+    """us per evaluation of the general-chain kernel (joint transforms and axes, issue 13):
+    the Puma 560 converted from DH, and the URDF arms, beside the DH kernel's Puma row."""
+    rows = []
+    for label, arm in (("Puma 560 (DH -> chain)", puma560()), ("Panda (URDF)", panda()), ("UR5e (URDF)", ur5e()),
+                       ("iiwa 14 (URDF)", iiwa14())):
+        n = arm.dof
+        rng = np.random.default_rng(0)
+        lo, hi = np.maximum(arm.q_limits[:, 0], -np.pi), np.minimum(arm.q_limits[:, 1], np.pi)
+        q = rng.uniform(lo, hi)
+        dq = rng.uniform(-2.0, 2.0, n)
+        table, base, tool, g = arm.kernel_table(), arm.base, np.ascontiguousarray(arm.kernel_tool()), arm.gravity
+        H, h, Y, J, Jdq = np.empty((n, n)), np.empty(n), np.empty(6), np.empty((6, n)), np.empty(6)
+        chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq)
+        py = median_us(lambda: chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq), 20000)
+        qq = q.copy()
+        _repeat_chain(10, qq, dq, table, base, tool, g, H, h, Y, J, Jdq)
+        inner = median_us(lambda: _repeat_chain(count, qq, dq, table, base, tool, g, H, h, Y, J, Jdq), 200) / count
+        rows.append((label, n, py, inner))
+    return rows
 
 
 def median_us(fn, repeats=2000):
@@ -70,6 +104,10 @@ def main(argv=None):
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, python {platform.python_version()}")
     print(f"spatial_arm_terms (Puma 560), from Python, warm : {ours:8.2f} us  (median)")
     print(f"spatial_arm_terms (Puma 560), inside numba      : {inner:8.2f} us  (median of {count}-call batches)")
+    print("chain_arm_terms (general joints), per arm evaluation:")
+    for label, n, py, chain_inner in chain_rows(count):
+        print(f"  {label:24s} n={n}, from Python: {py:8.2f} us, inside numba: {chain_inner:8.2f} us "
+              f"({chain_inner / inner:5.2f}x the DH Puma inside numba)")
     try:
         import pinocchio as pin
     except ImportError:

@@ -41,6 +41,7 @@ from coopctrl.analysis.euler_singularity import (
     margin_cos,
 )
 from coopctrl.controllers import required_object_wrench
+from coopctrl.controllers.computed_torque import task_acceleration
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 from coopctrl.load_distribution import grasp_matrix, internal_force_basis
 from plants.cooperative import ContactPoint, nominal_node_motion
@@ -265,8 +266,7 @@ class ClosedLoop:
             else:
                 Jg = J
             try:
-                qdd = np.linalg.solve(J, ddYn[k] - terms.Jdq[i]) if J.shape[0] == n else np.linalg.lstsq(
-                    J, ddYn[k] - terms.Jdq[i], rcond=None)[0]
+                qdd = task_acceleration(terms, i, n, ddYn[k] - terms.Jdq[i])  # J^-1, or J^# if redundant
             except np.linalg.LinAlgError:
                 qdd = np.zeros(n)
             jac.append(Jg)

@@ -120,3 +120,51 @@ def pose_increment_planar(C, F_world, theta0):
     Fo = np.array([c * F_world[0] + s * F_world[1], -s * F_world[0] + c * F_world[1], F_world[2]])
     d = C @ Fo
     return np.array([c * d[0] - s * d[1], s * d[0] + c * d[1], d[2]])
+
+
+@njit(cache=True)
+def node_torque_redundant(W, w_free, S, H, h, J, Jdq, a_cmd, tau_posture):
+    """Computed torque of a redundant arm (``n > p``) plus a null-space posture torque.
+
+    .. math::
+        N = H + J^T W J, \\quad J^\\# = N^{-1} J^T (J N^{-1} J^T)^{-1}, \\quad
+        \\ddot q = J^\\# (a - \\dot J \\dot q),
+
+        \\tau = H \\ddot q + h + J^T (W a + w_{free} + S) + (I - J^T J^{\\#T})\\, \\tau_0
+
+    ``J^#`` is the inertia-weighted (dynamically consistent) generalized inverse, so the
+    null-space torque ``(I - J^T J^{#T}) tau_0`` gives the node no acceleration
+    (``J N^-1 (I - J^T J^{#T}) = 0``). Returns ``(tau, ok)``; ``ok`` is False when ``N`` or
+    ``J N^-1 J^T`` is singular.
+    """
+    p = a_cmd.shape[0]
+    n = H.shape[0]
+    F = np.empty(p)
+    for r in range(p):
+        s = w_free[r] + S[r]
+        for c in range(p):
+            s += W[r, c] * a_cmd[c]
+        F[r] = s
+    Nm = H + J.T @ (W @ J)
+    # X = N^-1 J^T (n x p), A = J X = J N^-1 J^T (p x p)
+    X = np.empty((n, p))
+    col = np.empty(n)
+    for c in range(p):
+        for r in range(n):
+            col[r] = J[c, r]
+        x, ok = lu_solve(Nm, col)
+        if not ok:
+            return np.zeros(n), False
+        for r in range(n):
+            X[r, c] = x[r]
+    A = J @ X
+    y, ok = lu_solve(A, a_cmd - Jdq)
+    if not ok:
+        return np.zeros(n), False
+    qdd = X @ y
+    # null space: tau_0 - J^T A^-1 X^T tau_0  (X^T = J N^-1)
+    z, ok = lu_solve(A, X.T @ tau_posture)
+    if not ok:
+        return np.zeros(n), False
+    tau = h + H @ qdd + J.T @ F + tau_posture - J.T @ z
+    return tau, True

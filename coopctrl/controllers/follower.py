@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from coopctrl.controllers.computed_torque import node_computed_torque, pose_error
+from coopctrl.controllers.computed_torque import PostureTask, node_computed_torque, pose_error
 from coopctrl.errors import ScenarioError
 
 
@@ -35,6 +35,12 @@ class FollowerForceController:
     interconnection, and the force loop below the motion loop (``omega_F < omega_m / 3``).
 
     With ``force_loop=False`` the follower only tracks the feedforward pose (position control).
+
+    A redundant follower (7 joints in space) runs the same inner loop with the dynamically
+    consistent inverse and the damped null-space posture task of :class:`PostureTask`, through
+    the projector ``P^T = I - J^T J^{#T}``, ``J^# = N^-1 J^T (J N^-1 J^T)^-1``
+    (:func:`node_computed_torque`): the posture torque moves neither the node nor, through it,
+    the interconnection's force.
     """
 
     def __init__(self, plant, index: int, compliance, kp: float, ki: float, natural_frequency: float,
@@ -56,9 +62,11 @@ class FollowerForceController:
         self.Kd = 2.0 * damping_ratio * natural_frequency
         self.integral_limit = integral_limit  # [N s] anti-windup bound on each component
         self.integral = np.zeros(plant.p)
+        self.posture = PostureTask(plant, index)
 
     def reset(self) -> None:
         self.integral[:] = 0.0
+        self.posture.reset()
 
     def torque(self, terms, F_set, F_meas, Y_rigid, dY_ref, ddY_ref, Y0, dt: float) -> np.ndarray:
         """Follower torques [N m]; updates the integral of the force error over ``dt`` [s]."""
@@ -71,4 +79,4 @@ class FollowerForceController:
             correction = F_set + self.kp * e + self.ki * self.integral
         Y_cmd = Y_rigid + self.compliance.pose_increment(self.index, correction, Y0, Y_rigid)
         a = ddY_ref + self.Kd * (dY_ref - terms.dY[k]) + self.Kp * pose_error(Y_cmd, terms.Y[k], self.plant.space)
-        return node_computed_torque(self.plant, terms, self.index, a)
+        return node_computed_torque(self.plant, terms, self.index, a, self.posture.torque(terms))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from coopctrl.controllers.computed_torque import node_computed_torque, pose_error
+from coopctrl.controllers.computed_torque import PostureTask, node_computed_torque, pose_error
 from coopctrl.errors import ScenarioError
 
 
@@ -19,6 +19,11 @@ class LeaderController:
     object's nominal motion carried to the grasp (148) plus the nominal deformation that makes
     the leader's interconnection carry its QP share. With an exact model the node error obeys
     ``e'' + 2 zeta omega_n e' + omega_n^2 e = 0``.
+
+    A redundant leader (7 joints in space) tracks the 6-D node pose with the dynamically
+    consistent inverse and adds the damped null-space posture task of :class:`PostureTask`
+    through the projector ``P^T = I - J^T J^{#T}``, ``J^# = N^-1 J^T (J N^-1 J^T)^-1``
+    (:func:`node_computed_torque`): the posture torque does not accelerate the node.
 
     Args:
         plant: The cooperative plant (the controller's model).
@@ -36,6 +41,10 @@ class LeaderController:
         self.index = index
         self.Kp = natural_frequency**2
         self.Kd = 2.0 * damping_ratio * natural_frequency
+        self.posture = PostureTask(plant, index)
+
+    def reset(self) -> None:
+        self.posture.reset()
 
     def acceleration(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:
         k = self.index + 1
@@ -43,4 +52,5 @@ class LeaderController:
 
     def torque(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:
         """Leader torques [N m] for the reference ``(Y_ref, dY_ref, ddY_ref)`` of its node."""
-        return node_computed_torque(self.plant, terms, self.index, self.acceleration(terms, Y_ref, dY_ref, ddY_ref))
+        return node_computed_torque(self.plant, terms, self.index, self.acceleration(terms, Y_ref, dY_ref, ddY_ref),
+                                    self.posture.torque(terms))

@@ -2,22 +2,40 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
-from coopctrl.scenario.checks import choice, number, optional_vector, vector
+from coopctrl.errors import ScenarioError
+from coopctrl.scenario.checks import choice, number, optional_vector, string, vector
 from coopctrl.scenario.schema import key, limits
 
-ARM_MODELS = ("puma560", "planar3r", "contact_point")
+#: Robots shipped with the package as URDF files (plants.arms.panda / ur5e / iiwa14).
+NAMED_ROBOTS = ("panda", "ur5e", "iiwa14")
+ARM_MODELS = ("puma560", "planar3r", "contact_point", *NAMED_ROBOTS, "urdf", "dh")
 ROLES = ("leader", "follower")
 
-#: Joints per arm model; ``None`` = one joint per pose coordinate (3 planar, 6 spatial).
-MODEL_DOF: dict[str, int | None] = {"puma560": 6, "planar3r": 3, "contact_point": None}
+#: Joints per arm model; ``None`` = one joint per pose coordinate (3 planar, 6 spatial);
+#: ``"urdf"`` and ``"dh"`` arms count their joints in their file or table.
+MODEL_DOF: dict[str, int | None] = {"puma560": 6, "planar3r": 3, "contact_point": None,
+                                    "panda": 7, "ur5e": 6, "iiwa14": 7}
 #: Spaces each arm model can live in.
 MODEL_SPACES: dict[str, tuple[str, ...]] = {
     "puma560": ("spatial",),
     "planar3r": ("planar",),
     "contact_point": ("planar", "spatial"),
+    "panda": ("spatial",),
+    "ur5e": ("spatial",),
+    "iiwa14": ("spatial",),
+    "urdf": ("spatial",),
+    "dh": ("spatial",),
 }
+#: Columns of a row of a DH table in a scene: standard DH (as Corke's toolbox, frame k follows
+#: frame k-1 by ``Rz(q + offset) Tz(d) Tx(a) Rx(alpha)``) and the link's mass properties in
+#: frame k.
+DH_COLUMNS = ("a", "alpha", "d", "offset", "mass", "rcx", "rcy", "rcz", "Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz")
+DH_UNITS = "a [m], alpha [rad], d [m], offset [rad], mass [kg], rc [m] (3), I about the COM [kg m^2] (Ixx Iyy Izz Ixy Iyz Ixz)"
+
+_UNRESOLVED = object()
 
 
 @dataclass(frozen=True)
@@ -25,8 +43,11 @@ class ArmConfig:
     """One arm.
 
     Attributes:
-        model: ``"puma560"`` (6 joints, spatial), ``"planar3r"`` (3 joints, planar) or
-            ``"contact_point"`` (a point actuated directly in task space, 3 or 6 "joints").
+        model: ``"puma560"`` (6 joints, spatial), ``"planar3r"`` (3 joints, planar),
+            ``"contact_point"`` (a point actuated directly in task space, 3 or 6 "joints"),
+            ``"panda"`` (Franka Panda, 7 joints), ``"ur5e"`` (6), ``"iiwa14"`` (KUKA iiwa 14, 7)
+            (URDF files shipped with the package), ``"urdf"`` (your own URDF file: keys
+            ``urdf``, ``base_link``, ``tip_link``) or ``"dh"`` (a standard-DH table, key ``dh``).
         role: ``"leader"`` or ``"follower"``; a scenario has exactly one leader (MODEL.md §1).
         base: Pose of the arm base in the world, same shape as a pose [m, rad].
         grasp: Pose of the contact node relative to the object frame [m, rad].
@@ -38,6 +59,16 @@ class ArmConfig:
             (same shape as a pose) [m, rad], or ``None`` (exact grasp). It models the
             calibration error that force regulation exists to absorb.
         q0: Seed of the inverse kinematics for the initial configuration in [rad], or ``None``.
+        urdf: ``model = "urdf"``: path of the URDF file, relative to the scene file.
+        base_link: ``model = "urdf"``: the link fixed at ``base``.
+        tip_link: ``model = "urdf"``: the link whose frame (times ``tool``) is the node frame.
+        tool: Node frame in the tip link frame (the last DH frame for ``"dh"``), a pose
+            [m, rad] (6 numbers, ZYX Euler), or ``None``: identity for ``"urdf"`` and ``"dh"``;
+            for the named robots the node's x axis along the approach axis of the flange
+            (``plants.arms.named_robots.APPROACH_TOOLS``).
+        dh: ``model = "dh"``: the DH table, one row of 14 numbers per joint (:data:`DH_COLUMNS`).
+        q_rest: Rest posture of a redundant arm's null-space posture task [rad], or ``None``
+            (the middle of the joint limits).
     """
 
     model: str = key(allowed=ARM_MODELS)
@@ -49,6 +80,12 @@ class ArmConfig:
     tau_max: tuple[float, ...] | None = None
     q0: tuple[float, ...] | None = None
     grasp_error: tuple[float, ...] | None = None
+    urdf: str | None = None
+    base_link: str | None = None
+    tip_link: str | None = None
+    tool: tuple[float, ...] | None = None
+    dh: tuple[tuple[float, ...], ...] | None = None
+    q_rest: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -61,8 +98,85 @@ class ArmConfig:
         s(self, "tau_max", optional_vector("tau_max", self.tau_max, positive=True, what="N m per joint"))
         s(self, "q0", optional_vector("q0", self.q0, what="rad per joint"))
         s(self, "grasp_error", optional_vector("grasp_error", self.grasp_error, lengths=(3, 6), what="a pose offset, m and rad"))
+        s(self, "tool", optional_vector("tool", self.tool, lengths=(6,), what="the node frame in the tip link frame, m and rad"))
+        s(self, "q_rest", optional_vector("q_rest", self.q_rest, what="rad per joint"))
+        urdf_keys = ("urdf", "base_link", "tip_link")
+        if self.model == "urdf":
+            for key in urdf_keys:
+                if getattr(self, key) is None:
+                    raise ScenarioError(key, None, f"a value: model = 'urdf' needs the keys {', '.join(urdf_keys)}")
+                s(self, key, string(key, getattr(self, key), nonempty=True, one_line=True))
+        else:
+            for key in urdf_keys:
+                if getattr(self, key) is not None:
+                    raise ScenarioError(key, getattr(self, key), "no value: this key is read only with model = 'urdf'")
+        if self.model == "dh":
+            s(self, "dh", _dh_table(self.dh))
+        elif self.dh is not None:
+            raise ScenarioError("dh", self.dh, "no value: this key is read only with model = 'dh'")
+        if self.tool is not None and self.model in ("puma560", "planar3r", "contact_point"):
+            raise ScenarioError("tool", list(self.tool), "no value: the tool pose is read for model = 'urdf', 'dh', "
+                                + ", ".join(repr(r) for r in NAMED_ROBOTS))
 
-    def dof(self, space: str) -> int:
-        """Number of joints of this arm in a scene of the given ``space``."""
+    def dof(self, space: str, source=_UNRESOLVED) -> int | None:
+        """Number of joints of this arm in a scene of the given ``space``.
+
+        A ``"urdf"`` arm counts the moving joints between ``base_link`` and ``tip_link`` in its
+        file, found relative to the scene file ``source`` (``None``: the working directory);
+        without ``source`` its count is ``None`` (not known yet).
+        """
+        if self.model == "dh":
+            return len(self.dh)
+        if self.model == "urdf":
+            if source is _UNRESOLVED:
+                return None
+            return urdf_chain_dof(self.urdf_path(source), self.base_link, self.tip_link)
         n = MODEL_DOF[self.model]
         return n if n is not None else (3 if space == "planar" else 6)
+
+    def urdf_path(self, source) -> str:
+        """The URDF file, resolved relative to the directory of the scene file ``source``."""
+        if os.path.isabs(self.urdf):
+            return self.urdf
+        folder = os.path.dirname(os.fspath(source)) if source else os.getcwd()
+        return os.path.normpath(os.path.join(folder, self.urdf))
+
+
+def _dh_table(value) -> tuple[tuple[float, ...], ...]:
+    """A DH table: a non-empty list of rows of :data:`DH_COLUMNS` numbers."""
+    what = f"a list of rows of {len(DH_COLUMNS)} numbers, one row per joint: {DH_UNITS}"
+    if not isinstance(value, (list, tuple)) or not value:
+        raise ScenarioError("dh", value, what)
+    rows = []
+    for i, row in enumerate(value):
+        if not isinstance(row, (list, tuple)) or len(row) != len(DH_COLUMNS):
+            got = f"{len(row)} numbers" if isinstance(row, (list, tuple)) else type(row).__name__
+            raise ScenarioError(f"dh[{i}]", row, f"{len(DH_COLUMNS)} numbers ({DH_UNITS}); got {got}")
+        rows.append(vector(f"dh[{i}]", row, lengths=(len(DH_COLUMNS),), what=DH_UNITS))
+    return tuple(rows)
+
+
+def urdf_chain_dof(path: str, base_link: str, tip_link: str) -> int:
+    """Moving joints between ``base_link`` and ``tip_link`` of a URDF file (pure Python; the
+    full checks are made when the arm is built, ``plants.arms.from_urdf``)."""
+    import xml.etree.ElementTree as ET
+
+    if not os.path.isfile(path):
+        raise ScenarioError("urdf", path, "an existing URDF file (a path relative to the scene file)")
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise ScenarioError("urdf", path, f"a well-formed URDF file (XML error: {exc})") from None
+    links = {el.get("name") for el in root.findall("link")}
+    for key, link in (("base_link", base_link), ("tip_link", tip_link)):
+        if link not in links:
+            raise ScenarioError(key, link, f"a link of {path} (it has {', '.join(sorted(links)[:8])}{', ...' if len(links) > 8 else ''})")
+    parent_joint = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
+    n, link = 0, tip_link
+    while link != base_link:
+        joint = parent_joint.get(link)
+        if joint is None or joint.find("parent") is None:
+            raise ScenarioError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree of {path}")
+        n += joint.get("type") != "fixed"
+        link = joint.find("parent").get("link")
+    return n

@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from coopctrl.errors import ScenarioError
-from plants.arms import planar3r, puma560
+from plants.arms import DHLink, SerialArm, from_urdf, planar3r, puma560
+from plants.arms.named_robots import APPROACH_TOOLS, named_robot
 from plants.arms.puma560 import GRIPPER_TOOL
 from plants.cooperative import ContactPoint, assemble_plant, nominal_node_poses
 from plants.elastic import Interconnection, Node
@@ -35,15 +36,53 @@ def make_arm(scenario, k: int):
         return ContactPoint(space, name=f"arms[{k}]")
     if cfg.model == "puma560":
         arm = puma560(base=_pose_matrix(cfg.base), tool=GRIPPER_TOOL, name=f"arms[{k}]")
-    else:
+    elif cfg.model == "planar3r":
         arm = planar3r(base=np.asarray(cfg.base, dtype=float), gravity=(0.0, -scenario.scene.gravity), name=f"arms[{k}]")
+    else:
+        arm = _spatial_arm(scenario, k)
     if cfg.tau_max is not None:
         if len(cfg.tau_max) != arm.dof:
             raise ScenarioError(f"arms[{k}].tau_max", list(cfg.tau_max), f"{arm.dof} torque limits [N m]")
         from dataclasses import replace
 
         arm = replace(arm, tau_max=np.asarray(cfg.tau_max, dtype=float))
+    if cfg.q0 is not None and len(cfg.q0) != arm.dof:
+        raise ScenarioError(f"arms[{k}].q0", list(cfg.q0), f"{arm.dof} joint values [rad]")
     return arm
+
+
+def _spatial_arm(scenario, k: int):
+    """A named robot, a URDF arm or a DH table of ``arms[k]``; plant-side parameter errors are
+    reported as the scenario field they come from (``arms[k].urdf``, ``.tip_link``, ``.dh``)."""
+    cfg = scenario.arms[k]
+    where = f"arms[{k}]"
+    base = _pose_matrix(cfg.base)
+    gravity = (0.0, 0.0, -scenario.scene.gravity)
+    tool = None if cfg.tool is None else _pose_matrix(cfg.tool)
+    q_rest = None if cfg.q_rest is None else np.asarray(cfg.q_rest, dtype=float)
+    try:
+        if cfg.model == "dh":
+            links = tuple(DHLink.named(f"{where}.dh[{i}]", a=r[0], alpha=r[1], d=r[2], offset=r[3], mass=r[4], rc=r[5:8],
+                                       inertia=r[8:14], check_triangle_inequality=False) for i, r in enumerate(cfg.dh))
+            arm = SerialArm(name=where, links=links, base=base, tool=np.eye(4) if tool is None else tool,
+                            gravity=np.array(gravity))
+            if q_rest is not None:
+                raise ScenarioError(f"{where}.q_rest", list(cfg.q_rest), "no value: q_rest is read for URDF and named arms", scenario.source)
+            return arm
+        if cfg.model == "urdf":
+            path = cfg.urdf_path(scenario.source)
+            return from_urdf(path, cfg.base_link, cfg.tip_link, tool, base=base, name=where, gravity=gravity, q_rest=q_rest)
+        return named_robot(cfg.model, APPROACH_TOOLS[cfg.model] if tool is None else tool, base=base, name=where,
+                           gravity=gravity, q_rest=q_rest)
+    except ParameterError as exc:
+        field = exc.parameter
+        if field in ("urdf", "base_link", "tip_link", "q_rest", "motor_inertia"):
+            raise ScenarioError(f"{where}.{field}", exc.value, exc.allowed, scenario.source) from None
+        if field.startswith(where):  # a DH row: arms[k].dh[i].mass
+            raise ScenarioError(field, exc.value, exc.allowed, scenario.source) from None
+        # an element of the URDF file (joint 'x'.type, link 'y'.inertial): name the file field
+        got = "" if exc.value is None else f" (got {exc.value!r})"
+        raise ScenarioError(f"{where}.urdf", cfg.urdf, f"a URDF whose {field} is {exc.allowed}{got}", scenario.source) from None
 
 
 def _build(scenario):

@@ -148,7 +148,7 @@ class Scenario:
                 n = arm.dof(space)
                 for name in ("tau_max", "q0"):
                     value = getattr(arm, name)
-                    if value is not None and len(value) != n:
+                    if value is not None and n is not None and len(value) != n:  # n None: a URDF arm, checked at build
                         raise ScenarioError(name, list(value), f"{n} values, one per joint of a {arm.model} arm")
             arms.append(arm)
         s(self, "arms", tuple(arms))
@@ -242,7 +242,11 @@ class Scenario:
     @property
     def dof_per_arm(self) -> list[int]:
         """Number of joints of each arm."""
-        return [arm.dof(self.space) for arm in self.arms]
+        out = []
+        for k, arm in enumerate(self.arms):
+            with field_scope(f"arms[{k}]"):  # a URDF arm counts its joints in its file
+                out.append(arm.dof(self.space, getattr(self, "source", None)))
+        return out
 
     @property
     def state_size(self) -> int:

@@ -1,15 +1,24 @@
 """Robot arms (MODEL.md s.4): ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)``, ``J``, ``dJ dq``.
 
-The hot path is the numba kernels :func:`spatial_arm_terms` and :func:`planar_arm_terms`
-(``plants.arms._spatial_kernels`` / ``_planar_kernels``); the classes wrap them for Python use.
+The hot path is the numba kernels :func:`chain_arm_terms` (general joints: URDF arms and DH
+arms alike, ``plants.arms._chain_kernels``), :func:`spatial_arm_terms` (DH only,
+``_spatial_kernels``) and :func:`planar_arm_terms` (``_planar_kernels``); the classes wrap them
+for Python use.
 """
 
 from plants.arms.arm_terms import ArmTerms
+from plants.arms.chain_arm import ChainArm
+from plants.arms.chain_joint import ChainJoint
 from plants.arms.dh_link import DHLink
 from plants.arms.planar3r import planar3r
 from plants.arms.planar_arm import PlanarArm
 from plants.arms.planar_link import PlanarLink
 from plants.arms.puma560 import puma560
+from plants.arms.named_robots import iiwa14, panda, ur5e
 from plants.arms.serial_arm import SerialArm
+from plants.arms.urdf import from_urdf
 
-__all__ = ["ArmTerms", "DHLink", "PlanarArm", "PlanarLink", "SerialArm", "planar3r", "puma560"]
+__all__ = [
+    "ArmTerms", "ChainArm", "ChainJoint", "DHLink", "PlanarArm", "PlanarLink", "SerialArm",
+    "from_urdf", "iiwa14", "panda", "planar3r", "puma560", "ur5e",
+]

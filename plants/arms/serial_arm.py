@@ -5,23 +5,19 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
-from plants.arms._dls_ik import damped_least_squares
 from plants.arms._spatial_kernels import spatial_arm_potential, spatial_arm_terms, spatial_arm_tip
 from plants.arms._validation import check_limits, check_pose4, check_vector
 from plants.arms.arm_queries import ArmQueries
 from plants.arms.arm_terms import ArmTerms
+from plants.arms.chain_joint import ChainJoint
 from plants.arms.dh_link import DHLink
-from plants.errors import EulerSingularityError, ParameterError, UnreachablePoseError
-from plants.frames import rotation_zyx
-
-#: IK convergence: position [m] and rotation [rad] residuals.
-IK_TOLERANCE = 1e-9
+from plants.arms.spatial_ik import IK_TOLERANCE, SpatialInverseKinematics  # noqa: F401 (re-export)
+from plants.errors import EulerSingularityError, ParameterError
 
 
 @dataclass(frozen=True, eq=False)
-class SerialArm(ArmQueries):
+class SerialArm(ArmQueries, SpatialInverseKinematics):
     """A spatial serial arm: ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)`` (166, 169).
 
     The node pose ``Y = (r, A)``: ``r`` [m] world position of the tool frame origin, ``A``
@@ -81,6 +77,38 @@ class SerialArm(ArmQueries):
         """The packed (n, 16) float64 DH table for :func:`spatial_arm_terms` (read-only)."""
         return self._dh
 
+    def chain_joints(self) -> tuple:
+        """The same arm as general-chain joints (:class:`ChainJoint`), exactly.
+
+        With ``G_k = Tz(d_k) Tx(a_k) Rx(alpha_k)``, DH frame ``k`` is ``L_k G_k`` where link frame
+        ``L_k = L_{k-1} G_{k-1} Rz(offset_k) Rz(q_k)``: joint ``k``'s origin is
+        ``G_{k-1} Rz(offset_k)`` (``G_0 = I``), its axis +z, and link ``k``'s mass properties are
+        carried from DH frame ``k`` to ``L_k`` by ``G_k``. The node frame in ``L_n`` is
+        :meth:`kernel_tool`.
+        """
+        joints = []
+        G_prev = np.eye(4)
+        for k, link in enumerate(self.links):
+            Rz = np.eye(4)
+            c, s = np.cos(link.offset), np.sin(link.offset)
+            Rz[:2, :2] = [[c, -s], [s, c]]
+            G = _dh_fixed(link)
+            RG = G[:3, :3]
+            joints.append(ChainJoint(
+                name=f"{self.name}.links[{k}]", kind="revolute", origin=G_prev @ Rz, axis=(0.0, 0.0, 1.0),
+                mass=link.mass, com=G[:3, :3] @ np.array(link.rc) + G[:3, 3], inertia=RG @ link.inertia_matrix() @ RG.T,
+                motor_inertia=link.motor_inertia, viscous=link.viscous))
+            G_prev = G
+        return tuple(joints)
+
+    def kernel_table(self) -> np.ndarray:
+        """The (n, 32) joint table of :mod:`plants.arms._chain_kernels` for this arm."""
+        return np.ascontiguousarray(np.array([j.row() for j in self.chain_joints()]))
+
+    def kernel_tool(self) -> np.ndarray:
+        """The node frame in the last link frame of :meth:`chain_joints`, 4x4 [m]."""
+        return _dh_fixed(self.links[-1]) @ self.tool
+
     # ---- evaluation ----------------------------------------------------------------------
     def terms(self, q, dq) -> ArmTerms:
         """``H, h, Y, J, Jdq`` at ``(q [rad], dq [rad/s])`` in one kernel call."""
@@ -121,53 +149,15 @@ class SerialArm(ArmQueries):
         """A copy of this arm with the node frame ``tool`` (4x4, in the last DH frame)."""
         return replace(self, tool=tool)
 
-    # ---- inverse kinematics --------------------------------------------------------------
-    def inverse_kinematics(self, Y_target, q0=None, seeds: int = 20, seed: int = 0) -> np.ndarray:
-        """Joint angles [rad] within ``q_limits`` reaching the node pose ``Y_target``.
-
-        Damped least squares on the pose error (position [m], and the rotation vector of
-        ``R_target R(q)^T`` [rad], not the Euler-angle difference), from ``q0`` (default: the
-        middle of the joint limits) and then ``seeds`` random seeds drawn with ``seed``.
-
-        Raises:
-            UnreachablePoseError: No seed reached a residual of 1e-9 m and 1e-9 rad.
-        """
-        Y_target = check_vector("Y_target", Y_target, 6)
-        p_target = Y_target[:3]
-        R_target = rotation_zyx(Y_target[3:])
-        lower, upper = self.q_limits[:, 0], self.q_limits[:, 1]
-
-        def error_and_jacobian(q):
-            T, Jg = self.tip_transform(q)
-            e = np.empty(6)
-            e[:3] = p_target - T[:3, 3]
-            e[3:] = Rotation.from_matrix(R_target @ T[:3, :3].T).as_rotvec()
-            return e, Jg
-
-        def converged(e):
-            return np.linalg.norm(e[:3]) <= IK_TOLERANCE and np.linalg.norm(e[3:]) <= IK_TOLERANCE
-
-        rng = np.random.default_rng(seed)
-        starts = [0.5 * (lower + upper) if q0 is None else self._joint_vector("q0", q0)]
-        starts += [rng.uniform(lower, upper) for _ in range(seeds)]
-        best_q, best_res = None, np.inf
-        for start in starts:
-            q, e = damped_least_squares(error_and_jacobian, start, lower, upper, converged)
-            if converged(e):
-                return q
-            res = float(np.linalg.norm(e))
-            if res < best_res:
-                best_q, best_res = q, res
-        raise UnreachablePoseError(
-            self.name,
-            Y_target,
-            best_res,
-            "move the target or the arm base so that the pose is inside the workspace and joint limits",
-        )
-
     # ---- helpers -------------------------------------------------------------------------
     def _joint_vector(self, where: str, value) -> np.ndarray:
         arr = np.ascontiguousarray(value, dtype=float).reshape(-1)
         if arr.shape != (self.dof,):
             raise ParameterError(where, value, f"{self.dof} joint values (got shape {np.shape(value)})")
         return arr
+
+
+def _dh_fixed(link) -> np.ndarray:
+    """``Tz(d) Tx(a) Rx(alpha)`` of a DH link, 4x4."""
+    c, s = np.cos(link.alpha), np.sin(link.alpha)
+    return np.array([[1.0, 0.0, 0.0, link.a], [0.0, c, -s, 0.0], [0.0, s, c, link.d], [0.0, 0.0, 0.0, 1.0]])

@@ -19,7 +19,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from plants.arms._spatial_kernels import spatial_arm_potential, spatial_arm_terms
+# Every spatial serial arm (DH or URDF) is evaluated by the general-chain kernel.
+from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potential
+from plants.arms._chain_kernels import chain_arm_terms as spatial_arm_terms
 from plants.cooperative._linalg import cholesky_solve
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
 from plants.frames import body_rate_map_inverse, rotation_zyx

@@ -14,10 +14,13 @@ class ControlTerms:
         w_free: (N, p) node terms of ``w`` without the interconnections: gyroscopic - gravity.
         S: (N, p) interconnection terms of ``w``: ``dPi/dY_i + dD/d(dY_i)``.
         Fw: (m, p) wrench each contact applies to the object (see ``contact_wrenches``).
+        z, dz: the generalized coordinates ``z = (q, Y_0)`` and rates of the state, or ``None``
+            (the joint positions a null-space posture task reads).
     """
 
-    __slots__ = ("Y", "dY", "H", "h", "J", "Jdq", "W", "w_free", "S", "Fw")
+    __slots__ = ("Y", "dY", "H", "h", "J", "Jdq", "W", "w_free", "S", "Fw", "z", "dz")
 
-    def __init__(self, Y, dY, H, h, J, Jdq, W, w_free, S, Fw):
+    def __init__(self, Y, dY, H, h, J, Jdq, W, w_free, S, Fw, z=None, dz=None):
         self.Y, self.dY, self.H, self.h, self.J, self.Jdq = Y, dY, H, h, J, Jdq
         self.W, self.w_free, self.S, self.Fw = W, w_free, S, Fw
+        self.z, self.dz = z, dz

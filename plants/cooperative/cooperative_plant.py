@@ -40,7 +40,8 @@ class CooperativePlant:
     Args:
         elastic: The elastic system of nodes 0..m (node 0 = object).
         arms: One arm per contact node, in node order: ``SerialArm`` (spatial),
-            ``PlanarArm`` (planar) or ``ContactPoint`` (no arm dynamics).
+            ``SerialArm`` or ``ChainArm`` (spatial), ``PlanarArm`` (planar) or ``ContactPoint``
+            (no arm dynamics).
         leader: Index (0-based, into ``arms``) of the leader arm ``v`` (4.10); the others are
             the followers ``s``.
     """
@@ -66,14 +67,16 @@ class CooperativePlant:
                 kinds.append(_spatial_kernel.ARM_CONTACT_POINT)
             else:
                 kinds.append(_spatial_kernel.ARM_SERIAL)
-                tables.append(np.asarray(arm.dh_array(), dtype=float))
+                # spatial arms: the general-chain joint table (n, 32) and the node frame in the
+                # last link frame (plants.arms._chain_kernels); planar arms: their link table
+                tables.append(np.asarray(arm.kernel_table() if self.space == "spatial" else arm.dh_array(), dtype=float))
             if self.space == "spatial":
                 bases.append(np.eye(4) if isinstance(arm, ContactPoint) else np.asarray(arm.base, dtype=float))
-                tools.append(np.eye(4) if isinstance(arm, ContactPoint) else np.asarray(arm.tool, dtype=float))
+                tools.append(np.eye(4) if isinstance(arm, ContactPoint) else np.asarray(arm.kernel_tool(), dtype=float))
             else:
                 bases.append(np.zeros(3) if isinstance(arm, ContactPoint) else np.asarray(arm.base, dtype=float))
                 tools.append(np.zeros(3) if isinstance(arm, ContactPoint) else np.asarray(arm.tool, dtype=float))
-        width = 16 if self.space == "spatial" else 7
+        width = 32 if self.space == "spatial" else 7
         self._arm_kind = np.array(kinds, dtype=np.int64)
         self._arm_dof = np.array(dofs, dtype=np.int64)
         self._q_off = np.concatenate([[0], np.cumsum(dofs)[:-1]]).astype(np.int64)
@@ -248,7 +251,9 @@ class CooperativePlant:
                                                       self._Y_ref, self._immobile)
         if not ok:
             raise EulerSingularityError("object", float(Y[0, 4]), float(np.cos(Y[0, 4])))
-        return ControlTerms(Y, dY, H, h, J, Jdq, W, w_free, S, Fw)
+        xc = np.array(x, dtype=float)
+        nz = self.nz
+        return ControlTerms(Y, dY, H, h, J, Jdq, W, w_free, S, Fw, xc[:nz], xc[nz:2 * nz])
 
     # ------------------------------------------------------------------ energy
     def elastic_potential(self, Y) -> float:

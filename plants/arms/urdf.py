@@ -1,0 +1,250 @@
+"""Arms from URDF files: :func:`from_urdf` (MODEL.md s.4).
+
+Parser. The URDF is read with the standard library's ``xml.etree.ElementTree``: the subset the
+dynamics needs (``<link>/<inertial>``, ``<joint>`` with ``<origin>``, ``<axis>``, ``<limit>``,
+``<dynamics>``) is small and fully specified. The PyPI parsers were checked and not used:
+``urdf-parser-py`` (0.0.4, last release 2021, needs ``lxml`` and ``pyyaml``) is not kept on
+PyPI; ``yourdfpy`` and ``urchin`` pull ``trimesh``, ``lxml`` (and ``networkx``, ``pycollada``)
+for meshes this project never loads -- too heavy for the user install. Pinocchio
+(``pin``, test extra) is the oracle the tests compare with.
+
+What is read, from ``base_link`` down to ``tip_link``:
+
+* the joint chain in order: ``revolute`` and ``continuous`` joints (an angle [rad], a
+  continuous joint has no position limits) and ``prismatic`` joints ([m]); ``fixed`` joints
+  are folded into the link transforms; any other type is an error;
+* each moving link's mass properties from its ``<inertial>`` (origin and ``rpy`` in any frame),
+  with every link rigidly attached to it folded in; links hanging beyond the tip (a hand and its
+  fingers) are folded into the last moving link as a rigid payload, their joints held at zero;
+* ``<limit effort>`` -> ``tau_max`` (absent: unlimited), ``<limit lower upper>`` ->
+  ``q_limits``; ``<dynamics damping>`` -> viscous friction [N m s/rad],
+  ``<dynamics friction>`` -> Coulomb friction [N m] (smoothed, :data:`COULOMB_SMOOTHING`).
+  URDF has no rotor-inertia field: pass ``motor_inertia`` to add reflected rotor inertias.
+
+The node pose is the ``tip_link`` frame (times ``tool``), expressed in the world with the
+``base_link`` frame at ``base``.
+"""
+
+from __future__ import annotations
+
+import os
+import xml.etree.ElementTree as ET
+from dataclasses import replace
+
+import numpy as np
+
+from plants.arms._chain_kernels import COULOMB_SMOOTHING  # noqa: F401 (documented here)
+from plants.arms.chain_arm import ChainArm
+from plants.arms.chain_joint import ChainJoint
+from plants.errors import ParameterError
+from plants.frames import rotation_zyx
+
+SUPPORTED_JOINTS = ("revolute", "continuous", "prismatic", "fixed")
+
+
+def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name: str | None = None,
+              gravity=(0.0, 0.0, -9.81), motor_inertia=None, q_rest=None) -> ChainArm:
+    """The arm from ``base_link`` to ``tip_link`` of the URDF file ``path``.
+
+    Args:
+        path: URDF file.
+        base_link: Link whose frame is the arm base (fixed in the world at ``base``).
+        tip_link: Link whose frame is the node frame (with ``tool=None``).
+        tool: Node frame in the ``tip_link`` frame, 4x4 [m], or ``None`` (identity).
+        base: World pose of the ``base_link`` frame, 4x4 [m] (default identity).
+        name: Name used in error messages (default: the robot's name).
+        gravity: Gravity acceleration in the world [m/s^2].
+        motor_inertia: Reflected rotor inertias added to ``H``'s diagonal, (n,), or ``None``.
+        q_rest: Rest posture for IK and the null-space posture task, or ``None``.
+
+    Raises:
+        ParameterError: naming ``urdf``, ``base_link``, ``tip_link`` or the offending joint or
+            link, with what is allowed.
+    """
+    robot = _read(path)
+    links, joints = _index(robot, path)
+    for field_name, link in (("base_link", base_link), ("tip_link", tip_link)):
+        if link not in links:
+            raise ParameterError(field_name, link, f"a link of {os.fspath(path)} (e.g. {', '.join(sorted(links)[:6])})")
+    by_child = {j["child"]: j for j in joints.values()}
+    chain = []
+    link = tip_link
+    while link != base_link:
+        if link not in by_child or len(chain) > len(joints):  # not below base_link, or a cycle
+            raise ParameterError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree")
+        j = by_child[link]
+        chain.append(j)
+        link = j["parent"]
+    chain.reverse()
+    for j in chain:
+        if j["type"] not in SUPPORTED_JOINTS:
+            raise ParameterError(f"joint '{j['name']}'.type", j["type"],
+                                 f"a joint type in {list(SUPPORTED_JOINTS)} between {base_link} and {tip_link}")
+    moving = [j for j in chain if j["type"] != "fixed"]
+    if not moving:
+        raise ParameterError("tip_link", tip_link, f"a link reached from '{base_link}' through at least one moving joint")
+    children = {}
+    for j in joints.values():
+        children.setdefault(j["parent"], []).append(j)
+
+    # Link frames: body k's frame is the child link of moving joint k.
+    out = []
+    T_fixed = np.eye(4)  # accumulated fixed transforms since the previous moving body frame
+    chain_children = {j["child"] for j in moving}
+    for j in chain:
+        if j["type"] == "fixed":
+            T_fixed = T_fixed @ j["origin"]
+            continue
+        child = j["child"]
+        if links[child] is None:
+            raise ParameterError(f"link '{child}'.inertial", None,
+                                 "an <inertial> element (mass, origin, inertia) on every link moved by a joint")
+        stop = chain_children - {child}
+        mass, com, inertia = _composite(child, links, children, stop)
+        lim = j["limit"]
+        kind = "prismatic" if j["type"] == "prismatic" else "revolute"
+        out.append(dict(
+            joint=ChainJoint(name=j["name"], kind=kind, origin=T_fixed @ j["origin"], axis=j["axis"], mass=mass, com=com,
+                             inertia=inertia, viscous=j["damping"], coulomb=j["friction"]),
+            effort=lim["effort"],
+            limits=(-np.inf, np.inf) if j["type"] == "continuous" else (lim["lower"], lim["upper"]),
+        ))
+        T_fixed = np.eye(4)
+    tip_T = T_fixed  # tip_link in the last moving body frame (fixed joints only after it)
+    n = len(out)
+    joints_list = [o["joint"] for o in out]
+    if motor_inertia is not None:
+        motor = np.array(motor_inertia, dtype=float).reshape(-1)
+        if motor.shape != (n,):
+            raise ParameterError("motor_inertia", motor_inertia, f"{n} rotor inertias [kg m^2]")
+        joints_list = [replace(jt, motor_inertia=float(mi)) for jt, mi in zip(joints_list, motor)]
+    tau_max = np.array([o["effort"] for o in out], dtype=float)
+    q_limits = np.array([o["limits"] for o in out], dtype=float)
+    tool_T = np.eye(4) if tool is None else np.asarray(tool, dtype=float)
+    return ChainArm(name=name or robot.get("name", "urdf"), joints=tuple(joints_list),
+                    base=np.eye(4) if base is None else base, tool=tip_T @ tool_T, gravity=np.asarray(gravity, float),
+                    tau_max=tau_max, q_limits=q_limits, q_rest=q_rest)
+
+
+def pose_transform(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """4x4 transform of a URDF ``<origin xyz rpy>``: ``R = Rz(yaw) Ry(pitch) Rx(roll)``."""
+    T = np.eye(4)
+    T[:3, :3] = rotation_zyx(np.array([rpy[2], rpy[1], rpy[0]], dtype=float))
+    T[:3, 3] = xyz
+    return T
+
+
+# ---- parsing -----------------------------------------------------------------------------
+def _read(path):
+    if not os.path.isfile(path):
+        raise ParameterError("urdf", os.fspath(path), "an existing URDF file")
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise ParameterError("urdf", os.fspath(path), f"a well-formed URDF (XML error: {exc})") from None
+    if root.tag != "robot":
+        raise ParameterError("urdf", os.fspath(path), f"a URDF whose root element is <robot> (got <{root.tag}>)")
+    return root
+
+
+def _floats(text, count, where):
+    try:
+        vals = [float(v) for v in text.split()]
+    except (AttributeError, ValueError):
+        raise ParameterError(where, text, f"{count} numbers") from None
+    if len(vals) != count or not np.all(np.isfinite(vals)):
+        raise ParameterError(where, text, f"{count} finite numbers")
+    return vals
+
+
+def _origin(el, where):
+    o = el.find("origin") if el is not None else None
+    if o is None:
+        return np.eye(4)
+    xyz = _floats(o.get("xyz", "0 0 0"), 3, f"{where}.origin.xyz")
+    rpy = _floats(o.get("rpy", "0 0 0"), 3, f"{where}.origin.rpy")
+    return pose_transform(xyz, rpy)
+
+
+def _attr(el, key, default, where):
+    if el is None or el.get(key) is None:
+        return default
+    return _floats(el.get(key), 1, f"{where}.{key}")[0]
+
+
+def _index(robot, path):
+    links = {}
+    for el in robot.findall("link"):
+        name = el.get("name")
+        where = f"link '{name}'"
+        inert = el.find("inertial")
+        if inert is None:
+            links[name] = None
+            continue
+        mass_el = inert.find("mass")
+        I_el = inert.find("inertia")
+        if mass_el is None or I_el is None:
+            raise ParameterError(f"{where}.inertial", None, "<mass value> and <inertia ixx .. izz> in <inertial>")
+        m = _attr(mass_el, "value", None, f"{where}.inertial.mass")
+        if m is None or m < 0.0:
+            raise ParameterError(f"{where}.inertial.mass", m, "a mass >= 0 [kg]")
+        keys = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+        v = {k: _attr(I_el, k, 0.0, f"{where}.inertial.inertia") for k in keys}
+        I = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
+        links[name] = (m, _origin(inert, f"{where}.inertial"), I)
+    joints = {}
+    for el in robot.findall("joint"):
+        name = el.get("name")
+        where = f"joint '{name}'"
+        parent, child = el.find("parent"), el.find("child")
+        if parent is None or child is None:
+            raise ParameterError(where, None, "<parent link> and <child link>")
+        axis_el = el.find("axis")
+        axis = _floats(axis_el.get("xyz", "1 0 0"), 3, f"{where}.axis") if axis_el is not None else [1.0, 0.0, 0.0]
+        lim = el.find("limit")
+        jtype = el.get("type")
+        effort = _attr(lim, "effort", np.inf, f"{where}.limit")
+        lower = _attr(lim, "lower", 0.0, f"{where}.limit")
+        upper = _attr(lim, "upper", 0.0, f"{where}.limit")
+        if jtype in ("revolute", "prismatic") and not lower < upper:
+            raise ParameterError(f"{where}.limit", [lower, upper], "lower < upper (a revolute or prismatic joint needs <limit lower upper>)")
+        dyn = el.find("dynamics")
+        joints[name] = dict(
+            name=name, type=jtype, parent=parent.get("link"), child=child.get("link"),
+            origin=_origin(el, where), axis=axis,
+            limit=dict(effort=effort if effort > 0.0 else np.inf, lower=lower, upper=upper),
+            damping=_attr(dyn, "damping", 0.0, f"{where}.dynamics"),
+            friction=_attr(dyn, "friction", 0.0, f"{where}.dynamics"),
+        )
+        for key in ("parent", "child"):
+            if joints[name][key] not in links:
+                raise ParameterError(f"{where}.{key}", joints[name][key], f"a link of {os.fspath(path)}")
+    return links, joints
+
+
+def _composite(root, links, children, stop):
+    """Mass [kg], COM [m] and inertia about the COM [kg m^2] of ``root`` and every link hanging
+    from it (joints held at zero), in ``root``'s frame; the subtrees of links in ``stop`` (the
+    next moving bodies of the chain) are left out."""
+    parts = []  # (mass, com in root frame, inertia about own com in root frame)
+    todo = [(root, np.eye(4))]
+    while todo:
+        link, T = todo.pop()
+        data = links[link]
+        if data is not None:
+            m, To, I = data
+            Tc = T @ To
+            R = Tc[:3, :3]
+            parts.append((m, Tc[:3, 3], R @ I @ R.T))
+        for j in children.get(link, []):
+            if j["child"] in stop:
+                continue
+            # held at zero: only the joint origin
+            todo.append((j["child"], T @ j["origin"]))
+    M = sum(p[0] for p in parts)
+    com = sum(p[0] * p[1] for p in parts) / M if M > 0.0 else np.zeros(3)
+    I = np.zeros((3, 3))
+    for m, c, Ic in parts:
+        d = c - com
+        I += Ic + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return M, com, I
