@@ -2,7 +2,7 @@
 
 Run from the repository root::
 
-    python benchmarks/bench_urdf_arms.py [--repeats N]
+    python benchmarks/bench_urdf_arms.py [--repeats N] [--quick]
 
 Both scenes run their full duration (2.5 s at 1 kHz, RK4, one substep) through the closed loop
 as it is (plant kernels compiled, the loop in Python): ``two_panda_carry`` (two Franka Pandas,
@@ -41,6 +41,7 @@ def per_tick_us(scenario) -> float:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="timed runs per scene (default 5)")
+    parser.add_argument("--quick", action="store_true", help="one timed run per scene (a smoke run)")
     args = parser.parse_args(argv)
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}")
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, python {platform.python_version()}")
@@ -48,7 +49,7 @@ def main(argv=None) -> int:
     for s in scenarios.values():
         per_tick_us(s)  # warm-up: numba cache, solver set-up
     times = {name: [] for name in SCENES}
-    for _ in range(args.repeats):
+    for _ in range(1 if args.quick else args.repeats):
         for name in SCENES:
             times[name].append(per_tick_us(scenarios[name]))
     puma, panda_ = (statistics.median(times[n]) for n in SCENES)
