@@ -363,3 +363,112 @@ def test_compiled_qp_matches_proxsuite_daqp_quadprog(space):
     # the degenerate kind is degenerate: the two identical rows are active together on at least
     # a fifth of its arms (about 45 % with these seeds)
     assert dup_active >= 0.2 * PER_KIND["degenerate"] * (1 + 2 + 3 + 4), dup_active
+
+
+# ---------------------------------------------------------------------------- warm start
+@pytest.mark.parametrize("space", ["planar", "spatial"])
+@pytest.mark.parametrize("m", [2, 3, 4])
+def test_warm_started_sequence_equals_cold_solves(space, m):
+    """Along 300 slowly varying problems (load, preferred split and torque bounds drift; some
+    steps may turn infeasible), the solver warm started from the previous active set gives the
+    cold solves' verdict and answer (within 1e-9 N: both are exact, only rounding differs), and
+    needs fewer iterations in total (the point of the warm start)."""
+    b = generate(space, m, "degenerate", 1, _seed(space, m, "degenerate") + 7)
+    rng = np.random.default_rng(1000 + m)
+    k, n = b["k"], b["n"]
+    P, g0, M, lo0, hi0 = b["P"][0], b["g"][0], b["M"][0], b["lo"][0], b["hi"][0]
+    dg = rng.normal(size=n) * 2.0
+    dw = rng.normal(size=k) * 1.0
+    n_rows = M.shape[0]
+    ws_warm = gi_workspace(n, n_rows)
+    ws_cold = gi_workspace(n, n_rows)
+    xw, zw, xc, zc = np.zeros(n), np.zeros(n_rows), np.zeros(n), np.zeros(n_rows)
+    it_warm = it_cold = 0
+    statuses = set()
+    for step in range(300):
+        t = step * 1e-2
+        g = g0 + math.sin(3 * t) * dg
+        lo, hi = lo0.copy(), hi0.copy()
+        lo[:k] += math.sin(2 * t) * dw
+        hi[:k] = lo[:k]
+        lo[k + m:] += 0.3 * math.sin(t)
+        hi[k + m:] += 0.3 * math.sin(t)
+        sw, iw = gi_solve(P, g, M, lo, hi, k, xw, zw, ws_warm, step == 0, TOL, 1000)
+        ws_cold[3][0] = 0
+        sc, ic = gi_solve(P, g, M, lo, hi, k, xc, zc, ws_cold, True, TOL, 1000)
+        assert sw == sc, (step, sw, sc)
+        statuses.add(sc)
+        if sc == SOLVED:
+            assert np.abs(xw - xc).max() <= 1e-9, step
+            # multipliers of the duplicated rows are not unique (warm keeps one of a pair, cold
+            # may take the other): compare stationarity and the binding families instead
+            assert np.abs(P @ xw + g + M.T @ zw).max() <= 1e-9 * (1 + np.abs(g).max()), step
+            fams = b["families"]
+            assert _binding(zw[k:], fams, g) == _binding(zc[k:], fams, g), step
+        it_warm += iw
+        it_cold += ic
+    assert SOLVED in statuses
+    assert it_warm < it_cold, (it_warm, it_cold)
+
+
+def test_warm_start_keeps_a_still_optimal_active_set():
+    """Solving the same problem again from its own active set takes no iteration at all."""
+    b = generate("spatial", 4, "feasible", 50, 99)
+    k, n = b["k"], b["n"]
+    ws = gi_workspace(n, b["M"].shape[1])
+    x, z = np.zeros(n), np.zeros(b["M"].shape[1])
+    active = 0
+    for j in range(50):
+        ws[3][0] = 0
+        args = (b["P"][j], b["g"][j], b["M"][j], b["lo"][j], b["hi"][j], k, x, z, ws, True, TOL, 1000)
+        status, iters = gi_solve(*args)
+        assert status == SOLVED
+        active += iters > 0
+        x1 = x.copy()
+        status, iters = gi_solve(*args[:9], False, TOL, 1000)
+        assert status == SOLVED and iters == 0
+        assert np.abs(x - x1).max() <= 1e-9
+    assert active >= 25  # most of these problems have active inequalities
+
+
+def test_not_positive_definite_and_zero_row_are_reported():
+    """A non-SPD Hessian gives NOT_CONVEX; a zero row whose bound excludes 0 gives INFEASIBLE."""
+    n = 3
+    M = np.vstack([np.eye(n), np.zeros((1, n))])
+    lo = np.array([-1.0, -1.0, -1.0, 1.0])
+    hi = np.array([1.0, 1.0, 1.0, np.inf])
+    x, z = np.zeros(n), np.zeros(4)
+    ws = gi_workspace(n, 4)
+    H = np.diag([1.0, -1.0, 1.0])
+    assert gi_solve(H, np.ones(n), M, lo, hi, 0, x, z, ws, True, TOL, 100)[0] == NOT_CONVEX
+    assert gi_solve(np.eye(n), np.ones(n), M, lo, hi, 0, x, z, ws, True, TOL, 100)[0] == INFEASIBLE
+    lo[3] = 0.0
+    status, _ = gi_solve(np.eye(n), 2 * np.ones(n), M, lo, hi, 0, x, z, ws, True, TOL, 100)
+    assert status == SOLVED
+    np.testing.assert_allclose(x, -np.ones(n), atol=1e-12)  # -2 unconstrained; the bound -1 binds
+    np.testing.assert_allclose(z[:3], -np.ones(n), atol=1e-12)  # lower bounds: z < 0
+
+
+# ---------------------------------------------------------------------------- closed loop
+SCENARIOS = __import__("pathlib").Path(__file__).resolve().parent.parent / "scenarios"
+
+
+@pytest.mark.parametrize("name", ["planar_two_arm_lift", "spatial_two_puma_carry"])
+def test_closed_loop_compiled_agrees_with_proxsuite(name):
+    """The whole run with solver="compiled" equals the one with proxsuite at eps_abs 1e-9:
+    commanded contact forces within 1e-6 N and object position within 1e-9 m at every sample."""
+    import coopctrl
+
+    runs = {
+        solver: coopctrl.simulate(coopctrl.load_scenario(
+            SCENARIOS / f"{name}.toml",
+            {"load_distribution.solver": solver, "load_distribution.eps_abs": 1e-9},
+        ))
+        for solver in ("compiled", "proxsuite")
+    }
+    a, b = runs["compiled"], runs["proxsuite"]
+    assert a.status == b.status == "ok"
+    assert all(s == "solved" for s in a.qp_status)
+    npos = 3 if a.space == "spatial" else 2
+    assert np.abs(a.F_commanded - b.F_commanded).max() <= FORCE_TOL
+    assert np.abs(a.Y0[:, :npos] - b.Y0[:, :npos]).max() <= 1e-9
