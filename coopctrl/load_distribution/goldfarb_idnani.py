@@ -34,7 +34,7 @@ constraint ``p`` (violation ``s_p = a_p^T x - b_p < -tol``, scaled by ``|a_p|``)
     \\quad t_2 = -s_p / (z^T a_p), \\quad t_1 = \\min_{i:\\, r_i > 0} u_i / r_i ,
 
 by ``t = min(t_1, t_2)``: ``x += t z``, ``u -= t r``, ``u_p += t``. A full step (``t = t_2``)
-adds ``p`` (Givens rotations reduce ``d_2`` to one entry: the new column of ``R``); a partial step
+adds ``p`` (Givens rotations fold ``d_2`` into one entry: the new column of ``R``); a partial step
 drops the blocking constraint ``i`` (Givens rotations restore the triangle) and the step for
 ``p`` is computed again. If ``a_p`` lies in the span of the active normals (``|d_2| <=
 dep_tol |d|``, the test that replaces quadprog's ``|z|^2 <= eps``), there is no primal step:
@@ -157,22 +157,23 @@ def _factor(H, Linv, work):
 @njit(cache=True)
 def _add_constraint(JT, R, d, q, n):
     """Append the constraint whose ``d = J^T a`` is given to the factorisation (q -> q + 1):
-    Givens rotations reduce ``d[q:]`` to ``d[q]`` (applied to the rows of ``J^T``), and
-    ``d[:q+1]`` becomes column q of ``R``."""
-    for i in range(n - 1, q, -1):
+    one Givens rotation of the pair (q, i) per non-zero ``d[i]``, ``i > q``, folds ``d[q:]``
+    into ``d[q]`` (applied to rows q and i of ``J^T``; zero entries cost nothing, which keeps
+    the sparse rows of the grasp matrix cheap), and ``d[:q+1]`` becomes column q of ``R``."""
+    for i in range(q + 1, n):
         b = d[i]
         if b == 0.0:
             continue
-        a = d[i - 1]
-        h = math.hypot(a, b)
+        a = d[q]
+        h = math.sqrt(a * a + b * b)
         c = a / h
         s = b / h
-        d[i - 1] = h
+        d[q] = h
         d[i] = 0.0
         for j in range(n):
-            t1 = JT[i - 1, j]
+            t1 = JT[q, j]
             t2 = JT[i, j]
-            JT[i - 1, j] = c * t1 + s * t2
+            JT[q, j] = c * t1 + s * t2
             JT[i, j] = c * t2 - s * t1
     for i in range(q + 1):
         R[i, q] = d[i]
@@ -197,7 +198,7 @@ def _drop_constraint(JT, R, u, act, k, q, n):
         b = R[j + 1, j]
         if b == 0.0:
             continue
-        h = math.hypot(a, b)
+        h = math.sqrt(a * a + b * b)
         c = a / h
         s = b / h
         R[j, j] = h
