@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 import pytest
+from numba import njit
 
 from coopctrl.load_distribution import LoadDistributionConfig, LoadDistributionProblem
 from coopctrl.load_distribution.goldfarb_idnani import (
@@ -447,6 +448,39 @@ def test_not_positive_definite_and_zero_row_are_reported():
     assert status == SOLVED
     np.testing.assert_allclose(x, -np.ones(n), atol=1e-12)  # -2 unconstrained; the bound -1 binds
     np.testing.assert_allclose(z[:3], -np.ones(n), atol=1e-12)  # lower bounds: z < 0
+
+
+@njit(cache=True)
+def _solve_n_times(P, g, M, lo, hi, n_eq, x, z, ws, times):
+    for i in range(times):
+        gi_solve(P, g, M, lo, hi, n_eq, x, z, ws, i == 0, TOL, 1000)
+
+
+def test_no_allocation_per_solve():
+    """Called from a numba loop, a solve allocates nothing (numba's allocation counter: the
+    loop's own argument handling costs the same for 1 solve as for 200)."""
+    nrt = pytest.importorskip("numba.core.runtime._nrt_python")
+    if not hasattr(nrt, "memsys_enable_stats"):
+        pytest.skip("this numba has no allocation statistics")
+    from numba.core.runtime import rtsys
+
+    b = generate("spatial", 3, "degenerate", 1, 5)
+    n, rows = b["n"], b["M"].shape[1]
+    args = (b["P"][0], b["g"][0], b["M"][0], b["lo"][0], b["hi"][0], b["k"], np.zeros(n), np.zeros(rows),
+            gi_workspace(n, rows))
+    _solve_n_times(*args, 1)  # compile or load
+    was_on = nrt.memsys_stats_enabled()
+    nrt.memsys_enable_stats()
+    try:
+        counts = []
+        for times in (1, 200):
+            before = rtsys.get_allocation_stats().alloc
+            _solve_n_times(*args, times)
+            counts.append(rtsys.get_allocation_stats().alloc - before)
+    finally:
+        if not was_on:
+            nrt.memsys_disable_stats()
+    assert counts[0] == counts[1], counts
 
 
 # ---------------------------------------------------------------------------- closed loop
