@@ -56,7 +56,15 @@ as the minimiser on that set,
     \\qquad x_0 = -H^{-1} g ,
 
 and while an inequality multiplier is negative the most negative one is dropped (one Givens
-sweep) and ``x, u`` computed again. What is left is a valid start of the dual method (an
+sweep) and ``x, u`` computed again.
+
+Most ticks keep their active set, so a *fast path* is tried first, without ``J`` and ``R``:
+with ``Y = L^{-1} N^T`` (sparse: ``L^{-1}`` is diagonal for the pseudo-inverse split, and the
+rows of different arms do not overlap) it solves ``(Y^T Y) u = b_A - N^T x_0`` by a Cholesky
+factorisation of the small Gram matrix, sets ``x = x_0 + L^{-T} Y u``, and returns at once with
+0 iterations if the Gram matrix is regular (no dependent row), ``u >= 0`` on the inequalities
+and every other row holds within ``tol`` -- the KKT conditions, so ``x`` is the optimum. Otherwise
+the factorised warm start above runs. What is left is a valid start of the dual method (an
 "S-pair"): when the previous active set is still the right one, no iteration is needed at all;
 when it is partly wrong, the wrong rows go first and the method carries on as from a cold start
 with part of the work done. A cold start (``nact = 0`` in the workspace) adds only the equalities.
@@ -70,11 +78,15 @@ per solve). A tuple ``(mats, vecs, rowv, ints)``:
 - ``vecs`` float64 (8, n + 1): ``d``, ``z``, ``r``, ``u`` (multipliers of the active set, entry
   ``q`` is that of the constraint being added), ``x_0``, and three scratch vectors.
 - ``rowv`` float64 (2, n_rows): the Euclidean norm of each row of ``M``, and scratch.
-- ``ints`` int64 (4 + 2 n + n_rows): ``ints[0] = q`` (number of active constraints),
-  ``ints[1]`` = 1 if ``mats[2]`` holds the factor of the current ``H``, ``ints[2]`` = number of
-  warm-start constraints kept by the last solve, ``ints[4:4+n]`` the active codes (``2 r`` for the
-  lower side of row ``r``, ``2 r + 1`` for its upper side, in the order of ``R``),
-  ``ints[4+n:4+2n]`` scratch, ``ints[4+2n:]`` per row: 1 if the row is active.
+- ``ints`` int64 (4 + 4 n + 3 n_rows): ``ints[0] = q`` (number of active constraints),
+  ``ints[1]`` = 1 if ``mats[2]`` holds the factor of the current ``H``, ``ints[2]`` = 1 if the last
+  solve was answered by the fast path (below), ``ints[3]`` = 1 if that ``H`` is diagonal,
+  ``ints[4:4+n]`` the active codes (``2 r`` for the lower side of row ``r``, ``2 r + 1`` for its
+  upper side, in the order of ``R``), ``ints[4+n:4+4n]`` scratch (the previous codes and the
+  column ranges of the fast path), ``ints[4+4n:4+4n+n_rows]`` per row: 1 if the row is active,
+  then per row the first and one past the last column of its non-zero entries (found in one
+  scan per solve: every product with a row of ``M`` runs over that range only, which makes the
+  block-sparse rows of the load distribution cheap).
 
 The active set in ``ints`` is the warm start of the next solve; set ``ints[0] = 0`` for a cold
 start and ``ints[1] = 0`` when ``H`` changes (or pass ``new_H=True``).
@@ -118,7 +130,7 @@ def gi_workspace(n, n_rows):
     mats = np.zeros((3, n, n))
     vecs = np.zeros((8, n + 1))
     rowv = np.zeros((2, n_rows))
-    ints = np.zeros(4 + 2 * n + n_rows, np.int64)
+    ints = np.zeros(4 + 4 * n + 3 * n_rows, np.int64)
     return mats, vecs, rowv, ints
 
 
@@ -216,12 +228,12 @@ def _drop_constraint(JT, R, u, act, k, q, n):
 
 
 @njit(cache=True)
-def _normal_dot_J(JT, M, row, sign, d, n):
-    """``d = J^T a`` for ``a = sign * M[row]``; returns ``|d|^2``."""
+def _normal_dot_J(JT, M, row, sign, d, n, c0, c1):
+    """``d = J^T a`` for ``a = sign * M[row]`` (non-zero in columns ``c0:c1``); returns ``|d|^2``."""
     tot = 0.0
     for i in range(n):
         s = 0.0
-        for j in range(n):
+        for j in range(c0, c1):
             s += JT[i, j] * M[row, j]
         s *= sign
         d[i] = s
@@ -238,14 +250,14 @@ def _tail_norm2(d, q, n):
 
 
 @njit(cache=True)
-def _equality_point(JT, R, M, lo, hi, act, q, n, x0, x, u, v):
+def _equality_point(JT, R, M, lo, hi, act, q, n, x0, x, u, v, rfirst, rend):
     """``x, u`` of the minimiser on the active set: ``v = b_A - N^T x_0``, ``w = R^{-T} v``,
     ``x = x_0 + J_1 w``, ``u = R^{-1} w``."""
     for i in range(q):
         code = act[i]
         row = code >> 1
         s = 0.0
-        for j in range(n):
+        for j in range(rfirst[row], rend[row]):
             s += M[row, j] * x0[j]
         if code & 1:
             v[i] = s - hi[row]  # b = -hi, a = -M_r: b - a^T x0 = -hi + M_r x0
@@ -270,6 +282,133 @@ def _equality_point(JT, R, M, lo, hi, act, q, n, x0, x, u, v):
             s -= R[i, k] * u[k]
         u[i] = s / R[i, i]
     u[q] = 0.0
+
+
+@njit(cache=True)
+def _try_active_set(Linv, is_diag, M, lo, hi, n_eq, prev, n_prev, x0, x, z, u, v, t, Y, S, rownorm, mark, act,
+                    sup_lo, sup_hi, rfirst, rend, tol):
+    """The fast path: is the minimiser on (equalities + the previous active set) the optimum?
+
+    Solves ``(Y^T Y) u = b_A - N^T x_0`` with ``Y = L^{-1} N^T`` (rows of ``Y`` stored in ``Y``,
+    their non-zero column ranges in ``sup_lo``/``sup_hi``; the Gram matrix and its Cholesky
+    factor in ``S``), ``x = x_0 + L^{-T} Y u``. Returns the number of active constraints ``q``
+    (with ``act``, ``x``, ``z`` written) if the Gram matrix is regular, the inequality
+    multipliers are >= 0 and every other row holds within ``tol``; otherwise -1 (``x``, ``z``,
+    ``act`` and ``mark`` are then to be rewritten by the caller)."""
+    n_rows, n = M.shape
+    q = 0
+    for k in range(n_eq + n_prev):
+        if k < n_eq:
+            code = 2 * k
+        else:
+            code = prev[k - n_eq]
+        row = code >> 1
+        if k >= n_eq:
+            if row < n_eq or row >= n_rows or mark[row] != 0:
+                continue
+            if not math.isfinite(hi[row] if code & 1 else lo[row]):
+                continue
+        if q == n:
+            return -1
+        sign = -1.0 if code & 1 else 1.0
+        # y = sign L^{-1} M[row] and its non-zero column range
+        first = rfirst[row]
+        last = rend[row] - 1
+        if last < first:
+            return -1
+        if is_diag:
+            for j in range(first, last + 1):
+                Y[q, j] = sign * M[row, j] * Linv[j, j]
+            sup_hi[q] = last + 1
+        else:
+            for i in range(n):
+                acc = 0.0
+                for j in range(first, i + 1):
+                    acc += Linv[i, j] * M[row, j]
+                Y[q, i] = sign * acc
+            sup_hi[q] = n
+        sup_lo[q] = first
+        act[q] = code
+        mark[row] = 1
+        q += 1
+    # Gram matrix S = Y Y^T (lower triangle) over overlapping column ranges, Cholesky in place
+    for i in range(q):
+        for j in range(i + 1):
+            a = max(sup_lo[i], sup_lo[j])
+            b = min(sup_hi[i], sup_hi[j])
+            acc = 0.0
+            for c in range(a, b):
+                acc += Y[i, c] * Y[j, c]
+            S[i, j] = acc
+    for j in range(q):
+        diag = S[j, j]
+        acc = diag
+        for c in range(j):
+            acc -= S[j, c] * S[j, c]
+        if not (acc > DEP_TOL * DEP_TOL * diag):
+            return -1  # a dependent row: the factorised path handles it
+        ljj = math.sqrt(acc)
+        S[j, j] = ljj
+        for i in range(j + 1, q):
+            acc = S[i, j]
+            for c in range(j):
+                acc -= S[i, c] * S[j, c]
+            S[i, j] = acc / ljj
+    # right-hand side v = b_A - N^T x0 and u = S^{-1} v
+    for i in range(q):
+        code = act[i]
+        row = code >> 1
+        acc = 0.0
+        for j in range(rfirst[row], rend[row]):
+            acc += M[row, j] * x0[j]
+        if code & 1:
+            v[i] = acc - hi[row]
+        else:
+            v[i] = lo[row] - acc
+    for i in range(q):
+        acc = v[i]
+        for c in range(i):
+            acc -= S[i, c] * v[c]
+        v[i] = acc / S[i, i]
+    for i in range(q - 1, -1, -1):
+        acc = v[i]
+        for c in range(i + 1, q):
+            acc -= S[c, i] * u[c]
+        u[i] = acc / S[i, i]
+        if i >= n_eq and u[i] < 0.0:
+            return -1
+    # x = x0 + L^{-T} (Y^T u)
+    for j in range(n):
+        t[j] = 0.0
+    for i in range(q):
+        ui = u[i]
+        for j in range(sup_lo[i], sup_hi[i]):
+            t[j] += ui * Y[i, j]
+    if is_diag:
+        for j in range(n):
+            x[j] = x0[j] + Linv[j, j] * t[j]
+    else:
+        for j in range(n):
+            acc = 0.0
+            for i in range(j, n):
+                acc += Linv[i, j] * t[i]
+            x[j] = x0[j] + acc
+    # every other row within its bounds?
+    for row in range(n_eq, n_rows):
+        if mark[row] != 0 or rownorm[row] == 0.0:
+            continue
+        acc = 0.0
+        for j in range(rfirst[row], rend[row]):
+            acc += M[row, j] * x[j]
+        if lo[row] - acc > tol * rownorm[row] or acc - hi[row] > tol * rownorm[row]:
+            return -1
+    for i in range(q):
+        code = act[i]
+        if code & 1:
+            z[code >> 1] = u[i]
+        else:
+            z[code >> 1] = -u[i]
+    return q
 
 
 @njit(cache=True)
@@ -311,7 +450,9 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
     rownorm = rowv[0]
     act = ints[4:4 + n]
     prev = ints[4 + n:4 + 2 * n]
-    mark = ints[4 + 2 * n:4 + 2 * n + n_rows]
+    mark = ints[4 + 4 * n:4 + 4 * n + n_rows]
+    rfirst = ints[4 + 4 * n + n_rows:4 + 4 * n + 2 * n_rows]
+    rend = ints[4 + 4 * n + 2 * n_rows:4 + 4 * n + 3 * n_rows]
     for i in range(n_rows):
         z[i] = 0.0
     # ---- factor of H (cached) and the unconstrained minimiser x0 = -H^{-1} g
@@ -323,6 +464,12 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
                 x[j] = 0.0
             return NOT_CONVEX, 0
         ints[1] = 1
+        diag = 1
+        for i in range(n):
+            for j in range(i):
+                if Linv[i, j] != 0.0:
+                    diag = 0
+        ints[3] = diag
     for i in range(n):  # v = L^{-1} g
         s = 0.0
         for j in range(i + 1):
@@ -336,12 +483,17 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
         if not math.isfinite(x0[j]):
             ints[0] = 0
             return NOT_CONVEX, 0
-    for i in range(n):
-        for j in range(n):
-            JT[i, j] = Linv[i, j]
     for i in range(n_rows):
+        c0 = 0
+        while c0 < n and M[i, c0] == 0.0:
+            c0 += 1
+        c1 = n
+        while c1 > c0 and M[i, c1 - 1] == 0.0:
+            c1 -= 1
+        rfirst[i] = c0
+        rend[i] = c1
         s = 0.0
-        for j in range(n):
+        for j in range(c0, c1):
             s += M[i, j] * M[i, j]
         rownorm[i] = math.sqrt(s)
         mark[i] = 0
@@ -352,17 +504,31 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
             for j in range(n):
                 x[j] = x0[j]
             return INFEASIBLE, 0
-    # ---- warm start: equalities, then the previous active inequalities, added without steps
+    # ---- fast path: the equalities and the previous active set may still be optimal
     n_prev = ints[0]
     for i in range(n_prev):
         prev[i] = act[i]
+    q = _try_active_set(Linv, ints[3] == 1, M, lo, hi, n_eq, prev, n_prev, x0, x, z, u, v, vecs[6], JT, R,
+                        rownorm, mark, act, ints[4 + 2 * n:4 + 3 * n], ints[4 + 3 * n:4 + 4 * n], rfirst, rend,
+                        tol)
+    if q >= 0:
+        ints[0] = q
+        ints[2] = 1
+        return SOLVED, 0
+    ints[2] = 0
+    for i in range(n_rows):
+        mark[i] = 0
+    # ---- warm start: equalities, then the previous active inequalities, added without steps
+    for i in range(n):
+        for j in range(n):
+            JT[i, j] = Linv[i, j]
     q = 0
     skipped_eq = False
     for row in range(n_eq):
         if q == n:
             skipped_eq = True
             break
-        tot = _normal_dot_J(JT, M, row, 1.0, d, n)
+        tot = _normal_dot_J(JT, M, row, 1.0, d, n, rfirst[row], rend[row])
         if _tail_norm2(d, q, n) <= DEP_TOL * DEP_TOL * tot:
             skipped_eq = True
             continue
@@ -383,14 +549,14 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
             if not math.isfinite(lo[row]):
                 continue
             sign = 1.0
-        tot = _normal_dot_J(JT, M, row, sign, d, n)
+        tot = _normal_dot_J(JT, M, row, sign, d, n, rfirst[row], rend[row])
         if _tail_norm2(d, q, n) <= DEP_TOL * DEP_TOL * tot:
             continue
         _add_constraint(JT, R, d, q, n)
         act[q] = code
         mark[row] = 1
         q += 1
-    _equality_point(JT, R, M, lo, hi, act, q, n, x0, x, u, v)
+    _equality_point(JT, R, M, lo, hi, act, q, n, x0, x, u, v, rfirst, rend)
     iters = 0
     # drop warm rows with negative multipliers (most negative first) until dual feasible
     while True:
@@ -406,14 +572,13 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
         _drop_constraint(JT, R, u, act, kmin, q, n)
         q -= 1
         iters += 1
-        _equality_point(JT, R, M, lo, hi, act, q, n, x0, x, u, v)
-    ints[2] = q
+        _equality_point(JT, R, M, lo, hi, act, q, n, x0, x, u, v, rfirst, rend)
     if skipped_eq:
         # a dependent equality row must hold at the minimiser of the independent ones
         for row in range(n_eq):
             if mark[row] == 0:
                 s = 0.0
-                for j in range(n):
+                for j in range(rfirst[row], rend[row]):
                     s += M[row, j] * x[j]
                 if abs(s - lo[row]) > tol * max(rownorm[row], 1e-300):
                     ints[0] = q
@@ -428,7 +593,7 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
             if mark[row] != 0 or rownorm[row] == 0.0:
                 continue
             s = 0.0
-            for j in range(n):
+            for j in range(rfirst[row], rend[row]):
                 s += M[row, j] * x[j]
             viol = lo[row] - s
             if viol > worst * rownorm[row]:
@@ -451,10 +616,10 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
                 break
             iters += 1
             s = 0.0
-            for j in range(n):
+            for j in range(rfirst[prow], rend[prow]):
                 s += M[prow, j] * x[j]
             sp = sign * s - bp  # < 0 while violated
-            tot = _normal_dot_J(JT, M, prow, sign, d, n)
+            tot = _normal_dot_J(JT, M, prow, sign, d, n, rfirst[prow], rend[prow])
             tail = _tail_norm2(d, q, n)
             # r = R^{-1} d_1 and the blocking multiplier t1
             t1 = np.inf
