@@ -62,8 +62,9 @@ Most ticks keep their active set, so a *fast path* is tried first, without ``J``
 with ``Y = L^{-1} N^T`` (sparse: ``L^{-1}`` is diagonal for the pseudo-inverse split, and the
 rows of different arms do not overlap) it solves ``(Y^T Y) u = b_A - N^T x_0`` by a Cholesky
 factorisation of the small Gram matrix, sets ``x = x_0 + L^{-T} Y u``, and returns at once with
-0 iterations if the Gram matrix is regular (no dependent row), ``u >= 0`` on the inequalities
-and every other row holds within ``tol`` -- the KKT conditions, so ``x`` is the optimum. Otherwise
+0 iterations if the Gram matrix is well conditioned (no dependent row, see :data:`GRAM_TOL`),
+``u >= 0`` on the inequalities, the active rows hold and every other row is within its bounds
+(all within ``tol``) -- the KKT conditions, so ``x`` is the optimum. Otherwise
 the factorised warm start above runs. What is left is a valid start of the dual method (an
 "S-pair"): when the previous active set is still the right one, no iteration is needed at all;
 when it is partly wrong, the wrong rows go first and the method carries on as from a cold start
@@ -121,6 +122,10 @@ STATUS_NAMES = ("solved", "infeasible", "max_iter", "not_convex")
 #: Relative size ``|d_2| / |d|`` below which a constraint is taken as linearly dependent on the
 #: active set (rounding of an exactly dependent row gives about 1e-16 to 1e-14).
 DEP_TOL = 1e-12
+#: The fast path gives up (for the factorised path) when a pivot of the Gram matrix falls below
+#: this fraction of its diagonal entry: an angle of about 1e-7 between a row and the span of the
+#: others, where squaring the condition number would cost accuracy.
+GRAM_TOL = 1e-14
 
 
 @njit(cache=True)
@@ -345,8 +350,10 @@ def _try_active_set(Linv, is_diag, M, lo, hi, n_eq, prev, n_prev, x0, x, z, u, v
         acc = diag
         for c in range(j):
             acc -= S[j, c] * S[j, c]
-        if not (acc > DEP_TOL * DEP_TOL * diag):
-            return -1  # a dependent row: the factorised path handles it
+        if not (acc > GRAM_TOL * diag):
+            # a dependent or nearly dependent row: the Gram matrix squares the condition
+            # number, so the factorised path (orthogonal transformations) takes it
+            return -1
         ljj = math.sqrt(acc)
         S[j, j] = ljj
         for i in range(j + 1, q):
@@ -393,7 +400,16 @@ def _try_active_set(Linv, is_diag, M, lo, hi, n_eq, prev, n_prev, x0, x, z, u, v
             for i in range(j, n):
                 acc += Linv[i, j] * t[i]
             x[j] = x0[j] + acc
-    # every other row within its bounds?
+    # the active rows hold (the Gram solve was accurate) and every other row is within bounds?
+    for i in range(q):
+        code = act[i]
+        row = code >> 1
+        acc = 0.0
+        for j in range(rfirst[row], rend[row]):
+            acc += M[row, j] * x[j]
+        b = hi[row] if code & 1 else lo[row]
+        if abs(acc - b) > tol * rownorm[row]:
+            return -1
     for row in range(n_eq, n_rows):
         if mark[row] != 0 or rownorm[row] == 0.0:
             continue
