@@ -448,6 +448,25 @@ def test_not_positive_definite_and_zero_row_are_reported():
     assert status == SOLVED
     np.testing.assert_allclose(x, -np.ones(n), atol=1e-12)  # -2 unconstrained; the bound -1 binds
     np.testing.assert_allclose(z[:3], -np.ones(n), atol=1e-12)  # lower bounds: z < 0
+    M[0, 1] = np.nan
+    assert gi_solve(np.eye(n), np.ones(n), M, lo, hi, 0, x, z, ws, True, TOL, 100)[0] == NOT_CONVEX
+
+
+def test_dependent_equalities():
+    """A dependent equality row is skipped when consistent (same answer as without it) and
+    certifies infeasibility when not."""
+    g = np.array([1.0, 2.0, 3.0])
+    M = np.array([[1.0, 1.0, 0.0], [2.0, 2.0, 0.0], [0.0, 0.0, 1.0]])
+    b = np.array([1.0, 2.0, 0.0])
+    x, z = np.zeros(3), np.zeros(3)
+    ws = gi_workspace(3, 3)
+    assert gi_solve(np.eye(3), g, M, b, b.copy(), 3, x, z, ws, True, TOL, 100)[0] == SOLVED
+    # min 1/2 |x|^2 + g^T x on x1 + x2 = 1, x3 = 0: x = (1, 0, 0)
+    np.testing.assert_allclose(x, [1.0, 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(x + g + M.T @ z, 0.0, atol=1e-12)
+    b[1] = 3.0
+    ws[3][0] = 0
+    assert gi_solve(np.eye(3), g, M, b, b.copy(), 3, x, z, ws, True, TOL, 100)[0] == INFEASIBLE
 
 
 @njit(cache=True)

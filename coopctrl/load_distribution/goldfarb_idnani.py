@@ -114,7 +114,8 @@ SOLVED = 0
 INFEASIBLE = 1
 #: Status: ``max_iter`` iterations reached; ``x`` is the last (dual feasible, primal infeasible) iterate.
 MAX_ITER = 2
-#: Status: ``H`` is not positive definite (Cholesky failed) or an input is not finite.
+#: Status: ``H`` is not positive definite (Cholesky failed), or ``g`` or ``M`` has a non-finite
+#: entry, or a bound is NaN.
 NOT_CONVEX = 3
 #: Names of the status codes, by code.
 STATUS_NAMES = ("solved", "infeasible", "max_iter", "not_convex")
@@ -513,6 +514,9 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
             s += M[i, j] * M[i, j]
         rownorm[i] = math.sqrt(s)
         mark[i] = 0
+        if not math.isfinite(s) or math.isnan(lo[i]) or math.isnan(hi[i]):
+            ints[0] = 0
+            return NOT_CONVEX, 0
         if s == 0.0 and (lo[i] > tol or hi[i] < -tol):
             # a zero row with a bound it cannot meet (e.g. a joint the contact cannot load
             # whose bias exceeds its limit): inconsistent whatever x is
