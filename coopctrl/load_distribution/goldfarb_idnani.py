@@ -37,7 +37,7 @@ by ``t = min(t_1, t_2)``: ``x += t z``, ``u -= t r``, ``u_p += t``. A full step 
 adds ``p`` (Givens rotations fold ``d_2`` into one entry: the new column of ``R``); a partial step
 drops the blocking constraint ``i`` (Givens rotations restore the triangle) and the step for
 ``p`` is computed again. If ``a_p`` lies in the span of the active normals (``|d_2| <=
-dep_tol |d|``, the test that replaces quadprog's ``|z|^2 <= eps``), there is no primal step:
+DEP_TOL |d|``, the test that replaces quadprog's ``|z|^2 <= eps``), there is no primal step:
 with some ``r_i > 0`` the solver takes the dual step ``t_1`` and drops ``i`` -- this is how
 redundant (linearly dependent) active rows are handled: never both in the active set, so ``R``
 stays regular and nothing cycles -- and with none the problem is **infeasible** (a Farkas
@@ -56,7 +56,11 @@ as the minimiser on that set,
     \\qquad x_0 = -H^{-1} g ,
 
 and while an inequality multiplier is negative the most negative one is dropped (one Givens
-sweep) and ``x, u`` computed again.
+sweep) and ``x, u`` computed again. What is left is a valid start of the dual method (an
+"S-pair"): when the previous active set is still the right one, no iteration is needed at all;
+when it is partly wrong, the wrong rows go first and the method carries on as from a cold start
+with part of the work done. A cold start (``ints[0] = 0`` in the workspace) adds only the
+equalities.
 
 Most ticks keep their active set, so a *fast path* is tried first, without ``J`` and ``R``:
 with ``Y = L^{-1} N^T`` (sparse: ``L^{-1}`` is diagonal for the pseudo-inverse split, and the
@@ -64,17 +68,15 @@ rows of different arms do not overlap) it solves ``(Y^T Y) u = b_A - N^T x_0`` b
 factorisation of the small Gram matrix, sets ``x = x_0 + L^{-T} Y u``, and returns at once with
 0 iterations if the Gram matrix is well conditioned (no dependent row, see :data:`GRAM_TOL`),
 ``u >= 0`` on the inequalities, the active rows hold and every other row is within its bounds
-(all within ``tol``) -- the KKT conditions, so ``x`` is the optimum. Otherwise
-the factorised warm start above runs. What is left is a valid start of the dual method (an
-"S-pair"): when the previous active set is still the right one, no iteration is needed at all;
-when it is partly wrong, the wrong rows go first and the method carries on as from a cold start
-with part of the work done. A cold start (``nact = 0`` in the workspace) adds only the equalities.
+(all within ``tol``) -- the KKT conditions, so ``x`` is the optimum. Otherwise the factorised
+warm start above runs.
 
 **Workspace** (allocate once with :func:`gi_workspace`, pass to every solve; nothing is allocated
 per solve). A tuple ``(mats, vecs, rowv, ints)``:
 
-- ``mats`` float64 (3, n, n): ``mats[0] = J^T`` (row i is column i of ``J``), ``mats[1] = R``
-  (upper triangle of the leading q x q block), ``mats[2] = L^{-1}`` (the cached inverse Cholesky
+- ``mats`` float64 (3, n, n): ``mats[0] = J^T`` (row i is column i of ``J``; ``Y^T`` in the fast
+  path), ``mats[1] = R`` (upper triangle of the leading q x q block; the Gram matrix's Cholesky
+  factor in the fast path), ``mats[2] = L^{-1}`` (the cached inverse Cholesky
   factor of ``H``, lower triangular, valid while ``ints[1] == 1``).
 - ``vecs`` float64 (8, n + 1): ``d``, ``z``, ``r``, ``u`` (multipliers of the active set, entry
   ``q`` is that of the constraint being added), ``x_0``, and three scratch vectors.
