@@ -506,10 +506,12 @@ def test_no_allocation_per_solve():
 SCENARIOS = __import__("pathlib").Path(__file__).resolve().parent.parent / "scenarios"
 
 
-@pytest.mark.parametrize("name", ["planar_two_arm_lift", "spatial_two_puma_carry"])
+@pytest.mark.parametrize("name", ["planar_two_arm_lift", "spatial_two_puma_carry", "heavy_payload_torque_limits",
+                                  "spatial_three_arm_carry"])
 def test_closed_loop_compiled_agrees_with_proxsuite(name):
     """The whole run with solver="compiled" equals the one with proxsuite at eps_abs 1e-9:
-    commanded contact forces within 1e-6 N and object position within 1e-9 m at every sample."""
+    commanded contact forces within 1e-6 N and object position within 1e-9 m at every sample,
+    and the same count of ticks per binding family (torque limits bind in the last two scenes)."""
     import coopctrl
 
     runs = {
@@ -525,3 +527,4 @@ def test_closed_loop_compiled_agrees_with_proxsuite(name):
     npos = 3 if a.space == "spatial" else 2
     assert np.abs(a.F_commanded - b.F_commanded).max() <= FORCE_TOL
     assert np.abs(a.Y0[:, :npos] - b.Y0[:, :npos]).max() <= 1e-9
+    assert a.qp_active_constraints == b.qp_active_constraints
