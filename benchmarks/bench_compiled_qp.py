@@ -24,7 +24,7 @@ Columns, all medians in one run [us per solve]:
 - the ratios of the libraries to the compiled QP in the numba loop, and the largest force
   difference to proxsuite [N].
 
-Run: ``python benchmarks/bench_compiled_qp.py [--steps N] [--repeats R]``
+Run: ``python benchmarks/bench_compiled_qp.py [--steps N] [--repeats R] [--quick]``
 """
 
 from __future__ import annotations
@@ -240,7 +240,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=2000, help="ticks per m = 2, 3, 4 sequence (1 ms each)")
     ap.add_argument("--repeats", type=int, default=5, help="repeats of the numba-loop replay (median)")
+    ap.add_argument("--quick", action="store_true", help="a short smoke run: 300 ticks, 2 repeats")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.steps, args.repeats = 300, 2
+    if args.steps < 1 or args.repeats < 1:
+        ap.error(f"--steps {args.steps} / --repeats {args.repeats}: both must be integers >= 1")
     print("command:", " ".join([pathlib.Path(sys.executable).name] + sys.argv))
     seqs = [record_carry()] + [trajectory_problems(m, args.steps) for m in (2, 3, 4)]
     # compile (or load from the cache) before timing
