@@ -342,7 +342,17 @@ class ClosedLoop:
             "energy": np.full(N, np.nan), "kinetic_energy": np.full(N, np.nan),
         }
 
+    def _fresh_load_distribution(self):
+        """A load distribution with this loop's settings and no history (no warm start, no last split)."""
+        from coopctrl.load_distribution import LoadDistribution
+
+        return LoadDistribution(self.ld.config, self.space, self.plant.arm_count)
+
     def _run(self, rec, x0, N, progress):
+        from coopctrl.loop.compiled import compiled_unsupported, run_compiled
+
+        if compiled_unsupported(self) is None:
+            return run_compiled(self, rec, x0, N, progress)
         plant = self.plant
         m, p = plant.arm_count, plant.p
         nu = plant.input_size
@@ -360,7 +370,13 @@ class ClosedLoop:
             bar = tqdm(total=N - 1, unit="tick", desc=self.name, leave=False, mininterval=0.2)
         tau = np.zeros(nu)
         k_done = 0
-        state_exact = self.sensors.joints.config.is_exact and self.sensors.object.config.is_exact
+        # the loop state starts afresh on every run (LoopState): noise streams, integrals, warm start, last split
+        sensors = self.sensors.restarted()
+        ld = self._fresh_load_distribution()
+        self.leader.reset()
+        for ctrl in self.followers.values():
+            ctrl.reset()
+        state_exact = sensors.joints.config.is_exact and sensors.object.config.is_exact
         wall0 = _time.perf_counter()
         qp_time = 0.0
         saturated = 0
@@ -377,7 +393,6 @@ class ClosedLoop:
 
         spatial = self.space == "spatial"
         band = margin_cos()
-        near = margin_cos(2.0 * EULER_PITCH_MARGIN_DEG)  # a failure this close is blamed on the singularity
         x_good = x.copy()  # the last state that passed the checks (for the failure diagnosis)
         t_good = 0.0
         # a diverging state overflows before the next check stops the run: detect it, do not warn about it
@@ -393,10 +408,10 @@ class ClosedLoop:
                 else:
                     xm = x.copy()
                     for i in range(m):
-                        xm[q_slices[i]], xm[nz:][q_slices[i]] = self.sensors.read_joints(x[q_slices[i]], x[nz:][q_slices[i]])
-                    xm[nz - p:nz], xm[2 * nz - p:] = self.sensors.read_object(x[nz - p:nz], x[2 * nz - p:])
+                        xm[q_slices[i]], xm[nz:][q_slices[i]] = sensors.read_joints(x[q_slices[i]], x[nz:][q_slices[i]])
+                    xm[nz - p:nz], xm[2 * nz - p:] = sensors.read_object(x[nz - p:nz], x[2 * nz - p:])
                     terms = plant.control_terms(xm)
-                F_meas = self.sensors.read_forces(true_terms.Fw)
+                F_meas = sensors.read_forces(true_terms.Fw)
                 # ---- divergence checks on the state we are at
                 if not np.all(np.isfinite(x)):
                     raise DivergenceError(t, "state (non-finite)", float("nan"))
@@ -436,7 +451,7 @@ class ClosedLoop:
                 if self.ld.config.split == "elastic":
                     kwargs["K"] = self.compliance.stiffness_world(Y0N)
                 q0 = _time.perf_counter()
-                split = self.ld.solve(terms.Y[1:, :self.npos], terms.Y[0, :self.npos], w_N, **kwargs)
+                split = ld.solve(terms.Y[1:, :self.npos], terms.Y[0, :self.npos], w_N, **kwargs)
                 qp_time += _time.perf_counter() - q0
                 if split.held:
                     events.append((t, "qp_held", f"QP status '{split.status}' (binding: {', '.join(split.binding) or '-'}); "
@@ -476,10 +491,31 @@ class ClosedLoop:
                 x = advance(x, t)
                 if bar is not None and k % 50 == 0:
                     bar.update(50)
-        except _NearSingularity as exc:
+        except (_NearSingularity, DivergenceError, PlantError, InfeasibleLoad) as exc:
+            status, reason = self._stop_reason(exc, k, k_done, rec, x, x_good, t_good, x0, events)
+        finally:
+            errstate.__exit__(None, None, None)
+            if bar is not None:
+                bar.close()
+        wall = _time.perf_counter() - wall0
+        for key, val in rec.items():
+            if isinstance(val, np.ndarray):
+                rec[key] = val[:k_done]
+        if saturated:
+            events.append((0.0, "torque_saturation", f"commanded torques clipped at their limits on {saturated} ticks"))
+        rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=qp_time,
+                   qp_binding_counts=binding_counts, saturated_ticks=saturated)
+        return rec
+
+    def _stop_reason(self, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events) -> tuple[str, str]:
+        """``(status, reason)`` of a run stopped at tick ``k`` by ``exc`` (after ``k_done`` recorded ticks),
+        with its event appended to ``events``: the diagnosis, shared by the Python and compiled ticks."""
+        spatial = self.space == "spatial"
+        near = margin_cos(2.0 * EULER_PITCH_MARGIN_DEG)  # a failure this close is blamed on the singularity
+        if isinstance(exc, _NearSingularity):
             status, reason = "diverged", self._singularity_reason(exc.hit)
             events.append((exc.hit.time, "euler_singularity", reason))
-        except (DivergenceError, PlantError) as exc:
+        elif isinstance(exc, (DivergenceError, PlantError)):
             status = "diverged"
             hit = self._nearest_singularity(x, k * self.T, x_good, t_good) if spatial else None
             if isinstance(exc, EulerSingularityError) or (hit is not None and hit.cos_theta < near):
@@ -495,22 +531,10 @@ class ClosedLoop:
                 chart = self._chart_stiffening(x_back, t_back, np.asarray(x0, dtype=float)) if spatial else ""
                 reason = self._divergence_reason(exc, k * self.T, x_back, np.asarray(x0, dtype=float), chart)
                 events.append((getattr(exc, "time", k * self.T), "euler_singularity" if chart else "diverged", reason))
-        except InfeasibleLoad as exc:
+        else:  # InfeasibleLoad
             status, reason = "qp_failed", str(exc)
             events.append((k * self.T, "qp_failed", str(exc)))
-        finally:
-            errstate.__exit__(None, None, None)
-            if bar is not None:
-                bar.close()
-        wall = _time.perf_counter() - wall0
-        for key, val in rec.items():
-            if isinstance(val, np.ndarray):
-                rec[key] = val[:k_done]
-        if saturated:
-            events.append((0.0, "torque_saturation", f"commanded torques clipped at their limits on {saturated} ticks"))
-        rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=qp_time,
-                   qp_binding_counts=binding_counts, saturated_ticks=saturated)
-        return rec
+        return status, reason
 
     def _chart_stiffening(self, x_back, t_back: float, x0) -> str:
         """Why the step failed, if it is the Euler-angle chart; else ``""``.

@@ -38,6 +38,10 @@ class SensorSuite:
         self.forces = Sensor(forces, rng_forces)
         self.object = Sensor(object, rng_object)
 
+    def restarted(self) -> "SensorSuite":
+        """A suite with the same channels and seed whose noise streams start from the beginning."""
+        return SensorSuite(self.joints.config, self.forces.config, self.object.config, self.seed)
+
     @classmethod
     def exact(cls, seed: int = 0) -> "SensorSuite":
         """A suite that returns exact copies of every value."""

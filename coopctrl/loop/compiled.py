@@ -1,0 +1,357 @@
+"""Run a :class:`~coopctrl.closed_loop.ClosedLoop` with the compiled tick (:mod:`coopctrl.loop.kernel`).
+
+:func:`run_compiled` builds the kernel's constant arrays once per loop (:class:`CompiledLoop`),
+a fresh :class:`~coopctrl.loop.state.LoopState` per run (so a run depends on ``x0`` and the
+scenario only: the same loop run twice gives bit-identical records), calls the kernel, and turns
+its stop code back into the exception the Python tick raises, so the diagnosis of
+:meth:`ClosedLoop._stop_reason` runs unchanged. A failed QP solve comes back to Python: the
+failure policy of :class:`~coopctrl.load_distribution.LoadDistribution` (the infeasibility cause,
+hold the last feasible split, give up after ``max_consecutive_failures``) is applied there and
+the kernel resumes at the same tick.
+
+The compiled tick runs when ``load_distribution.solver = "compiled"`` and the loop uses only what
+the kernel implements (:func:`compiled_unsupported` names what it does not); otherwise the Python
+tick of :mod:`coopctrl.closed_loop` runs, with the chosen QP backend.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+
+import numpy as np
+
+from coopctrl.errors import DivergenceError, InfeasibleLoad
+from coopctrl.load_distribution.goldfarb_idnani import gi_workspace
+from coopctrl.loop import kernel as K
+from coopctrl.loop.state import LoopState
+from plants.cooperative import ContactPoint
+from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
+
+#: Integrators the kernel implements, by name.
+METHODS = {"euler": K.METHOD_EULER, "symplectic_euler": K.METHOD_SYMPLECTIC_EULER, "rk4": K.METHOD_RK4}
+
+#: QP status names of the kernel's codes (as the compiled backend reports them).
+_QP_STATUS = ("solved", "infeasible", "max_iter", "failed")
+
+#: Ticks per kernel call when a progress bar is shown.
+_PROGRESS_CHUNK = 250
+
+
+def compiled_unsupported(loop) -> str | None:
+    """Why ``loop`` cannot run the compiled tick (``None``: it can)."""
+    cfg = loop.ld.config
+    if cfg.solver != "compiled":
+        return f"load_distribution.solver = {cfg.solver!r} (the reference path)"
+    name = getattr(loop.integrator, "name", None)
+    if name not in METHODS or type(loop.integrator).__module__.split(".")[1:2] != ["integrators"]:
+        return f"integrator {name or type(loop.integrator).__name__!r} (compiled: {', '.join(METHODS)})"
+    if cfg.split != "pseudo_inverse":
+        return f"load_distribution.split = {cfg.split!r}"
+    if not loop.enabled:
+        return "controllers.enabled = false (passive run)"
+    if loop.max_energy is not None:
+        return "simulation.max_energy"
+    return None
+
+
+class CompiledLoop:
+    """The kernel's constant arrays for one loop (plant tables, gains, QP structure)."""
+
+    def __init__(self, loop):
+        plant = loop.plant
+        self.spatial = spatial = loop.space == "spatial"
+        p = plant.p
+        m = plant.arm_count
+        if spatial:
+            b3, t3 = plant._bases, plant._tools
+            b2, t2 = np.zeros((1, 3)), np.zeros((1, 3))
+        else:
+            b2, t2 = plant._bases, plant._tools
+            b3, t3 = np.zeros((1, 4, 4)), np.zeros((1, 4, 4))
+        self.P = (plant._arm_kind, plant._arm_dof, plant._q_off, plant._dh_all, plant._dh_off,
+                  np.ascontiguousarray(b3), np.ascontiguousarray(t3), np.ascontiguousarray(b2), np.ascontiguousarray(t2),
+                  plant._gravity, plant._node_params, plant._edge_index, plant._edge_params, plant._Y_ref,
+                  bool(plant._immobile))
+        self.grasps = np.ascontiguousarray(loop.grasps, dtype=float)
+        self.obj = np.concatenate([[loop.object_mass], loop.object_inertia]).astype(float)
+        self.rho = np.ascontiguousarray(loop._rho, dtype=float)
+        fol = list(loop.followers.values())
+        f = fol[0] if fol else None
+        self.ctrl = np.array([loop.leader.index, loop.leader.Kp, loop.leader.Kd,
+                              f.kp if f else 0.0, f.ki if f else 0.0, f.Kp if f else 0.0, f.Kd if f else 0.0,
+                              float(f.force_loop) if f else 0.0, float(f.integral_limit) if f else 0.0])
+        nmax = max([p] + list(plant.arm_dofs))
+        q_rest = np.zeros((m, nmax))
+        post = loop.leader.posture
+        for c in [loop.leader] + fol:
+            if c.posture.active:
+                q_rest[c.index, :c.posture.n] = c.posture.q_rest
+        self.posture = (np.array([post.Kp, post.Kd]), q_rest)
+        self.C = np.ascontiguousarray(loop.compliance.C, dtype=float)
+        # the QP's structure (LoadDistributionProblem's row layout)
+        cfg = loop.ld.config
+        pb = loop._fresh_load_distribution().problem
+        n = pb.n
+        fams = pb.families
+        nf = pb.n_facets
+        rows, start = {}, 0
+        if "min_grip" in fams:
+            rows["min_grip"] = start
+            start += m
+        if "friction" in fams:
+            rows["friction"] = start
+            start += m * nf
+        if "torque_limits" in fams:
+            rows["torque_limits"] = start
+            start += int(sum(plant.arm_dofs))
+        self.n_in = n_in = start
+        self.rows = rows
+        self.joint_counts = tuple(plant.arm_dofs)
+        cos_phi = pb._cos_phi.ravel().copy() if spatial else np.zeros(1)
+        sin_phi = pb._sin_phi.ravel().copy() if spatial else np.zeros(1)
+        tau_qp = np.concatenate([np.broadcast_to(t, (a.dof,)) for t, a in zip(loop._qp_tau_max, plant.arms)]).astype(float)
+        self.qp = (pb.W_diag.copy(), pb.W_inv_diag.copy(), pb.s_des.copy(), tau_qp, loop.tau_max.astype(float),
+                   cos_phi, sin_phi,
+                   np.array([cfg.eps_abs, pb._mu_c, float(cfg.max_iter), cfg.min_grip if cfg.min_grip is not None else 0.0]),
+                   np.array([int(pb.has_squeeze), rows.get("min_grip", -1), rows.get("friction", -1),
+                             rows.get("torque_limits", -1), nf, int(cfg.max_consecutive_failures)], dtype=np.int64))
+        self.n = n
+        self.npairs = pb.E.shape[1]
+        self.problem = pb
+        self.ld_config = cfg
+        self.method = METHODS[loop.integrator.name]
+        self.steps = np.array(loop._steps, dtype=float)
+        self.nmax = nmax
+
+    def qp_arrays(self):
+        """Fresh QP arrays ``(M, lo, hi, H, g, x, z, external, F_pref, E, A, y)`` with the fixed rows set."""
+        p, n, n_in = (6 if self.spatial else 3), self.n, self.n_in
+        pb = self.problem
+        M = np.zeros((p + n_in, n))
+        M[:p] = pb._G0
+        lo = np.full(p + n_in, -np.inf)
+        hi = np.full(p + n_in, np.inf)
+        if "min_grip" in self.rows:
+            lo[p + self.rows["min_grip"]:p + self.rows["min_grip"] + pb.m] = self.ld_config.min_grip
+        if "friction" in self.rows:
+            r = p + self.rows["friction"]
+            hi[r:r + pb.m * pb.n_facets] = 0.0
+        return (M, lo, hi, np.diag(pb.W_diag), np.zeros(n), np.zeros(n), np.zeros(p + n_in), np.zeros(n), np.zeros(n),
+                np.zeros((n, max(self.npairs, 1))), np.zeros((p, p)), np.zeros(p))
+
+
+def _compiled(loop) -> CompiledLoop:
+    c = getattr(loop, "_compiled_cache", None)
+    key = (tuple(loop._steps), loop.integrator.name)
+    if c is None or c[0] != key:
+        c = (key, CompiledLoop(loop))
+        loop._compiled_cache = c
+    return c[1]
+
+
+def _noise(loop, N: int, plant):
+    """The sensor noise of ``N`` ticks, drawn beforehand from fresh generators in the Python sensors' order."""
+    sensors = loop.sensors.restarted()
+    m, p, nz = plant.arm_count, plant.p, plant.nz
+    nq = nz - p
+    j, o, f = sensors.joints.config, sensors.object.config, sensors.forces.config
+    state_noisy = not (j.is_exact and o.is_exact)
+    noise_q = np.zeros((N if j.noise_std and state_noisy else 1, 2 * nq))
+    if j.noise_std and state_noisy:
+        raw = sensors.joints.rng.standard_normal((N, 2 * nq)) * j.noise_std  # per tick: arm by arm, q then dq
+        col = 0
+        for i in range(m):
+            sl = plant.q_slice(i)
+            ni = sl.stop - sl.start
+            noise_q[:, sl] = raw[:, col:col + ni]
+            noise_q[:, nq + sl.start:nq + sl.stop] = raw[:, col + ni:col + 2 * ni]
+            col += 2 * ni
+    noise_o = np.zeros((N if o.noise_std and state_noisy else 1, 2 * p))
+    if o.noise_std and state_noisy:
+        noise_o[:] = sensors.object.rng.standard_normal((N, 2 * p)) * o.noise_std
+    noise_f = np.zeros((N if f.noise_std else 1, m * p))
+    if f.noise_std:
+        noise_f[:] = sensors.forces.rng.standard_normal((N, m * p)) * f.noise_std
+    if noise_q.shape[0] == 1:
+        noise_q = np.broadcast_to(noise_q, (N, 2 * nq))
+    if noise_o.shape[0] == 1:
+        noise_o = np.broadcast_to(noise_o, (N, 2 * p))
+    if noise_f.shape[0] == 1:
+        noise_f = np.broadcast_to(noise_f, (N, m * p))
+    cfg = np.array([j.noise_std if state_noisy else 0.0, j.quantization if state_noisy else 0.0,
+                    o.noise_std if state_noisy else 0.0, o.quantization if state_noisy else 0.0, f.quantization])
+    # broadcast views have zero strides: numba takes them as non-contiguous arrays of the same type
+    return (np.ascontiguousarray(noise_q), np.ascontiguousarray(noise_o), np.ascontiguousarray(noise_f), cfg)
+
+
+def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopState):
+    """Apply the load distribution's failure policy to a failed compiled solve.
+
+    Returns ``(status, binding)`` of the held split; raises :class:`InfeasibleLoad` when there is
+    nothing to hold or ``max_consecutive_failures`` is reached."""
+    ld = loop._fresh_load_distribution()
+    pb = ld.problem
+    if cl.joint_counts and "torque_limits" in cl.rows:
+        pb._allocate(cl.joint_counts)
+    M, lo, hi, H, g, x, z = qa[:7]
+    pb.M[:] = M
+    pb.lo[:] = lo
+    pb.hi[:] = hi
+    pb.P = H
+    pb.g[:] = g
+    status = _QP_STATUS[code] if code >= 0 else "failed"
+    binding: tuple[str, ...] = ()
+    if code == -1:
+        raise InfeasibleLoad("failed", (), "degenerate grasp: contacts that span every object wrench are needed")
+    if code == -2:
+        raise InfeasibleLoad("failed", (), "two contact points coincide")
+    if code != 3 and np.all(np.isfinite(x)):
+        viol, scale = pb.max_violation(x)
+        tol = ld._tol_factor * (1.0 + scale)
+        if viol > tol:
+            v = pb.violations(x)
+            bad = sorted((val, k) for k, val in v.items() if val > tol)
+            if status in ("solved", "max_iter"):
+                status = "infeasible"
+            binding = tuple(k for _, k in reversed(bad))
+    state.ws[3][0] = 0  # cold start next time (CompiledSolver.reset)
+    cause = ld._infeasibility_cause()
+    if cause:
+        binding = cause
+    state.flags[1] += 1
+    if not state.flags[0]:
+        raise InfeasibleLoad(status, binding, "first solve failed, no previous split to hold")
+    if state.flags[1] >= cl.ld_config.max_consecutive_failures:
+        raise InfeasibleLoad(status, binding, f"{state.flags[1]} consecutive failed solves")
+    return status, binding
+
+
+def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_fail, traj):
+    """The exception the Python tick raises for the kernel's stop ``code`` at tick ``k``."""
+    from coopctrl.analysis.euler_singularity import closest_to_singularity
+    from coopctrl.closed_loop import _NearSingularity
+    from plants.cooperative import nominal_node_motion
+    from plants.frames import body_rate_map_inv
+
+    plant = loop.plant
+    t = k * loop.T
+    if code == K.NONFINITE:
+        return DivergenceError(t, "state (non-finite)", float("nan"))
+    if code == K.DEFORMATION:
+        return DivergenceError(t, f"deformation of contact {int(out_int[2])} [m]", float(out_float[0]))
+    if code == K.NEAR_SINGULARITY:
+        return _NearSingularity(closest_to_singularity(plant.node_poses(x_fail).reshape(-1, plant.p), t))
+    try:
+        if code == K.PLANT_ERROR:
+            if out_int[2] == -1:
+                th = float(x_fail[plant.nz - 6 + 4])
+                raise EulerSingularityError("object", th, float(np.cos(th)))
+            plant._check(np.array([out_int[2], out_int[3]], dtype=np.int64), x_fail)
+        elif code in (K.NOMINAL_SINGULAR, K.POSE_INCREMENT_SINGULAR):
+            Yn = nominal_node_motion(traj[0, k], traj[1, k], traj[2, k], loop.grasps, loop.space)[0]
+            i = int(out_int[2])
+            if code == K.POSE_INCREMENT_SINGULAR:
+                body_rate_map_inv(Yn[i + 1, 3:6], f"contact node {i + 1}")
+        elif code == K.SINGULAR_JACOBIAN:
+            i = int(out_int[2])
+            raise SingularJacobianError(f"Jacobian of arm {i} ('{plant.arms[i].name}')", float("inf"))
+    except PlantError as exc:
+        return exc
+    return PlantError(f"compiled tick stopped with code {code} at tick {k}")
+
+
+def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
+    """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``."""
+    plant = loop.plant
+    cl = _compiled(loop)
+    wall0 = _time.perf_counter()
+    m, p = plant.arm_count, plant.p
+    npos = 3 if cl.spatial else 2
+    x0 = np.array(x0, dtype=float)
+    loop._x_ref = x0.copy()
+    state = LoopState.start(x0, plant.input_size, m, p, cl.n, p + cl.n_in)
+    qa = cl.qp_arrays()
+    times = np.arange(N) * loop.T
+    traj = np.ascontiguousarray(np.stack(loop.trajectory.sample(times)) if N else np.zeros((3, 0, p)))
+    noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
+    qs = np.zeros(N, dtype=np.int64)
+    qb = np.zeros(N, dtype=np.int64)
+    x_good = x0.copy()
+    x_fail = x0.copy()
+    out_int = np.zeros(8, dtype=np.int64)
+    out_int[6] = -1
+    out_float = np.zeros(2)
+    held: dict[int, tuple[str, tuple[str, ...]]] = {}
+    events: list[tuple[float, str, str]] = []
+    from coopctrl.analysis.euler_singularity import margin_cos
+
+    band = margin_cos()
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=N - 1, unit="tick", desc=loop.name, leave=False, mininterval=0.2)
+    status, reason = "ok", ""
+    k = 0
+    exc = None
+    try:
+        while True:
+            k_stop = min(k + _PROGRESS_CHUNK, N) if bar is not None else -1
+            K.run_ticks(cl.spatial, k, k_stop, N, loop.T, cl.steps, cl.method, cl.P, cl.grasps, traj, cl.obj, cl.rho,
+                        loop.max_deformation, band, cl.ctrl, cl.posture, cl.C, cl.qp, qa, state.ws,
+                        noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau, state.integrals, state.last_split,
+                        state.flags, state.hold, rec["t"], rec["x"], rec["tau"], rec["Y0_nominal"], rec["F_measured"],
+                        rec["F_commanded"], rec["F_external"], rec["F_internal"], rec["r_contacts"], qs, qb,
+                        rec["qp_iterations"], x_good, x_fail, out_int, out_float)
+            code = int(out_int[0])
+            k = int(out_int[1])
+            state.tick = k
+            if code == K.CHUNK_END:
+                bar.update(k - bar.n)
+                continue
+            if code == K.QP_FAILED:
+                try:
+                    qstatus, binding = _qp_failure(loop, cl, qa, int(out_int[2]), int(out_int[3]), state)
+                except InfeasibleLoad as e:
+                    exc = e
+                    break
+                held[k] = (qstatus, binding)
+                events.append((k * loop.T, "qp_held", f"QP status '{qstatus}' (binding: {', '.join(binding) or '-'}); "
+                                                      "holding the last feasible split"))
+                state.hold[:] = (1, _QP_STATUS.index(qstatus) if qstatus in _QP_STATUS else 3, int(out_int[3]))
+                continue
+            if code != K.DONE:
+                exc = _exception(loop, cl, code, k, out_int, out_float, x_fail, traj)
+            break
+    finally:
+        if bar is not None:
+            bar.close()
+    k_done = int(out_int[5])
+    if exc is not None:
+        good = int(out_int[6])
+        t_good = good * loop.T if good >= 0 else 0.0
+        status, reason = loop._stop_reason(exc, k, k_done, rec, state.x, x_good, t_good, x0, events)
+    wall = _time.perf_counter() - wall0
+    for key, val in rec.items():
+        if isinstance(val, np.ndarray):
+            rec[key] = val[:k_done]
+    families = [name for name in ("min_grip", "friction", "torque_limits") if name in cl.rows]
+    bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
+    statuses, bindings, counts = [], [], {}
+    for i in range(k_done):
+        if i in held:
+            st, fam = held[i]
+        else:
+            st = _QP_STATUS[qs[i]]
+            fam = tuple(name for name in families if qb[i] & bits[name])
+        statuses.append(st)
+        bindings.append("+".join(fam))
+        for name in fam:
+            counts[name] = counts.get(name, 0) + 1
+    saturated = int(state.flags[2])
+    if saturated:
+        events.append((0.0, "torque_saturation", f"commanded torques clipped at their limits on {saturated} ticks"))
+    rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=math.nan,
+               qp_binding_counts=counts, saturated_ticks=saturated, qp_status=statuses, qp_binding=bindings)
+    return rec

@@ -1,0 +1,684 @@
+"""The compiled closed loop: one numba function advances the loop tick after tick.
+
+:func:`run_ticks` runs ticks ``k0 .. N-1`` of the loop of :mod:`coopctrl.closed_loop` on the
+arrays of a :class:`~coopctrl.loop.state.LoopState` and writes the record rows in place. One tick:
+
+1. **sensors**: the plant's control terms at the true state (contact wrenches ``F_meas``, the
+   guards) and, when a channel is noisy, at the measured state ``x + noise`` (quantised); the
+   noise is drawn beforehand from the scenario's seeded generators, in the order the Python
+   sensors draw it, and passed in (``noise_q``, ``noise_o``, ``noise_f``);
+2. **guards**: a non-finite state, a node within the Euler-angle band (spatial), a contact
+   deformation beyond ``max_deformation``;
+3. **nominal motion and load**: the trajectory sample (``traj``), the nodes carried rigidly by the
+   object (148) and the external load ``w_N``;
+4. **QP**: the rows of :mod:`coopctrl.load_distribution.assembly` and the compiled
+   Goldfarb-Idnani solve, warm started; the answer check of
+   :class:`~coopctrl.load_distribution.LoadDistribution`;
+5. **controllers**: the leader's computed torque on its nominal deformed node, the followers'
+   force PI (integral clipped at ``integral_limit``), the null-space posture torque of a
+   redundant arm;
+6. **saturation** at ``tau_max``;
+7. **plant**: zero-order hold over the period, one integrator step per entry of ``steps``
+   (``METHOD_EULER``, ``METHOD_SYMPLECTIC_EULER``, ``METHOD_RK4``), each the exact arithmetic
+   of the Python integrator.
+
+It returns when the run ends or an event stops it, with ``out_int = (code, tick, ...)``: the
+caller (:mod:`coopctrl.loop.compiled`) raises the same exception the Python tick raises and runs
+the diagnosis in Python; a failed QP solve (:data:`QP_FAILED`) returns *before* the controllers
+of its tick, so the caller can apply the failure policy and resume at the same tick with
+``hold = 1`` (the last feasible split).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from coopctrl.controllers._kernels import lu_solve, node_torque, node_torque_redundant, pose_increment_planar
+from coopctrl.controllers._kernels import pose_increment_spatial
+from coopctrl.load_distribution.assembly import (
+    fill_friction_rows,
+    fill_grasp_rows,
+    fill_grip_rows,
+    fill_squeeze_basis,
+    fill_torque_rows,
+    pseudo_inverse_external,
+)
+from coopctrl.load_distribution.goldfarb_idnani import gi_solve
+from plants.cooperative import _planar_kernel as _pk
+from plants.cooperative import _spatial_kernel as _sk
+from plants.cooperative.loaded_state import _planar_motion, _spatial_motion
+from plants.elastic._spatial_kernels import node_terms as _spatial_node_terms
+from plants.frames import body_rate_map, body_rate_map_dot, rotation_zyx
+
+#: Codes of ``out_int[0]``.
+DONE = 0            #: every tick ran
+NONFINITE = 1       #: the state is not finite (``DivergenceError`` "state (non-finite)")
+NEAR_SINGULARITY = 2  #: a node entered the Euler-angle band
+DEFORMATION = 3     #: a contact deformed beyond ``max_deformation`` (``out_int[2]`` = contact)
+PLANT_ERROR = 4     #: the plant kernel failed (``out_int[2:4]`` = its status); ``x_fail`` holds the state
+QP_FAILED = 5       #: the QP answer failed its check (``out_int[2]`` = status, ``[3]`` iterations, ``[4]`` violated families)
+NOMINAL_SINGULAR = 6  #: a nominal node pose is at the Euler singularity (``out_int[2]`` = node)
+SINGULAR_JACOBIAN = 7  #: a controller met a singular Jacobian (``out_int[2]`` = arm)
+POSE_INCREMENT_SINGULAR = 8  #: a node's body-rate map is singular in the compliance map (``out_int[2]`` = arm)
+CHUNK_END = 9       #: stopped at ``k_stop`` (progress reporting); resume at ``out_int[1]``
+
+METHOD_EULER = 0
+METHOD_SYMPLECTIC_EULER = 1
+METHOD_RK4 = 2
+
+#: Bits of the QP family masks (the record's ``qp_binding``), in the row order of the problem.
+FAMILY_MIN_GRIP = 1
+FAMILY_FRICTION = 2
+FAMILY_TORQUE = 4
+
+
+@njit(cache=True)
+def _rhs(spatial, x, tau, P, status):
+    """The plant's right-hand side (the fused kernel of ``plants.cooperative``)."""
+    (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
+     edge_index, edge_params, Y_ref, immobile) = P
+    if spatial:
+        return _sk.rhs_kernel(x, tau, arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, gravity,
+                              node_params, edge_index, edge_params, Y_ref, immobile, status)
+    return _pk.rhs_kernel(x, tau, arm_kind, arm_dof, q_off, tables, tab_off, bases2, tools2, gravity,
+                          node_params, edge_index, edge_params, Y_ref, immobile, status)
+
+
+@njit(cache=True)
+def _terms(spatial, x, P, status, W, w_free):
+    """``(Y, dY, H, h, J, Jdq, S, Fw, ok)`` at ``x``, with ``W`` (N, p, p) and ``w_free`` (N, p) filled
+    (the kernel form of ``CooperativePlant.control_terms``); ``ok`` False at an object singularity."""
+    (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
+     edge_index, edge_params, Y_ref, immobile) = P
+    m = arm_kind.shape[0]
+    N = m + 1
+    if spatial:
+        Y, dY, H, h, J, Jdq = _sk.node_state_kernel(x, arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3,
+                                                     gravity, status)
+        if status[0] != 0:
+            return Y, dY, H, h, J, Jdq, np.zeros((N, 6)), np.zeros((m, 6)), True
+        Wr = np.empty((N, 3, 3))
+        _spatial_node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w_free)
+        for k in range(N):
+            for a in range(6):
+                for b in range(6):
+                    W[k, a, b] = 0.0
+            for a in range(3):
+                W[k, a, a] = node_params[k, 0]
+                for b in range(3):
+                    W[k, 3 + a, 3 + b] = Wr[k, a, b]
+        S, Fw, ok = _sk.interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile)
+    else:
+        Y, dY, H, h, J, Jdq = _pk.node_state_kernel(x, arm_kind, arm_dof, q_off, tables, tab_off, bases2, tools2,
+                                                     gravity, status)
+        for k in range(N):
+            for a in range(3):
+                for b in range(3):
+                    W[k, a, b] = 0.0
+            W[k, 0, 0] = node_params[k, 0]
+            W[k, 1, 1] = node_params[k, 0]
+            W[k, 2, 2] = node_params[k, 1]
+            w_free[k, 0] = -node_params[k, 0] * gravity[0]
+            w_free[k, 1] = -node_params[k, 0] * gravity[1]
+            w_free[k, 2] = 0.0
+        S, Fw, ok = _pk.interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile)
+    return Y, dY, H, h, J, Jdq, S, Fw, ok
+
+
+@njit(cache=True)
+def required_wrench(spatial, mass, inertia, gravity, Y0, dY0, ddY0, out):
+    """``w_N`` of :func:`coopctrl.controllers.required_object_wrench`, written into ``out``."""
+    if not spatial:
+        out[0] = mass * (ddY0[0] - gravity[0])
+        out[1] = mass * (ddY0[1] - gravity[1])
+        out[2] = inertia[0] * ddY0[2]
+        return
+    A = Y0[3:].copy()
+    dA = dY0[3:].copy()
+    ddA = ddY0[3:].copy()
+    L = body_rate_map(A)
+    w = L @ dA
+    dw = L @ ddA + body_rate_map_dot(A, dA) @ dA
+    Iw = inertia * w
+    tb = inertia * dw + np.array([w[1] * Iw[2] - w[2] * Iw[1], w[2] * Iw[0] - w[0] * Iw[2], w[0] * Iw[1] - w[1] * Iw[0]])
+    R = rotation_zyx(A)
+    tw = R @ tb
+    for a in range(3):
+        out[a] = mass * (ddY0[a] - gravity[a])
+        out[3 + a] = tw[a]
+
+
+@njit(cache=True)
+def _pose_error(target, Y, npos, out):
+    for a in range(target.shape[0]):
+        e = target[a] - Y[a]
+        if a >= npos:
+            e = (e + np.pi) % (2.0 * np.pi) - np.pi
+        out[a] = e
+
+
+@njit(cache=True)
+def _pose_increment(spatial, C, F, Y0, Yi):
+    if spatial:
+        return pose_increment_spatial(C, F, Y0[3:6].copy(), Yi[3:6].copy())
+    return pose_increment_planar(C, F, Y0[2]), True
+
+
+@njit(cache=True)
+def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rho, max_deformation, band,
+              ctrl, posture, C_comp, qp, qp_arrays, ws, noise_q, noise_o, noise_f, noise_cfg,
+              x, tau, integ, last, flags, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
+              rec_r, rec_qs, rec_qb, rec_qit, x_good, x_fail, out_int, out_float):
+    """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
+
+    State arrays (updated in place; together with ``ws`` they are the loop state): ``x`` (nx) the
+    plant state at tick ``k0``; ``tau`` (nu) the held torques [N m]; ``integ`` (m, p) the followers'
+    force-error integrals [N s]; ``last`` (3, m, p) the last feasible split ``(F, external,
+    internal)`` [N, N m]; ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves)``.
+    ``hold`` (``hold_status[0] = 1``): tick ``k0`` uses the last feasible split (the caller applied
+    the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``.
+
+    Returns nothing; ``out_int = (code, tick, detail...)`` and ``out_float = (value, ...)``.
+    """
+    (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
+     edge_index, edge_params, Y_ref, immobile) = P
+    m = arm_kind.shape[0]
+    Nn = m + 1
+    p = 6 if spatial else 3
+    npos = 3 if spatial else 2
+    nx = x.shape[0]
+    nz = nx // 2
+    nu = tau.shape[0]
+    post_gain, q_rest = posture
+    leader = int(ctrl[0])
+    Kp_l, Kd_l = ctrl[1], ctrl[2]
+    kp_f, ki_f, Kp_f, Kd_f = ctrl[3], ctrl[4], ctrl[5], ctrl[6]
+    force_loop = ctrl[7] != 0.0
+    integral_limit = ctrl[8]
+    obj_mass = obj[0]
+    obj_inertia = obj[1:4].copy() if spatial else obj[1:2].copy()
+    (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
+    eps_abs, mu_c, max_iter_f, min_grip = qp_num[0], qp_num[1], qp_num[2], qp_num[3]
+    max_iter = int(max_iter_f)
+    has_squeeze = qp_int[0] != 0
+    row_grip, row_fric, row_tau, n_fric = qp_int[1], qp_int[2], qp_int[3], qp_int[4]
+    max_fail = qp_int[5]
+    torque_limits = row_tau >= 0
+    need_normals = row_grip >= 0 or row_fric >= 0
+    (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
+    n_in = Mq.shape[0] - p
+    noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
+    q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
+    status = np.zeros(2, np.int64)
+    W = np.zeros((Nn, p, p))
+    w_free = np.zeros((Nn, p))
+    Wm = np.zeros((Nn, p, p))
+    wm_free = np.zeros((Nn, p))
+    xm = np.empty(nx)
+    Fm = np.empty((m, p))
+    F_set = np.empty((m, p))
+    wN = np.empty(p)
+    nrm = np.empty((m, npos))
+    nmax = p
+    for i in range(m):
+        if arm_dof[i] > nmax:
+            nmax = arm_dof[i]
+    Jg = np.zeros((m, p, nmax))
+    bias = np.zeros(nu)
+    a_cmd = np.empty(p)
+    err = np.empty(p)
+    d = np.empty(npos)
+    k = k0
+    out_int[0] = DONE
+    while k < N:
+        if k == k_stop:
+            out_int[0] = CHUNK_END
+            out_int[1] = k
+            return
+        t = k * T
+        out_int[1] = k
+        # ---- sensors (true terms: forces, guards)
+        Y, dY, H, h, J, Jdq, S, Fw, ok = _terms(spatial, x, P, status, W, w_free)
+        if status[0] != 0:
+            out_int[0] = PLANT_ERROR
+            out_int[2] = status[0]
+            out_int[3] = status[1]
+            x_fail[:] = x
+            return
+        if not ok:  # the object's body-rate map is singular (control_terms raises)
+            out_int[0] = PLANT_ERROR
+            out_int[2] = -1
+            out_int[3] = 0
+            x_fail[:] = x
+            return
+        if noisy_state:
+            for c in range(nz - p):
+                xm[c] = x[c] + noise_q[k, c]
+                xm[nz + c] = x[nz + c] + noise_q[k, nz - p + c]
+                if q_joint != 0.0:
+                    xm[c] = np.rint(xm[c] / q_joint) * q_joint
+                    xm[nz + c] = np.rint(xm[nz + c] / q_joint) * q_joint
+            for c in range(p):
+                xm[nz - p + c] = x[nz - p + c] + noise_o[k, c]
+                xm[nx - p + c] = x[nx - p + c] + noise_o[k, p + c]
+                if q_obj != 0.0:
+                    xm[nz - p + c] = np.rint(xm[nz - p + c] / q_obj) * q_obj
+                    xm[nx - p + c] = np.rint(xm[nx - p + c] / q_obj) * q_obj
+            Ym, dYm, Hm, hm, Jm, Jdqm, Sm, Fwm, okm = _terms(spatial, xm, P, status, Wm, wm_free)
+            if status[0] != 0 or not okm:
+                out_int[0] = PLANT_ERROR
+                out_int[2] = status[0] if status[0] != 0 else -1
+                out_int[3] = status[1]
+                x_fail[:] = xm
+                return
+            zx = xm
+        else:
+            Ym, dYm, Hm, hm, Jm, Jdqm, Sm = Y, dY, H, h, J, Jdq, S
+            Wm[:] = W
+            wm_free[:] = w_free
+            zx = x
+        for i in range(m):
+            for a in range(p):
+                v = Fw[i, a] + noise_f[k, i * p + a]
+                if q_force != 0.0:
+                    v = np.rint(v / q_force) * q_force
+                Fm[i, a] = v
+        # ---- guards on the state we are at
+        finite = True
+        for c in range(nx):
+            if not math.isfinite(x[c]):
+                finite = False
+                break
+        if not finite:
+            out_int[0] = NONFINITE
+            return
+        if spatial:
+            cmin = 2.0
+            for j in range(Nn):
+                c = abs(math.cos(Y[j, 4]))
+                if c < cmin:
+                    cmin = c
+            if cmin < band:
+                out_int[0] = NEAR_SINGULARITY
+                x_fail[:] = x
+                return
+        worst = 0.0
+        which = 0
+        if spatial:
+            R0 = rotation_zyx(Y[0, 3:6].copy())
+        for i in range(m):
+            if spatial:
+                for a in range(3):
+                    s = 0.0
+                    for b in range(3):
+                        s += R0[b, a] * (Y[i + 1, b] - Y[0, b])
+                    d[a] = s - rho[i, a]
+            else:
+                c0, s0 = math.cos(Y[0, 2]), math.sin(Y[0, 2])
+                e0, e1 = Y[i + 1, 0] - Y[0, 0], Y[i + 1, 1] - Y[0, 1]
+                d[0] = c0 * e0 + s0 * e1 - rho[i, 0]
+                d[1] = -s0 * e0 + c0 * e1 - rho[i, 1]
+            s = 0.0
+            for a in range(npos):
+                s += d[a] * d[a]
+            v = math.sqrt(s)
+            if not v <= worst:
+                worst = v
+                which = i
+        if worst > max_deformation:
+            out_int[0] = DEFORMATION
+            out_int[2] = which
+            out_float[0] = worst
+            return
+        x_good[:] = x
+        out_int[6] = k  # the last tick whose state passed the guards
+        # ---- nominal motion and load
+        Y0N = traj[0, k]
+        dY0N = traj[1, k]
+        ddY0N = traj[2, k]
+        if spatial:
+            Yn, dYn, ddYn, bad = _spatial_motion(Y0N, dY0N, ddY0N, grasps)
+            if bad >= 0:
+                out_int[0] = NOMINAL_SINGULAR
+                out_int[2] = bad
+                return
+        else:
+            Yn, dYn, ddYn = _planar_motion(Y0N, dY0N, ddY0N, grasps)
+        required_wrench(spatial, obj_mass, obj_inertia, gravity, Y0N, dY0N, ddY0N, wN)
+        # ---- the QP
+        hold = hold_status[0] != 0
+        if hold:
+            hold_status[0] = 0
+            for i in range(m):
+                for a in range(p):
+                    F_set[i, a] = last[0, i, a]
+            qs = hold_status[1]
+            qit = hold_status[2]
+            qb = 0
+        else:
+            for a in range(p):
+                lo[a] = wN[a]
+                hi[a] = wN[a]
+            rc = np.empty((m, npos))
+            r0 = np.empty(npos)
+            for i in range(m):
+                for a in range(npos):
+                    rc[i, a] = Ym[i + 1, a]
+            for a in range(npos):
+                r0[a] = Ym[0, a]
+            fill_grasp_rows(Mq, rc, r0, spatial)
+            if not pseudo_inverse_external(Mq, p, W_inv_diag, wN, external, Ak, yk):
+                out_int[0] = QP_FAILED
+                out_int[2] = -1  # degenerate grasp (ScenarioError in the Python problem)
+                return
+            n = W_diag.shape[0]
+            if has_squeeze:
+                if not fill_squeeze_basis(Ework, rc, p):
+                    out_int[0] = QP_FAILED
+                    out_int[2] = -2
+                    return
+                for c in range(n):
+                    s = 0.0
+                    for e in range(s_des.shape[0]):
+                        s += Ework[c, e] * s_des[e]
+                    Fpref[c] = external[c] + s
+            else:
+                for c in range(n):
+                    Fpref[c] = external[c]
+            for c in range(n):
+                gq[c] = -W_diag[c] * Fpref[c]
+            if need_normals:
+                for i in range(m):
+                    if spatial:
+                        Ri = rotation_zyx(Ym[i + 1, 3:6].copy())
+                        for a in range(3):
+                            nrm[i, a] = Ri[a, 0]
+                    else:
+                        nrm[i, 0] = math.cos(Ym[i + 1, 2])
+                        nrm[i, 1] = math.sin(Ym[i + 1, 2])
+                    s = 0.0
+                    for a in range(npos):
+                        s += nrm[i, a] * nrm[i, a]
+                    length = math.sqrt(s)
+                    for a in range(npos):
+                        nrm[i, a] = nrm[i, a] / length
+                if row_grip >= 0:
+                    fill_grip_rows(Mq, p + row_grip, nrm, p)
+                if row_fric >= 0:
+                    fill_friction_rows(Mq, p + row_fric, nrm, p, n_fric, mu_c, cos_phi, sin_phi, spatial)
+            if torque_limits:
+                j0 = 0
+                for i in range(m):
+                    ni = arm_dof[i]
+                    kk = i + 1
+                    # W_k ddYn_k + w_free_k
+                    Wa = np.empty(p)
+                    for a in range(p):
+                        s = wm_free[kk, a]
+                        for b in range(p):
+                            s += Wm[kk, a, b] * ddYn[kk, b]
+                        Wa[a] = s
+                    if arm_kind[i] != 0:  # contact point: tau = F + W a + w
+                        for a in range(p):
+                            for b in range(p):
+                                Jg[i, a, b] = 1.0 if a == b else 0.0
+                            bias[j0 + a] = Wa[a]
+                        j0 += ni
+                        continue
+                    Ji = Jm[i, :, :ni].copy()
+                    rhs = np.empty(p)
+                    for a in range(p):
+                        rhs[a] = ddYn[kk, a] - Jdqm[i, a]
+                    if ni == p:
+                        qdd, okq = lu_solve(Ji, rhs)
+                    else:
+                        Nmat = Hm[i, :ni, :ni] + Ji.T @ (Wm[kk] @ Ji)
+                        X = np.empty((ni, p))
+                        okq = True
+                        col = np.empty(ni)
+                        for c in range(p):
+                            for r in range(ni):
+                                col[r] = Ji[c, r]
+                            xc, okc = lu_solve(Nmat, col)
+                            okq = okq and okc
+                            for r in range(ni):
+                                X[r, c] = xc[r]
+                        yy, oky = lu_solve(Ji @ X, rhs)
+                        okq = okq and oky
+                        qdd = X @ yy
+                    if not okq:
+                        qdd = np.zeros(ni)
+                    for r in range(ni):
+                        s = hm[i, r]
+                        for c in range(ni):
+                            s += Hm[i, r, c] * qdd[c]
+                        for a in range(p):
+                            s += Ji[a, r] * Wa[a]
+                        bias[j0 + r] = s
+                    if spatial:
+                        A = Ym[kk, 3:6].copy()
+                        RL = rotation_zyx(A) @ body_rate_map(A)
+                        for r in range(ni):
+                            for a in range(3):
+                                Jg[i, a, r] = Ji[a, r]
+                                s = 0.0
+                                for b in range(3):
+                                    s += RL[a, b] * Ji[3 + b, r]
+                                Jg[i, 3 + a, r] = s
+                    else:
+                        for r in range(ni):
+                            for a in range(p):
+                                Jg[i, a, r] = Ji[a, r]
+                    j0 += ni
+                fill_torque_rows(Mq, lo, hi, p + row_tau, Jg, arm_dof, p, tau_qp, bias)
+            first = flags[3] == 0
+            code, qit = gi_solve(Hq, gq, Mq, lo, hi, p, xq, zq, ws, first, eps_abs, max_iter)
+            flags[3] += 1
+            qs = code
+            okqp = code == 0
+            for c in range(n):
+                if not math.isfinite(xq[c]):
+                    okqp = False
+            viol_mask = 0
+            if code != 3 and okqp:
+                viol = -np.inf
+                scale = 0.0
+                for r in range(Mq.shape[0]):
+                    s = 0.0
+                    for c in range(n):
+                        s += Mq[r, c] * xq[c]
+                    v = max(lo[r] - s, s - hi[r])
+                    if v > viol:
+                        viol = v
+                    if abs(s) > scale:
+                        scale = abs(s)
+                if viol > 100.0 * eps_abs * (1.0 + scale):
+                    okqp = False
+            if not okqp:
+                out_int[0] = QP_FAILED
+                out_int[2] = code
+                out_int[3] = qit
+                return
+            flags[1] = 0
+            qb = 0
+            if n_in > 0:
+                gmax = 0.0
+                for c in range(n):
+                    if abs(gq[c]) > gmax:
+                        gmax = abs(gq[c])
+                thr = 1e-7 * (1.0 + gmax)
+                for r in range(n_in):
+                    if abs(zq[p + r]) > thr:
+                        if row_grip >= 0 and row_grip <= r < row_grip + m:
+                            qb |= FAMILY_MIN_GRIP
+                        elif row_fric >= 0 and row_fric <= r < row_fric + m * n_fric:
+                            qb |= FAMILY_FRICTION
+                        elif row_tau >= 0 and r >= row_tau:
+                            qb |= FAMILY_TORQUE
+            for i in range(m):
+                for a in range(p):
+                    F_set[i, a] = xq[i * p + a]
+                    last[0, i, a] = xq[i * p + a]
+                    last[1, i, a] = external[i * p + a]
+                    last[2, i, a] = xq[i * p + a] - external[i * p + a]
+            flags[0] = 1
+        # ---- controllers: the leader on its nominal deformed node
+        kl = leader + 1
+        inc, okp = _pose_increment(spatial, C_comp[leader], F_set[leader].copy(), Y0N, Yn[kl])
+        if not okp:
+            out_int[0] = POSE_INCREMENT_SINGULAR
+            out_int[2] = leader
+            return
+        for i in range(m):
+            ki = i + 1
+            ni = arm_dof[i]
+            o = q_off[i]
+            if i == leader:
+                for a in range(p):
+                    err[a] = 0.0
+                Yv = Yn[kl] + inc
+                _pose_error(Yv, Ym[kl], npos, err)
+                for a in range(p):
+                    a_cmd[a] = ddYn[kl, a] + Kd_l * (dYn[kl, a] - dYm[kl, a]) + Kp_l * err[a]
+            else:
+                corr = F_set[i].copy()
+                if force_loop:
+                    for a in range(p):
+                        e = F_set[i, a] - Fm[i, a]
+                        v = integ[i, a] + e * T
+                        if v < -integral_limit:
+                            v = -integral_limit
+                        elif v > integral_limit:
+                            v = integral_limit
+                        integ[i, a] = v
+                        corr[a] = F_set[i, a] + kp_f * e + ki_f * v
+                incf, okp = _pose_increment(spatial, C_comp[i], corr, Y0N, Yn[ki])
+                if not okp:
+                    out_int[0] = POSE_INCREMENT_SINGULAR
+                    out_int[2] = i
+                    return
+                Ycmd = Yn[ki] + incf
+                _pose_error(Ycmd, Ym[ki], npos, err)
+                for a in range(p):
+                    a_cmd[a] = ddYn[ki, a] + Kd_f * (dYn[ki, a] - dYm[ki, a]) + Kp_f * err[a]
+            contact = arm_kind[i] != 0
+            if not contact and ni > p:
+                # null-space posture task toward q_rest (PostureTask)
+                tr = 0.0
+                for c in range(ni):
+                    tr += Hm[i, c, c]
+                m_bar = tr / ni
+                tp = np.empty(ni)
+                for c in range(ni):
+                    tp[c] = m_bar * (post_gain[0] * (q_rest[i, c] - zx[o + c]) - post_gain[1] * zx[nz + o + c])
+                ti, okt = node_torque_redundant(Wm[ki].copy(), wm_free[ki].copy(), Sm[ki].copy(), Hm[i, :ni, :ni].copy(),
+                                                hm[i, :ni].copy(), Jm[i, :, :ni].copy(), Jdqm[i].copy(), a_cmd.copy(), tp)
+            else:
+                ti, okt = node_torque(Wm[ki], wm_free[ki], Sm[ki], Hm[i, :ni, :ni], hm[i, :ni], Jm[i, :, :ni],
+                                      Jdqm[i], a_cmd.copy(), contact)
+            if not okt:
+                out_int[0] = SINGULAR_JACOBIAN
+                out_int[2] = i
+                return
+            for c in range(ni):
+                tau[o + c] = ti[c]
+        # ---- actuator saturation
+        sat = False
+        for c in range(nu):
+            if abs(tau[c]) > tau_max[c]:
+                sat = True
+        if sat:
+            flags[2] += 1
+            for c in range(nu):
+                if tau[c] < -tau_max[c]:
+                    tau[c] = -tau_max[c]
+                elif tau[c] > tau_max[c]:
+                    tau[c] = tau_max[c]
+        # ---- record
+        rec_t[k] = t
+        rec_x[k] = x
+        rec_tau[k] = tau
+        rec_Y0N[k] = Y0N
+        for i in range(m):
+            for a in range(p):
+                rec_Fm[k, i, a] = Fm[i, a]
+                rec_Fc[k, i, a] = F_set[i, a]
+                rec_Fe[k, i, a] = last[1, i, a]
+                rec_Fi[k, i, a] = last[2, i, a]
+            for a in range(npos):
+                rec_r[k, i, a] = Y[i + 1, a]
+        rec_qs[k] = qs
+        rec_qb[k] = qb
+        rec_qit[k] = qit
+        out_int[5] = k + 1  # ticks recorded
+        if k == N - 1:
+            break
+        # ---- plant, zero-order hold over the period
+        ts = t
+        for si in range(steps.shape[0]):
+            hs = steps[si]
+            if method == METHOD_RK4:
+                h2 = 0.5 * hs
+                t2 = ts + h2
+                k1 = _rhs(spatial, x, tau, P, status)
+                if status[0] != 0:
+                    x_fail[:] = x
+                    break
+                y = k1 * h2
+                y += x
+                k2 = _rhs(spatial, y, tau, P, status)
+                if status[0] != 0:
+                    x_fail[:] = y
+                    break
+                y = k2 * h2
+                y += x
+                k3 = _rhs(spatial, y, tau, P, status)
+                if status[0] != 0:
+                    x_fail[:] = y
+                    break
+                y = k3 * hs
+                y += x
+                k4 = _rhs(spatial, y, tau, P, status)
+                if status[0] != 0:
+                    x_fail[:] = y
+                    break
+                k2 += k3
+                k2 *= 2.0
+                k2 += k1
+                k2 += k4
+                k2 *= hs / 6.0
+                k2 += x
+                xn = k2
+            elif method == METHOD_SYMPLECTIC_EULER:
+                f = _rhs(spatial, x, tau, P, status)
+                if status[0] != 0:
+                    x_fail[:] = x
+                    break
+                xn = np.empty(nx)
+                for c in range(nz):
+                    xn[nz + c] = f[nz + c] * hs + x[nz + c]
+                for c in range(nz):
+                    xn[c] = xn[nz + c] * hs + x[c]
+            else:
+                f = _rhs(spatial, x, tau, P, status)
+                if status[0] != 0:
+                    x_fail[:] = x
+                    break
+                f *= hs
+                f += x
+                xn = f
+            x[:] = xn
+            ts += hs
+        if status[0] != 0:
+            # the Python loop keeps the state of the tick (the exception leaves ``advance``)
+            x[:] = rec_x[k]
+            out_int[0] = PLANT_ERROR
+            out_int[2] = status[0]
+            out_int[3] = status[1]
+            return
+        k += 1
+    out_int[1] = k
+    out_int[0] = DONE
