@@ -68,10 +68,11 @@ class LoadDistributionConfig:
             about each contact normal, or ``None`` (off).
         friction_facets: Number of facets of the pyramid (>= 3; planar scenes always use 2).
         torque_limits: Enforce ``-tau_max <= J_i^T F_i + bias_i <= tau_max`` [N m].
-        solver: ``"proxsuite"`` (one persistent dense QP, warm started), ``"compiled"`` (the
-            numba dual active-set solver of :mod:`~coopctrl.load_distribution.goldfarb_idnani`,
-            warm started from the last active set) or a qpsolvers backend name such as
-            ``"daqp"`` or ``"quadprog"``.
+        solver: ``"compiled"`` (the default: the numba dual active-set solver of
+            :mod:`~coopctrl.load_distribution.goldfarb_idnani`, warm started from the last active
+            set, inside the compiled tick of :mod:`coopctrl.loop`), ``"proxsuite"`` (one persistent
+            dense QP, warm started) or a qpsolvers backend name such as ``"daqp"`` or
+            ``"quadprog"``: the reference path (the Python tick with that solver).
         eps_abs: Absolute solver tolerance (proxsuite) [N, N m].
         max_iter: Iteration limit of the proxsuite solver.
         max_consecutive_failures: Consecutive failed solves (answered with the held previous split)
@@ -87,7 +88,7 @@ class LoadDistributionConfig:
     friction_coefficient: float | None = None
     friction_facets: int = 4
     torque_limits: bool = False
-    solver: str = "proxsuite"
+    solver: str = "compiled"
     eps_abs: float = 1e-9
     max_iter: int = 1000
     max_consecutive_failures: int = 5
