@@ -9,6 +9,7 @@ from coopctrl.errors import InfeasibleLoad
 from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
 from coopctrl.integrators import get_integrator
 from coopctrl.load_distribution import LoadDistribution
+from coopctrl.loop.squeeze import squeeze_series
 from coopctrl.results import SimulationResult
 from coopctrl.scenario import build
 from coopctrl.sensors import SensorConfig, SensorSuite
@@ -58,8 +59,7 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]
-    squeeze = np.array([loop.squeeze_of(F, r, y[:loop.npos]) for F, r, y in
-                        zip(rec["F_measured"], rec["r_contacts"], Y0)]) if len(x) else np.zeros((0, len(loop.squeeze_desired)))
+    squeeze = squeeze_series(rec["F_measured"], rec["r_contacts"], Y0[:, :loop.npos], plant.space)
     report = plant.size_report()
     model = {"arms": report["arms"], "dof_per_arm": report["dof_per_arm"], "space": plant.space,
              "unloaded_state": plant.unloaded_state, "state_size": plant.state_size,
