@@ -1,9 +1,13 @@
-"""Closed-loop real-time factor (plant + QP + leader + followers) per scene, with the QP's share.
+"""Closed-loop real-time factor per shipped scene: the compiled tick beside the reference path.
 
-Run: python benchmarks/bench_closed_loop.py [--repeats N] [--quick]
+Run: python benchmarks/bench_closed_loop.py [--repeats N] [--quick] [--scenes a,b]
 
-Each scene runs its full duration at its own control rate (1 kHz, RK4, one substep for the
-spatial carry) ``repeats`` times after a warm-up run; the medians are reported side by side.
+For every shipped scene, the loop the user runs (``closed_loop(scenario).run(x0, duration)``: its
+full duration at its own control rate; the spatial carry at 1 kHz, RK4, one substep) is timed
+``repeats`` times after a warm-up run, once with the compiled tick (``load_distribution.solver =
+"compiled"``, the default) and once with the reference path (the Python tick with proxsuite); the
+medians are printed side by side with their ratio. Post-processing (``simulate()``'s squeeze) is
+not included.
 """
 
 from __future__ import annotations
@@ -15,44 +19,49 @@ import time
 from pathlib import Path
 
 import coopctrl
-from coopctrl.simulator import simulate
+from coopctrl.scenario import build
+from coopctrl.simulator import closed_loop
 
 REPO = Path(__file__).resolve().parent.parent
-SCENES = ["spatial_two_puma_carry", "spatial_three_arm_carry", "contact_points_only", "planar_two_arm_lift"]
+SCENES = sorted(p.stem for p in (REPO / "scenarios").glob("*.toml"))
+
+
+def _time_loop(name: str, solver: str, repeats: int) -> tuple[float, float, int, str]:
+    """``(median wall [s], duration [s], ticks, status)`` of the scene's run with ``solver``."""
+    scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml", {"load_distribution.solver": solver})
+    loop = closed_loop(scenario)
+    x0 = build.initial_state(scenario)
+    duration = scenario.simulation.duration
+    rec = loop.run(x0, duration)  # warm-up: numba cache, proxsuite set-up
+    walls = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        rec = loop.run(x0, duration)
+        walls.append(time.perf_counter() - t0)
+    ticks = len(rec["t"])
+    simulated = max(ticks - 1, 1) * scenario.simulation.control_period
+    return statistics.median(walls), simulated, ticks, rec["status"]
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3, help="timed runs per scene after a warm-up (default 3)")
-    parser.add_argument("--quick", action="store_true", help="1 timed run per scene (a smoke run)")
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs per scene and path after a warm-up (default 3)")
+    parser.add_argument("--quick", action="store_true", help="1 timed run per scene and path (a smoke run)")
+    parser.add_argument("--scenes", default="", help="comma-separated scene names (default: every shipped scene)")
     args = parser.parse_args(argv)
     if args.quick:
         args.repeats = 1
+    scenes = [s for s in args.scenes.split(",") if s] or SCENES
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}")
-    rows = []
-    for name in SCENES:
-        scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml")
-        simulate(scenario)  # warm-up: numba cache, proxsuite set-up
-        rt, share, wall, per_tick = [], [], [], []
-        for _ in range(args.repeats):
-            t0 = time.perf_counter()
-            r = simulate(scenario)
-            elapsed = time.perf_counter() - t0
-            s = r.summary()
-            rt.append(s["realtime_factor"])
-            share.append(s["qp_time_share"])
-            wall.append(elapsed)
-            per_tick.append(r.wall_time_s / max(1, len(r.t)) * 1e6)
-        rows.append((name, scenario.simulation.integrator, scenario.simulation.control_period,
-                     statistics.median(rt), statistics.median(share), statistics.median(per_tick),
-                     statistics.median(wall)))
-    base = rows[0][3]
-    print(f"{'scene':26s} {'integ.':6s} {'T [ms]':>6s} {'RT factor':>10s} {'vs carry':>9s} {'QP share':>9s} "
-          f"{'us/tick':>8s} {'simulate() [s]':>15s}")
-    for name, integ, T, rt, share, tick, wall in rows:
-        print(f"{name:26s} {integ:6s} {T * 1e3:6.2f} {rt:9.2f}x {rt / base:8.2f}x {share * 100:8.1f}% {tick:8.1f} {wall:15.3f}")
-    print("target: >= 20x real time for spatial_two_puma_carry at 1 kHz with RK4 (PERFORMANCE.md: MuJoCo's "
-          "plant alone, RK4 at 1 ms, runs 23x real time on this machine class)")
+    print(f"{'scene':28s} {'status':8s} {'ticks':>6s} | {'compiled RT':>11s} {'us/tick':>8s} | "
+          f"{'reference RT':>12s} {'us/tick':>8s} | {'ratio':>6s}")
+    for name in scenes:
+        wc, sim, ticks, status = _time_loop(name, "compiled", args.repeats)
+        wr, _, _, _ = _time_loop(name, "proxsuite", args.repeats)
+        print(f"{name:28s} {status:8s} {ticks:6d} | {sim / wc:10.1f}x {wc / ticks * 1e6:8.1f} | "
+              f"{sim / wr:11.1f}x {wr / ticks * 1e6:8.1f} | {wr / wc:5.1f}x", flush=True)
+    print("target: spatial_two_puma_carry (1 kHz, RK4, one substep) >= 50x real time (<= 20 us/tick) and >= 10x the "
+          "reference path (issue 10)")
     return 0
 
 

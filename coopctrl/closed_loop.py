@@ -320,10 +320,18 @@ class ClosedLoop:
         return x
 
     # ------------------------------------------------------------------ the loop
-    def run(self, x0, duration: float, progress: bool = False) -> dict:
-        """Simulate ``duration`` [s] from ``x0``; returns the recorded arrays and the run status."""
+    def run(self, x0, duration: float, progress: bool = False, integrals=None) -> dict:
+        """Simulate ``duration`` [s] from ``x0``; returns the recorded arrays and the run status.
+
+        Every run starts from a fresh loop state (:class:`~coopctrl.loop.state.LoopState`): the
+        sensor noise streams from their seeds, no QP warm start and no last split, the followers'
+        force-error integrals zero or, with ``integrals`` (arm index -> (p,) [N s, N m s]), those
+        values (an operating point). The same call twice gives bit-identical records.
+        """
         N = int(round(duration / self.T)) + 1
         rec = self.empty_record(N)
+        self._initial_integrals = {} if integrals is None else {int(i): np.asarray(v, dtype=float).copy()
+                                                               for i, v in integrals.items()}
         return self._run(rec, x0, N, progress)
 
     def empty_record(self, N: int = 0) -> dict:
@@ -373,9 +381,12 @@ class ClosedLoop:
         # the loop state starts afresh on every run (LoopState): noise streams, integrals, warm start, last split
         sensors = self.sensors.restarted()
         ld = self._fresh_load_distribution()
-        self.leader.reset()
+        if hasattr(self.leader, "reset"):
+            self.leader.reset()
         for ctrl in self.followers.values():
             ctrl.reset()
+        for i, value in getattr(self, "_initial_integrals", {}).items():
+            self.followers[i].integral[:] = value
         state_exact = sensors.joints.config.is_exact and sensors.object.config.is_exact
         wall0 = _time.perf_counter()
         qp_time = 0.0

@@ -20,8 +20,22 @@ def _sensor(cfg) -> SensorConfig:
     return SensorConfig(noise_std=cfg.noise_std, quantization=cfg.quantization)
 
 
-def closed_loop(scenario) -> ClosedLoop:
-    """The :class:`ClosedLoop` of a scenario, every part built and wired explicitly."""
+def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform_step: bool = False,
+                controllers=None) -> ClosedLoop:
+    """The :class:`ClosedLoop` of a scenario, every part built and wired explicitly.
+
+    Tuning and analysis build a loop with other parts instead of patching a built one:
+
+    Args:
+        scenario: The :class:`~coopctrl.scenario.Scenario`.
+        integrator: An integrator name or :class:`~coopctrl.integrators.Integrator` instead of
+            ``simulation.integrator``.
+        step: A free plant step ``0 < h <= T`` [s] instead of ``T / substeps`` (see
+            :meth:`ClosedLoop.set_step`; ``uniform_step`` splits the period into equal steps).
+        controllers: ``f(leader, followers) -> (leader, followers)``, applied to the scenario's
+            controllers before they are wired (e.g. wrapped by the probes of
+            :mod:`coopctrl.tuning.loop_probes`).
+    """
     plant = build.build_plant(scenario)
     space, m = scenario.space, len(scenario.arms)
     via = scenario.trajectory.via
@@ -32,15 +46,24 @@ def closed_loop(scenario) -> ClosedLoop:
     f = ctrl.followers
     followers = {i: FollowerForceController(plant, i, compliance, f.force_kp, f.force_ki, f.natural_frequency,
                                             f.damping_ratio, f.force_loop) for i in scenario.followers}
+    if controllers is not None:
+        leader, followers = controllers(leader, followers)
     s = scenario.sensors
     sensors = SensorSuite(_sensor(s.joints), _sensor(s.forces), _sensor(s.object), scenario.simulation.seed)
     sim = scenario.simulation
-    return ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
+    if integrator is None:
+        integrator = sim.integrator
+    if isinstance(integrator, str):
+        integrator = get_integrator(integrator)
+    loop = ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
                       LoadDistribution(scenario.load_distribution, space, m), compliance, leader,
-                      followers, sensors, get_integrator(sim.integrator), sim.control_period, sim.substeps,
+                      followers, sensors, integrator, sim.control_period, sim.substeps,
                       scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
                       torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
                       enabled=scenario.controllers.enabled)
+    if step is not None:
+        loop.set_step(step, uniform=uniform_step)
+    return loop
 
 
 def simulate(scenario, progress: bool = False) -> SimulationResult:

@@ -24,7 +24,7 @@ from coopctrl.simulator import closed_loop
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.frequency import frequency_response
 from coopctrl.tuning.leader_error_model import error_poles
-from coopctrl.tuning.loop_probes import install_probes
+from coopctrl.tuning.loop_probes import probed_closed_loop
 
 SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
 PLANAR = SCENARIOS / "planar_two_arm_lift.toml"
@@ -111,11 +111,11 @@ def test_pi_closed_on_the_model_matches_the_loop_with_other_gains(planar):
 
 def test_probes_with_zero_signals_do_not_change_the_loop():
     """A probed loop is the loop: same run to the last bit."""
-    s = load(PLANAR, **{"simulation.duration": 0.2})
+    # the reference path: the probed loop runs the Python tick, so the plain one does too
+    s = load(PLANAR, **{"simulation.duration": 0.2, "load_distribution.solver": "proxsuite"})
     x0 = s.initial_state()
     plain = closed_loop(s).run(x0, 0.2)
-    loop = closed_loop(s)
-    install_probes(loop)
+    loop, _, _ = probed_closed_loop(s)
     probed = loop.run(x0, 0.2)
     assert np.array_equal(plain["x"], probed["x"]) and np.array_equal(plain["tau"], probed["tau"])
 
@@ -187,14 +187,12 @@ def _run_perturbed(model, component, gain=1.0, delay=0, duration=1.0, step=0.1):
     follower arm 2, its loop gain scaled by ``gain`` and its measurement delayed ``delay`` periods.
     Returns the error of that component per tick."""
     c = names.component_index(model.space, component)
-    loop = closed_loop(model.scenario)
-    _, followers = install_probes(loop)
+    loop, _, followers = probed_closed_loop(model.scenario)
     f = followers[1]
-    f.inner.integral[:] = model.operating_point.integrals[1]
     f.error_gain[c] = gain
     f.measurement_delay[c] = delay
     f.setpoint_offset[c] = step
-    rec = loop.run(model.operating_point.x, duration)
+    rec = loop.run(model.operating_point.x, duration, integrals={1: model.operating_point.integrals[1]})
     return rec["status"], np.array(f.errors)[:, c]
 
 

@@ -278,9 +278,9 @@ def _run(scenario, x0, integrator: str, h: float, horizon: float) -> dict:
     """One closed-loop trial: the scenario's loop with ``integrator`` at plant step ``h`` [s]."""
     from coopctrl.simulator import closed_loop
 
-    loop = closed_loop(scenario)
-    loop.integrator = get_integrator(integrator)
-    loop.set_step(min(h, loop.T), uniform=not commutes(loop.integrator))
+    scheme = get_integrator(integrator)
+    T = scenario.simulation.control_period
+    loop = closed_loop(scenario, integrator=scheme, step=min(h, T), uniform_step=not commutes(scheme))
     return loop.run(x0, horizon)
 
 

@@ -235,14 +235,14 @@ def run_loop(scenario, x0, integrator: Integrator, substeps: int, duration: floa
     """
     from coopctrl.simulator import closed_loop
 
-    loop = closed_loop(scenario)
-    counted = _CountingIntegrator(integrator)
-    loop.integrator = counted
-    if hasattr(loop, "set_step"):  # the loop keeps its per-period step sequence: set it through its API
-        loop.set_step(loop.T / int(substeps))
-    else:
-        loop.substeps = int(substeps)
-        loop.h = loop.T / loop.substeps
+    from coopctrl.loop.compiled import compiled_unsupported
+
+    step = scenario.simulation.control_period / int(substeps)
+    loop = closed_loop(scenario, integrator=integrator, step=step)
+    counted = None
+    if compiled_unsupported(loop) is not None:  # the Python tick: count the calls through a wrapper
+        counted = _CountingIntegrator(integrator)
+        loop = closed_loop(scenario, integrator=counted, step=step)
     if loop.substeps != int(substeps):
         raise RuntimeError(f"the closed loop took {loop.substeps} substeps for T/{substeps}")
     duration = scenario.simulation.duration if duration is None else float(duration)
@@ -255,7 +255,8 @@ def run_loop(scenario, x0, integrator: Integrator, substeps: int, duration: floa
     else:  # the record holds noisy readings: recompute the true forces from the states
         F = np.array([plant.control_terms(xk).Fw for xk in x]).reshape(len(x), plant.arm_count, p)
     return LoopRun(t=rec["t"], Y0=x[:, nz - p:nz].copy(), forces=np.array(F[:, :, :npos]), status=rec["status"],
-                   reason=rec["reason"], wall_time_s=float(rec["wall_time_s"]), rhs_evaluations=counted.rhs_evaluations,
+                   reason=rec["reason"], wall_time_s=float(rec["wall_time_s"]),
+                   rhs_evaluations=counted.rhs_evaluations if counted is not None else rec["rhs_evaluations"],
                    record=rec)
 
 

@@ -48,6 +48,14 @@ def compiled_unsupported(loop) -> str | None:
         return f"integrator {name or type(loop.integrator).__name__!r} (compiled: {', '.join(METHODS)})"
     if cfg.split != "pseudo_inverse":
         return f"load_distribution.split = {cfg.split!r}"
+    from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
+    from coopctrl.sensors import SensorSuite
+
+    if type(loop.leader) is not LeaderController or any(type(c) is not FollowerForceController
+                                                         for c in loop.followers.values()):
+        return "controllers other than LeaderController and FollowerForceController (e.g. tuning probes)"
+    if type(loop.compliance) is not GraspCompliance or type(loop.sensors) is not SensorSuite:
+        return "a grasp compliance or sensor suite of another type"
     if not loop.enabled:
         return "controllers.enabled = false (passive run)"
     if loop.max_energy is not None:
@@ -271,6 +279,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     x0 = np.array(x0, dtype=float)
     loop._x_ref = x0.copy()
     state = LoopState.start(x0, plant.input_size, m, p, cl.n, p + cl.n_in)
+    for i, value in getattr(loop, "_initial_integrals", {}).items():
+        state.integrals[i] = value
     qa = cl.qp_arrays()
     times = np.arange(N) * loop.T
     traj = np.ascontiguousarray(np.stack(loop.trajectory.sample(times)) if N else np.zeros((3, 0, p)))
@@ -353,5 +363,6 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     if saturated:
         events.append((0.0, "torque_saturation", f"commanded torques clipped at their limits on {saturated} ticks"))
     rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=math.nan,
-               qp_binding_counts=counts, saturated_ticks=saturated, qp_status=statuses, qp_binding=bindings)
+               qp_binding_counts=counts, saturated_ticks=saturated, qp_status=statuses, qp_binding=bindings,
+               rhs_evaluations=int(out_int[7]))
     return rec

@@ -181,7 +181,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
     ``hold`` (``hold_status[0] = 1``): tick ``k0`` uses the last feasible split (the caller applied
     the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``.
 
-    Returns nothing; ``out_int = (code, tick, detail...)`` and ``out_float = (value, ...)``.
+    Returns nothing; ``out_int = (code, tick, detail, detail, -, ticks recorded, last tick that passed
+    the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
     """
     (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
      edge_index, edge_params, Y_ref, immobile) = P
@@ -624,24 +625,28 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
                 h2 = 0.5 * hs
                 t2 = ts + h2
                 k1 = _rhs(spatial, x, tau, P, status)
+                out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
                     break
                 y = k1 * h2
                 y += x
                 k2 = _rhs(spatial, y, tau, P, status)
+                out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
                     break
                 y = k2 * h2
                 y += x
                 k3 = _rhs(spatial, y, tau, P, status)
+                out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
                     break
                 y = k3 * hs
                 y += x
                 k4 = _rhs(spatial, y, tau, P, status)
+                out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
                     break
@@ -654,6 +659,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
                 xn = k2
             elif method == METHOD_SYMPLECTIC_EULER:
                 f = _rhs(spatial, x, tau, P, status)
+                out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
                     break
@@ -664,6 +670,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
                     xn[c] = xn[nz + c] * hs + x[c]
             else:
                 f = _rhs(spatial, x, tau, P, status)
+                out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
                     break

@@ -97,10 +97,14 @@ class FollowerProbe:
         return self.inner.torque(terms, F_cmd, F_seen, Y_rigid, dY_ref, ddY_ref, Y0, dt)
 
 
-def install_probes(loop) -> tuple[LeaderProbe, dict[int, FollowerProbe]]:
-    """Wrap the leader and every follower of ``loop`` (in place); returns the probes."""
-    leader = loop.leader if isinstance(loop.leader, LeaderProbe) else LeaderProbe(loop.leader)
-    followers = {i: c if isinstance(c, FollowerProbe) else FollowerProbe(c) for i, c in loop.followers.items()}
-    loop.leader = leader
-    loop.followers = followers
-    return leader, followers
+def probed_closed_loop(scenario):
+    """``(loop, leader_probe, follower_probes)``: the scenario's closed loop built with its leader and
+    every follower wrapped by a probe (:func:`coopctrl.simulator.closed_loop` with ``controllers``)."""
+    from coopctrl.simulator import closed_loop
+
+    def wrap(leader, followers):
+        return (leader if isinstance(leader, LeaderProbe) else LeaderProbe(leader),
+                {i: c if isinstance(c, FollowerProbe) else FollowerProbe(c) for i, c in followers.items()})
+
+    loop = closed_loop(scenario, controllers=wrap)
+    return loop, loop.leader, loop.followers

@@ -13,7 +13,7 @@ import numpy as np
 
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.errors import TuningError
-from coopctrl.tuning.loop_probes import install_probes
+from coopctrl.tuning.loop_probes import probed_closed_loop
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,7 +73,6 @@ def simulate_step(model, input: str, amplitude: float, duration: float, force_kp
     import control
 
     from coopctrl.scenario.loader import scenario_from_dict
-    from coopctrl.simulator import closed_loop
 
     sys = model.closed(force_kp, force_ki)
     if input not in sys.input_labels:
@@ -88,24 +87,24 @@ def simulate_step(model, input: str, amplitude: float, duration: float, force_kp
             "controllers.followers.force_loop": True})
     else:
         kp, ki = kp0, ki0
-    loop = closed_loop(scenario)
-    leader, followers = install_probes(loop)
+    loop, leader, followers = probed_closed_loop(scenario)
     op = model.operating_point
     p = model.p
     nf_out = len(model.plain_outputs)
     v_eq = op.pi_output
     e_eq = op.outputs[nf_out:]
+    integrals = {}
     for k, i in enumerate(model.followers):
         sl = slice(p * k, p * (k + 1))
         # the integral that gives the equilibrium PI output with these gains
-        followers[i].inner.integral[:] = (v_eq[sl] - kp * e_eq[sl]) / ki if ki > 0 else 0.0
+        integrals[i] = (v_eq[sl] - kp * e_eq[sl]) / ki if ki > 0 else np.zeros(p)
     prefix, kind, comp = input.split("_", 2)
     c = sys.input_labels.index(input)
     if kind == "ref":
         leader.offset[names.axis_index(model.space, comp)] = amplitude
     else:
         followers[int(prefix[3:]) - 1].setpoint_offset[names.component_index(model.space, comp)] = amplitude
-    rec = loop.run(op.x, duration)
+    rec = loop.run(op.x, duration, integrals=integrals)
     n = len(rec["t"])
     plant = loop.plant
     nz = plant.nz

@@ -23,7 +23,7 @@ import numpy as np
 
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.errors import TuningError
-from coopctrl.tuning.loop_probes import install_probes
+from coopctrl.tuning.loop_probes import probed_closed_loop
 
 #: Central-difference steps per kind of signal: poses [m, rad], rates [m/s, rad/s], wrenches [N, N m].
 STEP_POSE = 1e-6
@@ -53,15 +53,13 @@ class OnePeriodMap:
     """
 
     def __init__(self, scenario):
-        from coopctrl.simulator import closed_loop
 
         f = scenario.controllers.followers
         if f.force_kp != 0 or f.force_ki != 0:
             raise TuningError("scenario.controllers.followers", (f.force_kp, f.force_ki),
                               "an opened scene with force_kp = force_ki = 0 (see opened_scenario)")
         self.scenario = scenario
-        self.loop = closed_loop(scenario)
-        self.leader, self.followers = install_probes(self.loop)
+        self.loop, self.leader, self.followers = probed_closed_loop(scenario)
         plant = self.loop.plant
         self.plant = plant
         self.space = plant.space
