@@ -50,6 +50,7 @@ sys.path.insert(0, str(REPO))
 import coopctrl  # noqa: E402
 from coopctrl.integrators import Integrator, get_integrator  # noqa: E402
 from coopctrl.simulator import closed_loop  # noqa: E402
+from coopctrl.loop.compiled import compiled_unsupported  # noqa: E402
 
 SCENE = REPO / "scenarios" / "spatial_two_puma_carry.toml"
 FIXED = ("euler", "symplectic_euler", "rk4", "implicit_midpoint", "implicit_euler")
@@ -110,6 +111,10 @@ class Timed(Integrator):
         return out
 
 
+#: Issue 10: the fixed-step closed loop (compiled) against the solve_ivp loop, whole loop [-].
+TARGET_LOOP = 50.0
+
+
 def error(x, ref, nz):
     """Largest position deviation [rad, m]: ``x`` and ``ref`` are states or (N, nx) runs."""
     x, ref = np.atleast_2d(x), np.atleast_2d(ref)
@@ -132,8 +137,11 @@ class LoopProblem:
         if substeps != 1:
             s = coopctrl.load_scenario(SCENE, {"simulation.duration": str(LOOP_DURATION),
                                                "simulation.substeps": str(substeps)})
-        loop = closed_loop(s)
-        loop.integrator = Timed(integrator)
+        loop = closed_loop(s, integrator=integrator)
+        timed = None
+        if compiled_unsupported(loop) is not None:  # the Python tick: time the integration apart
+            timed = Timed(integrator)
+            loop = closed_loop(s, integrator=timed)
         with np.errstate(all="ignore"):
             rec = loop.run(self.x0, LOOP_DURATION)
         x = rec["x"] if rec["status"] == "ok" else np.full((1, len(self.x0)), np.nan)
@@ -141,7 +149,8 @@ class LoopProblem:
         evals = getattr(integrator, "nfev", None)
         if evals is None:
             evals = EVALS_PER_STEP.get(integrator.name, 0) * ticks * substeps
-        return x, loop.integrator.seconds, rec["wall_time_s"], evals
+        # the compiled tick integrates inside the kernel: its integration time is the whole loop's (an upper bound)
+        return x, timed.seconds if timed is not None else rec["wall_time_s"], rec["wall_time_s"], evals
 
     def fixed(self, name, n):
         return self.run(get_integrator(name), n)
@@ -280,6 +289,13 @@ def compare(title, problem, ref, tol, fixed, ivp, n_start, n_max, step_unit, rep
     verdict = "PASS" if speedup >= TARGET else "FAIL"
     print(f"\n  target ({title}): fastest fixed step ({chosen[best_fixed][1]}) >= {TARGET:g}x faster than the fastest "
           f"solve_ivp ({chosen[best_ivp][1]}): {speedup:.1f}x  {verdict}")
+    if show_whole:
+        best_fixed_whole = min(fixed_rows, key=lambda k: med_whole[k])
+        best_ivp_whole = min(ivp_rows, key=lambda k: med_whole[k])
+        whole = med_whole[best_ivp_whole] / med_whole[best_fixed_whole]
+        print(f"  whole loop ({title}): fastest fixed step ({chosen[best_fixed_whole][1]}, the compiled tick) "
+              f"{whole:.1f}x faster than the fastest solve_ivp loop ({chosen[best_ivp_whole][1]}); issue 10 target >= "
+              f"{TARGET_LOOP:g}x  {'PASS' if whole >= TARGET_LOOP else 'FAIL'}")
     return speedup
 
 

@@ -320,8 +320,8 @@ class ClosedLoop:
         return x
 
     # ------------------------------------------------------------------ the loop
-    def run(self, x0, duration: float, progress: bool = False, integrals=None) -> dict:
-        """Simulate ``duration`` [s] from ``x0``; returns the recorded arrays and the run status.
+    def run(self, x0, duration: float, progress: bool = False, integrals=None):
+        """Simulate ``duration`` [s] from ``x0``; returns its :class:`~coopctrl.loop.record.LoopRecord`.
 
         Every run starts from a fresh loop state (:class:`~coopctrl.loop.state.LoopState`): the
         sensor noise streams from their seeds, no QP warm start and no last split, the followers'
@@ -334,21 +334,12 @@ class ClosedLoop:
                                                                for i, v in integrals.items()}
         return self._run(rec, x0, N, progress)
 
-    def empty_record(self, N: int = 0) -> dict:
-        """The arrays a run records, for ``N`` samples (NaN-filled; a run truncates them)."""
+    def empty_record(self, N: int = 0):
+        """The :class:`~coopctrl.loop.record.LoopRecord` of ``N`` ticks (NaN-filled; a run truncates it)."""
+        from coopctrl.loop.record import LoopRecord
+
         plant = self.plant
-        m, p = plant.arm_count, plant.p
-        nx, nu = plant.state_size, plant.input_size
-        return {
-            "t": np.full(N, np.nan), "x": np.full((N, nx), np.nan), "tau": np.full((N, nu), np.nan),
-            "Y0_nominal": np.full((N, p), np.nan), "F_measured": np.full((N, m, p), np.nan),
-            "F_commanded": np.full((N, m, p), np.nan), "F_external": np.full((N, m, p), np.nan),
-            "F_internal": np.full((N, m, p), np.nan), "r_contacts": np.full((N, m, self.npos), np.nan),
-            "qp_status": [], "qp_binding": [], "qp_iterations": np.full(N, -1, dtype=np.int64), "qp_solve_time_s": np.full(N, np.nan),
-            "status": "ok", "reason": "", "events": [], "wall_time_s": 0.0, "qp_time_s": 0.0,
-            "qp_binding_counts": {}, "saturated_ticks": 0,
-            "energy": np.full(N, np.nan), "kinetic_energy": np.full(N, np.nan),
-        }
+        return LoopRecord.empty(N, plant.state_size, plant.input_size, plant.arm_count, plant.p, self.npos)
 
     def _fresh_load_distribution(self):
         """A load distribution with this loop's settings and no history (no warm start, no last split)."""

@@ -1,0 +1,104 @@
+"""``LoopRecord``: what one run of the closed loop records, tick by tick, with units."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+
+@dataclass
+class LoopRecord:
+    """The record of a closed-loop run (N ticks recorded; m arms, p pose size, npos position size).
+
+    Arrays (one row per recorded tick ``k``, at ``t_k = k T``):
+
+    Attributes:
+        t: (N,) tick times [s].
+        x: (N, nx) plant state ``(z, z')`` at the tick [m, rad, m/s, rad/s].
+        tau: (N, nu) joint torques applied over the period that starts at the tick (after
+            saturation) [N m].
+        Y0_nominal: (N, p) nominal object pose [m, rad].
+        F_measured: (N, m, p) contact wrenches the force sensors read [N, N m].
+        F_commanded: (N, m, p) the QP's split (held on a failed solve) [N, N m].
+        F_external: (N, m, p) its external part ``A w_N`` [N, N m].
+        F_internal: (N, m, p) its internal part ``F - A w_N`` [N, N m].
+        r_contacts: (N, m, npos) true contact-node positions [m].
+        qp_iterations: (N,) active-set changes (compiled) or iterations of the QP solve [-].
+        qp_solve_time_s: (N,) QP solve time [s] (NaN on the compiled tick, which does not time it).
+        energy, kinetic_energy: (N,) total and kinetic energy [J] (passive runs only, else NaN).
+        qp_status: per tick the QP status (``"solved"``, ``"infeasible"``, ...).
+        qp_binding: per tick the binding inequality families joined by ``+`` (``""``: none).
+
+    Run summary:
+        status: ``"ok"``, ``"diverged"`` or ``"qp_failed"``; reason: why it stopped (``""`` if ok).
+        events: ``(t [s], kind, message)`` of what happened (held QP splits, saturation, the stop).
+        wall_time_s: wall time of the run [s]; qp_time_s: total QP time [s] (NaN when not timed).
+        qp_binding_counts: ticks on which each family was binding; saturated_ticks: ticks with a
+            torque clipped at its limit; rhs_evaluations: plant right-hand-side calls (compiled tick).
+
+    Item access (``record["x"]``, ``record.get``, ``record.update``, ``record.items()``) reads and writes
+    the same fields, for code written against the former dict.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    tau: np.ndarray
+    Y0_nominal: np.ndarray
+    F_measured: np.ndarray
+    F_commanded: np.ndarray
+    F_external: np.ndarray
+    F_internal: np.ndarray
+    r_contacts: np.ndarray
+    qp_iterations: np.ndarray
+    qp_solve_time_s: np.ndarray
+    energy: np.ndarray
+    kinetic_energy: np.ndarray
+    qp_status: list = field(default_factory=list)
+    qp_binding: list = field(default_factory=list)
+    status: str = "ok"
+    reason: str = ""
+    events: list = field(default_factory=list)
+    wall_time_s: float = 0.0
+    qp_time_s: float = 0.0
+    qp_binding_counts: dict = field(default_factory=dict)
+    saturated_ticks: int = 0
+    rhs_evaluations: int | None = None
+
+    @classmethod
+    def empty(cls, N: int, nx: int, nu: int, m: int, p: int, npos: int) -> "LoopRecord":
+        """NaN-filled arrays for ``N`` ticks (a run truncates them to the ticks it recorded)."""
+        def nan(*shape):
+            return np.full(shape, np.nan)
+
+        return cls(t=nan(N), x=nan(N, nx), tau=nan(N, nu), Y0_nominal=nan(N, p), F_measured=nan(N, m, p),
+                   F_commanded=nan(N, m, p), F_external=nan(N, m, p), F_internal=nan(N, m, p),
+                   r_contacts=nan(N, m, npos), qp_iterations=np.full(N, -1, dtype=np.int64), qp_solve_time_s=nan(N),
+                   energy=nan(N), kinetic_energy=nan(N))
+
+    # ---- the former dict's access
+    def keys(self):
+        return [f.name for f in fields(self)]
+
+    def items(self):
+        return [(k, getattr(self, k)) for k in self.keys()]
+
+    def __getitem__(self, key: str):
+        if key not in self.keys():
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __setitem__(self, key: str, value) -> None:
+        if key not in self.keys():
+            raise KeyError(f"{key!r} is not a field of LoopRecord")
+        setattr(self, key, value)
+
+    def __contains__(self, key) -> bool:
+        return key in self.keys()
+
+    def get(self, key: str, default=None):
+        return getattr(self, key) if key in self.keys() else default
+
+    def update(self, other=(), **values) -> None:
+        for key, value in dict(other, **values).items():
+            self[key] = value
