@@ -4,6 +4,8 @@ exceptions, scenario resolution and ``--set`` parsing."""
 from __future__ import annotations
 
 import argparse
+import os
+import tempfile
 from pathlib import Path
 from typing import Callable, Sequence
 
@@ -84,3 +86,46 @@ def _load(args):
 
 def _one_line(text: str) -> str:
     return " ".join(str(text).splitlines()).strip()
+
+
+def output_directory(text: str) -> Path:
+    """The ``--out DIR`` of a subcommand, checked before any work (an ``argparse`` type: a bad place is a
+    usage error, exit 2). An existing directory is accepted (its files of the same names are replaced);
+    a missing one must be creatable. The check creates the missing directories and a probe file, then
+    removes them again, so that it leaves nothing behind and says exactly what the system refused.
+
+    Raises:
+        argparse.ArgumentTypeError: ``text`` is an existing non-directory (a file, ``/dev/null``), or a
+            place where a directory cannot be created or written (``/proc/x``, a read-only mount).
+    """
+    path = Path(text).expanduser()
+    allowed = "a new or existing writable directory"
+    if path.exists() and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: it exists and is not a directory; expected {allowed}")
+    created: list[Path] = []
+    try:
+        missing = []
+        parent = path
+        while not parent.exists():
+            missing.append(parent)
+            if parent.parent == parent:
+                break
+            parent = parent.parent
+        if parent.exists() and not parent.is_dir():
+            raise argparse.ArgumentTypeError(f"{text!r} is invalid: {str(parent)!r} is not a directory; expected {allowed}")
+        for directory in reversed(missing):
+            directory.mkdir()
+            created.append(directory)
+        fd, probe = tempfile.mkstemp(dir=path, prefix=".coopctrl-probe.", suffix=".tmp")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: cannot write there ({reason}); expected {allowed}") from None
+    finally:
+        for directory in reversed(created):
+            try:
+                directory.rmdir()
+            except OSError:
+                pass
+    return path

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
-from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand
+from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand, output_directory
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 
 def _simulate_function():
@@ -56,7 +55,7 @@ def _run_parser(sub) -> None:
     )
     parser.add_argument("scenario", nargs="?", help="scenario .toml file, or the name of one in scenarios/ (default: built-in default scene)")
     _add_set_option(parser)
-    parser.add_argument("--out", type=Path, metavar="DIR", help="write result.npz, result.csv, summary.json and PNG plots into DIR")
+    parser.add_argument("--out", type=output_directory, metavar="DIR", help="write result.npz, result.csv, summary.json and PNG plots into DIR")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON on stdout (nothing else on stdout)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary table")
     parser.set_defaults(handler=cmd_run)

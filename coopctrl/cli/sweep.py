@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
-from coopctrl.cli._core import PROG, _add_set_option, parse_sets, resolve_scenario, subcommand
+from coopctrl.cli._core import PROG, _add_set_option, parse_sets, resolve_scenario, subcommand, output_directory
 
 
 def _run_function():
@@ -82,7 +81,7 @@ def _sweep_parser(sub) -> None:
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on the Dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786 "
                        "(pip install 'coopctrl[distributed]')")
-    parser.add_argument("--out", type=Path, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
+    parser.add_argument("--out", type=output_directory, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
     parser.add_argument("--json", action="store_true", help="print one JSON document {scenario, grid, set, ..., rows} on stdout")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no table")
     parser.set_defaults(handler=cmd_sweep)
