@@ -21,6 +21,15 @@ class UsageError(CoopctrlError, ValueError):
     """Bad command-line usage (unknown option, ``--set`` without ``=``, ...)."""
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (``kill PID``) received: raised in the main thread like Ctrl-C, so that every clean-up that
+    Ctrl-C runs (temporary files, sweep workers, the finished sweep rows) also runs; exit 143."""
+
+    def __init__(self, signum: int):
+        self.signum = signum
+        super().__init__(f"terminated by signal {signum}")
+
+
 class _Parser(argparse.ArgumentParser):
     """An ArgumentParser whose errors are exceptions, so that :func:`main` prints one line."""
 
