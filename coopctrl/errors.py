@@ -66,3 +66,17 @@ class DivergenceError(CoopctrlError, ArithmeticError):
         self.suggested_step = suggested_step
         hint = f"; try a step of at most {suggested_step:.3g} s or a stiff integrator" if suggested_step else ""
         super().__init__(f"diverged at t = {time:.6g} s: {quantity} = {value:.6g}{hint}")
+
+
+def interruption_in(exc: BaseException | None) -> KeyboardInterrupt | None:
+    """The ``KeyboardInterrupt`` (Ctrl-C, or SIGTERM turned into one by the command line) that ``exc`` is,
+    or that it was raised while handling: a library may wrap it (numba's ``SystemError`` "returned a
+    result with an exception set") or fail in its own clean-up ("Can't close the ZIP file" during
+    ``np.savez``). None when ``exc`` is an ordinary error."""
+    seen: set[int] = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return None

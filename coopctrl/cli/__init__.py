@@ -20,7 +20,7 @@ from typing import Sequence
 
 from coopctrl.cli._core import (PROG, SUBCOMMANDS, Terminated, UsageError, _Parser, _one_line,  # noqa: F401 (API)
                                 parse_sets, resolve_scenario, scenarios_dir, subcommand)
-from coopctrl.errors import CoopctrlError, DivergenceError, InfeasibleLoad
+from coopctrl.errors import CoopctrlError, DivergenceError, InfeasibleLoad, interruption_in
 
 # Each module registers its subcommand on import, in the order of ``--help``.
 from coopctrl.cli import run as _run  # noqa: E402,F401
@@ -44,19 +44,6 @@ def build_parser() -> argparse.ArgumentParser:
     for configure in SUBCOMMANDS:
         configure(sub)
     return parser
-
-
-def _interruption(exc: BaseException) -> KeyboardInterrupt | None:
-    """The ``KeyboardInterrupt`` (or :class:`Terminated`) that ``exc`` is, or that it was raised while
-    handling (a library that fails in its own clean-up, e.g. "Can't close the ZIP file" after Ctrl-C
-    during ``np.savez``), else None."""
-    seen = set()
-    while exc is not None and id(exc) not in seen:
-        if isinstance(exc, KeyboardInterrupt):
-            return exc
-        seen.add(id(exc))
-        exc = exc.__context__
-    return None
 
 
 def _stopped(interrupt: KeyboardInterrupt, terminated: list[int]) -> int:
@@ -114,7 +101,7 @@ def _main(argv: Sequence[str] | None) -> int:
     except BrokenPipeError:
         return 0
     except Exception as exc:  # noqa: BLE001 - the command line never shows a traceback
-        stop = _interruption(exc)
+        stop = interruption_in(exc)
         if stop is not None:
             return _stopped(stop, terminated=[])
         return _unexpected(exc)

@@ -25,6 +25,16 @@ def _jobs(text: str) -> int:
     return jobs
 
 
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (0.0 < value < float("inf")):
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected a finite number of seconds > 0")
+    return value
+
+
 def _emit(result, args) -> None:
     if args.json:
         print(result.to_json())
@@ -44,7 +54,8 @@ def cmd_sweep(args) -> int:
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     try:
         result = run_sweep(resolve_scenario(args.scenario), grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
-                           progress=progress, out=args.out, run_function=_run_function())
+                           progress=progress, out=args.out, run_function=_run_function(),
+                           run_timeout_s=args.run_timeout)
     except SweepInterrupted as stop:
         partial = stop.result
         _emit(partial, args)
@@ -82,6 +93,9 @@ def _sweep_parser(sub) -> None:
                        help="run on the Dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786 "
                        "(pip install 'coopctrl[distributed]')")
     parser.add_argument("--out", type=output_directory, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
+    parser.add_argument("--run-timeout", type=_seconds, metavar="SECONDS",
+                        help="stop a run after this wall time; it becomes a row with status 'timeout' "
+                        "(local workers and --jobs 1; default: no limit)")
     parser.add_argument("--json", action="store_true", help="print one JSON document {scenario, grid, set, ..., rows} on stdout")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no table")
     parser.set_defaults(handler=cmd_sweep)

@@ -29,6 +29,7 @@ import sys
 import threading
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 
+from coopctrl.errors import interruption_in
 from coopctrl.sweep.errors import MissingExtra, SchedulerError, SweepError
 
 #: Seconds to wait for a Dask scheduler before giving up.
@@ -59,6 +60,9 @@ class SerialExecutor(Executor):
         try:
             result = fn(*args, **kwargs)
         except Exception as exc:  # noqa: BLE001 - delivered through the future, as any executor does
+            stop = interruption_in(exc)
+            if stop is not None:  # Ctrl-C wrapped by a library: still Ctrl-C
+                raise stop from None
             future.set_exception(exc)
         else:
             future.set_result(result)

@@ -22,7 +22,7 @@ from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, 
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-from coopctrl.sweep.errors import SweepInterrupted
+from coopctrl.sweep.errors import SweepError, SweepInterrupted
 from coopctrl.sweep.executors import SerialExecutor, make_executor
 from coopctrl.sweep.grid import SweepGrid
 from coopctrl.sweep.plan import SweepPlan, SweepRun, plan_sweep
@@ -90,6 +90,7 @@ def run_sweep(
     out: str | Path | None = None,
     run_function: RunFunction = simulate_run,
     save_interval_s: float = 1.0,
+    run_timeout_s: float | None = None,
 ) -> SweepResult:
     """Run the Cartesian product of ``grid`` over a scenario; one row per run.
 
@@ -108,6 +109,8 @@ def run_sweep(
         run_function: Module-level function ``SweepRun -> summary dict`` executed for each run (a
             process pool pickles it by name); :func:`~coopctrl.sweep.worker.simulate_run` simulates.
         save_interval_s: Least time between two saves while running [s].
+        run_timeout_s: Wall time after which a run is stopped and becomes a ``timeout`` row [s]
+            (``None``: no limit). Applies to local workers and ``jobs = 1``, not on a Dask cluster.
 
     Returns:
         The :class:`SweepResult`, rows by run index.
@@ -119,6 +122,8 @@ def run_sweep(
     """
     if executor is not None and (jobs is not None or scheduler is not None):
         raise ValueError("run_sweep: give either an executor or jobs/scheduler, not both")
+    if run_timeout_s is not None and not (run_timeout_s > 0 and run_timeout_s < float("inf")):
+        raise SweepError(f"--run-timeout = {run_timeout_s!r} is invalid: expected a finite number of seconds > 0")
     plan = plan_sweep(scenario_path, grid, sets)
     owned = executor is None
     if owned:
@@ -147,14 +152,14 @@ def run_sweep(
                 if run is None:
                     break
                 try:
-                    future = executor.submit(execute_run, run_function, run)
+                    future = executor.submit(execute_run, run_function, run, run_timeout_s)
                 except BrokenExecutor as exc:  # a worker process died (crash, out of memory): its runs in
                     if not owned:              # flight are error rows; the rest go to a fresh pool
                         future = _failed(exc)
                     else:
                         executor.shutdown(wait=False, cancel_futures=True)
                         executor = make_executor(jobs, scheduler)
-                        future = executor.submit(execute_run, run_function, run)
+                        future = executor.submit(execute_run, run_function, run, run_timeout_s)
                 pending[future] = run
             if not pending:
                 break
