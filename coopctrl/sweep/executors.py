@@ -140,6 +140,11 @@ def _close_half_made_client(exc: BaseException, client_type: type) -> None:
                 candidate.close(timeout=1)
             except Exception:  # noqa: BLE001 - best effort on an already failed client
                 pass
+            try:  # whatever close() managed: its __del__ must not try again (a 20 s wait and a traceback)
+                candidate.status = "closed"
+                candidate._loop_runner.stop()  # private; best effort
+            except Exception:  # noqa: BLE001
+                pass
             return
         tb = tb.tb_next
 
@@ -153,7 +158,8 @@ class DaskExecutor(Executor):
 
     Raises:
         MissingExtra: ``distributed`` is not installed.
-        SchedulerError: No scheduler answers at ``address`` within ``timeout_s``.
+        SchedulerError: No Dask scheduler answers at ``address`` within ``timeout_s`` (nothing listens,
+            the address is malformed, or something else answers, e.g. a web server).
     """
 
     def __init__(self, address: str, timeout_s: float = CONNECT_TIMEOUT_S):
@@ -164,9 +170,11 @@ class DaskExecutor(Executor):
         self.address = address
         try:
             self.client = distributed.Client(address, timeout=timeout_s, set_as_default=False)
-        except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        except Exception as exc:  # noqa: BLE001 - refused, timed out, malformed, or a peer that is no scheduler
             _close_half_made_client(exc, distributed.Client)
             detail = " ".join(str(exc).split()) or type(exc).__name__
+            if not isinstance(exc, (OSError, TimeoutError, ValueError, TypeError)):
+                detail = f"something answered there, but not a Dask scheduler: {type(exc).__name__}: {detail}"
             raise SchedulerError(address, detail) from None
         self._executor = self.client.get_executor(pure=False)  # every run is a new task, never deduplicated
         self.workers = max(1, sum(self.client.nthreads().values()))
