@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Callable, Iterator, Sequence
 
 from coopctrl.errors import CoopctrlError
 
@@ -138,3 +140,25 @@ def output_directory(text: str) -> Path:
             except OSError:
                 pass
     return path
+
+
+@contextmanager
+def stdout_to_stderr(enabled: bool = True) -> Iterator[None]:
+    """Send everything written to file descriptor 1 to stderr while the block runs: Python's prints and
+    C libraries that write to stdout themselves (LAPACK's "** On entry to DLASCL" messages), also in
+    worker processes started inside the block. ``--json`` wraps its computation in it, so that stdout
+    carries the JSON document and nothing else."""
+    if not enabled:
+        yield
+        return
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        os.dup2(2, 1)
+        yield
+    finally:
+        try:
+            sys.stdout.flush()
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)

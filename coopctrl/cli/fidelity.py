@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from coopctrl.cli._core import (PROG, UsageError, _add_set_option, _one_line, output_directory, parse_sets,
-                                resolve_scenario, subcommand)
+                                resolve_scenario, stdout_to_stderr, subcommand)
 
 #: The scenes compared by default: one task as a planar scene, spatial contact points, spatial arms.
 DEFAULT_SCENARIOS = ("fidelity_planar", "fidelity_contact_points", "fidelity_spatial_arms")
@@ -29,7 +29,8 @@ def cmd_fidelity(args) -> int:
     scenarios = [load_scenario(resolve_scenario(name), overrides) for name in names]
     from coopctrl.analysis.fidelity import compare_fidelity
 
-    report = compare_fidelity(scenarios, repeats=args.repeats, rhs_calls=args.calls)
+    with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
+        report = compare_fidelity(scenarios, repeats=args.repeats, rhs_calls=args.calls)
     if args.out is not None:
         report.save(args.out)
     if args.json:

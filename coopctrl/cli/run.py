@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import sys
 
-from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand, output_directory
+from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, stdout_to_stderr,
+                                subcommand)
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 
 def _simulate_function():
@@ -22,17 +23,17 @@ def cmd_run(args) -> int:
     simulate = _simulate_function()
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     try:
-        result = simulate(scenario, progress=progress)
+        with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
+            result = simulate(scenario, progress=progress)
+            summary = result.summary()
+            if args.out is not None:
+                result.save(args.out)
+                result.plot(args.out)
     except (DivergenceError, InfeasibleLoad) as err:
         kind = "diverged" if isinstance(err, DivergenceError) else "qp_failed"
         print(f"{PROG}: {kind}: {_one_line(err)}", file=sys.stderr)
         return 1
     from coopctrl.results import summary_table
-
-    summary = result.summary()
-    if args.out is not None:
-        result.save(args.out)
-        result.plot(args.out)
     if args.json:
         print(json.dumps(summary, indent=2, allow_nan=False))
     elif not args.quiet:

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from coopctrl.cli._core import PROG, _add_set_option, parse_sets, resolve_scenario, subcommand, output_directory
+from coopctrl.cli._core import (PROG, _add_set_option, output_directory, parse_sets, resolve_scenario,
+                                stdout_to_stderr, subcommand)
 
 
 def _run_function():
@@ -53,9 +54,10 @@ def cmd_sweep(args) -> int:
     sets = parse_sets(args.sets)
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     try:
-        result = run_sweep(resolve_scenario(args.scenario), grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
-                           progress=progress, out=args.out, run_function=_run_function(),
-                           run_timeout_s=args.run_timeout)
+        with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library or worker prints
+            result = run_sweep(resolve_scenario(args.scenario), grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
+                               progress=progress, out=args.out, run_function=_run_function(),
+                               run_timeout_s=args.run_timeout)
     except SweepInterrupted as stop:
         partial = stop.result
         _emit(partial, args)

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand, output_directory
+from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, stdout_to_stderr,
+                                subcommand)
 from coopctrl.errors import ScenarioError
 
 #: Reference methods offered on the command line (see coopctrl.analysis.reference; kept here as
@@ -43,7 +44,8 @@ def cmd_tradeoff(args) -> int:
         raise ScenarioError("--" + err.path.replace(".", "-"), err.value, err.allowed) from None
     progress = _print_progress if not (args.json or args.quiet) and sys.stderr.isatty() else None
     try:
-        result = run_tradeoff(scenario, integrators, substeps, reference, repeats=args.repeat, progress=progress)
+        with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
+            result = run_tradeoff(scenario, integrators, substeps, reference, repeats=args.repeat, progress=progress)
     except ReferenceFailed as err:
         print(f"{PROG}: failed: {_one_line(err)}", file=sys.stderr)
         return 1
