@@ -8,6 +8,7 @@ from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import choice, number, scalar_or_vector
 
 ELEMENTS = ("central", "offset")
+DAMPING_FORMS = ("frame_invariant", "book")
 
 
 @dataclass(frozen=True)
@@ -25,6 +26,10 @@ class SpringConfig:
         element: ``"central"`` (the book's spring with rest length plus Euler-difference torsion
             springs; no lateral stiffness without pre-tension) or ``"offset"`` (rest offset fixed in
             the object frame, so it also has shear stiffness; MODEL.md §3, known limit).
+        damping_form: ``"frame_invariant"`` (default: the dampers act on the rate of the deformation,
+            the elongation in the element's frame and the relative angular velocity, so they do no
+            work under a rigid motion; MODEL.md §3 [ours]) or ``"book"`` (110-111: world velocity
+            differences and Euler-rate differences, as in the book).
     """
 
     pair: tuple[int, int]
@@ -33,6 +38,7 @@ class SpringConfig:
     damping: float = 20.0
     torsion_damping: float = 0.05
     element: str = "offset"
+    damping_form: str = "frame_invariant"
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -51,6 +57,7 @@ class SpringConfig:
         s(self, "damping", number("damping", self.damping, nonnegative=True, unit="N s/m"))
         s(self, "torsion_damping", number("torsion_damping", self.torsion_damping, nonnegative=True, unit="N m s/rad"))
         s(self, "element", choice("element", self.element, ELEMENTS))
+        s(self, "damping_form", choice("damping_form", self.damping_form, DAMPING_FORMS))
 
     def stiffness_per_axis(self, space: str) -> tuple[float, ...]:
         """Translational stiffness per axis [N/m] (2 planar, 3 spatial)."""
