@@ -92,7 +92,7 @@ def _sweep_parser(sub) -> None:
     where.add_argument("--jobs", "-j", type=_jobs, metavar="N",
                        help="local worker processes (default: CPU count; 1 runs in this process)")
     where.add_argument("--scheduler", metavar="ADDRESS",
-                       help="run on the Dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786 "
+                       help="run on the Dask cluster of this scheduler, e.g. tcp://scheduler.example:8786 "
                        "(pip install 'coopctrl[distributed]')")
     parser.add_argument("--out", type=output_directory, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
     parser.add_argument("--run-timeout", type=_seconds, metavar="SECONDS",

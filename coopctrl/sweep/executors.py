@@ -153,7 +153,7 @@ class DaskExecutor(Executor):
     """Runs on a Dask cluster through :meth:`distributed.Client.get_executor`.
 
     Args:
-        address: The scheduler's address, e.g. ``tcp://10.0.0.5:8786``.
+        address: The scheduler's address, e.g. ``tcp://scheduler.example:8786``.
         timeout_s: Seconds to wait for the connection.
 
     Raises:
