@@ -19,13 +19,16 @@ def cmd_run(args) -> int:
     """Load, simulate, print the summary, save and plot with ``--out``."""
     import json
 
+    import numpy as np
+
     scenario = _load(args)
     simulate = _simulate_function()
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     try:
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
             result = simulate(scenario, progress=progress)
-            summary = result.summary()
+            with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so
+                summary = result.summary()
             if args.out is not None:
                 result.save(args.out)
                 result.plot(args.out)
@@ -34,6 +37,7 @@ def cmd_run(args) -> int:
         print(f"{PROG}: {kind}: {_one_line(err)}", file=sys.stderr)
         return 1
     from coopctrl.results import summary_table
+
     if args.json:
         print(json.dumps(summary, indent=2, allow_nan=False))
     elif not args.quiet:
