@@ -132,7 +132,9 @@ class LoadDistribution:
             ok, x = False, None
         if x is not None:
             viol, scale = pb.max_violation(x)
-            tol = self.answer_tolerance(scale)
+            tol = self._tol_factor * (1.0 + scale)
+            if not viol <= min(tol, ANSWER_TOLERANCE_OF_LOAD):  # the load's cap is >= this (load >= 1):
+                tol = self.answer_tolerance(scale)                # only a doubtful answer needs it
             if not viol <= tol:
                 violated = sorted(((v, k) for k, v in pb.violations(x).items() if v > tol), reverse=True)
                 ok = False
