@@ -546,3 +546,8 @@ def test_damped_free_system_conserves_momentum_and_loses_energy_monotonically(sp
     # as in test_free_system_conserves_momentum: 1e-7 of the scale is ~100x the integration error
     assert np.linalg.norm(P - P0) <= 1e-7 * scale_P
     assert np.linalg.norm(L - L0) <= 1e-7 * scale_L
+
+
+def test_damping_form_is_validated():
+    with pytest.raises(ParameterError, match=r"springs\[0\]\.damping_form = 'rayleigh' is invalid"):
+        Interconnection((0, 1), 1e3, damping_form="rayleigh", name="springs[0]")

@@ -333,3 +333,8 @@ def test_run_timeout_in_a_worker_process(capsys):
 def test_run_timeout_must_be_positive_seconds(value, capsys):
     code, _, err = run_cli(["sweep", LIFT, "--grid", "simulation.seed=0", "--run-timeout", value], capsys)
     assert code == 2 and "--run-timeout" in one_clean_line(err)
+
+
+def test_damping_form_key_is_checked(capsys):
+    code, _, err = run_cli(["check", LIFT, "--set", 'springs[0].damping_form="rayleigh"'], capsys)
+    assert code == 2 and "damping_form" in one_clean_line(err) and "'frame_invariant', 'book'" in err
