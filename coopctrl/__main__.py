@@ -2,7 +2,10 @@
 
 import sys
 
-from coopctrl.cli import main
+try:
+    from coopctrl.cli import main
+except KeyboardInterrupt:  # Ctrl-C during start-up: nothing was written yet
+    sys.exit(130)
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -220,7 +220,7 @@ def test_fuzz_signals_at_random_moments(tmp_path):
             command = ["sweep", "planar_two_arm_lift", "--grid", "simulation.seed=0,1,2,3", "--set",
                        "simulation.duration=0.4", "--jobs", "2", "-q"]
             sig = (signal.SIGINT, signal.SIGTERM, signal.SIGKILL)[rng.integers(3)]
-        delay = float(rng.uniform(0.5, 5.0))
+        delay = float(rng.uniform(1.0, 5.0))  # past start-up (the handlers are installed in main())
         proc = subprocess.Popen([sys.executable, "-m", "coopctrl", *command, "--out", str(out)],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
         family: list[psutil.Process] = []

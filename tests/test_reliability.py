@@ -322,11 +322,23 @@ def test_run_timeout_makes_a_timeout_row(capsys, monkeypatch):
     assert "--run-timeout" in rows[1]["reason"]
 
 
-def test_run_timeout_in_a_worker_process(capsys):
-    code, out, err = run_cli(["sweep", LIFT, "--grid", "simulation.duration=0.05,60", "--jobs", "2", "--run-timeout",
-                              "3", "--json"], capsys)
+def test_run_timeout_in_a_worker_process():
+    """A worker process stops its own stuck run (the deadline covers the run function only, not the
+    worker's start-up)."""
+    from coopctrl.sweep import SweepGrid, run_sweep
+
+    result = run_sweep(LIFT, SweepGrid.parse(["simulation.seed=0,1,2"]), jobs=2, run_function=_stuck_run,
+                       run_timeout_s=2.0)
+    assert [r["status"] for r in result.rows] == ["ok", "timeout", "ok"]
+
+
+def test_run_timeout_stops_a_real_simulation(capsys):
+    """600 s of the lift (6e4 control ticks, 6e5 plant steps: about 40 s of wall time, 19 times the
+    limit) stopped after 2 s: the alarm lands inside the compiled kernels of the closed loop."""
+    code, out, err = run_cli(["sweep", LIFT, "--grid", "simulation.duration=600", "--set", "simulation.control_period=0.01",
+                              "--set", "simulation.substeps=10", "--jobs", "1", "--run-timeout", "2", "--json"], capsys)
     assert code == 0, err
-    assert [r["status"] for r in json.loads(out)["rows"]] == ["ok", "timeout"]
+    assert [r["status"] for r in json.loads(out)["rows"]] == ["timeout"]
 
 
 @pytest.mark.parametrize("value", ["0", "-1", "nan", "inf", "soon"])
