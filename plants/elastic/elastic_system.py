@@ -332,7 +332,10 @@ class ElasticSystem:
         return self._laplacian(lambda r: np.r_[r[0:2], r[2]])
 
     def damping_matrix(self) -> np.ndarray:
-        """Constant ``D`` of the immobile model: ``diag(d I, dA I)`` per edge, Laplacian-assembled."""
+        """Constant ``D`` of the immobile model: ``diag(d I, dA I)`` per edge, Laplacian-assembled (the
+        book's vector dampers of 4.5, whatever ``damping_form``: the immobile model is the book's linear
+        model; the frame-invariant form of the mobile model couples a node's rotation into the damping of
+        the offset, ``rho x omega_i``, which this diagonal form does not have)."""
         if self.space == "spatial":
             return self._laplacian(lambda r: np.r_[np.full(3, r[13]), np.full(3, r[14])])
         return self._laplacian(lambda r: np.r_[r[7], r[7], r[8]])
