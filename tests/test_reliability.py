@@ -378,6 +378,33 @@ def test_run_timeout_in_a_worker_process():
     assert [r["status"] for r in result.rows] == ["ok", "timeout", "ok"]
 
 
+def _deaf_run(run):
+    """A run stuck where the worker's alarm cannot reach it (as inside a C library): SIGALRM ignored."""
+    if run.index == 1:
+        signal.signal(signal.SIGALRM, signal.SIG_IGN)
+        while True:
+            time.sleep(0.01)
+    return {"status": "ok", "reason": ""}
+
+
+@pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="POSIX alarms")
+def test_run_deaf_to_its_timeout_is_stopped_from_outside(monkeypatch):
+    """The sweep stops a worker whose run ignores the alarm, 2 timeouts + the grace after it started;
+    the other runs still finish (on a fresh pool) and no worker is left."""
+    from coopctrl.sweep import SweepGrid, run_sweep
+    from coopctrl.sweep import runner
+
+    monkeypatch.setattr(runner, "BACKSTOP_GRACE_S", 2.0)  # the default 30 s covers slow worker start-ups
+    before = {p.pid for p in psutil.Process().children(recursive=True)}
+    result = run_sweep(LIFT, SweepGrid.parse(["simulation.seed=0,1,2,3"]), jobs=2, run_function=_deaf_run,
+                       run_timeout_s=1.0)
+    assert [r["status"] for r in result.rows] == ["ok", "timeout", "ok", "ok"]
+    assert "did not answer its run timeout" in result.rows[1]["reason"]
+    left = [p for p in psutil.Process().children(recursive=True) if p.pid not in before
+            and "resource_tracker" not in " ".join(p.cmdline())]  # multiprocessing's, lives as long as pytest
+    assert _alive(left) == []
+
+
 def test_run_timeout_stops_a_real_simulation(capsys):
     """600 s of the lift (6e4 control ticks, 6e5 plant steps: about 40 s of wall time, 19 times the
     limit) stopped after 2 s: the alarm lands inside the compiled kernels of the closed loop."""

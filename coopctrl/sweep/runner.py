@@ -23,11 +23,16 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from coopctrl.sweep.errors import SweepError, SweepInterrupted
-from coopctrl.sweep.executors import SerialExecutor, make_executor
+from coopctrl.sweep.executors import LocalProcessPool, SerialExecutor, make_executor
 from coopctrl.sweep.grid import SweepGrid
 from coopctrl.sweep.plan import SweepPlan, SweepRun, plan_sweep
 from coopctrl.sweep.results import SweepResult, make_row
 from coopctrl.sweep.worker import RunFunction, execute_run, simulate_run
+
+
+#: Seconds a local worker gets beyond twice the run timeout before the sweep stops it from outside (a run
+#: stuck where the worker's own alarm cannot reach it, e.g. inside a C library); see :func:`run_sweep`.
+BACKSTOP_GRACE_S = 30.0
 
 
 def _lost_row(run: SweepRun, exc: BaseException) -> dict[str, Any]:
@@ -111,6 +116,10 @@ def run_sweep(
         save_interval_s: Least time between two saves while running [s].
         run_timeout_s: Wall time after which a run is stopped and becomes a ``timeout`` row [s]
             (``None``: no limit). Applies to local workers and ``jobs = 1``, not on a Dask cluster.
+            The worker stops its own run (an alarm). A run that does not answer it (stuck inside a C
+            library) is stopped from outside ``2 run_timeout_s + BACKSTOP_GRACE_S`` after it started: the
+            pool's workers are terminated, that run is a ``timeout`` row and the other runs in flight
+            start again on a fresh pool.
 
     Returns:
         The :class:`SweepResult`, rows by run index.
@@ -145,6 +154,18 @@ def run_sweep(
     queue = iter(plan.runs)
     pending: dict[Future, SweepRun] = {}
     interrupted = False
+    # the outside stop of a stuck run: on a pool this function owns (it may replace it)
+    backstop = run_timeout_s is not None and owned and isinstance(executor, LocalProcessPool)
+    started: dict[Future, float] = {}  # when each pending run was first seen running [s, monotonic]
+
+    def deliver(row: dict[str, Any]) -> None:
+        collector.add(row)
+        if bar is not None:
+            bar.update(1)
+            bar.set_postfix(failed=sum(r["status"] != "ok" for r in collector.rows.values()), refresh=False)
+        if on_row is not None:
+            on_row(row)
+
     try:
         while True:
             while len(pending) < limit:
@@ -163,15 +184,30 @@ def run_sweep(
                 pending[future] = run
             if not pending:
                 break
-            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            done, _ = wait(pending, timeout=1.0 if backstop else None, return_when=FIRST_COMPLETED)
             for future in sorted(done, key=lambda f: pending[f].index):
-                row = _row_of(future, pending.pop(future))
-                collector.add(row)
-                if bar is not None:
-                    bar.update(1)
-                    bar.set_postfix(failed=sum(r["status"] != "ok" for r in collector.rows.values()), refresh=False)
-                if on_row is not None:
-                    on_row(row)
+                started.pop(future, None)
+                deliver(_row_of(future, pending.pop(future)))
+            if backstop and not done:
+                now = time.monotonic()
+                for future in pending:
+                    if future not in started and future.running():
+                        started[future] = now
+                limit_s = 2.0 * run_timeout_s + BACKSTOP_GRACE_S
+                overdue = [f for f in pending if now - started.get(f, now) > limit_s]
+                if overdue:  # stop the pool from outside; the others in flight start again on a fresh one
+                    executor.interrupt()
+                    for future in sorted(overdue, key=lambda f: pending[f].index):
+                        run = pending.pop(future)
+                        deliver(make_row(run.index, run.columns, "timeout",
+                                         f"run stopped by the sweep {limit_s:g} s after it started: it did not answer "
+                                         f"its run timeout of {run_timeout_s:g} s (--run-timeout)", None,
+                                         now - started[future]))
+                    redo = [pending.pop(future) for future in sorted(pending, key=lambda f: pending[f].index)]
+                    started.clear()
+                    executor = make_executor(jobs, scheduler)
+                    for run in redo:
+                        pending[executor.submit(execute_run, run_function, run, run_timeout_s)] = run
     except BaseException as exc:
         interrupted = True
         for future, run in list(pending.items()):  # rows that finished but were not collected yet
