@@ -126,5 +126,24 @@ def _unexpected(exc: Exception) -> int:
     return 1
 
 
+def console_main() -> None:
+    """The ``coopctrl`` program: :func:`main`, then exit with its code.
+
+    After an interruption (130, 143) the process ends with ``os._exit`` once stdout and stderr are
+    flushed: when Ctrl-C lands inside a library that runs code through ``PyRun_String`` (during an
+    import), CPython marks the KeyboardInterrupt as unhandled even though :func:`main` handled it, and
+    would then end the process by SIGINT (status -2) instead of the documented 130. Everything to clean
+    up was cleaned before :func:`main` returned (temporary files, sweep workers)."""
+    code = main()
+    if code in (130, 143):
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(code)
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    console_main()
