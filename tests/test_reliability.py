@@ -234,7 +234,10 @@ def test_sigterm_during_a_run_exits_143(tmp_path):
                              "simulation.duration=60", "--out", str(tmp_path / "o")],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
     try:
-        time.sleep(3.0)  # somewhere in start-up or the loop: any moment must end the same way
+        from test_fuzz import _in_main
+
+        assert _in_main(proc.pid)  # past the interpreter's own start-up
+        time.sleep(2.0)  # somewhere in the imports or the loop: any moment must end the same way
         proc.send_signal(signal.SIGTERM)
         _, err = proc.communicate(timeout=BOUND_S)
     finally:
