@@ -23,6 +23,7 @@ import numpy as np
 
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 from coopctrl.load_distribution.goldfarb_idnani import gi_workspace
+from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 from coopctrl.loop import kernel as K
 from coopctrl.loop.state import LoopState
 from plants.cooperative import ContactPoint
@@ -121,7 +122,8 @@ class CompiledLoop:
         tau_qp = np.concatenate([np.broadcast_to(t, (a.dof,)) for t, a in zip(loop._qp_tau_max, plant.arms)]).astype(float)
         self.qp = (pb.W_diag.copy(), pb.W_inv_diag.copy(), pb.s_des.copy(), tau_qp, loop.tau_max.astype(float),
                    cos_phi, sin_phi,
-                   np.array([cfg.eps_abs, pb._mu_c, float(cfg.max_iter), cfg.min_grip if cfg.min_grip is not None else 0.0]),
+                   np.array([cfg.eps_abs, pb._mu_c, float(cfg.max_iter), cfg.min_grip if cfg.min_grip is not None else 0.0,
+                             ANSWER_TOLERANCE_OF_LOAD]),
                    np.array([int(pb.has_squeeze), rows.get("min_grip", -1), rows.get("friction", -1),
                              rows.get("torque_limits", -1), nf, int(cfg.max_consecutive_failures)], dtype=np.int64))
         self.n = n
@@ -194,10 +196,17 @@ def _noise(loop, N: int, plant):
 
 
 def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopState):
-    """Apply the load distribution's failure policy to a failed compiled solve.
+    """Apply the load distribution's failure policy to a failed compiled solve (as
+    :meth:`LoadDistribution.solve <coopctrl.load_distribution.LoadDistribution.solve>` does, on the
+    kernel's problem arrays): the cause, then hold the last split or give up.
 
     Returns ``(status, binding)`` of the held split; raises :class:`InfeasibleLoad` when there is
     nothing to hold or ``max_consecutive_failures`` is reached."""
+    if code == -1:
+        raise InfeasibleLoad("failed", (), "degenerate grasp: the contacts do not span every object wrench",
+                             "move the grasps apart")
+    if code == -2:
+        raise InfeasibleLoad("failed", (), "two contact points coincide", "move the grasps apart")
     ld = loop._fresh_load_distribution()
     pb = ld.problem
     if cl.joint_counts and "torque_limits" in cl.rows:
@@ -208,30 +217,21 @@ def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopSt
     pb.hi[:] = hi
     pb.P = H
     pb.g[:] = g
-    status = _QP_STATUS[code] if code >= 0 else "failed"
-    binding: tuple[str, ...] = ()
-    if code == -1:
-        raise InfeasibleLoad("failed", (), "degenerate grasp: contacts that span every object wrench are needed")
-    if code == -2:
-        raise InfeasibleLoad("failed", (), "two contact points coincide")
+    status = _QP_STATUS[code]
+    violated: list[tuple[float, str]] = []
+    tol = float("nan")
     if code != 3 and np.all(np.isfinite(x)):
         viol, scale = pb.max_violation(x)
-        tol = ld._tol_factor * (1.0 + scale)
-        if viol > tol:
-            v = pb.violations(x)
-            bad = sorted((val, k) for k, val in v.items() if val > tol)
-            if status in ("solved", "max_iter"):
-                status = "infeasible"
-            binding = tuple(k for _, k in reversed(bad))
+        tol = ld.answer_tolerance(scale)
+        if not viol <= tol:
+            violated = sorted(((v, k) for k, v in pb.violations(x).items() if v > tol), reverse=True)
     state.ws[3][0] = 0  # cold start next time (CompiledSolver.reset)
-    cause = ld._infeasibility_cause()
-    if cause:
-        binding = cause
+    status, binding, detail, advice = ld._failure_cause(status, violated, tol)
     state.flags[1] += 1
     if not state.flags[0]:
-        raise InfeasibleLoad(status, binding, "first solve failed, no previous split to hold")
+        raise InfeasibleLoad(status, binding, f"{detail}; first solve failed, no previous split to hold", advice)
     if state.flags[1] >= cl.ld_config.max_consecutive_failures:
-        raise InfeasibleLoad(status, binding, f"{state.flags[1]} consecutive failed solves")
+        raise InfeasibleLoad(status, binding, f"{detail}; {state.flags[1]} consecutive failed solves", advice)
     return status, binding
 
 

@@ -202,7 +202,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
     obj_mass = obj[0]
     obj_inertia = obj[1:4].copy() if spatial else obj[1:2].copy()
     (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
-    eps_abs, mu_c, max_iter_f, min_grip = qp_num[0], qp_num[1], qp_num[2], qp_num[3]
+    eps_abs, mu_c, max_iter_f, min_grip, answer_rho = qp_num[0], qp_num[1], qp_num[2], qp_num[3], qp_num[4]
     max_iter = int(max_iter_f)
     has_squeeze = qp_int[0] != 0
     row_grip, row_fric, row_tau, n_fric = qp_int[1], qp_int[2], qp_int[3], qp_int[4]
@@ -496,7 +496,16 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
                         viol = v
                     if abs(s) > scale:
                         scale = abs(s)
-                if viol > 100.0 * eps_abs * (1.0 + scale):
+                tol = 100.0 * eps_abs * (1.0 + scale)
+                if not viol <= min(tol, answer_rho):  # LoadDistribution.answer_tolerance: capped by the load
+                    load = 1.0
+                    for r in range(Mq.shape[0]):
+                        if r < p or math.isfinite(lo[r]):
+                            load = max(load, abs(lo[r]))
+                        if r >= p and math.isfinite(hi[r]):
+                            load = max(load, abs(hi[r]))
+                    tol = min(tol, answer_rho * load)
+                if not viol <= tol:
                     okqp = False
             if not okqp:
                 out_int[0] = QP_FAILED

@@ -80,6 +80,9 @@ class LoopRecord:
     def keys(self):
         return [f.name for f in fields(self)]
 
+    def values(self):
+        return [getattr(self, k) for k in self.keys()]
+
     def items(self):
         return [(k, getattr(self, k)) for k in self.keys()]
 
