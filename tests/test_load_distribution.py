@@ -332,7 +332,7 @@ def test_warm_started_sequence_matches_cold_solves():
 # --------------------------------------------------------------------------- configuration
 def test_default_config_is_valid():
     cfg = LoadDistributionConfig()
-    assert cfg.solver == "proxsuite" and cfg.eps_abs == 1e-9 and cfg.inequality_families == ()
+    assert cfg.solver == "compiled" and cfg.eps_abs == 1e-9 and cfg.inequality_families == ()
 
 
 @pytest.mark.parametrize(
