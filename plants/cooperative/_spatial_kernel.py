@@ -16,21 +16,25 @@ its coordinates are the node pose itself (``J = I``, ``H = h = 0``).
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 
 # Every spatial serial arm (DH or URDF) is evaluated by the general-chain kernel.
 from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potential
-from plants.arms._chain_kernels import chain_arm_terms as spatial_arm_terms
+from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
+from plants.arms._chain_kernels import chain_arm_terms_into as spatial_arm_terms
 from plants.cooperative._linalg import cholesky_solve
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
 from plants.frames import body_rate_map_inverse, rotation_zyx
 from plants.elastic._spatial_kernels import (
+    EDGE_SCRATCH_SHAPE,
     damping_edges,
     elastic_edges,
-    interconnection_terms,
+    interconnection_terms_into,
     linear_edges,
-    node_terms,
+    node_terms_into,
     solve_node_rotation,
 )
 
@@ -38,38 +42,71 @@ ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
 
 
+#: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
+SpatialWorkspace = namedtuple("SpatialWorkspace", (
+    "Y",      # (N, 6) node poses (r [m], ZYX Euler angles [rad]); row 0 = object
+    "dY",     # (N, 6) node rates [m/s, rad/s]
+    "H",      # (m, n, n) arm inertias H_i [kg m^2], block [:n_i, :n_i] valid for a serial arm
+    "h",      # (m, n) arm bias torques h_i [N m]
+    "J",      # (m, 6, n) analytic Jacobians J_i; columns past n_i and contact-point rows stay 0
+    "Jdq",    # (m, 6) dJ_i/dt dq_i [m/s^2, rad/s^2]; contact-point rows stay 0
+    "Wr",     # (N, 3, 3) rotational inertia blocks L^T I L [kg m^2]
+    "w",      # (N, 6) node terms w_i: -m g + gyroscopic + interconnections [N, N m]
+    "Nm",     # (n, n) one arm's block N_i = H_i + J_i^T W_i J_i, then its Cholesky factor
+    "rhs",    # (n,) one arm's right-hand side tau_i - n_i
+    "qdd",    # (n,) one arm's joint accelerations
+    "v",      # (6,) W_i dJ_i dq_i + w_i of one arm's node
+    "b3",     # (3,) right-hand side of a node rotation solve
+    "o3",     # (3,) its solution
+    "chain",  # (n + 1, CHAIN_WORK_WIDTH) work rows of plants.arms._chain_kernels.chain_arm_terms_into
+    "edge",   # EDGE_SCRATCH_SHAPE scratch of the plants.elastic._spatial_kernels *_into kernels
+))
+
+
+@njit(cache=True)
+def make_workspace(arm_dof, node_count):
+    """A new :class:`SpatialWorkspace` for arms of ``arm_dof`` (m,) dofs and ``node_count`` = m + 1 nodes.
+
+    Every array is zero-filled; :func:`rhs_into` and :func:`node_state_into` overwrite what they
+    read (except the zero padding of ``J`` and ``Jdq``, which they never write).
+    """
+    m = arm_dof.shape[0]
+    N = node_count
+    nmax = 6
+    for i in range(m):
+        if arm_dof[i] > nmax:
+            nmax = arm_dof[i]
+    return SpatialWorkspace(
+        np.zeros((N, 6)), np.zeros((N, 6)), np.zeros((m, nmax, nmax)), np.zeros((m, nmax)),
+        np.zeros((m, 6, nmax)), np.zeros((m, 6)), np.zeros((N, 3, 3)), np.zeros((N, 6)),
+        np.zeros((nmax, nmax)), np.zeros(nmax), np.zeros(nmax), np.zeros(6), np.zeros(3), np.zeros(3),
+        np.zeros((nmax + 1, CHAIN_WORK_WIDTH)), np.zeros(EDGE_SCRATCH_SHAPE),
+    )
+
+
 @njit(cache=True)
 def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, status):
-    """Kinematics and arm dynamics of every arm; fills node poses ``Y[1:]`` and rates ``dY[1:]``."""
+              Y, dY, H_all, h_all, J_all, Jdq_all, wk, status):
+    """Kinematics and arm dynamics of every arm, written straight into the stacked arrays
+    ``H_all[i, :n, :n]``, ``h_all[i, :n]``, ``J_all[i, :, :n]``, ``Jdq_all[i]`` and the node poses
+    ``Y[1:]`` and rates ``dY[1:]``; ``wk`` is the chain kernel's work array. Allocates nothing."""
     m = arm_kind.shape[0]
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]
         if arm_kind[i] == ARM_SERIAL:
-            H = np.empty((n, n))
-            h = np.empty(n)
-            Yi = np.empty(6)
-            J = np.empty((6, n))
-            Jdq = np.empty(6)
             st = spatial_arm_terms(z[o:o + n], dz[o:o + n], dh_all[dh_off[i]:dh_off[i] + n],
-                                   bases[i], tools[i], gravity, H, h, Yi, J, Jdq)
+                                   bases[i], tools[i], gravity, H_all[i, :n, :n], h_all[i, :n], Y[i + 1],
+                                   J_all[i, :, :n], Jdq_all[i], wk)
             if st != 0:
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = i + 1
                 return
             for a in range(6):
-                Y[i + 1, a] = Yi[a]
-                Jdq_all[i, a] = Jdq[a]
                 s = 0.0
                 for k in range(n):
-                    J_all[i, a, k] = J[a, k]
-                    s += J[a, k] * dz[o + k]
+                    s += J_all[i, a, k] * dz[o + k]
                 dY[i + 1, a] = s
-            for a in range(n):
-                h_all[i, a] = h[a]
-                for b in range(n):
-                    H_all[i, a, b] = H[a, b]
         else:
             for a in range(6):
                 Y[i + 1, a] = z[o + a]
@@ -77,54 +114,63 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
 
 
 @njit(cache=True)
-def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-               node_params, edge_index, edge_params, Y_ref, immobile, status):
-    """``dx = f(x, tau)``; ``status[0]`` receives a status code and ``status[1]`` the node index."""
+def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+             node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
+    """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing (all work arrays are in ``ws``).
+
+    Args:
+        x: State ``(z, z')``, float64 (2 nz,), C-contiguous.
+        tau: Inputs (nz - 6,): joint torques [N m] (or node forces of a contact point).
+        arm_kind ... immobile: The plant's packed arrays, in the order of
+            ``CooperativePlant.kernel_into[1]`` (which ends with ``status``).
+        status: int64 (2,): receives a status code (``plants.elastic._layout.STATUS_*``) and
+            the node index it concerns; ``STATUS_OK`` = 0.
+        ws: A :class:`SpatialWorkspace` from :func:`make_workspace` (``CooperativePlant.workspace()``),
+            one per run (not shared between threads). Its content between calls means nothing,
+            except that after a successful call ``ws.Y``, ``ws.dY``, ``ws.H``, ``ws.h``, ``ws.J``,
+            ``ws.Jdq``, ``ws.Wr`` and ``ws.w`` hold the terms of this state.
+        dx: Out: float64 (2 nz,). Left partly written when ``status[0] != STATUS_OK``.
+    """
     nz = x.shape[0] // 2
     z = x[:nz]
     dz = x[nz:]
     m = arm_kind.shape[0]
-    N = m + 1
-    nmax = 6
-    for i in range(m):
-        if arm_dof[i] > nmax:
-            nmax = arm_dof[i]
-    Y = np.empty((N, 6))
-    dY = np.empty((N, 6))
-    H_all = np.empty((m, nmax, nmax))
-    h_all = np.empty((m, nmax))
-    J_all = np.empty((m, 6, nmax))
-    Jdq_all = np.empty((m, 6))
+    Y = ws.Y
+    dY = ws.dY
+    H_all = ws.H
+    h_all = ws.h
+    J_all = ws.J
+    Jdq_all = ws.Jdq
     status[0] = STATUS_OK
     for a in range(6):
         Y[0, a] = z[nz - 6 + a]
         dY[0, a] = dz[nz - 6 + a]
     _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, status)
-    dx = np.empty_like(x)
-    dx[:nz] = dz
+              Y, dY, H_all, h_all, J_all, Jdq_all, ws.chain, status)
+    for a in range(nz):
+        dx[a] = dz[a]
     if status[0] != STATUS_OK:
-        return dx
+        return
     # node terms: W (rotational blocks) and w = gyro - gravity + elastic + damping
-    Wr = np.empty((N, 3, 3))
-    w = np.empty((N, 6))
-    node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w)
-    st = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    Wr = ws.Wr
+    w = ws.w
+    node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
+    st = interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge)
     if st != STATUS_OK:
         status[0] = st
-        return dx
-    b3 = np.empty(3)
-    o3 = np.empty(3)
+        return
+    b3 = ws.b3
+    o3 = ws.o3
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]
         k = i + 1
         mk = node_params[k, 0]
         if arm_kind[i] == ARM_SERIAL:
-            Nm = np.empty((n, n))
-            rhs = np.empty(n)
+            Nm = ws.Nm[:n, :n]
+            rhs = ws.rhs[:n]
             # WJdq + w at the node
-            v = np.empty(6)
+            v = ws.v
             for a in range(3):
                 v[a] = mk * Jdq_all[i, a] + w[k, a]
             for a in range(3):
@@ -148,11 +194,11 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
                         s += J_all[i, 3 + a, r] * t
                     Nm[r, c] = s
                     Nm[c, r] = s
-            qdd = np.empty(n)
+            qdd = ws.qdd[:n]
             if not cholesky_solve(Nm, rhs, qdd):
                 status[0] = STATUS_SINGULAR_MASS
                 status[1] = k
-                return dx
+                return
             for r in range(n):
                 dx[nz + o + r] = qdd[r]
         else:
@@ -163,7 +209,7 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
             if not solve_node_rotation(A, node_params[k, 1:4], b3, o3):
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = k
-                return dx
+                return
             for a in range(3):
                 dx[nz + o + 3 + a] = o3[a]
     m0 = node_params[0, 0]
@@ -174,34 +220,45 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
     if not solve_node_rotation(A, node_params[0, 1:4], b3, o3):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
-        return dx
+        return
     for a in range(3):
         dx[2 * nz - 3 + a] = o3[a]
+
+
+@njit(cache=True)
+def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+               node_params, edge_index, edge_params, Y_ref, immobile, status):
+    """``dx = f(x, tau)`` as a new array: :func:`rhs_into` with a workspace of its own (allocated per
+    call); ``status[0]`` receives a status code and ``status[1]`` the node index."""
+    ws = make_workspace(arm_dof, arm_kind.shape[0] + 1)
+    dx = np.empty_like(x)
+    rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+             node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx)
     return dx
 
 
 @njit(cache=True)
-def node_state_kernel(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status):
-    """Node poses ``Y`` (N, 6) and rates ``dY`` (N, 6) of a state, plus arm terms (for sensors)."""
+def node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws):
+    """Node poses ``ws.Y`` (N, 6) and rates ``ws.dY`` (N, 6) of a state, plus the arm terms ``ws.H``,
+    ``ws.h``, ``ws.J``, ``ws.Jdq`` (see :class:`SpatialWorkspace`); allocates nothing."""
     nz = x.shape[0] // 2
-    m = arm_kind.shape[0]
-    nmax = 6
-    for i in range(m):
-        if arm_dof[i] > nmax:
-            nmax = arm_dof[i]
-    Y = np.empty((m + 1, 6))
-    dY = np.empty((m + 1, 6))
-    H_all = np.empty((m, nmax, nmax))
-    h_all = np.empty((m, nmax))
-    J_all = np.zeros((m, 6, nmax))
-    Jdq_all = np.zeros((m, 6))
+    Y = ws.Y
+    dY = ws.dY
     status[0] = STATUS_OK
     for a in range(6):
         Y[0, a] = x[nz - 6 + a]
         dY[0, a] = x[2 * nz - 6 + a]
     _arm_pass(x[:nz], x[nz:], arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, status)
-    return Y, dY, H_all, h_all, J_all, Jdq_all
+              Y, dY, ws.H, ws.h, ws.J, ws.Jdq, ws.chain, status)
+
+
+@njit(cache=True)
+def node_state_kernel(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status):
+    """Node poses ``Y`` (N, 6) and rates ``dY`` (N, 6) of a state, plus arm terms (for sensors):
+    ``(Y, dY, H, h, J, Jdq)``, new arrays (rows of contact points hold zeros)."""
+    ws = make_workspace(arm_dof, arm_kind.shape[0] + 1)
+    node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws)
+    return ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq
 
 
 @njit(cache=True)

@@ -21,11 +21,23 @@ from plants.elastic._layout import (
     STATUS_EULER_SINGULAR,
     STATUS_OK,
 )
-from plants.frames import EULER_SINGULARITY_COS, rotation_zyx, rotation_zyx_partials
+from plants.frames import (
+    EULER_SINGULARITY_COS,
+    rotation_zyx,
+    rotation_zyx_into,
+    rotation_zyx_partials,
+    rotation_zyx_partials_into,
+)
 
 #: Nodes of a central spring with positive rest length closer than this fraction of the rest
 #: length are reported as coincident: ``beta`` and its gradient are undefined at distance 0.
 COINCIDENT_FRACTION = 1e-9
+
+#: Shape of the scratch array of the ``*_into`` edge kernels (3x3 blocks; a block's rows serve as
+#: 3-vectors). :func:`elastic_edges_into`: 0 ``R_i``, 1-3 ``dR_i/dA_i``, 4 ``R_j``, 5-7 ``dR_j/dA_j``,
+#: 8 ``P``, 9 ``QR``, 10 the vectors ``d`` and ``C e``; :func:`node_terms_into`: 15 (``g``, zeros).
+#: The kernels overwrite what they use; the content between calls means nothing.
+EDGE_SCRATCH_SHAPE = (16, 3, 3)
 
 
 @njit(cache=True, inline="always")
@@ -36,7 +48,15 @@ def wrap_angle(a):
 
 @njit(cache=True)
 def elastic_edges(Y, edge_index, edge_params, F):
+    """:func:`elastic_edges_into` with a scratch array of its own (one allocation per call)."""
+    return elastic_edges_into(Y, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE))
+
+
+@njit(cache=True)
+def elastic_edges_into(Y, edge_index, edge_params, F, scratch):
     """Add ``dPi/dY`` (120-121) of every interconnection into ``F``; return ``(Pi, status)``.
+
+    Allocates nothing: ``scratch`` is a float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten).
 
     Central element (106-107, 119), ``d = r_i - r_j``, ``s = |d|``, ``g = 1 - l/s``,
     ``beta = g^2``, ``Q = sum_k c_k d_k^2``:
@@ -92,12 +112,14 @@ def elastic_edges(Y, edge_index, edge_params, F):
                     F[j, 3 + k] -= cA * dl
         else:
             Ai = Y[i, 3:6]
-            Ri = rotation_zyx(Ai)
-            dRi = rotation_zyx_partials(Ai)
-            d = np.empty(3)
+            Ri = scratch[0]
+            dRi = scratch[1:4]
+            rotation_zyx_into(Ai, Ri)
+            rotation_zyx_partials_into(Ai, dRi[0], dRi[1], dRi[2])
+            d = scratch[10, 0]
             for k in range(3):
                 d[k] = Y[j, k] - Y[i, k]
-            Ce = np.empty(3)
+            Ce = scratch[10, 1]
             for k in range(3):
                 ek = Ri[0, k] * d[0] + Ri[1, k] * d[1] + Ri[2, k] * d[2] - p[10 + k]
                 Pi += 0.5 * p[k] * ek * ek
@@ -114,11 +136,13 @@ def elastic_edges(Y, edge_index, edge_params, F):
                 F[i, 3 + a] += acc
             if p[15] != 0.0 or p[16] != 0.0 or p[17] != 0.0:
                 Aj = Y[j, 3:6]
-                Rj = rotation_zyx(Aj)
-                dRj = rotation_zyx_partials(Aj)
-                # P = R_j R0^T ; QR = (R_i Kd) R0
-                P = np.zeros((3, 3))
-                QR = np.zeros((3, 3))
+                Rj = scratch[4]
+                dRj = scratch[5:8]
+                rotation_zyx_into(Aj, Rj)
+                rotation_zyx_partials_into(Aj, dRj[0], dRj[1], dRj[2])
+                # P = R_j R0^T ; QR = (R_i Kd) R0 (every entry written below)
+                P = scratch[8]
+                QR = scratch[9]
                 for l in range(3):
                     for k in range(3):
                         s1 = 0.0
@@ -253,15 +277,24 @@ def node_rotational_terms(A, dA, I, Wr, g):
 
 @njit(cache=True)
 def node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w):
+    """:func:`node_terms_into` with a scratch array of its own (one allocation per call)."""
+    return node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, np.empty(EDGE_SCRATCH_SHAPE))
+
+
+@njit(cache=True)
+def node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, scratch):
     """Per-node inertia and the non-interconnection part of ``w`` (113).
 
     Fills ``Wr`` (N, 3, 3) with the rotational inertia blocks and sets ``w`` (N, 6) to
     ``(-m g, gyroscopic)``; the immobile model uses ``W(Y_ref)`` and no gyroscopic term.
     Returns a status (Euler singularity of a node is checked where ``L^-1`` is needed, by the
-    caller).
+    caller). Allocates nothing: ``scratch`` (``EDGE_SCRATCH_SHAPE``) block 15 is used.
     """
-    g3 = np.empty(3)
-    zero = np.zeros(3)
+    g3 = scratch[15, 0]
+    zero = scratch[15, 1]
+    zero[0] = 0.0
+    zero[1] = 0.0
+    zero[2] = 0.0
     for k in range(Y.shape[0]):
         m = node_params[k, 0]
         for a in range(3):
@@ -302,12 +335,20 @@ def solve_node_rotation(A, I, b, out):
 
 @njit(cache=True)
 def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
+    """:func:`interconnection_terms_into` with a scratch array of its own."""
+    return interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w,
+                                      np.empty(EDGE_SCRATCH_SHAPE))
+
+
+@njit(cache=True)
+def interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, scratch):
     """Add every interconnection's part of ``w`` (113) into ``w``: ``dPi/dY + dD/d(dY)``, or the
-    immobile model's ``K y + D dy``. Returns a status code."""
+    immobile model's ``K y + D dy``. Returns a status code. Allocates nothing: ``scratch`` is a
+    float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten)."""
     if immobile:
         linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
         return STATUS_OK
-    _, status = elastic_edges(Y, edge_index, edge_params, w)
+    _, status = elastic_edges_into(Y, edge_index, edge_params, w, scratch)
     if status != STATUS_OK:
         return status
     damping_edges(Y, dY, edge_index, edge_params, w)
