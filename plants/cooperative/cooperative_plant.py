@@ -190,6 +190,23 @@ class CooperativePlant:
         side, for loops that want to skip the Python wrapper; ``extra_args[-1]`` is the status array."""
         return self._kern.rhs_kernel, self._args
 
+    def workspace(self):
+        """A new preallocated workspace for :attr:`kernel_into` (one per run; not thread-safe to share).
+
+        A namedtuple of float64 arrays: :class:`plants.cooperative._spatial_kernel.SpatialWorkspace` or
+        :class:`plants.cooperative._planar_kernel.PlanarWorkspace` (their docstrings list the fields).
+        """
+        return self._kern.make_workspace(self._arm_dof, self.node_count)
+
+    @property
+    def kernel_into(self):
+        """``(function, extra_args)``: ``function(x, tau, *extra_args, ws, dx)`` writes the right-hand
+        side into ``dx`` (float64, ``state_size``) and allocates nothing; ``ws`` is a
+        :meth:`workspace`. ``extra_args`` are those of :attr:`kernel` (``extra_args[-1]`` is the
+        int64 (2,) status array: code and node, ``plants.elastic._layout.STATUS_*``). The raw
+        kernel checks nothing: a nonzero ``status[0]`` leaves ``dx`` partly written."""
+        return self._kern.rhs_into, self._args
+
     def _node_state(self, x):
         x = np.ascontiguousarray(x, dtype=float)
         st = np.zeros(2, dtype=np.int64)
