@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from plants.arms._planar_kernels import PLANAR_WORK_WIDTH, planar_arm_potential, planar_arm_terms_into
-from plants.cooperative._linalg import cholesky_solve
+from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_OK, STATUS_SINGULAR_MASS
 from plants.elastic._planar_kernels import damping_edges, elastic_edges, interconnection_terms, linear_edges
 
@@ -66,8 +66,8 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, links_all, links_off, bases, tool
         o = q_off[i]
         if arm_kind[i] == ARM_SERIAL:
             planar_arm_terms_into(z[o:o + n], dz[o:o + n], links_all[links_off[i]:links_off[i] + n],
-                                  bases[i], tools[i], gravity, H_all[i, :n, :n], h_all[i, :n], Y[i + 1],
-                                  J_all[i, :, :n], Jdq_all[i], wk)
+                                  bases[i], tools[i], gravity, H_all[i], h_all[i], Y[i + 1],
+                                  J_all[i], Jdq_all[i], wk)
             for a in range(3):
                 s = 0.0
                 for k in range(n):
@@ -119,8 +119,8 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tool
         mk = node_params[k, 0]
         Ik = node_params[k, 1]
         if arm_kind[i] == ARM_SERIAL:
-            Nm = ws.Nm[:n, :n]
-            rhs = ws.rhs[:n]
+            Nm = ws.Nm
+            rhs = ws.rhs
             v0 = mk * Jdq_all[i, 0] + w[k, 0]
             v1 = mk * Jdq_all[i, 1] + w[k, 1]
             v2 = Ik * Jdq_all[i, 2] + w[k, 2]
@@ -131,8 +131,8 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tool
                          + Ik * J_all[i, 2, r] * J_all[i, 2, c])
                     Nm[r, c] = s
                     Nm[c, r] = s
-            qdd = ws.qdd[:n]
-            if not cholesky_solve(Nm, rhs, qdd):
+            qdd = ws.qdd
+            if not cholesky_solve_n(Nm, rhs, qdd, n):
                 status[0] = STATUS_SINGULAR_MASS
                 status[1] = k
                 return

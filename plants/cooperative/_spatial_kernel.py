@@ -25,7 +25,7 @@ from numba import njit
 from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potential
 from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
 from plants.arms._chain_kernels import chain_arm_terms_into as spatial_arm_terms
-from plants.cooperative._linalg import cholesky_solve
+from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
 from plants.frames import body_rate_map_inverse, rotation_zyx
 from plants.elastic._spatial_kernels import (
@@ -89,15 +89,17 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
               Y, dY, H_all, h_all, J_all, Jdq_all, wk, status):
     """Kinematics and arm dynamics of every arm, written straight into the stacked arrays
     ``H_all[i, :n, :n]``, ``h_all[i, :n]``, ``J_all[i, :, :n]``, ``Jdq_all[i]`` and the node poses
-    ``Y[1:]`` and rates ``dY[1:]``; ``wk`` is the chain kernel's work array. Allocates nothing."""
+    ``Y[1:]`` and rates ``dY[1:]``; ``wk`` is the chain kernel's work array. Allocates nothing.
+    (The arm kernel gets whole rows ``H_all[i]`` etc. -- contiguous, so numba compiles it for
+    C-layout arrays -- and takes ``n`` from ``q``.)"""
     m = arm_kind.shape[0]
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]
         if arm_kind[i] == ARM_SERIAL:
             st = spatial_arm_terms(z[o:o + n], dz[o:o + n], dh_all[dh_off[i]:dh_off[i] + n],
-                                   bases[i], tools[i], gravity, H_all[i, :n, :n], h_all[i, :n], Y[i + 1],
-                                   J_all[i, :, :n], Jdq_all[i], wk)
+                                   bases[i], tools[i], gravity, H_all[i], h_all[i], Y[i + 1],
+                                   J_all[i], Jdq_all[i], wk)
             if st != 0:
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = i + 1
@@ -167,8 +169,8 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         k = i + 1
         mk = node_params[k, 0]
         if arm_kind[i] == ARM_SERIAL:
-            Nm = ws.Nm[:n, :n]
-            rhs = ws.rhs[:n]
+            Nm = ws.Nm
+            rhs = ws.rhs
             # WJdq + w at the node
             v = ws.v
             for a in range(3):
@@ -194,8 +196,8 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
                         s += J_all[i, 3 + a, r] * t
                     Nm[r, c] = s
                     Nm[c, r] = s
-            qdd = ws.qdd[:n]
-            if not cholesky_solve(Nm, rhs, qdd):
+            qdd = ws.qdd
+            if not cholesky_solve_n(Nm, rhs, qdd, n):
                 status[0] = STATUS_SINGULAR_MASS
                 status[1] = k
                 return
