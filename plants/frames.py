@@ -65,9 +65,32 @@ def rotation_zyx(A):
 @njit(cache=True)
 def rotation_zyx_partials_into(A, dpsi, dth, dph):
     """Write ``(dR/dpsi, dR/dtheta, dR/dphi)`` of :func:`rotation_zyx` (exact) into three 3x3 arrays."""
+    _partials_from_trig(math.cos(A[0]), math.sin(A[0]), math.cos(A[1]), math.sin(A[1]),
+                        math.cos(A[2]), math.sin(A[2]), dpsi, dth, dph)
+
+
+@njit(cache=True)
+def rotation_zyx_and_partials_into(A, R, dR):
+    """:func:`rotation_zyx_into` and :func:`rotation_zyx_partials_into` (into ``dR[0..2]``) with one
+    evaluation of the six sines and cosines."""
     cps, sps = math.cos(A[0]), math.sin(A[0])
     cth, sth = math.cos(A[1]), math.sin(A[1])
     cph, sph = math.cos(A[2]), math.sin(A[2])
+    R[0, 0] = cps * cth
+    R[0, 1] = cps * sth * sph - sps * cph
+    R[0, 2] = cps * sth * cph + sps * sph
+    R[1, 0] = sps * cth
+    R[1, 1] = sps * sth * sph + cps * cph
+    R[1, 2] = sps * sth * cph - cps * sph
+    R[2, 0] = -sth
+    R[2, 1] = cth * sph
+    R[2, 2] = cth * cph
+    _partials_from_trig(cps, sps, cth, sth, cph, sph, dR[0], dR[1], dR[2])
+
+
+@njit(cache=True, inline="always")
+def _partials_from_trig(cps, sps, cth, sth, cph, sph, dpsi, dth, dph):
+    """The three partials of ``R(A)`` from the cosines and sines of ``A``."""
     dpsi[0, 0] = -sps * cth
     dpsi[0, 1] = -sps * sth * sph - cps * cph
     dpsi[0, 2] = -sps * sth * cph + cps * sph

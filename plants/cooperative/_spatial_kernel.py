@@ -52,10 +52,11 @@ SpatialWorkspace = namedtuple("SpatialWorkspace", (
     "Jdq",    # (m, 6) dJ_i/dt dq_i [m/s^2, rad/s^2]; contact-point rows stay 0
     "Wr",     # (N, 3, 3) rotational inertia blocks L^T I L [kg m^2]
     "w",      # (N, 6) node terms w_i: -m g + gyroscopic + interconnections [N, N m]
-    "Nm",     # (n, n) one arm's block N_i = H_i + J_i^T W_i J_i, then its Cholesky factor
+    "Nm",     # (n, n) one arm's block N_i = H_i + J_i^T W_i J_i (lower triangle), then its Cholesky factor
     "rhs",    # (n,) one arm's right-hand side tau_i - n_i
     "qdd",    # (n,) one arm's joint accelerations
     "v",      # (6,) W_i dJ_i dq_i + w_i of one arm's node
+    "WJ",     # (3, n) Wr_i J_i,rot of one arm
     "b3",     # (3,) right-hand side of a node rotation solve
     "o3",     # (3,) its solution
     "chain",  # (n + 1, CHAIN_WORK_WIDTH) work rows of plants.arms._chain_kernels.chain_arm_terms_into
@@ -79,7 +80,8 @@ def make_workspace(arm_dof, node_count):
     return SpatialWorkspace(
         np.zeros((N, 6)), np.zeros((N, 6)), np.zeros((m, nmax, nmax)), np.zeros((m, nmax)),
         np.zeros((m, 6, nmax)), np.zeros((m, 6)), np.zeros((N, 3, 3)), np.zeros((N, 6)),
-        np.zeros((nmax, nmax)), np.zeros(nmax), np.zeros(nmax), np.zeros(6), np.zeros(3), np.zeros(3),
+        np.zeros((nmax, nmax)), np.zeros(nmax), np.zeros(nmax), np.zeros(6), np.zeros((3, nmax)),
+        np.zeros(3), np.zeros(3),
         np.zeros((nmax + 1, CHAIN_WORK_WIDTH)), np.zeros(EDGE_SCRATCH_SHAPE),
     )
 
@@ -171,6 +173,9 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         if arm_kind[i] == ARM_SERIAL:
             Nm = ws.Nm
             rhs = ws.rhs
+            Ji = J_all[i]
+            Hi = H_all[i]
+            Wk = Wr[k]
             # WJdq + w at the node
             v = ws.v
             for a in range(3):
@@ -178,23 +183,36 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
             for a in range(3):
                 s = w[k, 3 + a]
                 for c in range(3):
-                    s += Wr[k, a, c] * Jdq_all[i, 3 + c]
+                    s += Wk[a, c] * Jdq_all[i, 3 + c]
                 v[3 + a] = s
+            # WJ = Wr J_rot (3 x n), once per arm
+            WJ = ws.WJ
+            for a in range(3):
+                for c in range(n):
+                    t = 0.0
+                    for e in range(3):
+                        t += Wk[a, e] * Ji[3 + e, c]
+                    WJ[a, c] = t
             for r in range(n):
+                j0, j1, j2 = Ji[0, r], Ji[1, r], Ji[2, r]
+                j3, j4, j5 = Ji[3, r], Ji[4, r], Ji[5, r]
                 s = 0.0
-                for a in range(6):
-                    s += J_all[i, a, r] * v[a]
+                s += j0 * v[0]
+                s += j1 * v[1]
+                s += j2 * v[2]
+                s += j3 * v[3]
+                s += j4 * v[4]
+                s += j5 * v[5]
                 rhs[r] = tau[o + r] - h_all[i, r] - s
+                # lower triangle only: cholesky_solve_n reads no entry above the diagonal
                 for c in range(r, n):
-                    s = H_all[i, r, c]
-                    for a in range(3):
-                        s += mk * J_all[i, a, r] * J_all[i, a, c]
-                    for a in range(3):
-                        t = 0.0
-                        for e in range(3):
-                            t += Wr[k, a, e] * J_all[i, 3 + e, c]
-                        s += J_all[i, 3 + a, r] * t
-                    Nm[r, c] = s
+                    s = Hi[r, c]
+                    s += mk * j0 * Ji[0, c]
+                    s += mk * j1 * Ji[1, c]
+                    s += mk * j2 * Ji[2, c]
+                    s += j3 * WJ[0, c]
+                    s += j4 * WJ[1, c]
+                    s += j5 * WJ[2, c]
                     Nm[c, r] = s
             qdd = ws.qdd
             if not cholesky_solve_n(Nm, rhs, qdd, n):

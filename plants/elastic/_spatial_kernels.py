@@ -24,9 +24,9 @@ from plants.elastic._layout import (
 from plants.frames import (
     EULER_SINGULARITY_COS,
     rotation_zyx,
+    rotation_zyx_and_partials_into,
     rotation_zyx_into,
     rotation_zyx_partials,
-    rotation_zyx_partials_into,
 )
 
 #: Nodes of a central spring with positive rest length closer than this fraction of the rest
@@ -114,8 +114,7 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch):
             Ai = Y[i, 3:6]
             Ri = scratch[0]
             dRi = scratch[1:4]
-            rotation_zyx_into(Ai, Ri)
-            rotation_zyx_partials_into(Ai, dRi[0], dRi[1], dRi[2])
+            rotation_zyx_and_partials_into(Ai, Ri, dRi)
             d = scratch[10, 0]
             for k in range(3):
                 d[k] = Y[j, k] - Y[i, k]
@@ -138,8 +137,7 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch):
                 Aj = Y[j, 3:6]
                 Rj = scratch[4]
                 dRj = scratch[5:8]
-                rotation_zyx_into(Aj, Rj)
-                rotation_zyx_partials_into(Aj, dRj[0], dRj[1], dRj[2])
+                rotation_zyx_and_partials_into(Aj, Rj, dRj)
                 # P = R_j R0^T ; QR = (R_i Kd) R0 (every entry written below)
                 P = scratch[8]
                 QR = scratch[9]
