@@ -1,8 +1,11 @@
-"""``python -m coopctrl``: the command line (:func:`coopctrl.cli.main`)."""
+"""``python -m coopctrl``: the command line (:func:`coopctrl.cli.console_main`)."""
 
 import sys
 
-from coopctrl.cli import main
+try:
+    from coopctrl.cli import console_main
+except KeyboardInterrupt:  # Ctrl-C during start-up: nothing was written yet
+    sys.exit(130)
 
 if __name__ == "__main__":
-    sys.exit(main())
+    console_main()

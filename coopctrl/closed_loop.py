@@ -44,6 +44,7 @@ from coopctrl.controllers import required_object_wrench
 from coopctrl.controllers.computed_torque import task_acceleration
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 from coopctrl.load_distribution import grasp_matrix, internal_force_basis
+from coopctrl.record_memory import check_record_fits
 from plants.cooperative import ContactPoint, nominal_node_motion
 from plants.errors import EulerSingularityError, PlantError
 from plants.frames import body_rate_map, rotation_zyx
@@ -323,6 +324,8 @@ class ClosedLoop:
     def run(self, x0, duration: float, progress: bool = False) -> dict:
         """Simulate ``duration`` [s] from ``x0``; returns the recorded arrays and the run status."""
         N = int(round(duration / self.T)) + 1
+        check_record_fits(N, sum(v[:1].size for v in self.empty_record(1).values() if isinstance(v, np.ndarray)),
+                          duration, self.T)  # before allocating: refuse, with the size, what cannot fit
         rec = self.empty_record(N)
         return self._run(rec, x0, N, progress)
 

@@ -35,17 +35,23 @@ class InfeasibleLoad(CoopctrlError, ArithmeticError):
 
     Attributes:
         status: The solver's status string.
-        binding: Names of the constraint families that are binding or violated
-            (``"torque_limits"``, ``"friction"``, ``"min_grip"``, ``"balance"``).
+        binding: Names of the enabled constraint families that make the load infeasible
+            (``"torque_limits"``, ``"friction"``, ``"min_grip"``); empty when the solver itself
+            failed (iteration limit, inaccurate answer, numerical failure).
+        advice: How to fix it (one clause).
     """
 
-    def __init__(self, status: str, binding: tuple[str, ...] = (), detail: str = ""):
+    #: The fix when constraint families bind: the load, or the constraints, must give.
+    BINDING_ADVICE = "reduce the payload or the acceleration of the trajectory, or relax those constraints"
+
+    def __init__(self, status: str, binding: tuple[str, ...] = (), detail: str = "", advice: str | None = None):
         self.status = status
         self.binding = tuple(binding)
-        fam = ", ".join(self.binding) if self.binding else "unknown"
+        self.advice = advice if advice is not None else (self.BINDING_ADVICE if self.binding else
+                                                         "check the load_distribution settings")
+        fam = f" (binding: {', '.join(self.binding)})" if self.binding else ""
         super().__init__(
-            f"load distribution failed with status '{status}' (binding: {fam}){': ' + detail if detail else ''}; "
-            "reduce the payload or the acceleration of the trajectory, or relax those constraints"
+            f"load distribution failed with status '{status}'{fam}{': ' + detail if detail else ''}; {self.advice}"
         )
 
 
@@ -66,3 +72,17 @@ class DivergenceError(CoopctrlError, ArithmeticError):
         self.suggested_step = suggested_step
         hint = f"; try a step of at most {suggested_step:.3g} s or a stiff integrator" if suggested_step else ""
         super().__init__(f"diverged at t = {time:.6g} s: {quantity} = {value:.6g}{hint}")
+
+
+def interruption_in(exc: BaseException | None) -> KeyboardInterrupt | None:
+    """The ``KeyboardInterrupt`` (Ctrl-C, or SIGTERM turned into one by the command line) that ``exc`` is,
+    or that it was raised while handling: a library may wrap it (numba's ``SystemError`` "returned a
+    result with an exception set") or fail in its own clean-up ("Can't close the ZIP file" during
+    ``np.savez``). None when ``exc`` is an ordinary error."""
+    seen: set[int] = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return None

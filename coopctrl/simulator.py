@@ -42,8 +42,35 @@ def closed_loop(scenario) -> ClosedLoop:
                       enabled=scenario.controllers.enabled)
 
 
+#: Recorded signals whose values (and sums of squares: the RMS metrics) must be finite in an ok run;
+#: the commanded wrenches only when the controllers run (a passive run has no load distribution).
+CHECKED_SIGNALS = (("x", "state"), ("tau", "joint torques"), ("F_measured", "measured contact wrenches"),
+                   ("Y0_nominal", "nominal object pose"), ("F_commanded", "commanded contact wrenches"))
+
+
+def non_finite_signal(rec: dict, controlled: bool = True) -> str | None:
+    """Why the recorded ``rec`` cannot give finite metrics, or None: the first of :data:`CHECKED_SIGNALS`
+    with a non-finite value, or whose sum of squares overflows (an RMS metric would be infinite)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        for key, label in CHECKED_SIGNALS:
+            if key == "F_commanded" and not controlled:
+                continue
+            values = np.asarray(rec[key], dtype=float)
+            if not values.size:
+                continue
+            if not np.all(np.isfinite(values)):
+                k = int(np.argmax(~np.all(np.isfinite(values.reshape(len(values), -1)), axis=1)))
+                return f"{label} not finite at t = {float(rec['t'][k]):.6g} s"
+            if not np.isfinite(np.sum(np.square(values))):
+                return f"{label} up to {float(np.max(np.abs(values))):.3g}: their metrics overflow"
+    return None
+
+
 def simulate(scenario, progress: bool = False) -> SimulationResult:
-    """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`."""
+    """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`.
+
+    A run whose recorded signals are not finite, or too large for finite metrics (a sensor noise of
+    1e300 N), is never ``ok``: its status is ``diverged`` with the signal named."""
     loop = closed_loop(scenario)
     plant = loop.plant
     sim = scenario.simulation
@@ -55,6 +82,11 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
                    events=[(0.0, "qp_failed", str(exc))])
     else:
         rec = loop.run(x0, sim.duration, progress=progress)
+    if rec["status"] == "ok":
+        cause = non_finite_signal(rec, controlled=scenario.controllers.enabled)
+        if cause is not None:
+            rec.update(status="diverged", reason=f"non-finite results: {cause}")
+            rec["events"].append((float(rec["t"][-1]) if len(rec["t"]) else 0.0, "diverged", rec["reason"]))
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]

@@ -20,7 +20,8 @@ def _T(xyz, A):
 
 
 def scene(space="spatial", m=2, arms="full", element="offset", stiffness=2e4, torsion=200.0,
-          damping=0.0, torsion_damping=0.0, unloaded_state="mobile", gravity=9.81, node_springs=False):
+          damping=0.0, torsion_damping=0.0, unloaded_state="mobile", gravity=9.81, node_springs=False,
+          damping_form="frame_invariant"):
     """A symmetric grasp: m arms around the object, contacts 0.15 m (0.1 m planar) from its MC."""
     if space == "spatial":
         obj = Node(2.0, (0.02, 0.025, 0.03), name="object")
@@ -45,9 +46,11 @@ def scene(space="spatial", m=2, arms="full", element="offset", stiffness=2e4, to
                     for k in range(m)]
         nodes = [Node(0.3, (1e-3,), name=f"nodes[{k + 1}]") for k in range(m)]
     springs = [Interconnection((0, k + 1), stiffness=stiffness, torsion=torsion, damping=damping,
-                               torsion_damping=torsion_damping, element=element) for k in range(m)]
+                               torsion_damping=torsion_damping, element=element, damping_form=damping_form)
+               for k in range(m)]
     if node_springs:
-        springs += [Interconnection((k, k + 1), stiffness=stiffness / 4, damping=damping) for k in range(1, m)]
+        springs += [Interconnection((k, k + 1), stiffness=stiffness / 4, damping=damping, damping_form=damping_form)
+                    for k in range(1, m)]
     q0 = None
     if arms == "full" and space == "planar":
         q0 = [np.array([0.8, -1.6, 0.8]), np.array([-0.8, 1.6, -0.8]), np.array([0.3, 0.5, 0.8])][:m]

@@ -118,25 +118,33 @@ def test_cost_ordering_and_reference(report):
 def test_outcomes_agree(report):
     """The models differ in the arms only, and the controllers cancel the arms' dynamics with
     the plant's own model (computed torque): the arm dynamics act only through the torque held
-    over one control period T = 1 ms, where the cancellation is not exact. That part of the
-    response is of order omega_n T = 0.04 (leader, 40 rad/s) to 0.06 (followers, 60 rad/s) of
-    the closed loop's own errors, so every difference must stay below a quarter of the
-    reference's own error of the same quantity (four times that estimate)."""
+    over one control period T = 1 ms, where the cancellation is not exact. That is also what is
+    left of the closed loop's own tracking error once the dampers do no work under the rigid motion
+    of the carried grasp (frame-invariant dampers, MODEL.md s.3): the book's dampers dragged against
+    it and made errors 40 times larger, common to all three models (8.7 um instead of 374 um on the
+    position: ``coopctrl fidelity`` with and without ``--set 'springs[0].damping_form="book"' --set
+    'springs[1].damping_form="book"'``). A bound relative to the loop's own error is therefore no
+    longer a small fraction; the claim is stated at the scale of the task instead: the lower-fidelity
+    models reproduce the outcome to 1e-4 of the motion (0.27 m travel, 0.3 rad tilt) and 1e-3 of the
+    load (the 19.6 N weight, and its moment 2.9 N m about a contact 0.15 m away). Measured: at most
+    2.4e-5 and 4.7e-5 of the motion, and 4.4e-4 and 8.5e-4 of the load (the contact points)."""
     models = {m.scenario: m for m in report.models}
     ref = models["fidelity_spatial_arms"]
     assert all(m.status == "ok" for m in report.models)
     own = ref.tracking
+    travel, tilt = math.hypot(0.1, 0.25), 0.3  # m, rad: from (0, 0.45, 0) to (0.1, 0.7, 0.3) in the plane
+    weight = 2.0 * 9.81  # N
     for name in NAMES[:2]:
         d = models[name].difference
         assert d["compared_until_s"] == pytest.approx(2.5)
-        assert d["object_position_max_m"] <= 0.25 * own["object_position_error_max_m"]
-        assert d["object_angle_max_rad"] <= 0.25 * own["object_orientation_error_max_rad"]
-        for key in ("contact_force_max_N", "commanded_force_max_N", "external_force_max_N", "internal_force_max_N"):
-            assert d[key] <= 0.25 * own["follower_force_error_rms_N"], key
-        assert d["squeeze_max_N"] <= 0.25 * own["internal_force_error_rms_N"]
+        assert d["object_position_max_m"] <= 1e-4 * travel
+        assert d["object_angle_max_rad"] <= 1e-4 * tilt
+        for key in ("contact_force_max_N", "commanded_force_max_N", "external_force_max_N", "internal_force_max_N",
+                    "squeeze_max_N"):
+            assert d[key] <= 1e-3 * weight, key
         # the moment: torsion springs and moment arms; a wrong sign of n_p = -n_y would show the
-        # moment itself (0.15 N m), not a fraction of the follower force error times 15 cm
-        assert d["contact_moment_max_Nm"] <= 0.25 * own["follower_force_error_rms_N"] * 0.15
+        # moment itself (0.15 N m), not a fraction of the weight's moment
+        assert d["contact_moment_max_Nm"] <= 1e-3 * weight * 0.15
         # the models do differ (the comparison does not compare a run with itself)
         assert d["object_position_max_m"] > 0 and d["contact_force_max_N"] > 0
     # every model ends on the nominal end pose in the plane (0.1, 0.7, 0.3), within its own error

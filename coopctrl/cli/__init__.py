@@ -1,8 +1,9 @@
 """The ``coopctrl`` command line: one subcommand per module of this package.
 
 Exit codes: 0 success; 1 the run ended with status ``"diverged"`` or ``"qp_failed"`` (one line on
-stderr says why); 2 bad input or usage (one line ``coopctrl: error: ...`` on stderr, never a
-traceback); 130 interrupted (Ctrl-C).
+stderr says why), or a numerical failure (overflow, a failed factorization) stopped it; 2 bad input or
+usage (one line ``coopctrl: error: ...`` on stderr, never a traceback); 130 interrupted (Ctrl-C, SIGINT);
+143 terminated (SIGTERM). On 130 and 143 no temporary file is left and finished files are whole.
 
 Adding a subcommand is one module with a function decorated with :func:`subcommand`: it adds its parser to
 the subparsers and sets ``handler`` (``args -> int``), imported below. Keep start-up fast: numpy, matplotlib,
@@ -12,12 +13,14 @@ control and the simulator are imported inside the handlers, never at module impo
 from __future__ import annotations
 
 import argparse
+import os
+import signal
 import sys
 from typing import Sequence
 
-from coopctrl.cli._core import (PROG, SUBCOMMANDS, UsageError, _Parser, _one_line, parse_sets,  # noqa: F401 (API)
-                                resolve_scenario, scenarios_dir, subcommand)
-from coopctrl.errors import CoopctrlError, DivergenceError, InfeasibleLoad
+from coopctrl.cli._core import (PROG, SUBCOMMANDS, Terminated, UsageError, _Parser, _one_line,  # noqa: F401 (API)
+                                parse_sets, resolve_scenario, scenarios_dir, subcommand)
+from coopctrl.errors import CoopctrlError, DivergenceError, InfeasibleLoad, interruption_in
 
 # Each module registers its subcommand on import, in the order of ``--help``.
 from coopctrl.cli import run as _run  # noqa: E402,F401
@@ -36,7 +39,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog=PROG,
         description="Simulation and control of several robot arms carrying one object through elastic grasps.",
-        epilog="Exit codes: 0 ok, 1 run diverged or QP failed, 2 bad input, 130 interrupted.",
+        epilog="Exit codes: 0 ok, 1 run diverged or QP failed, 2 bad input, 130 interrupted (SIGINT), "
+        "143 terminated (SIGTERM).",
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for configure in SUBCOMMANDS:
@@ -44,16 +48,52 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _stopped(interrupt: KeyboardInterrupt, terminated: list[int]) -> int:
+    """Remove the temporary files of writes in progress; one line; 130 (SIGINT) or 143 (SIGTERM)."""
+    from coopctrl.io.atomic import remove_pending
+
+    remove_pending()
+    signum = interrupt.signum if isinstance(interrupt, Terminated) else (terminated[0] if terminated else None)
+    if signum is not None:
+        print(f"{PROG}: terminated (signal {signum})", file=sys.stderr)
+        return 128 + signum
+    print(f"{PROG}: interrupted", file=sys.stderr)
+    return 130
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
+    """Run the command line; returns the exit code. SIGTERM is handled like Ctrl-C (clean-up, exit 143)
+    while it runs, in the main thread."""
+    terminated: list[int] = []
+
+    def on_sigterm(signum, frame) -> None:
+        terminated.append(signum)
+        raise Terminated(signum)
+
+    try:
+        previous = signal.signal(signal.SIGTERM, on_sigterm)
+    except ValueError:  # not the main thread: signals stay as they are
+        previous = None
+    try:
+        code = _main(argv)
+        if code == 130 and terminated:  # a handler that caught the interruption itself (sweep)
+            code = 128 + terminated[0]
+        return code
+    except KeyboardInterrupt as stop:  # SIGTERM after _main's own handling
+        return _stopped(stop, terminated)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: Sequence[str] | None) -> int:
     try:
         args = build_parser().parse_args(argv)
         return int(args.handler(args))
     except SystemExit as exit_:  # --help / --version
         return exit_.code if isinstance(exit_.code, int) else (0 if exit_.code is None else 2)
-    except KeyboardInterrupt:
-        print(f"{PROG}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as stop:
+        return _stopped(stop, terminated=[])
     except (DivergenceError, InfeasibleLoad) as err:
         print(f"{PROG}: failed: {_one_line(err)}", file=sys.stderr)
         return 1
@@ -62,7 +102,50 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     except BrokenPipeError:
         return 0
+    except Exception as exc:  # noqa: BLE001 - the command line never shows a traceback
+        stop = interruption_in(exc)
+        if stop is not None:
+            return _stopped(stop, terminated=[])
+        return _unexpected(exc)
+
+
+def _unexpected(exc: Exception) -> int:
+    """One line for an error that no check foresaw: numerical ones (overflow, a failed factorization,
+    memory) are a failed run, exit 1; anything else is a bug to report, also exit 1 (the traceback is
+    printed with ``COOPCTRL_TRACEBACK=1``)."""
+    if os.environ.get("COOPCTRL_TRACEBACK"):
+        import traceback
+
+        traceback.print_exception(exc)
+    numerical = (OverflowError, FloatingPointError, ZeroDivisionError, MemoryError)
+    name = type(exc).__name__
+    if isinstance(exc, numerical) or name == "LinAlgError":
+        print(f"{PROG}: failed: numerical failure ({name}: {_one_line(exc)}); the scene's values are probably "
+              "out of any physical range (check the masses, stiffnesses, gains and steps)", file=sys.stderr)
+    else:
+        print(f"{PROG}: internal error (a bug, please report it with the command): {name}: {_one_line(exc)} "
+              "(COOPCTRL_TRACEBACK=1 prints the traceback)", file=sys.stderr)
+    return 1
+
+
+def console_main() -> None:
+    """The ``coopctrl`` program: :func:`main`, then exit with its code.
+
+    After an interruption (130, 143) the process ends with ``os._exit`` once stdout and stderr are
+    flushed: when Ctrl-C lands inside a library that runs code through ``PyRun_String`` (during an
+    import), CPython marks the KeyboardInterrupt as unhandled even though :func:`main` handled it, and
+    would then end the process by SIGINT (status -2) instead of the documented 130. Everything to clean
+    up was cleaned before :func:`main` returned (temporary files, sweep workers)."""
+    code = main()
+    if code in (130, 143):
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(code)
+    sys.exit(code)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    console_main()

@@ -4,8 +4,12 @@ exceptions, scenario resolution and ``--set`` parsing."""
 from __future__ import annotations
 
 import argparse
+import os
+import sys
+import tempfile
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Callable, Iterator, Sequence
 
 from coopctrl.errors import CoopctrlError
 
@@ -17,6 +21,15 @@ SUBCOMMANDS: list[Callable[[argparse._SubParsersAction], None]] = []
 
 class UsageError(CoopctrlError, ValueError):
     """Bad command-line usage (unknown option, ``--set`` without ``=``, ...)."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (``kill PID``) received: raised in the main thread like Ctrl-C, so that every clean-up that
+    Ctrl-C runs (temporary files, sweep workers, the finished sweep rows) also runs; exit 143."""
+
+    def __init__(self, signum: int):
+        self.signum = signum
+        super().__init__(f"terminated by signal {signum}")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -84,3 +97,68 @@ def _load(args):
 
 def _one_line(text: str) -> str:
     return " ".join(str(text).splitlines()).strip()
+
+
+def output_directory(text: str) -> Path:
+    """The ``--out DIR`` of a subcommand, checked before any work (an ``argparse`` type: a bad place is a
+    usage error, exit 2). An existing directory is accepted (its files of the same names are replaced);
+    a missing one must be creatable. The check creates the missing directories and a probe file, then
+    removes them again, so that it leaves nothing behind and says exactly what the system refused.
+
+    Raises:
+        argparse.ArgumentTypeError: ``text`` is an existing non-directory (a file, ``/dev/null``), or a
+            place where a directory cannot be created or written (``/proc/x``, a read-only mount).
+    """
+    path = Path(text).expanduser()
+    allowed = "a new or existing writable directory"
+    if path.exists() and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: it exists and is not a directory; expected {allowed}")
+    created: list[Path] = []
+    try:
+        missing = []
+        parent = path
+        while not parent.exists():
+            missing.append(parent)
+            if parent.parent == parent:
+                break
+            parent = parent.parent
+        if parent.exists() and not parent.is_dir():
+            raise argparse.ArgumentTypeError(f"{text!r} is invalid: {str(parent)!r} is not a directory; expected {allowed}")
+        for directory in reversed(missing):
+            directory.mkdir()
+            created.append(directory)
+        fd, probe = tempfile.mkstemp(dir=path, prefix=".coopctrl-probe.", suffix=".tmp")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: cannot write there ({reason}); expected {allowed}") from None
+    finally:
+        for directory in reversed(created):
+            try:
+                directory.rmdir()
+            except OSError:
+                pass
+    return path
+
+
+@contextmanager
+def stdout_to_stderr(enabled: bool = True) -> Iterator[None]:
+    """Send everything written to file descriptor 1 to stderr while the block runs: Python's prints and
+    C libraries that write to stdout themselves (LAPACK's "** On entry to DLASCL" messages), also in
+    worker processes started inside the block. ``--json`` wraps its computation in it, so that stdout
+    carries the JSON document and nothing else."""
+    if not enabled:
+        yield
+        return
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        os.dup2(2, 1)
+        yield
+    finally:
+        try:
+            sys.stdout.flush()
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)

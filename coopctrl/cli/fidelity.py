@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
-from coopctrl.cli._core import PROG, UsageError, _add_set_option, _one_line, parse_sets, resolve_scenario, subcommand
+from coopctrl.cli._core import (PROG, UsageError, _add_set_option, _one_line, output_directory, parse_sets,
+                                resolve_scenario, stdout_to_stderr, subcommand)
 
 #: The scenes compared by default: one task as a planar scene, spatial contact points, spatial arms.
 DEFAULT_SCENARIOS = ("fidelity_planar", "fidelity_contact_points", "fidelity_spatial_arms")
@@ -32,8 +32,9 @@ def cmd_fidelity(args) -> int:
     def progress(message: str) -> None:  # stderr, so that --json keeps stdout clean
         print(f"{PROG} fidelity: {message}", file=sys.stderr, flush=True)
 
-    report = compare_fidelity(scenarios, repeats=args.repeats, rhs_calls=args.calls,
-                              progress=None if args.quiet else progress)
+    with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
+        report = compare_fidelity(scenarios, repeats=args.repeats, rhs_calls=args.calls,
+                                  progress=None if args.quiet else progress)
     if args.out is not None:
         report.save(args.out)
     if args.json:
@@ -65,7 +66,7 @@ def _fidelity_parser(sub) -> None:
     _add_set_option(parser)
     parser.add_argument("--json", action="store_true", help="print the report as JSON on stdout (nothing else on stdout)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress lines on stderr")
-    parser.add_argument("--out", type=Path, metavar="DIR",
+    parser.add_argument("--out", type=output_directory, metavar="DIR",
                         help="write fidelity.json and fidelity_traces.npz (the runs mapped into the plane) into DIR")
     parser.add_argument("--repeats", type=int, default=1, metavar="N",
                         help="closed-loop runs per model; the wall time is their median (default 1)")

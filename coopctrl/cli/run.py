@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
-from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand
+from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, stdout_to_stderr,
+                                subcommand)
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 
 def _simulate_function():
@@ -19,24 +19,28 @@ def cmd_run(args) -> int:
     """Load, simulate, print the summary, save and plot with ``--out``."""
     import json
 
+    import numpy as np
+
     scenario = _load(args)
     simulate = _simulate_function()
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     try:
-        result = simulate(scenario, progress=progress)
+        with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
+            result = simulate(scenario, progress=progress)
+            with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so
+                summary = result.summary()
+            if args.out is not None:
+                result.save(args.out)
+                result.plot(args.out)
+                from coopctrl.replay import write_replay
+
+                write_replay(result, scenario, args.out)  # replay.html and scenario.toml (for `coopctrl view`)
     except (DivergenceError, InfeasibleLoad) as err:
         kind = "diverged" if isinstance(err, DivergenceError) else "qp_failed"
         print(f"{PROG}: {kind}: {_one_line(err)}", file=sys.stderr)
         return 1
     from coopctrl.results import summary_table
 
-    summary = result.summary()
-    if args.out is not None:
-        result.save(args.out)
-        result.plot(args.out)
-        from coopctrl.replay import write_replay
-
-        write_replay(result, scenario, args.out)  # replay.html and scenario.toml (for `coopctrl view`)
     if args.json:
         print(json.dumps(summary, indent=2, allow_nan=False))
     elif not args.quiet:
@@ -59,7 +63,7 @@ def _run_parser(sub) -> None:
     )
     parser.add_argument("scenario", nargs="?", help="scenario .toml file, or the name of one in scenarios/ (default: built-in default scene)")
     _add_set_option(parser)
-    parser.add_argument("--out", type=Path, metavar="DIR", help="write result.npz, result.csv, summary.json, PNG plots, replay.html (3-D replay) and scenario.toml into DIR")
+    parser.add_argument("--out", type=output_directory, metavar="DIR", help="write result.npz, result.csv, summary.json, PNG plots, replay.html (3-D replay) and scenario.toml into DIR")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON on stdout (nothing else on stdout)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary table")
     parser.set_defaults(handler=cmd_run)

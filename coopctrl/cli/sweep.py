@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
-from coopctrl.cli._core import PROG, _add_set_option, parse_sets, resolve_scenario, subcommand
+from coopctrl.cli._core import (PROG, _add_set_option, output_directory, parse_sets, resolve_scenario,
+                                stdout_to_stderr, subcommand)
 
 
 def _run_function():
@@ -24,6 +24,16 @@ def _jobs(text: str) -> int:
     if jobs < 1:
         raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected an integer >= 1 (1 runs in this process)")
     return jobs
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (0.0 < value < float("inf")):
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected a finite number of seconds > 0")
+    return value
 
 
 def _emit(result, args) -> None:
@@ -44,8 +54,10 @@ def cmd_sweep(args) -> int:
     sets = parse_sets(args.sets)
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     try:
-        result = run_sweep(resolve_scenario(args.scenario), grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
-                           progress=progress, out=args.out, run_function=_run_function())
+        with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library or worker prints
+            result = run_sweep(resolve_scenario(args.scenario), grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
+                               progress=progress, out=args.out, run_function=_run_function(),
+                               run_timeout_s=args.run_timeout)
     except SweepInterrupted as stop:
         partial = stop.result
         _emit(partial, args)
@@ -80,9 +92,12 @@ def _sweep_parser(sub) -> None:
     where.add_argument("--jobs", "-j", type=_jobs, metavar="N",
                        help="local worker processes (default: CPU count; 1 runs in this process)")
     where.add_argument("--scheduler", metavar="ADDRESS",
-                       help="run on the Dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786 "
+                       help="run on the Dask cluster of this scheduler, e.g. tcp://scheduler.example:8786 "
                        "(pip install 'coopctrl[distributed]')")
-    parser.add_argument("--out", type=Path, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
+    parser.add_argument("--out", type=output_directory, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
+    parser.add_argument("--run-timeout", type=_seconds, metavar="SECONDS",
+                        help="stop a run after this wall time; it becomes a row with status 'timeout' "
+                        "(local workers and --jobs 1; default: no limit)")
     parser.add_argument("--json", action="store_true", help="print one JSON document {scenario, grid, set, ..., rows} on stdout")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no table")
     parser.set_defaults(handler=cmd_sweep)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
-from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand
+from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, stdout_to_stderr,
+                                subcommand)
 from coopctrl.errors import ScenarioError
 
 #: Reference methods offered on the command line (see coopctrl.analysis.reference; kept here as
@@ -44,7 +44,8 @@ def cmd_tradeoff(args) -> int:
         raise ScenarioError("--" + err.path.replace(".", "-"), err.value, err.allowed) from None
     progress = _print_progress if not (args.json or args.quiet) and sys.stderr.isatty() else None
     try:
-        result = run_tradeoff(scenario, integrators, substeps, reference, repeats=args.repeat, progress=progress)
+        with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
+            result = run_tradeoff(scenario, integrators, substeps, reference, repeats=args.repeat, progress=progress)
     except ReferenceFailed as err:
         print(f"{PROG}: failed: {_one_line(err)}", file=sys.stderr)
         return 1
@@ -90,7 +91,7 @@ def _tradeoff_parser(sub) -> None:
                         help="absolute tolerance of the reference, state units (default 1e-12)")
     parser.add_argument("--repeat", type=_positive_int, default=1, metavar="N",
                         help="run each grid point N times and report the smallest wall time (default 1)")
-    parser.add_argument("--out", type=Path, metavar="DIR",
+    parser.add_argument("--out", type=output_directory, metavar="DIR",
                         help="write tradeoff.json, tradeoff.csv and work_precision.png into DIR")
     parser.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress and no table")

@@ -51,8 +51,27 @@ class GraspCompliance:
                     Y[i + 1] = self._displace(Y_ref[0], Y_ref[i + 1], a, sgn * step)
                     Fw = self._wrenches(Y)[i]
                     cols.append(self._to_object(Fw, R0, th0))
-                self.K[i, :, a] = (cols[0] - cols[1]) / (2 * step)
+                with np.errstate(over="ignore", invalid="ignore"):  # checked below
+                    self.K[i, :, a] = (cols[0] - cols[1]) / (2 * step)
+        self._check_finite()
         self.C = np.array([np.linalg.pinv(Ki, rcond=1e-9) for Ki in self.K])
+
+    #: Largest grasp stiffness entry [N/m, N m/rad, N/rad] the pseudo-inverse is trusted with: beyond it the
+    #: singular value decomposition's scaling overflows (LAPACK may then iterate without end).
+    LARGEST_STIFFNESS = 1e150
+
+    def _check_finite(self) -> None:
+        """Refuse grasp stiffnesses that are not finite or too large to invert (an SVD of an ``inf`` or
+        near-overflow matrix can loop for ever inside LAPACK, beyond the reach of Ctrl-C)."""
+        from coopctrl.errors import ScenarioError
+
+        for i, Ki in enumerate(self.K):
+            largest = float(np.max(np.abs(Ki))) if np.all(np.isfinite(Ki)) else float("inf")
+            if not largest <= self.LARGEST_STIFFNESS:
+                raise ScenarioError(
+                    "springs", f"grasp stiffness of contact {i + 1} up to {largest:.3g}",
+                    f"finite grasp stiffnesses <= {self.LARGEST_STIFFNESS:.0e} (from the springs' stiffness and "
+                    "the grasp geometry); lower the stiffness of the springs to a physical value")
 
     def _wrenches(self, Y):
         pl = self.plant

@@ -3,10 +3,32 @@
 from __future__ import annotations
 
 import os
+import signal
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Iterator
+
+
+#: The temporary files being written, removed by :func:`remove_pending` when the process is stopped
+#: by a signal in a place where ``atomic_write``'s own clean-up cannot run.
+_PENDING: set[str] = set()
+#: Signals held back between creating a temporary file and registering it (a few microseconds).
+_HELD = {signal.SIGINT, signal.SIGTERM}
+
+
+def remove_pending() -> list[str]:
+    """Remove the temporary files of writes still in progress (the command line calls it on SIGINT and
+    SIGTERM); returns their names. Targets are untouched: they stay as they were before the write."""
+    removed = []
+    for name in list(_PENDING):
+        try:
+            os.unlink(name)
+            removed.append(name)
+        except FileNotFoundError:
+            pass
+        _PENDING.discard(name)
+    return removed
 
 
 @contextmanager
@@ -28,7 +50,14 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str | No
         raise ValueError(f"atomic_write: mode = {mode!r} is invalid: expected 'w' or 'wb'")
     target = Path(path)
     directory = target.parent if str(target.parent) else Path(".")
-    fd, tmp_name = tempfile.mkstemp(dir=directory, prefix=f".{target.name}.", suffix=".tmp")
+    mask = getattr(signal, "pthread_sigmask", None)  # POSIX only
+    held = mask(signal.SIG_BLOCK, _HELD) if mask else None  # no signal between mkstemp and registering
+    try:
+        fd, tmp_name = tempfile.mkstemp(dir=directory, prefix=f".{target.name}.", suffix=".tmp")
+        _PENDING.add(tmp_name)
+    finally:
+        if mask:
+            mask(signal.SIG_SETMASK, held)
     try:
         os.fchmod(fd, _permissions(target))
         if mode == "wb":
@@ -46,6 +75,8 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str | No
         except FileNotFoundError:
             pass
         raise
+    finally:
+        _PENDING.discard(tmp_name)
     _fsync_directory(directory)
 
 

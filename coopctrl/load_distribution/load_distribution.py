@@ -14,6 +14,11 @@ from .problem import LoadDistributionProblem
 from .solvers import QPStats, make_solver
 
 
+#: Largest violation of the balance or an inequality an answer may have, as a fraction of the load
+#: (see the failure policy of :class:`LoadDistribution`).
+ANSWER_TOLERANCE_OF_LOAD = 1e-4
+
+
 class LoadDistribution:
     """Splits the external load ``w_N`` among ``m`` arms, once per control step.
 
@@ -29,9 +34,16 @@ class LoadDistribution:
     inequality the answer is ``F_pref``: the weighted pseudo-inverse (or elastic) split plus the
     desired virtual-linkage squeeze.
 
-    **Failure policy.** A garbage answer is never returned. A solve fails when the status is not
-    ``"solved"`` or when the answer violates ``G F = w_N`` or an inequality by more than
-    ``tol = 100 eps_abs (1 + max(|G F|, |C F|))``. Then:
+    **Failure policy.** A garbage answer is never returned. Whatever the solver says, its answer is
+    checked: a solve fails when the status is not ``"solved"`` or when the answer violates
+    ``G F = w_N`` or an inequality by more than
+
+    .. math:: tol = \\min\\big(100\\,eps_{abs} (1 + \\max(|G F|, |C F|)),\\; \\rho\\, L\\big),
+        \\qquad L = \\max(1, |w_N|_\\infty, |l|_\\infty, |u|_\\infty) \\text{ (finite bounds)},
+
+    with ``rho = ANSWER_TOLERANCE_OF_LOAD``: the solver's own tolerance, but never more than a small
+    fraction of the load [N, N m] (a loose ``eps_abs`` cannot pass a split that does not carry the
+    load). Then:
 
     - if no solve has succeeded yet, :class:`~coopctrl.errors.InfeasibleLoad` is raised at once
       (there is nothing to hold);
@@ -39,11 +51,12 @@ class LoadDistribution:
       iterations and time, and the violated families in ``binding``;
     - the ``max_consecutive_failures``-th failure in a row raises ``InfeasibleLoad``.
 
-    A proxsuite run that stops at its iteration limit with the constraints still violated is
-    reported as ``"infeasible"`` (on this convex QP that is what it means in practice; proxsuite
-    rarely certifies infeasibility itself). ``binding`` names, on success, the families with a
-    non-zero multiplier; on failure, the violated families (``"balance"`` for ``G F = w_N``), the
-    most violated first.
+    The cause of a failure is found by an exact active-set solver (daqp) on the same problem: if it
+    has no solution, the status is ``"infeasible"`` and ``binding`` names the enabled inequality
+    families without which it has one (never a family that is not enabled); if it has one, the
+    failure is the solver's own, and the error says which: its iteration limit (``"max_iter"``), an
+    answer off by more than the tolerance, or a numerical failure (``"failed"``), each with its fix.
+    On success ``binding`` names the families with a non-zero multiplier.
 
     Args:
         config: The settings.
@@ -113,36 +126,36 @@ class LoadDistribution:
         x = res.x
         binding: tuple[str, ...] = ()
         ok = status == "solved"
+        violated: list[tuple[float, str]] = []
+        tol = float("nan")
         if x is None or not np.all(np.isfinite(x)):
             ok, x = False, None
         if x is not None:
             viol, scale = pb.max_violation(x)
             tol = self._tol_factor * (1.0 + scale)
-            if viol > tol:
-                viol = pb.violations(x)
-                bad = sorted((v, k) for k, v in viol.items() if v > tol)
-                if status in ("solved", "max_iter"):
-                    status = "infeasible"
+            if not viol <= min(tol, ANSWER_TOLERANCE_OF_LOAD):  # the load's cap is >= this (load >= 1):
+                tol = self.answer_tolerance(scale)                # only a doubtful answer needs it
+            if not viol <= tol:
+                violated = sorted(((v, k) for k, v in pb.violations(x).items() if v > tol), reverse=True)
                 ok = False
-                binding = tuple(k for _, k in reversed(bad))
         objective = pb.objective(x) if x is not None else float("nan")
-        self._stats.append(QPStats(status, res.iterations, res.solve_time_s, objective))
         if not ok:
             self.solver.reset()
-            cause = self._infeasibility_cause()
-            if cause:
-                binding = cause
+            status, binding, detail, advice = self._failure_cause(status, violated, tol)
+            self._stats.append(QPStats(status, res.iterations, res.solve_time_s, objective))
             self._failures += 1
             self._held.append(True)
             if self._last is None:
-                raise InfeasibleLoad(status, binding, "first solve failed, no previous split to hold")
+                raise InfeasibleLoad(status, binding, f"{detail}; first solve failed, no previous split to hold",
+                                     advice)
             if self._failures >= self.config.max_consecutive_failures:
-                raise InfeasibleLoad(status, binding, f"{self._failures} consecutive failed solves")
+                raise InfeasibleLoad(status, binding, f"{detail}; {self._failures} consecutive failed solves", advice)
             held = dataclasses.replace(
                 self._last, status=status, iterations=res.iterations, solve_time_s=res.solve_time_s,
                 binding=binding, held=True,
             )
             return held
+        self._stats.append(QPStats(status, res.iterations, res.solve_time_s, objective))
         self._failures = 0
         if res.z is not None:
             binding = self._active_families(res.z)
@@ -157,6 +170,68 @@ class LoadDistribution:
         self._last = split
         return split
 
+    def answer_tolerance(self, scale: float) -> float:
+        """Largest violation [N, N m] a solver's answer may have (see the failure policy): the solver's
+        ``100 eps_abs (1 + scale)``, ``scale = max(|G F|, |C F|)``, capped by a fraction of the load."""
+        pb = self.problem
+        load = max(1.0, float(np.max(np.abs(pb.w))) if pb.w.size else 0.0)
+        for bound in (pb.l, pb.u):
+            finite = np.abs(bound[np.isfinite(bound)])
+            if finite.size:
+                load = max(load, float(finite.max()))
+        return min(self._tol_factor * (1.0 + scale), ANSWER_TOLERANCE_OF_LOAD * load)
+
+    def _failure_cause(self, status: str, violated: list[tuple[float, str]], tol: float
+                       ) -> tuple[str, tuple[str, ...], str, str | None]:
+        """``(status, binding, detail, advice)`` of a failed solve, as it really happened.
+
+        ``violated``: ``(violation, family)`` of the solver's answer beyond ``tol``, largest first
+        (empty if it gave no answer)."""
+        feasible = self._exactly_feasible(())
+        if feasible is False:  # no split exists: name the families that make it so
+            families = self._enabled_families()
+            cause = self._infeasibility_cause()
+            binding = cause or tuple(k for _, k in violated if k in families) or families
+            return "infeasible", binding, "no split satisfies the balance and the enabled constraints together", None
+        cfg = self.config
+        if status == "max_iter":
+            return status, (), (f"the solver ({cfg.solver}) reached its iteration limit (max_iter = {cfg.max_iter}) "
+                                "although a split exists"), "raise load_distribution.max_iter"
+        if violated:
+            worst, family = violated[0]
+            what = "the wrench balance G F = w_N" if family == "balance" else f"the {family} constraints"
+            return "failed", (), (f"the solver's answer violates {what} by {worst:.3g} (tolerance {tol:.3g}, "
+                                  f"from the load) although a split exists"), (
+                f"tighten load_distribution.eps_abs (now {cfg.eps_abs:g}) or choose another load_distribution.solver")
+        return "failed", (), (f"numerical failure of the solver ({cfg.solver}, status '{status}') although a split "
+                              "exists"), "choose another load_distribution.solver"
+
+    def _enabled_families(self) -> tuple[str, ...]:
+        pb = self.problem
+        return tuple(name for name, sl in pb.rows.items() if sl.stop > sl.start)
+
+    def _exactly_feasible(self, drop: tuple[str, ...]) -> bool | None:
+        """Whether the problem without the families ``drop`` has a solution, by daqp (exact active
+        set); ``None`` when daqp is not available."""
+        import qpsolvers as qps
+
+        if "daqp" not in qps.available_solvers:
+            return None
+        pb = self.problem
+        keep = np.ones(pb.n_in, dtype=bool)
+        for name in drop:
+            keep[pb.rows[name]] = False
+        Gin = hin = None
+        if keep.any():
+            C, l, u = pb.C[keep], pb.l[keep], pb.u[keep]
+            up, lo = np.isfinite(u), np.isfinite(l)
+            Gin, hin = np.vstack((C[up], -C[lo])), np.concatenate((u[up], -l[lo]))
+        try:
+            sol = qps.solve_problem(qps.Problem(pb.P, pb.g, Gin, hin, pb.G, pb.w), solver="daqp")
+        except (qps.QPError, ValueError, ArithmeticError):
+            return None
+        return bool(sol.found and sol.x is not None and np.all(np.isfinite(sol.x)))
+
     def _infeasibility_cause(self) -> tuple[str, ...]:
         """The inequality families without which the failed problem becomes feasible.
 
@@ -164,27 +239,7 @@ class LoadDistribution:
         families whose removal restores feasibility are the binding ones. Runs only after a
         failure, so it costs nothing on normal steps.
         """
-        import qpsolvers as qps
-
-        pb = self.problem
-        families = [name for name, sl in pb.rows.items() if sl.stop > sl.start]
-        if not families or "daqp" not in qps.available_solvers:
-            return ()
-        cause = []
-        for drop in families:
-            keep = np.ones(pb.n_in, dtype=bool)
-            keep[pb.rows[drop]] = False
-            C, l, u = pb.C[keep], pb.l[keep], pb.u[keep]
-            up, lo = np.isfinite(u), np.isfinite(l)
-            Gin = np.vstack((C[up], -C[lo])) if keep.any() else None
-            hin = np.concatenate((u[up], -l[lo])) if keep.any() else None
-            try:
-                sol = qps.solve_problem(qps.Problem(pb.P, pb.g, Gin, hin, pb.G, pb.w), solver="daqp")
-                if sol.found and sol.x is not None and np.all(np.isfinite(sol.x)):
-                    cause.append(drop)
-            except (qps.QPError, ValueError, ArithmeticError):
-                pass
-        return tuple(cause)
+        return tuple(name for name in self._enabled_families() if self._exactly_feasible((name,)))
 
     def _active_families(self, z: np.ndarray) -> tuple[str, ...]:
         pb = self.problem

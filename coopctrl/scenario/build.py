@@ -97,7 +97,8 @@ def _build(scenario):
     for e, s in enumerate(scenario.springs):
         springs.append(Interconnection(tuple(s.pair), stiffness=s.stiffness_per_axis(space),
                                        torsion=s.torsion_per_axis(space), damping=s.damping,
-                                       torsion_damping=s.torsion_damping, element=s.element, name=f"springs[{e}]"))
+                                       torsion_damping=s.torsion_damping, element=s.element,
+                                       damping_form=s.damping_form, name=f"springs[{e}]"))
     grasps = true_grasps(scenario)
     q0 = [None if a.q0 is None else np.asarray(a.q0, dtype=float) for a in scenario.arms]
     try:

@@ -9,6 +9,7 @@ from coopctrl.scenario.checks import choice, number, scalar_or_vector
 from coopctrl.scenario.schema import key, limits
 
 ELEMENTS = ("central", "offset")
+DAMPING_FORMS = ("frame_invariant", "book")
 
 
 @dataclass(frozen=True)
@@ -26,6 +27,10 @@ class SpringConfig:
         element: ``"central"`` (the book's spring with rest length plus Euler-difference torsion
             springs; no lateral stiffness without pre-tension) or ``"offset"`` (rest offset fixed in
             the object frame, so it also has shear stiffness; MODEL.md §3, known limit).
+        damping_form: ``"frame_invariant"`` (default: the dampers act on the rate of the deformation,
+            the elongation in the element's frame and the relative angular velocity, so they do no
+            work under a rigid motion; MODEL.md §3 [ours]) or ``"book"`` (110-111: world velocity
+            differences and Euler-rate differences, as in the book).
     """
 
     pair: tuple[int, int]
@@ -39,6 +44,7 @@ class SpringConfig:
                          why="1e7 N s/m damps a 1e10 N/m spring on a 1 kg node far beyond critical")
     torsion_damping: float = key(0.05, unit="N m s/rad", ge=0, le=1e6, why="as damping, for rotations")
     element: str = key("offset", allowed=ELEMENTS)
+    damping_form: str = key("frame_invariant", allowed=DAMPING_FORMS)
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -57,6 +63,7 @@ class SpringConfig:
         s(self, "damping", number("damping", self.damping, **limits(self, "damping")))
         s(self, "torsion_damping", number("torsion_damping", self.torsion_damping, **limits(self, "torsion_damping")))
         s(self, "element", choice("element", self.element, ELEMENTS))
+        s(self, "damping_form", choice("damping_form", self.damping_form, DAMPING_FORMS))
 
     def stiffness_per_axis(self, space: str) -> tuple[float, ...]:
         """Translational stiffness per axis [N/m] (2 planar, 3 spatial)."""

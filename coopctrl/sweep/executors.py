@@ -7,7 +7,10 @@
   may hold numba, BLAS, tqdm or Dask threads, and ``fork`` with threads can deadlock), and it behaves
   the same on Linux, macOS and Windows. A worker's start-up costs about 0.85 s (imports, and the numba
   kernels loaded from their on-disk cache), paid once per worker; ``forkserver`` measured the same.
-  Workers ignore SIGINT: Ctrl-C reaches the sweep, which stops them itself.
+  Workers ignore SIGINT: Ctrl-C reaches the sweep, which stops them itself. Workers die with the sweep:
+  on Linux the kernel sends them SIGKILL when their parent dies (``prctl(PR_SET_PDEATHSIG)``, which also
+  covers a SIGKILL of the sweep); elsewhere a watchdog thread in each worker exits when its parent
+  process is gone (polled every :data:`PARENT_POLL_S`).
 - ``scheduler = ADDRESS``: :class:`DaskExecutor`, the runs go to a Dask cluster (the optional extra
   ``distributed``: ``pip install 'coopctrl[distributed]'``).
 
@@ -17,15 +20,24 @@ once) and ``interrupt()`` (stop now, dropping queued and running runs).
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import multiprocessing
 import os
 import signal
+import sys
+import threading
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 
+from coopctrl.errors import interruption_in
 from coopctrl.sweep.errors import MissingExtra, SchedulerError, SweepError
 
 #: Seconds to wait for a Dask scheduler before giving up.
 CONNECT_TIMEOUT_S = 10.0
+#: Seconds between two checks of a worker's watchdog that its parent is alive (non-Linux systems).
+PARENT_POLL_S = 1.0
+#: ``PR_SET_PDEATHSIG`` of ``<linux/prctl.h>``.
+_PR_SET_PDEATHSIG = 1
 
 
 class SerialExecutor(Executor):
@@ -48,6 +60,9 @@ class SerialExecutor(Executor):
         try:
             result = fn(*args, **kwargs)
         except Exception as exc:  # noqa: BLE001 - delivered through the future, as any executor does
+            stop = interruption_in(exc)
+            if stop is not None:  # Ctrl-C wrapped by a library: still Ctrl-C
+                raise stop from None
             future.set_exception(exc)
         else:
             future.set_result(result)
@@ -61,16 +76,42 @@ class SerialExecutor(Executor):
         self._shutdown = True
 
 
-def _ignore_sigint() -> None:
-    """Worker initializer: Ctrl-C in a terminal signals the whole process group; only the sweep acts on it."""
+def _die_with_parent(parent_pid: int) -> None:
+    """Make this worker end when the process ``parent_pid`` ends, however it ends (SIGKILL included)."""
+    armed = False
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+            armed = libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0
+        except (OSError, AttributeError):
+            armed = False
+    if os.getppid() != parent_pid:  # the parent died before the request above was armed
+        os._exit(1)
+    if not armed:
+        def watch() -> None:
+            while True:
+                threading.Event().wait(PARENT_POLL_S)
+                if os.getppid() != parent_pid:
+                    os._exit(1)
+
+        threading.Thread(target=watch, name="coopctrl-parent-watchdog", daemon=True).start()
+
+
+def _init_worker(parent_pid: int) -> None:
+    """Worker initializer: ignore SIGINT (Ctrl-C in a terminal signals the whole process group; only the
+    sweep acts on it), restore the default SIGTERM, and die with the sweep's process."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    _die_with_parent(parent_pid)
 
 
 class LocalProcessPool(ProcessPoolExecutor):
-    """A :class:`~concurrent.futures.ProcessPoolExecutor` of ``jobs`` spawned workers that ignore SIGINT."""
+    """A :class:`~concurrent.futures.ProcessPoolExecutor` of ``jobs`` spawned workers that ignore SIGINT
+    and die with this process."""
 
     def __init__(self, jobs: int):
-        super().__init__(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint)
+        super().__init__(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"), initializer=_init_worker,
+                         initargs=(os.getpid(),))
         self.workers = jobs
 
     def interrupt(self) -> None:
@@ -99,6 +140,11 @@ def _close_half_made_client(exc: BaseException, client_type: type) -> None:
                 candidate.close(timeout=1)
             except Exception:  # noqa: BLE001 - best effort on an already failed client
                 pass
+            try:  # whatever close() managed: its __del__ must not try again (a 20 s wait and a traceback)
+                candidate.status = "closed"
+                candidate._loop_runner.stop()  # private; best effort
+            except Exception:  # noqa: BLE001
+                pass
             return
         tb = tb.tb_next
 
@@ -107,12 +153,13 @@ class DaskExecutor(Executor):
     """Runs on a Dask cluster through :meth:`distributed.Client.get_executor`.
 
     Args:
-        address: The scheduler's address, e.g. ``tcp://10.0.0.5:8786``.
+        address: The scheduler's address, e.g. ``tcp://scheduler.example:8786``.
         timeout_s: Seconds to wait for the connection.
 
     Raises:
         MissingExtra: ``distributed`` is not installed.
-        SchedulerError: No scheduler answers at ``address`` within ``timeout_s``.
+        SchedulerError: No Dask scheduler answers at ``address`` within ``timeout_s`` (nothing listens,
+            the address is malformed, or something else answers, e.g. a web server).
     """
 
     def __init__(self, address: str, timeout_s: float = CONNECT_TIMEOUT_S):
@@ -123,9 +170,11 @@ class DaskExecutor(Executor):
         self.address = address
         try:
             self.client = distributed.Client(address, timeout=timeout_s, set_as_default=False)
-        except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        except Exception as exc:  # noqa: BLE001 - refused, timed out, malformed, or a peer that is no scheduler
             _close_half_made_client(exc, distributed.Client)
             detail = " ".join(str(exc).split()) or type(exc).__name__
+            if not isinstance(exc, (OSError, TimeoutError, ValueError, TypeError)):
+                detail = f"something answered there, but not a Dask scheduler: {type(exc).__name__}: {detail}"
             raise SchedulerError(address, detail) from None
         self._executor = self.client.get_executor(pure=False)  # every run is a new task, never deduplicated
         self.workers = max(1, sum(self.client.nthreads().values()))

@@ -21,9 +21,10 @@ from typing import Any, Mapping
 
 from coopctrl.sweep.grid import SweepGrid, value_of, value_text
 
-#: Status of a run: the simulation's own (``ok``, ``diverged``, ``qp_failed``), or ``error`` when the
-#: run raised (the reason names the exception type and its message).
-RUN_STATUSES = ("ok", "diverged", "qp_failed", "error")
+#: Status of a run: the simulation's own (``ok``, ``diverged``, ``qp_failed``), ``error`` when the
+#: run raised (the reason names the exception type and its message), or ``timeout`` when it went past
+#: the sweep's run timeout.
+RUN_STATUSES = ("ok", "diverged", "qp_failed", "error", "timeout")
 
 
 @dataclass(frozen=True)

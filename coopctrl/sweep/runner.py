@@ -22,12 +22,17 @@ from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, 
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-from coopctrl.sweep.errors import SweepInterrupted
-from coopctrl.sweep.executors import SerialExecutor, make_executor
+from coopctrl.sweep.errors import SweepError, SweepInterrupted
+from coopctrl.sweep.executors import LocalProcessPool, SerialExecutor, make_executor
 from coopctrl.sweep.grid import SweepGrid
 from coopctrl.sweep.plan import SweepPlan, SweepRun, plan_sweep
 from coopctrl.sweep.results import SweepResult, make_row
 from coopctrl.sweep.worker import RunFunction, execute_run, simulate_run
+
+
+#: Seconds a local worker gets beyond twice the run timeout before the sweep stops it from outside (a run
+#: stuck where the worker's own alarm cannot reach it, e.g. inside a C library); see :func:`run_sweep`.
+BACKSTOP_GRACE_S = 30.0
 
 
 def _lost_row(run: SweepRun, exc: BaseException) -> dict[str, Any]:
@@ -90,6 +95,7 @@ def run_sweep(
     out: str | Path | None = None,
     run_function: RunFunction = simulate_run,
     save_interval_s: float = 1.0,
+    run_timeout_s: float | None = None,
 ) -> SweepResult:
     """Run the Cartesian product of ``grid`` over a scenario; one row per run.
 
@@ -108,6 +114,12 @@ def run_sweep(
         run_function: Module-level function ``SweepRun -> summary dict`` executed for each run (a
             process pool pickles it by name); :func:`~coopctrl.sweep.worker.simulate_run` simulates.
         save_interval_s: Least time between two saves while running [s].
+        run_timeout_s: Wall time after which a run is stopped and becomes a ``timeout`` row [s]
+            (``None``: no limit). Applies to local workers and ``jobs = 1``, not on a Dask cluster.
+            The worker stops its own run (an alarm). A run that does not answer it (stuck inside a C
+            library) is stopped from outside ``2 run_timeout_s + BACKSTOP_GRACE_S`` after it started: the
+            pool's workers are terminated, that run is a ``timeout`` row and the other runs in flight
+            start again on a fresh pool.
 
     Returns:
         The :class:`SweepResult`, rows by run index.
@@ -119,6 +131,8 @@ def run_sweep(
     """
     if executor is not None and (jobs is not None or scheduler is not None):
         raise ValueError("run_sweep: give either an executor or jobs/scheduler, not both")
+    if run_timeout_s is not None and not (run_timeout_s > 0 and run_timeout_s < float("inf")):
+        raise SweepError(f"--run-timeout = {run_timeout_s!r} is invalid: expected a finite number of seconds > 0")
     plan = plan_sweep(scenario_path, grid, sets)
     owned = executor is None
     if owned:
@@ -140,6 +154,18 @@ def run_sweep(
     queue = iter(plan.runs)
     pending: dict[Future, SweepRun] = {}
     interrupted = False
+    # the outside stop of a stuck run: on a pool this function owns (it may replace it)
+    backstop = run_timeout_s is not None and owned and isinstance(executor, LocalProcessPool)
+    started: dict[Future, float] = {}  # when each pending run was first seen running [s, monotonic]
+
+    def deliver(row: dict[str, Any]) -> None:
+        collector.add(row)
+        if bar is not None:
+            bar.update(1)
+            bar.set_postfix(failed=sum(r["status"] != "ok" for r in collector.rows.values()), refresh=False)
+        if on_row is not None:
+            on_row(row)
+
     try:
         while True:
             while len(pending) < limit:
@@ -147,26 +173,41 @@ def run_sweep(
                 if run is None:
                     break
                 try:
-                    future = executor.submit(execute_run, run_function, run)
+                    future = executor.submit(execute_run, run_function, run, run_timeout_s)
                 except BrokenExecutor as exc:  # a worker process died (crash, out of memory): its runs in
                     if not owned:              # flight are error rows; the rest go to a fresh pool
                         future = _failed(exc)
                     else:
                         executor.shutdown(wait=False, cancel_futures=True)
                         executor = make_executor(jobs, scheduler)
-                        future = executor.submit(execute_run, run_function, run)
+                        future = executor.submit(execute_run, run_function, run, run_timeout_s)
                 pending[future] = run
             if not pending:
                 break
-            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            done, _ = wait(pending, timeout=1.0 if backstop else None, return_when=FIRST_COMPLETED)
             for future in sorted(done, key=lambda f: pending[f].index):
-                row = _row_of(future, pending.pop(future))
-                collector.add(row)
-                if bar is not None:
-                    bar.update(1)
-                    bar.set_postfix(failed=sum(r["status"] != "ok" for r in collector.rows.values()), refresh=False)
-                if on_row is not None:
-                    on_row(row)
+                started.pop(future, None)
+                deliver(_row_of(future, pending.pop(future)))
+            if backstop and not done:
+                now = time.monotonic()
+                for future in pending:
+                    if future not in started and future.running():
+                        started[future] = now
+                limit_s = 2.0 * run_timeout_s + BACKSTOP_GRACE_S
+                overdue = [f for f in pending if now - started.get(f, now) > limit_s]
+                if overdue:  # stop the pool from outside; the others in flight start again on a fresh one
+                    executor.interrupt()
+                    for future in sorted(overdue, key=lambda f: pending[f].index):
+                        run = pending.pop(future)
+                        deliver(make_row(run.index, run.columns, "timeout",
+                                         f"run stopped by the sweep {limit_s:g} s after it started: it did not answer "
+                                         f"its run timeout of {run_timeout_s:g} s (--run-timeout)", None,
+                                         now - started[future]))
+                    redo = [pending.pop(future) for future in sorted(pending, key=lambda f: pending[f].index)]
+                    started.clear()
+                    executor = make_executor(jobs, scheduler)
+                    for run in redo:
+                        pending[executor.submit(execute_run, run_function, run, run_timeout_s)] = run
     except BaseException as exc:
         interrupted = True
         for future, run in list(pending.items()):  # rows that finished but were not collected yet

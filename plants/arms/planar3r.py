@@ -12,6 +12,9 @@ from plants.errors import ParameterError
 DESIGN_PAYLOAD = 5.0
 #: Margin factor on the worst-case static torque (arm stretched horizontally).
 TORQUE_MARGIN = 2.0
+#: Least gravity [m/s^2] the default torque limits are sized for: the motors of an arm do not vanish
+#: in weightlessness, so a scene at ``gravity = 0`` keeps the limits of standard gravity.
+DESIGN_GRAVITY = 9.81
 
 
 def planar3r(
@@ -34,7 +37,8 @@ def planar3r(
         lengths: Link lengths [m].
         masses: Link masses [kg].
         tau_max: Torque limits [N m]; default: ``TORQUE_MARGIN`` times the static torque of
-            the horizontally stretched arm carrying ``DESIGN_PAYLOAD`` kg at the tip.
+            the horizontally stretched arm carrying ``DESIGN_PAYLOAD`` kg at the tip, under
+            ``max(|gravity|, DESIGN_GRAVITY)`` (never zero, also at zero gravity).
         motor_inertia: Reflected motor inertias [kg m^2] (default off).
         viscous_friction: Joint viscous friction [N m s/rad] (default off).
         q_limits: Joint limits (3, 2) [rad]; default ``[-pi, pi]`` for each joint.
@@ -59,7 +63,7 @@ def planar3r(
         for i in range(3)
     )
     if tau_max is None:
-        g = float(np.hypot(*gravity))
+        g = max(float(np.hypot(*gravity)), DESIGN_GRAVITY)
         tool_dx = 0.0 if tool is None else float(tool[0])
         static = np.empty(3)
         for j in range(3):

@@ -6,6 +6,11 @@ constant node inertia ``W_i = diag(m_i, m_i, I_i)`` and no gyroscopic terms:
 .. math::
     N_i = H_i + J_i^T W_i J_i, \\quad n_i = h_i + J_i^T (W_i \\dot J_i \\dot q_i + w_i), \\quad
     W_0 \\ddot Y_0 = -w_0
+
+The interconnections' forces, dampers included (frame invariant by default, MODEL.md s.3), come from
+the kernels of :mod:`plants.elastic`. numba's on-disk cache of this file is keyed on this file alone:
+after a change to those kernels, change this file too (or clear ``__pycache__``), or a stale compiled
+right-hand side is loaded.
 """
 
 from __future__ import annotations

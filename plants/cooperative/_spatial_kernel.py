@@ -12,6 +12,11 @@ One numba call evaluates ``x' = f(t, x, tau)`` for ``x = (z, z')``, ``z = (q_1..
 object's block ``W_0 = blockdiag(m_0 I, L^T I L)`` is inverted in closed form: the cost is
 linear in m. An arm of kind ``ARM_CONTACT_POINT`` is an actuated node without arm dynamics:
 its coordinates are the node pose itself (``J = I``, ``H = h = 0``).
+
+The interconnections' forces, dampers included (frame invariant by default, MODEL.md s.3), come from
+the kernels of :mod:`plants.elastic`. numba's on-disk cache of this file is keyed on this file alone:
+after a change to those kernels, change this file too (or clear ``__pycache__``), or a stale compiled
+right-hand side is loaded.
 """
 
 from __future__ import annotations

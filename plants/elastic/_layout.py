@@ -15,13 +15,18 @@ spatial (``EDGE_WIDTH_SPATIAL`` columns)
 planar (``EDGE_WIDTH_PLANAR`` columns)
     ``c[0:2]``, ``cA[2]``, ``l[3]``, ``A0[4]``, ``rho[5:7]``, ``d[7]``, ``dA[8]``.
 
-Edge index rows: ``(i, j, element)`` with element ``ELEMENT_CENTRAL`` or ``ELEMENT_OFFSET``.
+Edge index rows: ``(i, j, element, damping form)`` with element ``ELEMENT_CENTRAL`` or
+``ELEMENT_OFFSET`` and damping form ``DAMPING_FRAME_INVARIANT`` or ``DAMPING_BOOK``.
 Node rows: spatial ``(mass, I1, I2, I3)``; planar ``(mass, I)`` [kg, kg m^2].
 """
 
 ELEMENT_CENTRAL = 0
 ELEMENT_OFFSET = 1
 ELEMENTS = {"central": ELEMENT_CENTRAL, "offset": ELEMENT_OFFSET}
+
+DAMPING_FRAME_INVARIANT = 0
+DAMPING_BOOK = 1
+DAMPING_FORMS = {"frame_invariant": DAMPING_FRAME_INVARIANT, "book": DAMPING_BOOK}
 
 EDGE_WIDTH_SPATIAL = 27
 EDGE_WIDTH_PLANAR = 9

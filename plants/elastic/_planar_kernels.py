@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
-from plants.elastic._layout import ELEMENT_CENTRAL, STATUS_COINCIDENT_NODES, STATUS_OK
+from plants.elastic._layout import DAMPING_BOOK, ELEMENT_CENTRAL, STATUS_COINCIDENT_NODES, STATUS_OK
 from plants.elastic._spatial_kernels import COINCIDENT_FRACTION, wrap_angle
 
 
@@ -81,7 +81,21 @@ def elastic_edges(Y, edge_index, edge_params, F):
 
 @njit(cache=True)
 def damping_edges(Y, dY, edge_index, edge_params, F):
-    """Add ``dD/d(dY)`` (110-111) into ``F``; return ``D``. Central: along the line; offset: isotropic."""
+    """Add ``dD/d(dY)`` (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
+
+    Central element: along the line, ``D = 1/2 d (u^T (dr_i - dr_j))^2``, ``u = (r_i - r_j)/|r_i - r_j|``
+    (frame invariant). Offset element, frame-invariant form (MODEL.md s.3 [ours]): the rate of the
+    elongation vector in node i's frame,
+
+    .. math::
+        \\dot e = R_i^T (\\dot r_j - \\dot r_i) + \\dot\\theta_i (\\rho_z, -\\rho_x), \\quad
+        \\rho = R_i^T (r_j - r_i), \\quad D = \\tfrac12 d |\\dot e|^2,
+
+    with generalized force ``(d e_dot / d Y_dot)^T d e_dot``; the book's form (damping form
+    ``DAMPING_BOOK``) is ``D = 1/2 d |dr_i - dr_j|^2``. Torsion: ``D = 1/2 dA (dtheta_i -
+    dtheta_j)^2`` in both forms (in the plane the Euler-rate difference is the relative angular
+    velocity).
+    """
     D = 0.0
     for e in range(edge_index.shape[0]):
         i = edge_index[e, 0]
@@ -99,10 +113,25 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
                 D += 0.5 * dd * vu * vu
                 f0 = dd * vu * d0 / s
                 f1 = dd * vu * d1 / s
-            else:
+            elif edge_index[e, 2] == ELEMENT_CENTRAL or edge_index[e, 3] == DAMPING_BOOK:
                 D += 0.5 * dd * (v0 * v0 + v1 * v1)
                 f0 = dd * v0
                 f1 = dd * v1
+            else:
+                c, sn = math.cos(Y[i, 2]), math.sin(Y[i, 2])
+                # rho = R_i^T (r_j - r_i); r_j - r_i = -(d0, d1); dr_j - dr_i = -(v0, v1)
+                rho0 = -(c * d0 + sn * d1)
+                rho1 = -(-sn * d0 + c * d1)
+                w = dY[i, 2]
+                ed0 = -(c * v0 + sn * v1) + w * rho1
+                ed1 = -(-sn * v0 + c * v1) - w * rho0
+                D += 0.5 * dd * (ed0 * ed0 + ed1 * ed1)
+                g0 = dd * ed0
+                g1 = dd * ed1
+                # d e_dot / d dr_j = R_i^T (so d e_dot / d dr_i = -R_i^T); d e_dot / d dtheta_i = (rho_z, -rho_x)
+                f0 = -(c * g0 - sn * g1)  # force on node i (node j gets its opposite below)
+                f1 = -(sn * g0 + c * g1)
+                F[i, 2] += g0 * rho1 - g1 * rho0
             F[i, 0] += f0
             F[i, 1] += f1
             F[j, 0] -= f0

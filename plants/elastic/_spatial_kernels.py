@@ -16,6 +16,7 @@ import numpy as np
 from numba import njit
 
 from plants.elastic._layout import (
+    DAMPING_BOOK,
     ELEMENT_CENTRAL,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
@@ -165,19 +166,51 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch):
     return Pi, STATUS_OK
 
 
+@njit(cache=True, inline="always")
+def body_rate_matrix(A, L):
+    """``L(A)`` of ``omega = L(A) A_dot`` (body-frame angular velocity from ZYX Euler rates) into ``L`` (3x3)."""
+    cth, sth = math.cos(A[1]), math.sin(A[1])
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    L[0, 0], L[0, 1], L[0, 2] = -sth, 0.0, 1.0
+    L[1, 0], L[1, 1], L[1, 2] = sph * cth, cph, 0.0
+    L[2, 0], L[2, 1], L[2, 2] = cph * cth, -sph, 0.0
+
+
 @njit(cache=True)
 def damping_edges(Y, dY, edge_index, edge_params, F):
-    """Add ``dD/d(dY)`` of the dampers (110-111) into ``F``; return the Rayleigh function ``D``.
+    """Add ``dD/d(dY)`` of the dampers (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
 
-    Central element: ``D_ij = blockdiag(d u u^T, dA I3)``, ``u = (r_i - r_j)/|r_i - r_j|``.
-    Offset element: ``D_ij = blockdiag(d I3, dA I3)`` (shear damping, ours).
+    Central element, translation: ``D = 1/2 d (u^T (dr_i - dr_j))^2``, ``u = (r_i - r_j)/|r_i - r_j|``
+    (the book's, frame invariant). Frame-invariant form (damping form ``DAMPING_FRAME_INVARIANT``,
+    MODEL.md s.3 [ours]), with ``omega_k = L(A_k) dA_k`` in node k's frame:
+
+    .. math::
+        \\dot e = R_i^T (\\dot r_j - \\dot r_i) + \\rho \\times \\omega_i, \\quad
+        \\rho = R_i^T (r_j - r_i), \\qquad
+        \\omega_{rel} = L_j \\dot A_j - R_j^T R_i L_i \\dot A_i,
+
+        D = \\tfrac12 d |\\dot e|^2 \\;(\\text{offset}) + \\tfrac12 dA |\\omega_{rel}|^2,
+
+    both zero under any rigid motion of the pair; the generalized forces are
+    ``(d e_dot/d Y_dot)^T d e_dot + (d omega_rel/d Y_dot)^T dA omega_rel``. The book's form
+    (``DAMPING_BOOK``): offset ``D = 1/2 d |dr_i - dr_j|^2`` and torsion
+    ``D = 1/2 dA |dA_i - dA_j|^2`` on the Euler rates.
     """
     D = 0.0
+    Ri = np.empty((3, 3))
+    Li = np.empty((3, 3))
+    Lj = np.empty((3, 3))
     for e in range(edge_index.shape[0]):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
         p = edge_params[e]
+        book = edge_index[e, 3] == DAMPING_BOOK
+        central = edge_index[e, 2] == ELEMENT_CENTRAL
         dd = p[13]
+        dA = p[14]
+        if not book and ((dd != 0.0 and not central) or dA != 0.0):
+            Ri[:, :] = rotation_zyx(Y[i, 3:6])
+            body_rate_matrix(Y[i, 3:6], Li)
         if dd != 0.0:
             v0 = dY[i, 0] - dY[j, 0]
             v1 = dY[i, 1] - dY[j, 1]
@@ -186,27 +219,82 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
             d1 = Y[i, 1] - Y[j, 1]
             d2 = Y[i, 2] - Y[j, 2]
             s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-            if edge_index[e, 2] == ELEMENT_CENTRAL and s > 1e-12:
+            if central and s > 1e-12:
                 vu = (v0 * d0 + v1 * d1 + v2 * d2) / s
                 D += 0.5 * dd * vu * vu
                 f = dd * vu / s
                 f0, f1, f2 = f * d0, f * d1, f * d2
-            else:
+            elif central or book:
                 D += 0.5 * dd * (v0 * v0 + v1 * v1 + v2 * v2)
                 f0, f1, f2 = dd * v0, dd * v1, dd * v2
+            else:
+                # rho = R_i^T (r_j - r_i), omega_i = L_i dA_i, e_dot = R_i^T (dr_j - dr_i) + rho x omega_i
+                rho = np.empty(3)
+                om = np.empty(3)
+                for k in range(3):
+                    rho[k] = -(Ri[0, k] * d0 + Ri[1, k] * d1 + Ri[2, k] * d2)
+                    om[k] = Li[k, 0] * dY[i, 3] + Li[k, 1] * dY[i, 4] + Li[k, 2] * dY[i, 5]
+                g = np.empty(3)
+                for k in range(3):
+                    g[k] = -(Ri[0, k] * v0 + Ri[1, k] * v1 + Ri[2, k] * v2)
+                g[0] += rho[1] * om[2] - rho[2] * om[1]
+                g[1] += rho[2] * om[0] - rho[0] * om[2]
+                g[2] += rho[0] * om[1] - rho[1] * om[0]
+                D += 0.5 * dd * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2])
+                for k in range(3):
+                    g[k] *= dd
+                # force on node i: -(R_i g); on node j: +R_i g (applied below with the opposite sign)
+                f0 = -(Ri[0, 0] * g[0] + Ri[0, 1] * g[1] + Ri[0, 2] * g[2])
+                f1 = -(Ri[1, 0] * g[0] + Ri[1, 1] * g[1] + Ri[1, 2] * g[2])
+                f2 = -(Ri[2, 0] * g[0] + Ri[2, 1] * g[1] + Ri[2, 2] * g[2])
+                # d(rho x omega)/d omega = S(rho): generalized force L_i^T S(rho)^T g = L_i^T (g x rho)
+                c0 = g[1] * rho[2] - g[2] * rho[1]
+                c1 = g[2] * rho[0] - g[0] * rho[2]
+                c2 = g[0] * rho[1] - g[1] * rho[0]
+                for a in range(3):
+                    F[i, 3 + a] += Li[0, a] * c0 + Li[1, a] * c1 + Li[2, a] * c2
             F[i, 0] += f0
             F[i, 1] += f1
             F[i, 2] += f2
             F[j, 0] -= f0
             F[j, 1] -= f1
             F[j, 2] -= f2
-        dA = p[14]
         if dA != 0.0:
-            for k in range(3):
-                v = dY[i, 3 + k] - dY[j, 3 + k]
-                D += 0.5 * dA * v * v
-                F[i, 3 + k] += dA * v
-                F[j, 3 + k] -= dA * v
+            if book:
+                for k in range(3):
+                    v = dY[i, 3 + k] - dY[j, 3 + k]
+                    D += 0.5 * dA * v * v
+                    F[i, 3 + k] += dA * v
+                    F[j, 3 + k] -= dA * v
+            else:
+                Rj = rotation_zyx(Y[j, 3:6])
+                body_rate_matrix(Y[j, 3:6], Lj)
+                # world angular velocities, their difference in node j's frame
+                wi = np.empty(3)
+                wj = np.empty(3)
+                for k in range(3):
+                    wi[k] = Li[k, 0] * dY[i, 3] + Li[k, 1] * dY[i, 4] + Li[k, 2] * dY[i, 5]
+                    wj[k] = Lj[k, 0] * dY[j, 3] + Lj[k, 1] * dY[j, 4] + Lj[k, 2] * dY[j, 5]
+                Wd = np.empty(3)
+                for l in range(3):
+                    Wd[l] = (Rj[l, 0] * wj[0] + Rj[l, 1] * wj[1] + Rj[l, 2] * wj[2]
+                             - Ri[l, 0] * wi[0] - Ri[l, 1] * wi[1] - Ri[l, 2] * wi[2])
+                h = np.empty(3)  # dA * omega_rel, omega_rel = R_j^T (omega_j^w - omega_i^w)
+                for k in range(3):
+                    h[k] = Rj[0, k] * Wd[0] + Rj[1, k] * Wd[1] + Rj[2, k] * Wd[2]
+                    D += 0.5 * dA * h[k] * h[k]
+                for k in range(3):
+                    h[k] *= dA
+                # node j: L_j^T h; node i: -L_i^T R_i^T R_j h
+                Hw = np.empty(3)
+                for l in range(3):
+                    Hw[l] = Rj[l, 0] * h[0] + Rj[l, 1] * h[1] + Rj[l, 2] * h[2]
+                Hi = np.empty(3)
+                for k in range(3):
+                    Hi[k] = Ri[0, k] * Hw[0] + Ri[1, k] * Hw[1] + Ri[2, k] * Hw[2]
+                for a in range(3):
+                    F[j, 3 + a] += Lj[0, a] * h[0] + Lj[1, a] * h[1] + Lj[2, a] * h[2]
+                    F[i, 3 + a] -= Li[0, a] * Hi[0] + Li[1, a] * Hi[1] + Li[2, a] * Hi[2]
     return D
 
 

@@ -10,6 +10,7 @@ from plants import _validation as v
 from plants.elastic import _planar_kernels, _spatial_kernels
 from plants.elastic._layout import (
     EDGE_WIDTH_PLANAR,
+    DAMPING_FORMS,
     EDGE_WIDTH_SPATIAL,
     ELEMENT_OFFSET,
     ELEMENTS,
@@ -119,7 +120,7 @@ class ElasticSystem:
         p, N, Yr = self.p, self.node_count, self.Y_ref
         spatial = self.space == "spatial"
         E = len(self.interconnections)
-        idx = np.zeros((E, 3), dtype=np.int64)
+        idx = np.zeros((E, 4), dtype=np.int64)
         par = np.zeros((E, EDGE_WIDTH_SPATIAL if spatial else EDGE_WIDTH_PLANAR))
         npos = 3 if spatial else 2
         nang = 3 if spatial else 1
@@ -184,7 +185,7 @@ class ElasticSystem:
                 par[e, 5:7] = rho
                 par[e, 7] = ic.damping
                 par[e, 8] = ic.torsion_damping
-            idx[e] = (i, j, ELEMENTS[ic.element])
+            idx[e] = (i, j, ELEMENTS[ic.element], DAMPING_FORMS[ic.damping_form])
         return idx, par
 
     # ------------------------------------------------------------------ helpers
@@ -331,7 +332,10 @@ class ElasticSystem:
         return self._laplacian(lambda r: np.r_[r[0:2], r[2]])
 
     def damping_matrix(self) -> np.ndarray:
-        """Constant ``D`` of the immobile model: ``diag(d I, dA I)`` per edge, Laplacian-assembled."""
+        """Constant ``D`` of the immobile model: ``diag(d I, dA I)`` per edge, Laplacian-assembled (the
+        book's vector dampers of 4.5, whatever ``damping_form``: the immobile model is the book's linear
+        model; the frame-invariant form of the mobile model couples a node's rotation into the damping of
+        the offset, ``rho x omega_i``, which this diagonal form does not have)."""
         if self.space == "spatial":
             return self._laplacian(lambda r: np.r_[np.full(3, r[13]), np.full(3, r[14])])
         return self._laplacian(lambda r: np.r_[r[7], r[7], r[8]])

@@ -8,7 +8,7 @@ from typing import Sequence
 import numpy as np
 
 from plants import _validation as v
-from plants.elastic._layout import ELEMENTS
+from plants.elastic._layout import DAMPING_FORMS, ELEMENTS
 from plants.errors import ParameterError
 
 
@@ -36,7 +36,16 @@ class Interconnection:
             the torsion springs.
         damping: Translational damping [N s/m] (along the line for "central", isotropic for
             "offset").
-        torsion_damping: Damping on Euler-rate differences [N m s/rad].
+        torsion_damping: Rotational damping [N m s/rad] (see ``damping_form``).
+        damping_form: ``"frame_invariant"`` (default, MODEL.md s.3 [ours]): the dampers act on the
+            rate of the deformation only, so they do no work when the whole system moves rigidly.
+            The offset element damps the rate of its elongation vector in node i's frame,
+            ``e_dot = R_i^T (dr_j - dr_i) + rho x omega_i`` (``rho = R_i^T (r_j - r_i)``, ``omega_i``
+            in node i's frame), and every element damps the relative angular velocity
+            ``R_j^T (omega_j - omega_i)`` (node j's frame). ``"book"`` (110-111): the offset
+            element damps ``d I`` on the world velocity difference and the torsion dampers act on
+            the Euler-rate difference ``dA_i - dA_j``; both do work under a rigid rotation. The
+            central element's line damper is the book's in both forms (it is frame invariant).
         rest_length: Rest distance ``l_ij`` [m]; ``None`` takes it from the reference poses.
         rest_angles: Rest angle difference ``A0_ij`` [rad]; ``None`` = from the reference poses.
         rest_offset: Rest offset ``rho_ij`` [m] in node i's frame; ``None`` = from the reference.
@@ -49,6 +58,7 @@ class Interconnection:
     damping: float = 0.0
     torsion_damping: float = 0.0
     element: str = "central"
+    damping_form: str = "frame_invariant"
     rest_length: float | None = None
     rest_angles: Sequence[float] | None = None
     rest_offset: Sequence[float] | None = None
@@ -65,6 +75,8 @@ class Interconnection:
         object.__setattr__(self, "pair", (i, j))
         if self.element not in ELEMENTS:
             raise ParameterError(f"{n}.element", self.element, f"one of {sorted(ELEMENTS)}")
+        if self.damping_form not in DAMPING_FORMS:
+            raise ParameterError(f"{n}.damping_form", self.damping_form, f"one of {sorted(DAMPING_FORMS)}")
         for field in ("stiffness", "torsion"):
             arr = v.finite_array(f"{n}.{field}", getattr(self, field))
             if np.any(arr < 0):
