@@ -199,11 +199,21 @@ def arm_potential_kernel(x, arm_kind, arm_dof, q_off, links_all, links_off, base
 
 @njit(cache=True)
 def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
-    """Planar analogue of the spatial ``interconnection_kernel``: ``(S (N,3), Fw (m,3), True)``."""
+    """Planar analogue of the spatial ``interconnection_kernel``: ``(S (N,3), Fw (m,3), True)`` (new arrays)."""
     N = Y.shape[0]
-    S = np.zeros((N, 3))
-    Fw = np.zeros((m, 3))
-    Fe = np.zeros((N, 3))
+    S = np.empty((N, 3))
+    Fw = np.empty((m, 3))
+    ok = interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, np.empty((N, 3)))
+    return S, Fw, ok
+
+
+@njit(cache=True)
+def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe):
+    """:func:`interconnection_kernel` into ``S`` (N, 3) and ``Fw`` (m, 3); ``Fe`` (N, 3) is work space.
+    Allocates nothing; returns True (the plane has no Euler singularity)."""
+    N = Y.shape[0]
+    S[:, :] = 0.0
+    Fw[:, :] = 0.0
     for e in range(edge_index.shape[0]):
         Fe[:, :] = 0.0
         ei = edge_index[e:e + 1]
@@ -226,4 +236,42 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
             Fw[c - 1, 0] += f0
             Fw[c - 1, 1] += f1
             Fw[c - 1, 2] += -Fe[0, 2] - (d0 * f1 - d1 * f0)
-    return S, Fw, True
+    return True
+
+
+#: The arrays :func:`control_terms_into` fills (planar; see the spatial ``SpatialControlWorkspace``).
+PlanarControlWorkspace = namedtuple("PlanarControlWorkspace", (
+    "ws",      # a PlanarWorkspace: after the call ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq
+    "W",       # (N, 3, 3) node inertias diag(m_i, m_i, I_i)
+    "w_free",  # (N, 3) -m_i g (no interconnections)
+    "S",       # (N, 3) interconnection terms
+    "Fw",      # (m, 3) wrench each contact's edges apply to the object (f_x, f_z [N], n [N m])
+    "Fe",      # (N, 3) work space
+))
+
+
+@njit(cache=True)
+def make_control_workspace(arm_dof, node_count):
+    """A new zero-filled :class:`PlanarControlWorkspace`."""
+    m = arm_dof.shape[0]
+    N = node_count
+    return PlanarControlWorkspace(make_workspace(arm_dof, N), np.zeros((N, 3, 3)), np.zeros((N, 3)),
+                                  np.zeros((N, 3)), np.zeros((m, 3)), np.zeros((N, 3)))
+
+
+@njit(cache=True)
+def control_terms_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
+                       node_params, edge_index, edge_params, Y_ref, immobile, status, cws):
+    """Planar :func:`plants.cooperative._spatial_kernel.control_terms_into`; allocates nothing."""
+    ws = cws.ws
+    node_state_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity, status, ws)
+    N = ws.Y.shape[0]
+    W = cws.W
+    for k in range(N):
+        W[k, 0, 0] = node_params[k, 0]
+        W[k, 1, 1] = node_params[k, 0]
+        W[k, 2, 2] = node_params[k, 1]
+        cws.w_free[k, 0] = -node_params[k, 0] * gravity[0]
+        cws.w_free[k, 1] = -node_params[k, 0] * gravity[1]
+        cws.w_free[k, 2] = 0.0
+    interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe)

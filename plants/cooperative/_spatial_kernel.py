@@ -32,11 +32,11 @@ from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
 from plants.arms._chain_kernels import chain_arm_terms_into as spatial_arm_terms
 from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
-from plants.frames import body_rate_map_inverse, rotation_zyx
+from plants.frames import body_rate_map_inverse, rotation_zyx_into
 from plants.elastic._spatial_kernels import (
     EDGE_SCRATCH_SHAPE,
-    damping_edges,
-    elastic_edges,
+    damping_edges_into,
+    elastic_edges_into,
     interconnection_terms_into,
     linear_edges,
     node_terms_into,
@@ -305,15 +305,31 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     the generalized force the interconnections apply to node i), and ``Fw`` (m, 6) the wrench
     ``(f, n)`` [N, N m] that the edges between the object and contact i apply to the object,
     force at the contact node and couple, world frame. ``ok`` is False at an Euler singularity
-    of the object.
+    of the object. New arrays; see :func:`interconnection_into`.
     """
     N = Y.shape[0]
-    S = np.zeros((N, 6))
-    Fw = np.zeros((m, 6))
-    Fe = np.zeros((N, 6))
-    Linv = np.empty((3, 3))
+    S = np.empty((N, 6))
+    Fw = np.empty((m, 6))
+    ok = interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, np.empty((N, 6)),
+                              np.empty(EDGE_SCRATCH_SHAPE))
+    return S, Fw, ok
+
+
+@njit(cache=True)
+def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch):
+    """:func:`interconnection_kernel` into ``S`` (N, 6) and ``Fw`` (m, 6) (both overwritten); returns ``ok``.
+
+    Allocates nothing: ``Fe`` (N, 6) is work space, ``scratch`` has ``EDGE_SCRATCH_SHAPE``
+    (blocks 0-13 for the edge kernels, 14 for ``L_0^-1`` and 15 for ``R_0`` here).
+    """
+    N = Y.shape[0]
+    m = Fw.shape[0]
+    S[:, :] = 0.0
+    Fw[:, :] = 0.0
+    Linv = scratch[14]
+    R0 = scratch[15]
     ok = body_rate_map_inverse(Y[0, 3:6], Linv)
-    R0 = rotation_zyx(Y[0, 3:6])
+    rotation_zyx_into(Y[0, 3:6], R0)
     for e in range(edge_index.shape[0]):
         Fe[:, :] = 0.0
         ei = edge_index[e:e + 1]
@@ -321,8 +337,8 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
         if immobile:
             linear_edges(Y, dY, Y_ref, ei, ep, Fe)
         else:
-            elastic_edges(Y, ei, ep, Fe)
-            damping_edges(Y, dY, ei, ep, Fe)
+            elastic_edges_into(Y, ei, ep, Fe, scratch)
+            damping_edges_into(Y, dY, ei, ep, Fe, scratch)
         for k in range(N):
             for a in range(6):
                 S[k, a] += Fe[k, a]
@@ -332,9 +348,9 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
             c = j if i == 0 else i
             f0, f1, f2 = -Fe[0, 0], -Fe[0, 1], -Fe[0, 2]
             # body torque = Linv^T Q_A ; world torque = R0 tb
-            tb = np.empty(3)
-            for a in range(3):
-                tb[a] = -(Linv[0, a] * Fe[0, 3] + Linv[1, a] * Fe[0, 4] + Linv[2, a] * Fe[0, 5])
+            tb0 = -(Linv[0, 0] * Fe[0, 3] + Linv[1, 0] * Fe[0, 4] + Linv[2, 0] * Fe[0, 5])
+            tb1 = -(Linv[0, 1] * Fe[0, 3] + Linv[1, 1] * Fe[0, 4] + Linv[2, 1] * Fe[0, 5])
+            tb2 = -(Linv[0, 2] * Fe[0, 3] + Linv[1, 2] * Fe[0, 4] + Linv[2, 2] * Fe[0, 5])
             d0 = Y[c, 0] - Y[0, 0]
             d1 = Y[c, 1] - Y[0, 1]
             d2 = Y[c, 2] - Y[0, 2]
@@ -342,9 +358,62 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
             Fw[c - 1, 1] += f1
             Fw[c - 1, 2] += f2
             for a in range(3):
-                tw = R0[a, 0] * tb[0] + R0[a, 1] * tb[1] + R0[a, 2] * tb[2]
+                tw = R0[a, 0] * tb0 + R0[a, 1] * tb1 + R0[a, 2] * tb2
                 Fw[c - 1, 3 + a] += tw
             Fw[c - 1, 3] -= d1 * f2 - d2 * f1
             Fw[c - 1, 4] -= d2 * f0 - d0 * f2
             Fw[c - 1, 5] -= d0 * f1 - d1 * f0
-    return S, Fw, ok
+    return ok
+
+
+#: The arrays :func:`control_terms_into` fills (N = m + 1 nodes; see :class:`plants.cooperative.ControlTerms`).
+SpatialControlWorkspace = namedtuple("SpatialControlWorkspace", (
+    "ws",      # a SpatialWorkspace: after the call ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq (and ws.Wr)
+    "W",       # (N, 6, 6) node inertia blocks W_i = blockdiag(m_i I, L^T I L) (off-blocks stay 0)
+    "w_free",  # (N, 6) gyroscopic - gravity terms of w (no interconnections)
+    "S",       # (N, 6) interconnection terms dPi/dY_i + dD/d(dY_i)
+    "Fw",      # (m, 6) wrench each contact's edges apply to the object (f [N], couple [N m])
+    "Fe",      # (N, 6) work space of one edge's forces
+))
+
+
+@njit(cache=True)
+def make_control_workspace(arm_dof, node_count):
+    """A new zero-filled :class:`SpatialControlWorkspace`."""
+    m = arm_dof.shape[0]
+    N = node_count
+    return SpatialControlWorkspace(make_workspace(arm_dof, N), np.zeros((N, 6, 6)), np.zeros((N, 6)),
+                                   np.zeros((N, 6)), np.zeros((m, 6)), np.zeros((N, 6)))
+
+
+@njit(cache=True)
+def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+                       node_params, edge_index, edge_params, Y_ref, immobile, status, cws):
+    """Every term of :class:`plants.cooperative.ControlTerms` at state ``x`` into ``cws``; allocates nothing.
+
+    Arguments as :func:`rhs_into` (without ``tau``); ``cws`` is a :class:`SpatialControlWorkspace`
+    (``CooperativePlant.control_workspace()``), separate from the right-hand side's workspace so that
+    integrating the plant does not overwrite the terms a controller reads. Fills ``cws.ws.Y``,
+    ``cws.ws.dY``, ``cws.ws.H``, ``cws.ws.h``, ``cws.ws.J``, ``cws.ws.Jdq``, ``cws.W``, ``cws.w_free``,
+    ``cws.S`` and ``cws.Fw``. ``status[0]`` is ``STATUS_EULER_SINGULAR`` with ``status[1]`` the node
+    at an Euler singularity of an arm's tip (node i) or of the object (node 0, then ``S`` is valid
+    and ``Fw`` is not).
+    """
+    ws = cws.ws
+    node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws)
+    if status[0] != STATUS_OK:
+        return
+    N = ws.Y.shape[0]
+    node_terms_into(ws.Y, ws.dY, node_params, gravity, Y_ref, immobile, ws.Wr, cws.w_free, ws.edge)
+    W = cws.W
+    for k in range(N):
+        for a in range(3):
+            W[k, a, a] = node_params[k, 0]
+            for b in range(3):
+                W[k, 3 + a, 3 + b] = ws.Wr[k, a, b]
+    if not interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe,
+                                ws.edge):
+        status[0] = STATUS_EULER_SINGULAR
+        status[1] = 0
+
+

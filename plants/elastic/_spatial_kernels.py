@@ -36,7 +36,10 @@ COINCIDENT_FRACTION = 1e-9
 
 #: Shape of the scratch array of the ``*_into`` edge kernels (3x3 blocks; a block's rows serve as
 #: 3-vectors). :func:`elastic_edges_into`: 0 ``R_i``, 1-3 ``dR_i/dA_i``, 4 ``R_j``, 5-7 ``dR_j/dA_j``,
-#: 8 ``P``, 9 ``QR``, 10 the vectors ``d`` and ``C e``; :func:`node_terms_into`: 15 (``g``, zeros).
+#: 8 ``P``, 9 ``QR``, 10 the vectors ``d`` and ``C e``; :func:`damping_edges_into`: 0 ``R_i``,
+#: 1 ``L_i``, 2 ``L_j``, 3 ``R_j``, 11-13 the vectors ``rho``, ``omega``, ``g``, ``w_i``, ``w_j``, ``Wd``,
+#: ``h``, ``Hw``, ``Hi``; :func:`node_terms_into`: 15 (``g``, zeros); the cooperative plant's
+#: ``interconnection_into`` (plants.cooperative._spatial_kernel): 14 and 15.
 #: The kernels overwrite what they use; the content between calls means nothing.
 EDGE_SCRATCH_SHAPE = (16, 3, 3)
 
@@ -178,7 +181,15 @@ def body_rate_matrix(A, L):
 
 @njit(cache=True)
 def damping_edges(Y, dY, edge_index, edge_params, F):
+    """:func:`damping_edges_into` with a scratch array of its own (one allocation per call)."""
+    return damping_edges_into(Y, dY, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE))
+
+
+@njit(cache=True)
+def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch):
     """Add ``dD/d(dY)`` of the dampers (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
+
+    Allocates nothing: ``scratch`` is a float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten).
 
     Central element, translation: ``D = 1/2 d (u^T (dr_i - dr_j))^2``, ``u = (r_i - r_j)/|r_i - r_j|``
     (the book's, frame invariant). Frame-invariant form (damping form ``DAMPING_FRAME_INVARIANT``,
@@ -197,9 +208,9 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
     ``D = 1/2 dA |dA_i - dA_j|^2`` on the Euler rates.
     """
     D = 0.0
-    Ri = np.empty((3, 3))
-    Li = np.empty((3, 3))
-    Lj = np.empty((3, 3))
+    Ri = scratch[0]
+    Li = scratch[1]
+    Lj = scratch[2]
     for e in range(edge_index.shape[0]):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
@@ -209,7 +220,7 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
         dd = p[13]
         dA = p[14]
         if not book and ((dd != 0.0 and not central) or dA != 0.0):
-            Ri[:, :] = rotation_zyx(Y[i, 3:6])
+            rotation_zyx_into(Y[i, 3:6], Ri)
             body_rate_matrix(Y[i, 3:6], Li)
         if dd != 0.0:
             v0 = dY[i, 0] - dY[j, 0]
@@ -229,12 +240,12 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
                 f0, f1, f2 = dd * v0, dd * v1, dd * v2
             else:
                 # rho = R_i^T (r_j - r_i), omega_i = L_i dA_i, e_dot = R_i^T (dr_j - dr_i) + rho x omega_i
-                rho = np.empty(3)
-                om = np.empty(3)
+                rho = scratch[11, 0]
+                om = scratch[11, 1]
                 for k in range(3):
                     rho[k] = -(Ri[0, k] * d0 + Ri[1, k] * d1 + Ri[2, k] * d2)
                     om[k] = Li[k, 0] * dY[i, 3] + Li[k, 1] * dY[i, 4] + Li[k, 2] * dY[i, 5]
-                g = np.empty(3)
+                g = scratch[11, 2]
                 for k in range(3):
                     g[k] = -(Ri[0, k] * v0 + Ri[1, k] * v1 + Ri[2, k] * v2)
                 g[0] += rho[1] * om[2] - rho[2] * om[1]
@@ -267,29 +278,30 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
                     F[i, 3 + k] += dA * v
                     F[j, 3 + k] -= dA * v
             else:
-                Rj = rotation_zyx(Y[j, 3:6])
+                Rj = scratch[3]
+                rotation_zyx_into(Y[j, 3:6], Rj)
                 body_rate_matrix(Y[j, 3:6], Lj)
                 # world angular velocities, their difference in node j's frame
-                wi = np.empty(3)
-                wj = np.empty(3)
+                wi = scratch[12, 0]
+                wj = scratch[12, 1]
                 for k in range(3):
                     wi[k] = Li[k, 0] * dY[i, 3] + Li[k, 1] * dY[i, 4] + Li[k, 2] * dY[i, 5]
                     wj[k] = Lj[k, 0] * dY[j, 3] + Lj[k, 1] * dY[j, 4] + Lj[k, 2] * dY[j, 5]
-                Wd = np.empty(3)
+                Wd = scratch[12, 2]
                 for l in range(3):
                     Wd[l] = (Rj[l, 0] * wj[0] + Rj[l, 1] * wj[1] + Rj[l, 2] * wj[2]
                              - Ri[l, 0] * wi[0] - Ri[l, 1] * wi[1] - Ri[l, 2] * wi[2])
-                h = np.empty(3)  # dA * omega_rel, omega_rel = R_j^T (omega_j^w - omega_i^w)
+                h = scratch[13, 0]  # dA * omega_rel, omega_rel = R_j^T (omega_j^w - omega_i^w)
                 for k in range(3):
                     h[k] = Rj[0, k] * Wd[0] + Rj[1, k] * Wd[1] + Rj[2, k] * Wd[2]
                     D += 0.5 * dA * h[k] * h[k]
                 for k in range(3):
                     h[k] *= dA
                 # node j: L_j^T h; node i: -L_i^T R_i^T R_j h
-                Hw = np.empty(3)
+                Hw = scratch[13, 1]
                 for l in range(3):
                     Hw[l] = Rj[l, 0] * h[0] + Rj[l, 1] * h[1] + Rj[l, 2] * h[2]
-                Hi = np.empty(3)
+                Hi = scratch[13, 2]
                 for k in range(3):
                     Hi[k] = Ri[0, k] * Hw[0] + Ri[1, k] * Hw[1] + Ri[2, k] * Hw[2]
                 for a in range(3):
@@ -437,7 +449,7 @@ def interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, 
     _, status = elastic_edges_into(Y, edge_index, edge_params, w, scratch)
     if status != STATUS_OK:
         return status
-    damping_edges(Y, dY, edge_index, edge_params, w)
+    damping_edges_into(Y, dY, edge_index, edge_params, w, scratch)
     return STATUS_OK
 
 
