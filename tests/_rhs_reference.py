@@ -3,7 +3,9 @@ kept verbatim as the "old" kernels that tests/test_rhs_workspace.py and benchmar
 compare the allocation-free kernels with.
 
 They allocate their work arrays on every call (``np.empty``); the physics (arm, node and
-interconnection kernels) is the project's, called through the same functions as before.
+interconnection kernels) is the project's, called through the same functions as before. They are
+compiled without ``cache=True``: numba's on-disk cache of this file would not notice a change to
+the kernels they call (it is keyed on this file alone), and a stale "old" would differ from today's.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
 
 
-@njit(cache=True)
+@njit  # no on-disk cache: it would keep the kernels it calls as they were when cached
 def spatial_arm_pass_old(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
               Y, dY, H_all, h_all, J_all, Jdq_all, status):
     """Kinematics and arm dynamics of every arm; fills node poses ``Y[1:]`` and rates ``dY[1:]``."""
@@ -60,7 +62,7 @@ def spatial_arm_pass_old(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases,
                 dY[i + 1, a] = dz[o + a]
 
 
-@njit(cache=True)
+@njit  # no on-disk cache: it would keep the kernels it calls as they were when cached
 def spatial_rhs_old(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
                node_params, edge_index, edge_params, Y_ref, immobile, status):
     """``dx = f(x, tau)``; ``status[0]`` receives a status code and ``status[1]`` the node index."""
@@ -164,7 +166,7 @@ def spatial_rhs_old(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, too
     return dx
 
 
-@njit(cache=True)
+@njit  # no on-disk cache: it would keep the kernels it calls as they were when cached
 def planar_arm_pass_old(z, dz, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
               Y, dY, H_all, h_all, J_all, Jdq_all):
     m = arm_kind.shape[0]
@@ -197,7 +199,7 @@ def planar_arm_pass_old(z, dz, arm_kind, arm_dof, q_off, links_all, links_off, b
                 dY[i + 1, a] = dz[o + a]
 
 
-@njit(cache=True)
+@njit  # no on-disk cache: it would keep the kernels it calls as they were when cached
 def planar_rhs_old(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
                node_params, edge_index, edge_params, Y_ref, immobile, status):
     """``dx = f(x, tau)``; ``status[0]`` receives a status code and ``status[1]`` the node index."""

@@ -15,8 +15,14 @@ its coordinates are the node pose itself (``J = I``, ``H = h = 0``).
 
 The interconnections' forces, dampers included (frame invariant by default, MODEL.md s.3), come from
 the kernels of :mod:`plants.elastic`. numba's on-disk cache of this file is keyed on this file alone:
-after a change to those kernels, change this file too (or clear ``__pycache__``), or a stale compiled
-right-hand side is loaded.
+after a change to the kernels it calls (:mod:`plants.elastic`, :mod:`plants.arms` ``_chain_kernels`` /
+``_planar_kernels``, :mod:`plants.frames`, :mod:`plants.cooperative._linalg`), change this file too
+(bump ``CALLEE_REVISION`` below) or clear ``__pycache__``, or a stale compiled right-hand side is loaded.
+
+Allocation-free entry points (issue 10): ``rhs_into`` (the right-hand side into ``dx``),
+``control_terms_into`` and ``node_state_into``, each with a workspace made once per run by
+``make_workspace`` / ``make_control_workspace`` (namedtuples of preallocated arrays, documented
+below). ``rhs_kernel`` and ``node_state_kernel`` are thin wrappers that make a workspace per call.
 """
 
 from __future__ import annotations
@@ -45,6 +51,10 @@ from plants.elastic._spatial_kernels import (
 
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
+
+#: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
+#: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
+CALLEE_REVISION = 2
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
