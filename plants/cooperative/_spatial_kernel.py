@@ -41,10 +41,12 @@ from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SING
 from plants.frames import body_rate_map_inverse, rotation_zyx_into
 from plants.elastic._spatial_kernels import (
     EDGE_SCRATCH_SHAPE,
+    NODE_FRAME_BLOCKS,
     damping_edges_into,
     elastic_edges_into,
     interconnection_terms_into,
     linear_edges,
+    node_frames_into,
     node_terms_into,
     solve_node_rotation,
 )
@@ -54,7 +56,7 @@ ARM_CONTACT_POINT = 1
 
 #: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
 #: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 2
+CALLEE_REVISION = 3
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
@@ -76,6 +78,7 @@ SpatialWorkspace = namedtuple("SpatialWorkspace", (
     "o3",     # (3,) its solution
     "chain",  # (n + 1, CHAIN_WORK_WIDTH) work rows of plants.arms._chain_kernels.chain_arm_terms_into
     "edge",   # EDGE_SCRATCH_SHAPE scratch of the plants.elastic._spatial_kernels *_into kernels
+    "frames", # (N, NODE_FRAME_BLOCKS, 3, 3) every node's R, dR/dA, L (plants.elastic node_frames_into)
 ))
 
 
@@ -97,7 +100,7 @@ def make_workspace(arm_dof, node_count):
         np.zeros((m, 6, nmax)), np.zeros((m, 6)), np.zeros((N, 3, 3)), np.zeros((N, 6)),
         np.zeros((nmax, nmax)), np.zeros(nmax), np.zeros(nmax), np.zeros(6), np.zeros((3, nmax)),
         np.zeros(3), np.zeros(3),
-        np.zeros((nmax + 1, CHAIN_WORK_WIDTH)), np.zeros(EDGE_SCRATCH_SHAPE),
+        np.zeros((nmax + 1, CHAIN_WORK_WIDTH)), np.zeros(EDGE_SCRATCH_SHAPE), np.zeros((N, NODE_FRAME_BLOCKS, 3, 3)),
     )
 
 
@@ -174,7 +177,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
     Wr = ws.Wr
     w = ws.w
     node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
-    st = interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge)
+    st = interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge, ws.frames)
     if st != STATUS_OK:
         status[0] = st
         return
@@ -321,16 +324,17 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     S = np.empty((N, 6))
     Fw = np.empty((m, 6))
     ok = interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, np.empty((N, 6)),
-                              np.empty(EDGE_SCRATCH_SHAPE))
+                              np.empty(EDGE_SCRATCH_SHAPE), np.empty((N, NODE_FRAME_BLOCKS, 3, 3)))
     return S, Fw, ok
 
 
 @njit(cache=True)
-def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch):
+def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
     """:func:`interconnection_kernel` into ``S`` (N, 6) and ``Fw`` (m, 6) (both overwritten); returns ``ok``.
 
     Allocates nothing: ``Fe`` (N, 6) is work space, ``scratch`` has ``EDGE_SCRATCH_SHAPE``
-    (blocks 0-13 for the edge kernels, 14 for ``L_0^-1`` and 15 for ``R_0`` here).
+    (blocks 0-13 for the edge kernels, 14 for ``L_0^-1`` and 15 for ``R_0`` here), ``frames`` (N,
+    NODE_FRAME_BLOCKS, 3, 3) receives every node's frames.
     """
     N = Y.shape[0]
     m = Fw.shape[0]
@@ -340,6 +344,8 @@ def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw,
     R0 = scratch[15]
     ok = body_rate_map_inverse(Y[0, 3:6], Linv)
     rotation_zyx_into(Y[0, 3:6], R0)
+    if not immobile:
+        node_frames_into(Y, frames)
     for e in range(edge_index.shape[0]):
         Fe[:, :] = 0.0
         ei = edge_index[e:e + 1]
@@ -347,8 +353,8 @@ def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw,
         if immobile:
             linear_edges(Y, dY, Y_ref, ei, ep, Fe)
         else:
-            elastic_edges_into(Y, ei, ep, Fe, scratch)
-            damping_edges_into(Y, dY, ei, ep, Fe, scratch)
+            elastic_edges_into(Y, ei, ep, Fe, scratch, frames)
+            damping_edges_into(Y, dY, ei, ep, Fe, scratch, frames)
         for k in range(N):
             for a in range(6):
                 S[k, a] += Fe[k, a]
@@ -422,7 +428,7 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools
             for b in range(3):
                 W[k, 3 + a, 3 + b] = ws.Wr[k, a, b]
     if not interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe,
-                                ws.edge):
+                                ws.edge, ws.frames):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
 

@@ -22,26 +22,21 @@ from plants.elastic._layout import (
     STATUS_EULER_SINGULAR,
     STATUS_OK,
 )
-from plants.frames import (
-    EULER_SINGULARITY_COS,
-    rotation_zyx,
-    rotation_zyx_and_partials_into,
-    rotation_zyx_into,
-    rotation_zyx_partials,
-)
+from plants.frames import EULER_SINGULARITY_COS, rotation_zyx_and_partials_into
 
 #: Nodes of a central spring with positive rest length closer than this fraction of the rest
 #: length are reported as coincident: ``beta`` and its gradient are undefined at distance 0.
 COINCIDENT_FRACTION = 1e-9
 
 #: Shape of the scratch array of the ``*_into`` edge kernels (3x3 blocks; a block's rows serve as
-#: 3-vectors). :func:`elastic_edges_into`: 0 ``R_i``, 1-3 ``dR_i/dA_i``, 4 ``R_j``, 5-7 ``dR_j/dA_j``,
-#: 8 ``P``, 9 ``QR``, 10 the vectors ``d`` and ``C e``; :func:`damping_edges_into`: 0 ``R_i``,
-#: 1 ``L_i``, 2 ``L_j``, 3 ``R_j``, 11-13 the vectors ``rho``, ``omega``, ``g``, ``w_i``, ``w_j``, ``Wd``,
+#: 3-vectors). :func:`elastic_edges_into`: 8 ``P``, 9 ``QR``, 10 the vectors ``d`` and ``C e``;
+#: :func:`damping_edges_into`: 11-13 the vectors ``rho``, ``omega``, ``g``, ``w_i``, ``w_j``, ``Wd``,
 #: ``h``, ``Hw``, ``Hi``; :func:`node_terms_into`: 15 (``g``, zeros); the cooperative plant's
 #: ``interconnection_into`` (plants.cooperative._spatial_kernel): 14 and 15.
 #: The kernels overwrite what they use; the content between calls means nothing.
 EDGE_SCRATCH_SHAPE = (16, 3, 3)
+#: 3x3 blocks per node of the ``frames`` array of :func:`node_frames_into`: ``R``, three ``dR/dA``, ``L``.
+NODE_FRAME_BLOCKS = 5
 
 
 @njit(cache=True, inline="always")
@@ -52,15 +47,18 @@ def wrap_angle(a):
 
 @njit(cache=True)
 def elastic_edges(Y, edge_index, edge_params, F):
-    """:func:`elastic_edges_into` with a scratch array of its own (one allocation per call)."""
-    return elastic_edges_into(Y, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE))
+    """:func:`elastic_edges_into` with scratch and node frames of its own (allocated per call)."""
+    frames = np.empty((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3))
+    node_frames_into(Y, frames)
+    return elastic_edges_into(Y, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
 
 
 @njit(cache=True)
-def elastic_edges_into(Y, edge_index, edge_params, F, scratch):
+def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
     """Add ``dPi/dY`` (120-121) of every interconnection into ``F``; return ``(Pi, status)``.
 
-    Allocates nothing: ``scratch`` is a float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten).
+    Allocates nothing: ``scratch`` is a float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten);
+    ``frames`` (N, NODE_FRAME_BLOCKS, 3, 3) holds every node's ``R``, ``dR/dA`` (from :func:`node_frames_into`).
 
     Central element (106-107, 119), ``d = r_i - r_j``, ``s = |d|``, ``g = 1 - l/s``,
     ``beta = g^2``, ``Q = sum_k c_k d_k^2``:
@@ -115,10 +113,8 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch):
                     F[i, 3 + k] += cA * dl
                     F[j, 3 + k] -= cA * dl
         else:
-            Ai = Y[i, 3:6]
-            Ri = scratch[0]
-            dRi = scratch[1:4]
-            rotation_zyx_and_partials_into(Ai, Ri, dRi)
+            Ri = frames[i, 0]
+            dRi = frames[i, 1:4]
             d = scratch[10, 0]
             for k in range(3):
                 d[k] = Y[j, k] - Y[i, k]
@@ -138,10 +134,8 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch):
                         acc += Ce[k] * dRi[a][l, k] * d[l]
                 F[i, 3 + a] += acc
             if p[15] != 0.0 or p[16] != 0.0 or p[17] != 0.0:
-                Aj = Y[j, 3:6]
-                Rj = scratch[4]
-                dRj = scratch[5:8]
-                rotation_zyx_and_partials_into(Aj, Rj, dRj)
+                Rj = frames[j, 0]
+                dRj = frames[j, 1:4]
                 # P = R_j R0^T ; QR = (R_i Kd) R0 (every entry written below)
                 P = scratch[8]
                 QR = scratch[9]
@@ -180,16 +174,28 @@ def body_rate_matrix(A, L):
 
 
 @njit(cache=True)
-def damping_edges(Y, dY, edge_index, edge_params, F):
-    """:func:`damping_edges_into` with a scratch array of its own (one allocation per call)."""
-    return damping_edges_into(Y, dY, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE))
+def node_frames_into(Y, frames):
+    """Every node k's ``R(A_k)`` (block 0), ``dR/dpsi, dR/dtheta, dR/dphi`` (1-3) and ``L(A_k)`` (4)
+    into ``frames`` (N, NODE_FRAME_BLOCKS, 3, 3): evaluated once per node rather than once per edge end."""
+    for k in range(Y.shape[0]):
+        rotation_zyx_and_partials_into(Y[k, 3:6], frames[k, 0], frames[k, 1:4])
+        body_rate_matrix(Y[k, 3:6], frames[k, 4])
 
 
 @njit(cache=True)
-def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch):
+def damping_edges(Y, dY, edge_index, edge_params, F):
+    """:func:`damping_edges_into` with scratch and node frames of its own (allocated per call)."""
+    frames = np.empty((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3))
+    node_frames_into(Y, frames)
+    return damping_edges_into(Y, dY, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
+
+
+@njit(cache=True)
+def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
     """Add ``dD/d(dY)`` of the dampers (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
 
-    Allocates nothing: ``scratch`` is a float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten).
+    Allocates nothing: ``scratch`` is a float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten);
+    ``frames`` (N, NODE_FRAME_BLOCKS, 3, 3) holds every node's ``R``, ``dR/dA`` (from :func:`node_frames_into`).
 
     Central element, translation: ``D = 1/2 d (u^T (dr_i - dr_j))^2``, ``u = (r_i - r_j)/|r_i - r_j|``
     (the book's, frame invariant). Frame-invariant form (damping form ``DAMPING_FRAME_INVARIANT``,
@@ -208,9 +214,6 @@ def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch):
     ``D = 1/2 dA |dA_i - dA_j|^2`` on the Euler rates.
     """
     D = 0.0
-    Ri = scratch[0]
-    Li = scratch[1]
-    Lj = scratch[2]
     for e in range(edge_index.shape[0]):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
@@ -219,9 +222,8 @@ def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch):
         central = edge_index[e, 2] == ELEMENT_CENTRAL
         dd = p[13]
         dA = p[14]
-        if not book and ((dd != 0.0 and not central) or dA != 0.0):
-            rotation_zyx_into(Y[i, 3:6], Ri)
-            body_rate_matrix(Y[i, 3:6], Li)
+        Ri = frames[i, 0]
+        Li = frames[i, 4]
         if dd != 0.0:
             v0 = dY[i, 0] - dY[j, 0]
             v1 = dY[i, 1] - dY[j, 1]
@@ -278,9 +280,8 @@ def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch):
                     F[i, 3 + k] += dA * v
                     F[j, 3 + k] -= dA * v
             else:
-                Rj = scratch[3]
-                rotation_zyx_into(Y[j, 3:6], Rj)
-                body_rate_matrix(Y[j, 3:6], Lj)
+                Rj = frames[j, 0]
+                Lj = frames[j, 4]
                 # world angular velocities, their difference in node j's frame
                 wi = scratch[12, 0]
                 wj = scratch[12, 1]
@@ -433,23 +434,25 @@ def solve_node_rotation(A, I, b, out):
 
 @njit(cache=True)
 def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
-    """:func:`interconnection_terms_into` with a scratch array of its own."""
+    """:func:`interconnection_terms_into` with scratch and node frames of its own."""
     return interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w,
-                                      np.empty(EDGE_SCRATCH_SHAPE))
+                                      np.empty(EDGE_SCRATCH_SHAPE), np.empty((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3)))
 
 
 @njit(cache=True)
-def interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, scratch):
+def interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, scratch, frames):
     """Add every interconnection's part of ``w`` (113) into ``w``: ``dPi/dY + dD/d(dY)``, or the
     immobile model's ``K y + D dy``. Returns a status code. Allocates nothing: ``scratch`` is a
-    float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten)."""
+    float64 array of shape ``EDGE_SCRATCH_SHAPE`` and ``frames`` one of shape (N, NODE_FRAME_BLOCKS, 3, 3),
+    both overwritten (``frames`` with every node's :func:`node_frames_into`)."""
     if immobile:
         linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
         return STATUS_OK
-    _, status = elastic_edges_into(Y, edge_index, edge_params, w, scratch)
+    node_frames_into(Y, frames)
+    _, status = elastic_edges_into(Y, edge_index, edge_params, w, scratch, frames)
     if status != STATUS_OK:
         return status
-    damping_edges_into(Y, dY, edge_index, edge_params, w, scratch)
+    damping_edges_into(Y, dY, edge_index, edge_params, w, scratch, frames)
     return STATUS_OK
 
 
