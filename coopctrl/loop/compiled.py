@@ -134,6 +134,21 @@ class CompiledLoop:
         self.steps = np.array(loop._steps, dtype=float)
         self.nmax = nmax
 
+    def plant_workspaces(self, plant):
+        """Fresh plant workspaces ``((rhs spatial, rhs planar), (control spatial, planar) true,
+        (control spatial, planar) measured)``; the other kind's are one-arm placeholders."""
+        from plants.cooperative import _planar_kernel as pk
+        from plants.cooperative import _spatial_kernel as sk
+
+        one = np.array([6], dtype=np.int64), np.array([3], dtype=np.int64)
+        if self.spatial:
+            rhs = (plant.workspace(), pk.make_workspace(one[1], 2))
+            ctrl = [(plant.control_workspace(), pk.make_control_workspace(one[1], 2)) for _ in range(2)]
+        else:
+            rhs = (sk.make_workspace(one[0], 2), plant.workspace())
+            ctrl = [(sk.make_control_workspace(one[0], 2), plant.control_workspace()) for _ in range(2)]
+        return rhs, ctrl[0], ctrl[1]
+
     def qp_arrays(self):
         """Fresh QP arrays ``(M, lo, hi, H, g, x, z, external, F_pref, E, A, y)`` with the fixed rows set."""
         p, n, n_in = (6 if self.spatial else 3), self.n, self.n_in
@@ -282,6 +297,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     for i, value in getattr(loop, "_initial_integrals", {}).items():
         state.integrals[i] = value
     qa = cl.qp_arrays()
+    plant_ws = cl.plant_workspaces(plant)
     times = np.arange(N) * loop.T
     traj = np.ascontiguousarray(np.stack(loop.trajectory.sample(times)) if N else np.zeros((3, 0, p)))
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
@@ -308,7 +324,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     try:
         while True:
             k_stop = min(k + _PROGRESS_CHUNK, N) if bar is not None else -1
-            K.run_ticks(cl.spatial, k, k_stop, N, loop.T, cl.steps, cl.method, cl.P, cl.grasps, traj, cl.obj, cl.rho,
+            K.run_ticks(cl.spatial, k, k_stop, N, loop.T, cl.steps, cl.method, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho,
                         loop.max_deformation, band, cl.ctrl, cl.posture, cl.C, cl.qp, qa, state.ws,
                         noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau, state.integrals, state.last_split,
                         state.flags, state.hold, rec["t"], rec["x"], rec["tau"], rec["Y0_nominal"], rec["F_measured"],

@@ -76,56 +76,36 @@ FAMILY_TORQUE = 4
 
 
 @njit(cache=True)
-def _rhs(spatial, x, tau, P, status):
-    """The plant's right-hand side (the fused kernel of ``plants.cooperative``)."""
+def _rhs_into(spatial, x, tau, P, status, wss, dx):
+    """The plant's right-hand side into ``dx`` (the allocation-free kernels of ``plants.cooperative``;
+    ``wss`` = (spatial workspace, planar workspace), the other kind's a placeholder)."""
     (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
      edge_index, edge_params, Y_ref, immobile) = P
     if spatial:
-        return _sk.rhs_kernel(x, tau, arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, gravity,
-                              node_params, edge_index, edge_params, Y_ref, immobile, status)
-    return _pk.rhs_kernel(x, tau, arm_kind, arm_dof, q_off, tables, tab_off, bases2, tools2, gravity,
-                          node_params, edge_index, edge_params, Y_ref, immobile, status)
+        _sk.rhs_into(x, tau, arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, gravity,
+                     node_params, edge_index, edge_params, Y_ref, immobile, status, wss[0], dx)
+    else:
+        _pk.rhs_into(x, tau, arm_kind, arm_dof, q_off, tables, tab_off, bases2, tools2, gravity,
+                     node_params, edge_index, edge_params, Y_ref, immobile, status, wss[1], dx)
 
 
 @njit(cache=True)
-def _terms(spatial, x, P, status, W, w_free):
-    """``(Y, dY, H, h, J, Jdq, S, Fw, ok)`` at ``x``, with ``W`` (N, p, p) and ``w_free`` (N, p) filled
-    (the kernel form of ``CooperativePlant.control_terms``); ``ok`` False at an object singularity."""
+def _terms(spatial, x, P, status, cwss):
+    """``(Y, dY, H, h, J, Jdq, W, w_free, S, Fw)`` at ``x``: the kernel form of
+    ``CooperativePlant.control_terms``, in the control workspace ``cwss[0]`` (spatial) or ``cwss[1]``
+    (planar); ``status[0]`` nonzero at a singularity."""
     (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
      edge_index, edge_params, Y_ref, immobile) = P
-    m = arm_kind.shape[0]
-    N = m + 1
+    status[0] = 0
     if spatial:
-        Y, dY, H, h, J, Jdq = _sk.node_state_kernel(x, arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3,
-                                                     gravity, status)
-        if status[0] != 0:
-            return Y, dY, H, h, J, Jdq, np.zeros((N, 6)), np.zeros((m, 6)), True
-        Wr = np.empty((N, 3, 3))
-        _spatial_node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w_free)
-        for k in range(N):
-            for a in range(6):
-                for b in range(6):
-                    W[k, a, b] = 0.0
-            for a in range(3):
-                W[k, a, a] = node_params[k, 0]
-                for b in range(3):
-                    W[k, 3 + a, 3 + b] = Wr[k, a, b]
-        S, Fw, ok = _sk.interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile)
-    else:
-        Y, dY, H, h, J, Jdq = _pk.node_state_kernel(x, arm_kind, arm_dof, q_off, tables, tab_off, bases2, tools2,
-                                                     gravity, status)
-        for k in range(N):
-            for a in range(3):
-                for b in range(3):
-                    W[k, a, b] = 0.0
-            W[k, 0, 0] = node_params[k, 0]
-            W[k, 1, 1] = node_params[k, 0]
-            W[k, 2, 2] = node_params[k, 1]
-            w_free[k, 0] = -node_params[k, 0] * gravity[0]
-            w_free[k, 1] = -node_params[k, 0] * gravity[1]
-            w_free[k, 2] = 0.0
-        S, Fw, ok = _pk.interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile)
-    return Y, dY, H, h, J, Jdq, S, Fw, ok
+        c = cwss[0]
+        _sk.control_terms_into(x, arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, gravity,
+                               node_params, edge_index, edge_params, Y_ref, immobile, status, c)
+        return c.ws.Y, c.ws.dY, c.ws.H, c.ws.h, c.ws.J, c.ws.Jdq, c.W, c.w_free, c.S, c.Fw
+    c = cwss[1]
+    _pk.control_terms_into(x, arm_kind, arm_dof, q_off, tables, tab_off, bases2, tools2, gravity,
+                           node_params, edge_index, edge_params, Y_ref, immobile, status, c)
+    return c.ws.Y, c.ws.dY, c.ws.H, c.ws.h, c.ws.J, c.ws.Jdq, c.W, c.w_free, c.S, c.Fw
 
 
 @njit(cache=True)
@@ -168,11 +148,14 @@ def _pose_increment(spatial, C, F, Y0, Yi):
 
 
 @njit(cache=True)
-def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rho, max_deformation, band,
+def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
               ctrl, posture, C_comp, qp, qp_arrays, ws, noise_q, noise_o, noise_f, noise_cfg,
               x, tau, integ, last, flags, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
               rec_r, rec_qs, rec_qb, rec_qit, x_good, x_fail, out_int, out_float):
     """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
+
+    ``plant_ws`` = ``((spatial rhs workspace, planar rhs workspace), (true, measured) control
+    workspaces as pairs of the same kinds)``: the plant kernels' preallocated work arrays.
 
     State arrays (updated in place; together with ``ws`` they are the loop state): ``x`` (nx) the
     plant state at tick ``k0``; ``tau`` (nu) the held torques [N m]; ``integ`` (m, p) the followers'
@@ -214,10 +197,12 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
     status = np.zeros(2, np.int64)
-    W = np.zeros((Nn, p, p))
-    w_free = np.zeros((Nn, p))
-    Wm = np.zeros((Nn, p, p))
-    wm_free = np.zeros((Nn, p))
+    wss, cws_true, cws_meas = plant_ws
+    k1 = np.empty(nx)
+    k2 = np.empty(nx)
+    k3 = np.empty(nx)
+    k4 = np.empty(nx)
+    y = np.empty(nx)
     xm = np.empty(nx)
     Fm = np.empty((m, p))
     F_set = np.empty((m, p))
@@ -242,17 +227,11 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
         t = k * T
         out_int[1] = k
         # ---- sensors (true terms: forces, guards)
-        Y, dY, H, h, J, Jdq, S, Fw, ok = _terms(spatial, x, P, status, W, w_free)
+        Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _terms(spatial, x, P, status, cws_true)
         if status[0] != 0:
             out_int[0] = PLANT_ERROR
             out_int[2] = status[0]
             out_int[3] = status[1]
-            x_fail[:] = x
-            return
-        if not ok:  # the object's body-rate map is singular (control_terms raises)
-            out_int[0] = PLANT_ERROR
-            out_int[2] = -1
-            out_int[3] = 0
             x_fail[:] = x
             return
         if noisy_state:
@@ -268,18 +247,16 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
                 if q_obj != 0.0:
                     xm[nz - p + c] = np.rint(xm[nz - p + c] / q_obj) * q_obj
                     xm[nx - p + c] = np.rint(xm[nx - p + c] / q_obj) * q_obj
-            Ym, dYm, Hm, hm, Jm, Jdqm, Sm, Fwm, okm = _terms(spatial, xm, P, status, Wm, wm_free)
-            if status[0] != 0 or not okm:
+            Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _terms(spatial, xm, P, status, cws_meas)
+            if status[0] != 0:
                 out_int[0] = PLANT_ERROR
-                out_int[2] = status[0] if status[0] != 0 else -1
+                out_int[2] = status[0]
                 out_int[3] = status[1]
                 x_fail[:] = xm
                 return
             zx = xm
         else:
-            Ym, dYm, Hm, hm, Jm, Jdqm, Sm = Y, dY, H, h, J, Jdq, S
-            Wm[:] = W
-            wm_free[:] = w_free
+            Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm = Y, dY, H, h, J, Jdq, W, w_free, S
             zx = x
         for i in range(m):
             for a in range(p):
@@ -626,68 +603,58 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, grasps, traj, obj, rh
         out_int[5] = k + 1  # ticks recorded
         if k == N - 1:
             break
-        # ---- plant, zero-order hold over the period
-        ts = t
+        # ---- plant, zero-order hold over the period (the Python integrators' arithmetic, element by element)
         for si in range(steps.shape[0]):
             hs = steps[si]
             if method == METHOD_RK4:
                 h2 = 0.5 * hs
-                t2 = ts + h2
-                k1 = _rhs(spatial, x, tau, P, status)
+                _rhs_into(spatial, x, tau, P, status, wss, k1)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
                     break
-                y = k1 * h2
-                y += x
-                k2 = _rhs(spatial, y, tau, P, status)
+                for c in range(nx):
+                    y[c] = k1[c] * h2 + x[c]
+                _rhs_into(spatial, y, tau, P, status, wss, k2)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
                     break
-                y = k2 * h2
-                y += x
-                k3 = _rhs(spatial, y, tau, P, status)
+                for c in range(nx):
+                    y[c] = k2[c] * h2 + x[c]
+                _rhs_into(spatial, y, tau, P, status, wss, k3)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
                     break
-                y = k3 * hs
-                y += x
-                k4 = _rhs(spatial, y, tau, P, status)
+                for c in range(nx):
+                    y[c] = k3[c] * hs + x[c]
+                _rhs_into(spatial, y, tau, P, status, wss, k4)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
                     break
-                k2 += k3
-                k2 *= 2.0
-                k2 += k1
-                k2 += k4
-                k2 *= hs / 6.0
-                k2 += x
-                xn = k2
+                h6 = hs / 6.0
+                for c in range(nx):
+                    x[c] = ((((k2[c] + k3[c]) * 2.0) + k1[c]) + k4[c]) * h6 + x[c]
             elif method == METHOD_SYMPLECTIC_EULER:
-                f = _rhs(spatial, x, tau, P, status)
+                _rhs_into(spatial, x, tau, P, status, wss, k1)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
                     break
-                xn = np.empty(nx)
                 for c in range(nz):
-                    xn[nz + c] = f[nz + c] * hs + x[nz + c]
+                    x[nz + c] = k1[nz + c] * hs + x[nz + c]
                 for c in range(nz):
-                    xn[c] = xn[nz + c] * hs + x[c]
+                    x[c] = x[nz + c] * hs + x[c]
             else:
-                f = _rhs(spatial, x, tau, P, status)
+                _rhs_into(spatial, x, tau, P, status, wss, k1)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
                     break
-                f *= hs
-                f += x
-                xn = f
-            x[:] = xn
-            ts += hs
+                for c in range(nx):
+                    x[c] = k1[c] * hs + x[c]
         if status[0] != 0:
             # the Python loop keeps the state of the tick (the exception leaves ``advance``)
             x[:] = rec_x[k]
