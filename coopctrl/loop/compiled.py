@@ -72,16 +72,7 @@ class CompiledLoop:
         self.spatial = spatial = loop.space == "spatial"
         p = plant.p
         m = plant.arm_count
-        if spatial:
-            b3, t3 = plant._bases, plant._tools
-            b2, t2 = np.zeros((1, 3)), np.zeros((1, 3))
-        else:
-            b2, t2 = plant._bases, plant._tools
-            b3, t3 = np.zeros((1, 4, 4)), np.zeros((1, 4, 4))
-        self.P = (plant._arm_kind, plant._arm_dof, plant._q_off, plant._dh_all, plant._dh_off,
-                  np.ascontiguousarray(b3), np.ascontiguousarray(t3), np.ascontiguousarray(b2), np.ascontiguousarray(t2),
-                  plant._gravity, plant._node_params, plant._edge_index, plant._edge_params, plant._Y_ref,
-                  bool(plant._immobile))
+        self.P = tuple(plant._args[:-1])  # the plant kernels' arguments without the status array
         self.grasps = np.ascontiguousarray(loop.grasps, dtype=float)
         self.obj = np.concatenate([[loop.object_mass], loop.object_inertia]).astype(float)
         self.rho = np.ascontiguousarray(loop._rho, dtype=float)
@@ -135,19 +126,8 @@ class CompiledLoop:
         self.nmax = nmax
 
     def plant_workspaces(self, plant):
-        """Fresh plant workspaces ``((rhs spatial, rhs planar), (control spatial, planar) true,
-        (control spatial, planar) measured)``; the other kind's are one-arm placeholders."""
-        from plants.cooperative import _planar_kernel as pk
-        from plants.cooperative import _spatial_kernel as sk
-
-        one = np.array([6], dtype=np.int64), np.array([3], dtype=np.int64)
-        if self.spatial:
-            rhs = (plant.workspace(), pk.make_workspace(one[1], 2))
-            ctrl = [(plant.control_workspace(), pk.make_control_workspace(one[1], 2)) for _ in range(2)]
-        else:
-            rhs = (sk.make_workspace(one[0], 2), plant.workspace())
-            ctrl = [(sk.make_control_workspace(one[0], 2), plant.control_workspace()) for _ in range(2)]
-        return rhs, ctrl[0], ctrl[1]
+        """Fresh plant workspaces ``(rhs, true control terms, measured control terms)``."""
+        return plant.workspace(), plant.control_workspace(), plant.control_workspace()
 
     def qp_arrays(self):
         """Fresh QP arrays ``(M, lo, hi, H, g, x, z, external, F_pref, E, A, y)`` with the fixed rows set."""

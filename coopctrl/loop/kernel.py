@@ -35,6 +35,7 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.extending import overload
 
 from coopctrl.controllers._kernels import lu_solve, node_torque, node_torque_redundant, pose_increment_planar
 from coopctrl.controllers._kernels import pose_increment_spatial
@@ -75,37 +76,40 @@ FAMILY_FRICTION = 2
 FAMILY_TORQUE = 4
 
 
-@njit(cache=True)
-def _rhs_into(spatial, x, tau, P, status, wss, dx):
-    """The plant's right-hand side into ``dx`` (the allocation-free kernels of ``plants.cooperative``;
-    ``wss`` = (spatial workspace, planar workspace), the other kind's a placeholder)."""
-    (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
-     edge_index, edge_params, Y_ref, immobile) = P
-    if spatial:
-        _sk.rhs_into(x, tau, arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, gravity,
-                     node_params, edge_index, edge_params, Y_ref, immobile, status, wss[0], dx)
-    else:
-        _pk.rhs_into(x, tau, arm_kind, arm_dof, q_off, tables, tab_off, bases2, tools2, gravity,
-                     node_params, edge_index, edge_params, Y_ref, immobile, status, wss[1], dx)
+def _rhs_into(x, tau, P, status, ws, dx):
+    """The plant's right-hand side into ``dx`` (the allocation-free ``rhs_into`` of
+    ``plants.cooperative``): compiled for the spatial or the planar kernel by the type of ``P``'s
+    bases (``(m, 4, 4)`` spatial, ``(m, 3)`` planar), so a scene compiles only its own kind."""
+    raise NotImplementedError("called from numba only")
 
 
-@njit(cache=True)
-def _terms(spatial, x, P, status, cwss):
+@overload(_rhs_into)
+def _rhs_into_typed(x, tau, P, status, ws, dx):
+    rhs_into = _sk.rhs_into if P[5].ndim == 3 else _pk.rhs_into
+
+    def impl(x, tau, P, status, ws, dx):
+        rhs_into(x, tau, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
+                      status, ws, dx)
+    return impl
+
+
+def _terms(x, P, status, cws):
     """``(Y, dY, H, h, J, Jdq, W, w_free, S, Fw)`` at ``x``: the kernel form of
-    ``CooperativePlant.control_terms``, in the control workspace ``cwss[0]`` (spatial) or ``cwss[1]``
-    (planar); ``status[0]`` nonzero at a singularity."""
-    (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
-     edge_index, edge_params, Y_ref, immobile) = P
-    status[0] = 0
-    if spatial:
-        c = cwss[0]
-        _sk.control_terms_into(x, arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, gravity,
-                               node_params, edge_index, edge_params, Y_ref, immobile, status, c)
-        return c.ws.Y, c.ws.dY, c.ws.H, c.ws.h, c.ws.J, c.ws.Jdq, c.W, c.w_free, c.S, c.Fw
-    c = cwss[1]
-    _pk.control_terms_into(x, arm_kind, arm_dof, q_off, tables, tab_off, bases2, tools2, gravity,
-                           node_params, edge_index, edge_params, Y_ref, immobile, status, c)
-    return c.ws.Y, c.ws.dY, c.ws.H, c.ws.h, c.ws.J, c.ws.Jdq, c.W, c.w_free, c.S, c.Fw
+    ``CooperativePlant.control_terms`` (``control_terms_into``) in the control workspace ``cws``;
+    ``status[0]`` nonzero at a singularity. Compiled per kind, as :func:`_rhs_into`."""
+    raise NotImplementedError("called from numba only")
+
+
+@overload(_terms)
+def _terms_typed(x, P, status, cws):
+    terms_into = _sk.control_terms_into if P[5].ndim == 3 else _pk.control_terms_into
+
+    def impl(x, P, status, cws):
+        status[0] = 0
+        terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11],
+                                P[12], status, cws)
+        return cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free, cws.S, cws.Fw
+    return impl
 
 
 @njit(cache=True)
@@ -154,8 +158,10 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
               rec_r, rec_qs, rec_qb, rec_qit, x_good, x_fail, out_int, out_float):
     """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
 
-    ``plant_ws`` = ``((spatial rhs workspace, planar rhs workspace), (true, measured) control
-    workspaces as pairs of the same kinds)``: the plant kernels' preallocated work arrays.
+    ``P`` = the plant's kernel arguments ``(arm_kind, arm_dof, q_off, tables, table_off, bases, tools,
+    gravity, node_params, edge_index, edge_params, Y_ref, immobile)`` (``CooperativePlant.kernel``
+    without the status); ``plant_ws`` = ``(rhs workspace, true control workspace, measured control
+    workspace)``: the plant kernels' preallocated work arrays.
 
     State arrays (updated in place; together with ``ws`` they are the loop state): ``x`` (nx) the
     plant state at tick ``k0``; ``tau`` (nu) the held torques [N m]; ``integ`` (m, p) the followers'
@@ -167,8 +173,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     Returns nothing; ``out_int = (code, tick, detail, detail, -, ticks recorded, last tick that passed
     the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
     """
-    (arm_kind, arm_dof, q_off, tables, tab_off, bases3, tools3, bases2, tools2, gravity, node_params,
-     edge_index, edge_params, Y_ref, immobile) = P
+    arm_kind, arm_dof, q_off, gravity = P[0], P[1], P[2], P[7]
     m = arm_kind.shape[0]
     Nn = m + 1
     p = 6 if spatial else 3
@@ -197,7 +202,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
     status = np.zeros(2, np.int64)
-    wss, cws_true, cws_meas = plant_ws
+    pws, cws_true, cws_meas = plant_ws
     k1 = np.empty(nx)
     k2 = np.empty(nx)
     k3 = np.empty(nx)
@@ -227,7 +232,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
         t = k * T
         out_int[1] = k
         # ---- sensors (true terms: forces, guards)
-        Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _terms(spatial, x, P, status, cws_true)
+        Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _terms(x, P, status, cws_true)
         if status[0] != 0:
             out_int[0] = PLANT_ERROR
             out_int[2] = status[0]
@@ -247,7 +252,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 if q_obj != 0.0:
                     xm[nz - p + c] = np.rint(xm[nz - p + c] / q_obj) * q_obj
                     xm[nx - p + c] = np.rint(xm[nx - p + c] / q_obj) * q_obj
-            Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _terms(spatial, xm, P, status, cws_meas)
+            Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _terms(xm, P, status, cws_meas)
             if status[0] != 0:
                 out_int[0] = PLANT_ERROR
                 out_int[2] = status[0]
@@ -608,28 +613,28 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             hs = steps[si]
             if method == METHOD_RK4:
                 h2 = 0.5 * hs
-                _rhs_into(spatial, x, tau, P, status, wss, k1)
+                _rhs_into(x, tau, P, status, pws, k1)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
                     break
                 for c in range(nx):
                     y[c] = k1[c] * h2 + x[c]
-                _rhs_into(spatial, y, tau, P, status, wss, k2)
+                _rhs_into(y, tau, P, status, pws, k2)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
                     break
                 for c in range(nx):
                     y[c] = k2[c] * h2 + x[c]
-                _rhs_into(spatial, y, tau, P, status, wss, k3)
+                _rhs_into(y, tau, P, status, pws, k3)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
                     break
                 for c in range(nx):
                     y[c] = k3[c] * hs + x[c]
-                _rhs_into(spatial, y, tau, P, status, wss, k4)
+                _rhs_into(y, tau, P, status, pws, k4)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = y
@@ -638,7 +643,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 for c in range(nx):
                     x[c] = ((((k2[c] + k3[c]) * 2.0) + k1[c]) + k4[c]) * h6 + x[c]
             elif method == METHOD_SYMPLECTIC_EULER:
-                _rhs_into(spatial, x, tau, P, status, wss, k1)
+                _rhs_into(x, tau, P, status, pws, k1)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
@@ -648,7 +653,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 for c in range(nz):
                     x[c] = x[nz + c] * hs + x[c]
             else:
-                _rhs_into(spatial, x, tau, P, status, wss, k1)
+                _rhs_into(x, tau, P, status, pws, k1)
                 out_int[7] += 1
                 if status[0] != 0:
                     x_fail[:] = x
