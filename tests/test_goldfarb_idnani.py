@@ -258,11 +258,20 @@ def solve_daqp(P, g, M, lo, hi, k):
 
 
 def solve_quadprog(P, g, M, lo, hi, k):
+    """quadprog on the problem without exact duplicate inequality rows (same row, same bounds:
+    the same feasible set; the kept twin carries the multiplier of both, in the same family).
+    With the duplicates quadprog can cycle for ever (its absolute ``|z|^2 <= eps`` dependence
+    test misses them): it did on a planar m = 3 degenerate problem of a longer run of this
+    generator (76,800 problems, other seeds), where the compiled solver took 4 iterations."""
     import quadprog
 
     n_in = M.shape[0] - k
-    lo_f = np.isfinite(lo[k:])
-    up_f = np.isfinite(hi[k:])
+    keys = np.hstack((M[k:], lo[k:, None], hi[k:, None]))
+    _, first = np.unique(keys, axis=0, return_index=True)
+    keep = np.zeros(n_in, dtype=bool)
+    keep[first] = True
+    lo_f = np.isfinite(lo[k:]) & keep
+    up_f = np.isfinite(hi[k:]) & keep
     C = np.vstack((M[:k], M[k:][lo_f], -M[k:][up_f]))
     b = np.concatenate((lo[:k], lo[k:][lo_f], -hi[k:][up_f]))
     try:
