@@ -278,13 +278,28 @@ def test_unconditionally_stable_scheme_is_capped_at_the_control_period():
 
 
 # ---------------------------------------------------------------------- divergence diagnostics
+#: Size [m or rad] of the seeded perturbation along an unstable mode: 1 um, far below the 0.05 m
+#: deformation bound, so that a mode growing by ``rho`` per step needs ``ln(5e4) / ln(rho)`` steps to stop
+#: the run (RK4 at 1.3 times its limit: rho ~ 1.5 per step, ~30 steps) and a stable one never reaches it.
+SEED = 1e-6
+
+
+def seeded_limiting_mode(loop, x0, size=SEED):
+    """``x0`` plus ``size`` along the mode that limits ``loop.integrator`` (ModalAnalysis.seeded_along):
+    the passive scenes start at equilibrium, where only round-off would excite it otherwise."""
+    modes = loop.modes(x0)
+    return modes.seeded_along(modes.limiting_mode(loop.integrator), size, loop.plant.nz)
+
+
 def test_divergence_suggests_half_the_damped_prediction():
-    """RK4 at 1.3 times its predicted limit on the undamped passive scene: stopped with the time, the
-    quantity and a suggested step, half the predicted limit (< the failing step); the suggestion runs."""
+    """RK4 at 1.3 times its predicted limit on the undamped passive scene, its limiting mode seeded
+    (SEED): stopped with the time, the quantity and a suggested step, half the predicted limit (< the
+    failing step); the suggestion runs from the same seeded state."""
     scenario = undamped_contact_points()
     loop = closed_loop(scenario)
     x0 = build.initial_state(scenario)
     limit = loop.modes(x0).predicted_max_step(loop.integrator)
+    x0 = seeded_limiting_mode(loop, x0)
     loop.set_step(1.3 * limit)
     rec = loop.run(x0, 1.0)
     assert rec["status"] == "diverged"
@@ -315,10 +330,15 @@ def test_divergence_of_the_closed_loop_uses_the_damped_prediction():
 
 
 def test_euler_on_an_undamped_mode_is_told_to_change_scheme():
+    """Explicit Euler grows every undamped mode by ``sqrt(1 + (h omega)^2)`` per step: the fastest one,
+    seeded (SEED), reaches the deformation bound within the second and the reason says to change scheme."""
     scenario = load_scenario(REPO / "scenarios" / "contact_points_only.toml",
                              {**UNDAMPED_SPATIAL, "simulation.integrator": "euler", "simulation.control_period": "0.001"})
     loop = closed_loop(scenario)
-    rec = loop.run(build.initial_state(scenario), 1.0)
+    x0 = build.initial_state(scenario)
+    modes = loop.modes(x0)
+    fastest = int(np.argmax(np.abs(modes.eigenvalues)))
+    rec = loop.run(modes.seeded_along(fastest, SEED, loop.plant.nz), 1.0)
     assert rec["status"] == "diverged"
     assert "unstable at every step on an undamped mode" in rec["reason"]
     assert "use symplectic_euler, rk4, or implicit_euler" in rec["reason"]

@@ -22,10 +22,10 @@ a scheme whose steps do not commute; :meth:`ClosedLoop.set_step`). Linearized ab
 ``ClosedLoop.run`` at ``t_k``, exact sensors, the trajectory shifted to ``t_k``); ``M(h), N(h)``
 are one step of the scheme *as implemented* (:meth:`Integrator.step`) on the plant linearized at
 ``(x_k, tau_k)``, ``dx/dt = A x + B tau`` (:meth:`CooperativePlant.jacobians`), applied to the
-columns of the identity. The period map is stable at ``h`` when its spectral radius
-``rho(Phi(h))`` does not exceed ``max(1, rho_0)`` (``rho_0 = rho(Phi(h_0))`` at a step ``h_0``
-far below every limit: the loop's own decay, or its physical growth, which no step cures) by more
-than :data:`GROWTH_TOLERANCE`. The predicted limit is the first ``h`` on a log grid up to ``T``
+columns of the identity. The period map is stable at ``h`` when no more of its eigenvalues lie
+outside the unit circle (by :data:`GROWTH_TOLERANCE`) than at a step ``h_0`` far below every limit
+(none for a loop that holds; a physically unstable loop, a buckling grasp, keeps its growing modes at
+every step, which no step cures). The predicted limit is the first ``h`` on a log grid up to ``T``
 where it is not, refined by bisection to :data:`RESOLUTION`; ``math.inf`` when ``h = T`` is stable
 (the loop cannot step longer than ``T``).
 
@@ -47,7 +47,7 @@ from coopctrl.integrators import get_integrator
 
 #: Relative resolution of the bisection on the predicted limit [-].
 RESOLUTION = 1e-3
-#: ``rho(Phi(h)) <= max(1, rho_0) (1 + GROWTH_TOLERANCE)`` counts as stable [-]: above the
+#: An eigenvalue ``|mu| <= 1 + GROWTH_TOLERANCE`` of the period map counts as stable [-]: above the
 #: finite-difference noise of the controller Jacobian (~1e-7), far below the growth per period of a
 #: numerically unstable step (a mode crossing the unit circle grows by ``1 + c (h / h* - 1)``, ``c`` of
 #: order one, so the bisection still resolves the crossing to ~1e-4).
@@ -154,25 +154,36 @@ class LoopLinearization:
         Phi[nx:, nx:] = self.EI
         return Phi
 
-    def spectral_radius(self, scheme, h: float) -> float:
-        """``rho(Phi(h))`` [-] with the period split as the loop splits it (:func:`period_steps`)."""
+    def eigenvalues(self, scheme, h: float) -> np.ndarray:
+        """Eigenvalues of ``Phi(h)`` with the period split as the loop splits it (:func:`period_steps`)."""
         M = self.period_matrix(scheme, period_steps(scheme, h, self.control_period))
         if not np.all(np.isfinite(M)):
-            return math.inf
-        return float(np.max(np.abs(np.linalg.eigvals(M))))
+            return np.array([np.inf])
+        return np.linalg.eigvals(M)
+
+    def spectral_radius(self, scheme, h: float) -> float:
+        """``rho(Phi(h))`` [-]."""
+        return float(np.max(np.abs(self.eigenvalues(scheme, h))))
+
+    def unstable_count(self, scheme, h: float) -> int:
+        """Number of eigenvalues of ``Phi(h)`` outside the unit circle by more than :data:`GROWTH_TOLERANCE`."""
+        return int(np.sum(np.abs(self.eigenvalues(scheme, h)) > 1.0 + GROWTH_TOLERANCE))
 
     def max_stable_step(self, scheme, resolution: float = RESOLUTION) -> tuple[float, float]:
         """``(h*, rho_0)``: the largest step [s] with every smaller one stable (module docstring;
-        ``math.inf`` when ``T`` is stable) and the loop's own spectral radius ``rho_0`` [-]. For a scheme
-        whose steps do not commute (symplectic Euler) the steps taken are ``T / n`` (:func:`period_steps`),
-        and ``h*`` is the largest stable one of them."""
+        ``math.inf`` when ``T`` is stable) and the loop's own spectral radius ``rho_0`` [-] at ``h_0``.
+        A step is stable when ``Phi(h)`` has no more eigenvalues outside the unit circle than
+        ``Phi(h_0)``: a physically unstable loop (a buckling grasp) keeps its growing modes at every step,
+        which no step cures and which do not limit it. For a scheme whose steps do not commute (symplectic
+        Euler) the steps taken are ``T / n`` (:func:`period_steps`), and ``h*`` is the largest stable one."""
         T = self.control_period
         lam = np.linalg.eigvals(self.A)
         fastest = float(np.max(np.abs(lam))) if lam.size else 0.0
         h0 = min(T, 1e-2 / fastest) if fastest > 0 else T
-        rho0 = self.spectral_radius(scheme, h0)
-        bound = max(1.0, rho0) * (1.0 + GROWTH_TOLERANCE)
-        stable = lambda h: self.spectral_radius(scheme, h) <= bound  # noqa: E731
+        mu0 = self.eigenvalues(scheme, h0)
+        rho0 = float(np.max(np.abs(mu0)))
+        allowed = int(np.sum(np.abs(mu0) > 1.0 + GROWTH_TOLERANCE))
+        stable = lambda h: self.unstable_count(scheme, h) <= allowed  # noqa: E731
         if h0 >= T:
             return math.inf, rho0
         grid = np.geomspace(h0, T, GRID_POINTS)
