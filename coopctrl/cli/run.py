@@ -49,7 +49,7 @@ def cmd_run(args) -> int:
         ticks = len(result.t)
         print(f"{'torque-saturated ticks'.ljust(28)}  {summary.get('torque_saturated_ticks', 0)} of {ticks}")
     saturated = int(summary.get("torque_saturated_ticks", 0) or 0)
-    if saturated:
+    if saturated and result.status == "ok":  # a failed run's one-line reason names the saturation when it is a cause
         ratio = summary.get("max_torque_ratio")
         shown = "-" if ratio is None else f"{ratio:.3g}"
         print(f"{PROG}: warning: the torques saturated at tau_max on {saturated} of {len(result.t)} ticks "
