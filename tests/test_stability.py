@@ -478,3 +478,23 @@ def test_closed_loop_map_matches_the_nonlinear_loop():
     response = one_period(x0 + dx) - one_period(x0)
     predicted = Phi[:x0.size, :x0.size] @ dx
     assert np.max(np.abs(response - predicted)) <= 1e-3 * np.max(np.abs(response))
+
+
+@pytest.mark.parametrize("name", SCHEMES)
+def test_closed_loop_step_matrices_are_the_scheme(name):
+    """The closed form of one step on the linearized plant (stability polynomial, DIRK stages) equals the
+    scheme's own step() on the columns of the identity, to 1e-12 relative (the implicit steps' Newton
+    tolerance is 1e-12 relative)."""
+    from coopctrl.analysis.closed_loop_stability import LoopLinearizer
+
+    scenario = load_scenario(REPO / "scenarios" / "planar_two_arm_lift.toml")
+    L = LoopLinearizer(scenario).linearize(build.initial_state(scenario))
+    scheme = get_integrator(name)
+    h = 3e-4
+    M, N = L.step_matrices(scheme, h)
+    f = lambda t, x, u: L.A @ x + L.B @ u  # noqa: E731
+    nx, nu = L.B.shape
+    Mg = np.column_stack([(scheme.reset(), scheme.step(f, 0.0, e, np.zeros(nu), h))[1] for e in np.eye(nx)])
+    Ng = np.column_stack([(scheme.reset(), scheme.step(f, 0.0, np.zeros(nx), e, h))[1] for e in np.eye(nu)])
+    assert np.max(np.abs(M - Mg)) <= 1e-12 * np.max(np.abs(Mg))
+    assert np.max(np.abs(N - Ng)) <= 1e-12 * np.max(np.abs(Ng))

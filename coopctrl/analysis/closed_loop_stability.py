@@ -20,9 +20,8 @@ a scheme whose steps do not commute; :meth:`ClosedLoop.set_step`). Linearized ab
 
 ``K_x, K_I, E_x, E_I`` are central differences of the loop's own controller code (one tick of
 ``ClosedLoop.run`` at ``t_k``, exact sensors, the trajectory shifted to ``t_k``); ``M(h), N(h)``
-are one step of the scheme *as implemented* (:meth:`Integrator.step`) on the plant linearized at
-``(x_k, tau_k)``, ``dx/dt = A x + B tau`` (:meth:`CooperativePlant.jacobians`), applied to the
-columns of the identity. The period map is stable at ``h`` when no more of its eigenvalues lie
+are one step of the scheme on the plant linearized at ``(x_k, tau_k)``, ``dx/dt = A x + B tau``
+(:meth:`CooperativePlant.jacobians`; :meth:`LoopLinearization.step_matrices`). The period map is stable at ``h`` when no more of its eigenvalues lie
 outside the unit circle (by :data:`GROWTH_TOLERANCE`) than at a step ``h_0`` far below every limit
 (none for a loop that holds; a physically unstable loop, a buckling grasp, keeps its growing modes at
 every step, which no step cures). The predicted limit is the first ``h`` on a log grid up to ``T``
@@ -106,9 +105,38 @@ class LoopLinearization:
 
     def step_matrices(self, scheme, h: float) -> tuple[np.ndarray, np.ndarray]:
         """``(M, N)`` of one step ``h`` [s] of ``scheme`` on ``dx/dt = A x + B tau`` (tau held):
-        ``x' = M x + N tau``, by :meth:`Integrator.step` on the columns of the identity."""
+        ``x' = M x + N tau``.
+
+        A Runge-Kutta scheme is a function of ``Z = h A_u``, ``A_u = [[A, B], [0, 0]]`` (the held input
+        as a state with zero rate): its stability polynomial for an explicit scheme, and stage by stage for
+        a diagonally implicit one, ``(I - gamma Z) K_i = A_u (I + h sum_{j<i} a_ij K_j)``,
+        ``G = I + h sum_i b_i K_i`` (what its Newton iteration converges to on a linear system). Any other
+        scheme (symplectic Euler) is :meth:`Integrator.step` applied to the columns of the identity.
+        """
         A, B = self.A, self.B
         nx, nu = B.shape
+        n = nx + nu
+        Au = np.zeros((n, n))
+        Au[:nx, :nx], Au[:nx, nx:] = A, B
+        h = float(h)
+        tableau = getattr(scheme, "tableau", ())
+        if tableau:
+            gamma = tableau[0][0]
+            lhs = np.eye(n) - gamma * h * Au
+            K = []
+            for i, row in enumerate(tableau):
+                acc = np.eye(n)
+                for j in range(i):
+                    acc = acc + h * row[j] * K[j]
+                K.append(np.linalg.solve(lhs, Au @ acc))
+            G = np.eye(n) + h * sum(b * k for b, k in zip(scheme.weights, K))
+            return G[:nx, :nx], G[:nx, nx:]
+        if scheme.stability_polynomial is not None:
+            Z = h * Au
+            G = np.zeros((n, n))
+            for c in reversed(scheme.stability_polynomial):  # Horner
+                G = G @ Z + c * np.eye(n)
+            return G[:nx, :nx], G[:nx, nx:]
         f = lambda t, x, u: A @ x + B @ u  # noqa: E731 - a new array per call, as step() requires
         M = np.empty((nx, nx))
         N = np.empty((nx, nu))
@@ -117,12 +145,12 @@ class LoopLinearization:
             e = np.zeros(nx)
             e[j] = 1.0
             scheme.reset()
-            M[:, j] = scheme.step(f, 0.0, e, zu, float(h))
+            M[:, j] = scheme.step(f, 0.0, e, zu, h)
         for j in range(nu):
             e = np.zeros(nu)
             e[j] = 1.0
             scheme.reset()
-            N[:, j] = scheme.step(f, 0.0, zx, e, float(h))
+            N[:, j] = scheme.step(f, 0.0, zx, e, h)
         scheme.reset()
         return M, N
 
