@@ -63,7 +63,9 @@ growth rate over the second half of the run (:func:`perturbation_growth`, on the
 largest coordinate difference) above :data:`GROWTH_RATE` makes the trial unstable even when the
 run survives: a mode growing by ``1.004`` per period, as explicit Euler on the fidelity scenes at
 2.5 times its limit, lifts the first seed only 7000-fold in a 2.5 s run, which no bound on the
-elastic energy sees.
+elastic energy sees. Only a controlled loop gets twin runs: it holds its reference, so at a stable
+step a perturbation decays; a passive scene's free-floating and undamped modes let two nearby runs
+drift apart linearly in time at any step (its trials keep the energy bound alone).
 
 The bisection works on ``log h`` to a relative resolution (:data:`RESOLUTION`, 2 %). The loop
 cannot take a step longer than ``T``: when ``h = T`` is stable the result is reported as
@@ -409,7 +411,8 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
         span = horizon
         if modes is not None and longest is not None and longest > horizon:
             span = growth_horizon(modes, scheme, h, T, horizon, longest, closed_loop_predicted)
-        twin = _run(scenario, seeded_start(x0, plant.nz, TWIN_PERTURBATION, seed=1), integrator, h, span)
+        twin = (_run(scenario, seeded_start(x0, plant.nz, TWIN_PERTURBATION, seed=1), integrator, h, span)
+                if scenario.controllers.enabled else None)
         verdict = trial_verdict(plant, _run(scenario, x0, integrator, h, span), ref_energy, twin)
         if progress:
             progress(f"{integrator}: trial {trials} at h = {h:.4g} s over {span:.3g} s: "
