@@ -1,7 +1,7 @@
 """The ``coopctrl`` command line: one subcommand per module of this package.
 
-Exit codes: 0 success; 1 the run ended with status ``"diverged"`` or ``"qp_failed"`` (one line on
-stderr says why); 2 bad input or usage (one line ``coopctrl: error: ...`` on stderr, never a
+Exit codes: 0 success; 1 the run ended with status ``"diverged"`` or ``"qp_failed"``, or pre-flight
+(``check``, and ``run`` before its first tick) found the task impossible (one line on stderr says why); 2 bad input or usage (one line ``coopctrl: error: ...`` on stderr, never a
 traceback); 130 interrupted (Ctrl-C).
 
 Adding a subcommand is one module with a function decorated with :func:`subcommand`: it adds its parser to
@@ -34,7 +34,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog=PROG,
         description="Simulation and control of several robot arms carrying one object through elastic grasps.",
-        epilog="Exit codes: 0 ok, 1 run diverged or QP failed, 2 bad input, 130 interrupted.",
+        epilog="Exit codes: 0 ok, 1 run diverged or QP failed or the task is impossible (pre-flight), 2 bad input, "
+        "130 interrupted.",
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for configure in SUBCOMMANDS:
