@@ -97,11 +97,13 @@ def unreachable_cause(loop, t: float) -> str:
 
 def closed_loop_limit(loop, states) -> float:
     """The smallest predicted closed-loop step limit [s] of ``loop``'s integrator over ``states``
-    (``(x, t)`` pairs; ``nan`` when no linearization succeeded, ``inf`` when none is below ``T``)."""
+    (``(x, t)`` pairs; ``nan`` when no linearization succeeded, ``inf`` when none is below ``T``).
+    A loop with ``closed_loop_diagnosis = False`` (the stability trials, which fail by design and only
+    need to know that they failed) skips it: ``nan``, and the open-loop prediction decides."""
     from coopctrl.analysis.closed_loop_stability import LoopLinearizer
 
     scenario = getattr(loop, "scenario", None)
-    if scenario is None or not loop.enabled:
+    if scenario is None or not loop.enabled or not getattr(loop, "closed_loop_diagnosis", True):
         return math.nan
     try:
         lin = LoopLinearizer(scenario)

@@ -330,6 +330,7 @@ def _run(scenario, x0, integrator: str, h: float, horizon: float) -> dict:
     from coopctrl.simulator import closed_loop
 
     loop = closed_loop(scenario)
+    loop.closed_loop_diagnosis = False  # a trial only needs to know that it failed (coopctrl.analysis.diagnosis)
     loop.integrator = get_integrator(integrator)
     loop.set_step(min(h, loop.T), uniform=not commutes(loop.integrator))
     return loop.run(x0, horizon)
