@@ -565,9 +565,12 @@ class ClosedLoop:
         (:func:`coopctrl.analysis.diagnosis.diagnose_failure`: static instability, an unreachable pose,
         torque saturation, a held QP split, the step), and step advice only when the step is the cause
         (its closed-loop predicted limit at the start and at ``x_back``, a few ticks before the failure)."""
-        from coopctrl.analysis.diagnosis import diagnose_failure
+        from coopctrl.analysis.diagnosis import Diagnosis, diagnose_failure
 
-        diag = diagnose_failure(self, evidence or {}, k_done, t_fail, x_back, t_back, x0)
+        try:
+            diag = diagnose_failure(self, evidence or {}, k_done, t_fail, x_back, t_back, x0)
+        except Exception:  # noqa: BLE001 - the diagnosis must never replace the failure it explains
+            diag = Diagnosis((), self.h > self.predicted_max_step(), math.nan)
         if diag.step_is_cause:
             step, advice = self._step_advice(x_back)
             if step is None and advice.startswith("the step h"):  # within the open-loop limit: half the closed-loop one
