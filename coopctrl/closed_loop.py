@@ -19,8 +19,9 @@ integrator, or with a free step ``h <= T`` (:meth:`ClosedLoop.set_step`): ``floo
 of ``h`` and one shorter remainder step that lands on the next control instant. Divergence (a
 non-finite state, a deformation beyond ``max_deformation``, an energy beyond ``max_energy``, or a
 numerical failure of the plant) stops the run with a diagnostic naming the time, the quantity and
-a suggested step (half the integrator's predicted stability limit, :mod:`coopctrl.analysis.modes`);
-it never runs on silently. A spatial node whose pitch comes within
+its causes checked against the run's evidence (:mod:`coopctrl.analysis.diagnosis`: static
+instability, an unreachable pose, torque saturation, a held QP split, and the step, with a suggested
+step only when the step is beyond the closed loop's predicted limit); it never runs on silently. A spatial node whose pitch comes within
 :data:`~coopctrl.analysis.euler_singularity.EULER_PITCH_MARGIN_DEG` of +-90 deg stops the run as
 an Euler-angle singularity (and a nominal path that does is refused when the loop is built).
 """
