@@ -83,3 +83,18 @@ def test_held_split_is_named():
     assert why.startswith("load distribution: the QP failed on 2 ticks from t = 0.25 s")
     assert "torque_limits" in why
     assert held_split_cause([]) == ""
+
+
+def test_a_failure_at_the_first_tick_is_diagnosed_without_recursion():
+    """Soft grasps (1e2 N/m): the loaded start already deforms beyond the bound. The closed-loop limit is
+    linearized on a loop that refuses that state without diagnosing it again (it would recurse), and the
+    reason says the step is not the cause and why the start fails."""
+    from coopctrl.analysis.closed_loop_stability import LoopLinearizer
+
+    scenario = load("planar_two_arm_lift", **{"springs[0].stiffness": 1e2, "springs[1].stiffness": 1e2,
+                                              "simulation.duration": 0.02})
+    assert LoopLinearizer(scenario).loop.closed_loop_diagnosis is False
+    result = simulate(scenario)
+    assert result.status == "diverged"
+    assert "diverged at t = 0 s: deformation" in result.reason and "too soft" in result.reason
+    assert "not the likely cause" in result.reason and "try a step" not in result.reason

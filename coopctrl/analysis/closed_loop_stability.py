@@ -258,6 +258,8 @@ class LoopLinearizer:
 
         self.scenario = scenario
         self.loop = closed_loop(_exact_sensors(scenario))
+        # a tick that fails here is only refused (ArithmeticError), never diagnosed: the diagnosis linearizes too
+        self.loop.closed_loop_diagnosis = False
         self.trajectory = self.loop.trajectory
         self.plant = self.loop.plant
         self.T = self.loop.T
@@ -351,6 +353,7 @@ def nominal_run(scenario, x0, duration: float | None = None) -> dict:
     from coopctrl.simulator import closed_loop
 
     loop = closed_loop(_exact_sensors(scenario))
+    loop.closed_loop_diagnosis = False
     loop.integrator = get_integrator("rk4")
     limit = linear_modes(loop.plant, x0).predicted_max_step(loop.integrator)
     loop.set_step(min(loop.T, 0.25 * limit) if 0.0 < limit < math.inf else loop.T)
