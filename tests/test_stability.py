@@ -356,7 +356,7 @@ def test_failure_within_the_predicted_limit_says_the_step_is_not_the_cause():
 
 # ---------------------------------------------------------------------- command line
 def test_cli_stability_prints_the_table():
-    proc = coopctrl("stability", "stiff_grasp_extreme", "--integrators", "rk4,euler")
+    proc = coopctrl("stability", "stiff_grasp_extreme", "--integrators", "rk4,euler", "--set", "simulation.duration=0.3")
     assert proc.returncode == 0, proc.stderr
     out = proc.stdout
     assert "omega_max_rad_s" in out and "damping ratio" in out and "loaded state" in out
@@ -415,8 +415,11 @@ def test_measured_limit_holds_over_the_whole_run():
 # ---------------------------------------------------------------------- closed-loop prediction (issue 12)
 @pytest.fixture(scope="module")
 def stiff_report():
-    """stiff_grasp_extreme (1e7 N/m): the three explicit schemes, predicted (open and closed loop) and measured."""
-    return stability_report(load_scenario(REPO / "scenarios" / "stiff_grasp_extreme.toml"),
+    """stiff_grasp_extreme (1e7 N/m): the three explicit schemes, predicted (open and closed loop) and measured
+    over 0.3 s of the scene (the unstable trials run that long; 1.000, 1.000, 1.014 measured/closed-loop, as
+    over the whole second: 1.000 each, README)."""
+    return stability_report(load_scenario(REPO / "scenarios" / "stiff_grasp_extreme.toml",
+                                          {"simulation.duration": 0.3}),
                             ["euler", "symplectic_euler", "rk4"])
 
 
