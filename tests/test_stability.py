@@ -416,7 +416,7 @@ def test_measured_limit_holds_over_the_whole_run():
 @pytest.fixture(scope="module")
 def stiff_report():
     """stiff_grasp_extreme (1e7 N/m): the three explicit schemes, predicted (open and closed loop) and measured
-    over 0.3 s of the scene (the unstable trials run that long; 1.000, 1.000, 1.014 measured/closed-loop, as
+    over 0.3 s of the scene (the unstable trials run that long; measured / closed-loop 1.014, 1.000, 1.000, as
     over the whole second: 1.000 each, README)."""
     return stability_report(load_scenario(REPO / "scenarios" / "stiff_grasp_extreme.toml",
                                           {"simulation.duration": 0.3}),
