@@ -402,3 +402,69 @@ def closed_loop_limits(lins, integrators, progress=None) -> dict[str, ClosedLoop
             shown = "none below T" if best == math.inf else f"{best:.4g} s"
             progress(f"closed-loop limit of {name}: {shown}")
     return out
+
+
+class ModeProbe:
+    """The least stable mode of the start's period map at a step ``h``: a direction to seed a run along,
+    and its left eigenvector to read that mode's amplitude back from a run.
+
+    With ``Phi(h) v = mu v`` and ``w^H Phi(h) = mu w^H`` (``w^H v = 1``), the modal amplitude of a
+    perturbation ``delta s`` of the loop state is ``a = |w^H delta s|``: on the linear map it is multiplied
+    by exactly ``|mu|`` per period, with no beating of the complex pair. Two runs from ``x0`` and from
+    ``x0 + size Re(v_x)`` (:meth:`seed`) give ``delta s_k`` at every tick (plant states and the followers'
+    integrals, :meth:`LoopLinearizer.integrals_of`), so :meth:`growth_rate` measures how fast the actual
+    nonlinear loop amplifies the mode the prediction found.
+
+    Args:
+        linearizer: The scenario's :class:`LoopLinearizer`.
+        lin: The :class:`LoopLinearization` at the start.
+    """
+
+    def __init__(self, linearizer: LoopLinearizer, lin: LoopLinearization):
+        self.linearizer = linearizer
+        self.lin = lin
+
+    def mode(self, scheme, h: float) -> tuple[np.ndarray, np.ndarray, complex]:
+        """``(v, w, mu)``: right and left eigenvectors (``w^H v = 1``) and eigenvalue of largest modulus."""
+        Phi = self.lin.period_matrix(scheme, period_steps(scheme, h, self.lin.control_period))
+        mu, V = np.linalg.eig(Phi)
+        k = int(np.argmax(np.abs(mu)))
+        W = np.linalg.inv(V)  # rows: left eigenvectors, normalized so that W V = I
+        return V[:, k], W[k].conj(), complex(mu[k])
+
+    def seed(self, v: np.ndarray, size: float) -> np.ndarray:
+        """A plant-state perturbation along ``Re(v)`` (or ``Im(v)`` when larger), largest position ``size`` [m, rad]."""
+        nx = self.lin.x.size
+        nz = nx // 2
+        part = v[:nx].real if np.max(np.abs(v[:nz].real)) >= np.max(np.abs(v[:nz].imag)) else v[:nx].imag
+        return size / float(np.max(np.abs(part[:nz]))) * part
+
+    def amplitude(self, rec_a: dict, rec_b: dict, w: np.ndarray) -> np.ndarray:
+        """``|w^H (s_b - s_a)|`` at each tick both runs recorded."""
+        n = min(len(rec_a["t"]), len(rec_b["t"]))
+        nx = self.lin.x.size
+        ds = np.concatenate([rec_b["x"][:n] - rec_a["x"][:n],
+                             self.linearizer.integrals_of(_head(rec_b, n)) - self.linearizer.integrals_of(_head(rec_a, n))],
+                            axis=1)
+        return np.abs(ds @ w.conj()) if ds.shape[1] == w.size else np.abs(ds[:, :nx] @ w[:nx].conj())
+
+    @staticmethod
+    def growth_rate(t: np.ndarray, a: np.ndarray, windows: int = 10, least: int = 3) -> float:
+        """Largest growth rate [1/s] of ``a(t)``: the log-mean of ``a`` over ``windows`` equal windows, and the
+        steepest slope between two windows at least ``least`` windows apart (0 when too few ticks)."""
+        n = min(len(t), len(a))
+        if n < 2 * windows:
+            return 0.0
+        w = n // windows
+        with np.errstate(divide="ignore"):
+            la = np.log(np.maximum(a[:w * windows], 1e-300)).reshape(windows, w).mean(axis=1)
+        tc = t[:w * windows].reshape(windows, w).mean(axis=1)
+        best = -math.inf
+        for i in range(windows):
+            for j in range(i + least, windows):
+                best = max(best, (la[j] - la[i]) / (tc[j] - tc[i]))
+        return best
+
+
+def _head(rec: dict, n: int) -> dict:
+    return {"t": rec["t"][:n], "F_commanded": rec["F_commanded"][:n], "F_measured": rec["F_measured"][:n]}

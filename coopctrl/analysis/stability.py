@@ -388,7 +388,8 @@ def trial_verdict(plant, rec: dict, ref_energy: np.ndarray, twin: dict | None = 
 
 def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np.ndarray, horizon: float, x0,
                      resolution: float = RESOLUTION, max_trials: int = 40, modes: ModalAnalysis | None = None,
-                     longest: float | None = None, closed_loop_predicted: float = math.nan, progress=None) -> dict:
+                     longest: float | None = None, closed_loop_predicted: float = math.nan, progress=None,
+                     probe=None) -> dict:
     """Bisect the largest stable plant step [s] of ``integrator`` on the scenario's closed loop.
 
     ``h = T`` is tried first (the cap); if unstable, a stable lower bracket is searched from
@@ -396,8 +397,10 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
     ``hi / lo - 1 <= resolution``. With ``modes`` (the linearization), each trial's horizon is
     :func:`growth_horizon` at its step, between ``horizon`` and ``longest`` [s] (``ref_energy`` must
     cover ``longest``). The lower bracket starts at the closed-loop prediction ``closed_loop_predicted``
-    [s] when it is finite, else at the open-loop ``predicted`` [s]. ``progress(message)`` is told of
-    every trial. Returns ``{"measured", "limited", "first_unstable", "failure", "trials", "note"}``.
+    [s] when it is finite, else at the open-loop ``predicted`` [s]. With ``probe``
+    (:class:`~coopctrl.analysis.closed_loop_stability.ModeProbe`) each trial's twin run starts moved along
+    the least stable mode of the start's period map at that step, and that mode's amplitude is tracked.
+    ``progress(message)`` is told of every trial. Returns ``{"measured", "limited", "first_unstable", "failure", "trials", "note"}``.
     """
     from coopctrl.scenario import build
 
@@ -412,9 +415,22 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
         span = horizon
         if modes is not None and longest is not None and longest > horizon:
             span = growth_horizon(modes, scheme, h, T, horizon, longest, closed_loop_predicted)
-        twin = (_run(scenario, seeded_start(x0, plant.nz, TWIN_PERTURBATION, seed=1), integrator, h, span)
-                if scenario.controllers.enabled else None)
-        verdict = trial_verdict(plant, _run(scenario, x0, integrator, h, span), ref_energy, twin)
+        rec = _run(scenario, x0, integrator, h, span)
+        if probe is not None and rec["status"] == "ok":
+            v, w, _ = probe.mode(scheme, h)
+            twin = _run(scenario, x0 + probe.seed(v, TWIN_PERTURBATION), integrator, h, span)
+            verdict = trial_verdict(plant, rec, ref_energy)
+            if verdict[0] and twin["status"] != "ok":
+                verdict = False, f"the twin run (start moved along the least stable mode): {twin['reason']}"
+            elif verdict[0]:
+                rate = probe.growth_rate(rec["t"], probe.amplitude(rec, twin, w))
+                if rate > GROWTH_RATE:
+                    verdict = False, (f"the least stable mode, seeded by {TWIN_PERTURBATION:g}, grows at {rate:.3g} /s "
+                                      f"(bound {GROWTH_RATE:g} /s)")
+        else:
+            twin = (_run(scenario, seeded_start(x0, plant.nz, TWIN_PERTURBATION, seed=1), integrator, h, span)
+                    if scenario.controllers.enabled and rec["status"] == "ok" else None)
+            verdict = trial_verdict(plant, rec, ref_energy, twin)
         if progress:
             progress(f"{integrator}: trial {trials} at h = {h:.4g} s over {span:.3g} s: "
                      f"{'stable' if verdict[0] else 'unstable'}")
@@ -531,17 +547,20 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
         say(f"reference run ({REFERENCE_INTEGRATOR} at {h_ref:.4g} s over {longest:.3g} s): {ref_rec['status']}")
 
     closed: dict = {}
+    probe = None
     if closed_loop and scenario.controllers.enabled:
-        from coopctrl.analysis.closed_loop_stability import closed_loop_limits, linearizations
+        from coopctrl.analysis.closed_loop_stability import (LoopLinearizer, ModeProbe, closed_loop_limits,
+                                                              linearizations)
 
         exact = scenario.sensors == SensorsConfig()
         record = ref_rec if ref_rec is not None and exact and ref_rec["status"] == "ok" else None
         try:
             lins = linearizations(scenario, x_start, record=record, progress=say)
             closed = closed_loop_limits(lins, names, progress=say)
+            probe = ModeProbe(LoopLinearizer(scenario), lins[0])
         except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
             say(f"closed-loop prediction not available: {exc}")
-            closed = {}
+            closed, probe = {}, None
 
     rows = []
     for name in names:
@@ -563,7 +582,7 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
                 horizon = trial_horizon(T, p)
                 # h = T is tried first: an unconditionally stable scheme normally stops there
                 got = measure_max_step(scenario, name, p, ref_energy, horizon, x0, resolution, modes=modes,
-                                       longest=longest, closed_loop_predicted=c, progress=say)
+                                       longest=longest, closed_loop_predicted=c, progress=say, probe=probe)
                 row.update(measured_max_step_s=got["measured"], limited_by_control_period=got["limited"],
                            first_unstable_step_s=got["first_unstable"], failure=got["failure"],
                            trials=got["trials"], horizon_s=horizon)
