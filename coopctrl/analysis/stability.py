@@ -56,16 +56,21 @@ cannot destabilize), and as ``T / ceil(T / h)`` uniform steps for symplectic Eul
 not commute: a remainder step lowers its limit by ~20 %); see :meth:`ClosedLoop.set_step`. Its
 measured limit is therefore a step ``T / n``, resolved to ``1 / n`` relative.
 
-**Twin runs.** Every trial is run twice, the second from the start state moved by a further seeded
-:data:`TWIN_PERTURBATION` on ``z``; both take the same steps, so their difference is the growth of a
-small perturbation of the actual nonlinear loop, free of the discretization error both share. Its
-growth rate over the second half of the run (:func:`perturbation_growth`, on the envelope of the
-largest coordinate difference) above :data:`GROWTH_RATE` makes the trial unstable even when the
-run survives: a mode growing by ``1.004`` per period, as explicit Euler on the fidelity scenes at
-2.5 times its limit, lifts the first seed only 7000-fold in a 2.5 s run, which no bound on the
-elastic energy sees. Only a controlled loop gets twin runs: it holds its reference, so at a stable
-step a perturbation decays; a passive scene's free-floating and undamped modes let two nearby runs
-drift apart linearly in time at any step (its trials keep the energy bound alone).
+**Twin runs.** A trial of a controlled loop that survives is run a second time, from the start state
+moved by :data:`TWIN_PERTURBATION` along the least stable mode of the start's linearized period map at
+that step (:class:`~coopctrl.analysis.closed_loop_stability.ModeProbe`; a seeded random direction when
+there is no closed-loop linearization). Both runs take the same steps, so their difference is the
+evolution of that perturbation in the actual nonlinear loop, free of the discretization error both
+share; its modal amplitude ``|w^H delta s|`` (``w`` the left eigenvector) has no beating, and its
+steepest growth rate between windows of the run (:meth:`ModeProbe.growth_rate`) above
+:data:`GROWTH_RATE` makes the trial unstable even when the run survives: on ``fidelity_spatial_arms``
+explicit Euler at 1.3 times its closed-loop limit grows that mode by 1.0006 per period, 0.6 /s, which a
+2.5 s run turns into a factor 5 of a tiny seed, invisible to any bound on the elastic energy, while
+seeded on purpose the held loop shows exactly that rate (0.64 /s measured). The measurement remains a
+simulation: if the linearization were wrong, the seeded mode would not grow and the trial would pass.
+Only a controlled loop gets twin runs: it holds its reference, so at a stable step a perturbation
+decays; a passive scene's free-floating and undamped modes let two nearby runs drift apart linearly in
+time at any step (its trials keep the energy bound alone).
 
 The bisection works on ``log h`` to a relative resolution (:data:`RESOLUTION`, 2 %). The loop
 cannot take a step longer than ``T``: when ``h = T`` is stable the result is reported as
@@ -94,7 +99,7 @@ MIN_STEPS = 400
 MAX_TRIAL_STEPS = 200_000
 #: Size of the seeded perturbation of the generalized coordinates ``z`` of the start state [m or rad].
 SEED_PERTURBATION = 1e-9
-#: Size of the second seeded perturbation [m or rad] of each trial's twin run (see :func:`perturbation_growth`).
+#: Size of the perturbation [m or rad] of each trial's twin run (largest position component; module docstring).
 TWIN_PERTURBATION = 1e-7
 #: Growth rate [1/s] of the twin runs' difference above which a trial is unstable: an e-folding time of
 #: 10 s, longer than any shipped scene's run, far faster than the decay of a stable loop's slowest mode
