@@ -601,6 +601,9 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
                 elif measured is not None and not got["limited"] and 0.0 < c < math.inf and not (
                         1.0 - AGREEMENT <= measured / c <= 1.0 + AGREEMENT):
                     notes.append(f"measured / closed-loop predicted = {measured / c:.3g}")
+                if measured is not None and not got["limited"] and c == math.inf:
+                    notes.append("the closed-loop period map is stable up to the control period, yet the trial above "
+                                 f"{measured:.3g} s failed: {got['failure']}")
                 if measured is not None and not got["limited"] and 0.0 < p < math.inf and not (
                         1.0 - AGREEMENT <= measured / p <= 1.0 + AGREEMENT):
                     notes.append(f"measured / open-loop predicted = {measured / p:.3g}: {_CLOSED_LOOP}")
