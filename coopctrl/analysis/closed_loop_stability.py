@@ -55,6 +55,10 @@ GROWTH_TOLERANCE = 1e-5
 GRID_POINTS = 48
 #: Instants along the nominal trajectory at which the loop is also linearized [-].
 TRAJECTORY_SAMPLES = 6
+#: Rise [-] of an eigenvalue's modulus over the tiny-step period map's beyond which the step counts as
+#: destabilizing that mode (:meth:`ModeProbe.mode`): above the finite-difference noise of the map (~1e-7),
+#: far below the rise a step near its limit gives the limiting mode (to ``|mu| = 1``, typically 1e-2 and more).
+MOVED = 1e-4
 #: Central-difference steps: plant state (relative to ``max(1, |x|)``) [m, rad, m/s, rad/s], integrals [N s].
 STEP_STATE = 1e-6
 STEP_INTEGRAL = 1e-6
@@ -424,13 +428,37 @@ class ModeProbe:
         self.linearizer = linearizer
         self.lin = lin
 
-    def mode(self, scheme, h: float) -> tuple[np.ndarray, np.ndarray, complex]:
-        """``(v, w, mu)``: right and left eigenvectors (``w^H v = 1``) and eigenvalue of largest modulus."""
+    def mode(self, scheme, h: float) -> tuple[np.ndarray, np.ndarray, complex] | None:
+        """``(v, w, mu)`` of the least stable mode *the step destabilizes*: right and left eigenvectors
+        (``w^H v = 1``) and the eigenvalue of largest modulus among those of ``Phi(h)`` whose modulus exceeds
+        that of the nearest eigenvalue of ``Phi(h_0)`` (a step far below every limit, as in
+        :meth:`LoopLinearization.max_stable_step`) by more than :data:`MOVED`. The loop's own slow modes (a
+        force integral decaying in minutes: ``|mu|`` = 0.99999 per period at any step) are left out: they
+        are what the physics does, and a nonlinear run moves their modal amplitude by a few percent, which
+        over a short run reads as a growth. ``None`` when the step destabilizes no mode (a dissipative
+        scheme, or a step that integrates every mode as the tiny step does)."""
         Phi = self.lin.period_matrix(scheme, period_steps(scheme, h, self.lin.control_period))
         mu, V = np.linalg.eig(Phi)
-        k = int(np.argmax(np.abs(mu)))
+        mu0 = self._reference(scheme)
+        nearest = mu0[np.argmin(np.abs(mu[:, None] - mu0[None, :]), axis=1)]
+        moved = np.abs(mu) > np.abs(nearest) + MOVED  # the step made it less stable than the tiny step does
+        if not np.any(moved):
+            return None
+        k = int(np.flatnonzero(moved)[np.argmax(np.abs(mu[moved]))])
         W = np.linalg.inv(V)  # rows: left eigenvectors, normalized so that W V = I
         return V[:, k], W[k].conj(), complex(mu[k])
+
+    def _reference(self, scheme) -> np.ndarray:
+        """Eigenvalues of ``Phi(h_0)`` (cached per scheme)."""
+        cache = self.__dict__.setdefault("_mu0", {})
+        key = getattr(scheme, "name", type(scheme).__name__)
+        if key not in cache:
+            T = self.lin.control_period
+            lam = np.linalg.eigvals(self.lin.A)
+            fastest = float(np.max(np.abs(lam))) if lam.size else 0.0
+            h0 = min(T, 1e-2 / fastest) if fastest > 0 else T
+            cache[key] = self.lin.eigenvalues(scheme, h0)
+        return cache[key]
 
     def seed(self, v: np.ndarray, size: float) -> np.ndarray:
         """A plant-state perturbation along ``Re(v)`` (or ``Im(v)`` when larger), largest position ``size`` [m, rad]."""

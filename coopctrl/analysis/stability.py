@@ -57,9 +57,10 @@ not commute: a remainder step lowers its limit by ~20 %); see :meth:`ClosedLoop.
 measured limit is therefore a step ``T / n``, resolved to ``1 / n`` relative.
 
 **Twin runs.** A trial of a controlled loop that survives is run a second time, from the start state
-moved by :data:`TWIN_PERTURBATION` along the least stable mode of the start's linearized period map at
-that step (:class:`~coopctrl.analysis.closed_loop_stability.ModeProbe`; a seeded random direction when
-there is no closed-loop linearization). Both runs take the same steps, so their difference is the
+moved by :data:`TWIN_PERTURBATION` along the least stable mode that the step moves in the start's
+linearized period map (:class:`~coopctrl.analysis.closed_loop_stability.ModeProbe`: the loop's own slow
+modes, the same at any step, are left out; no twin when the step moves no mode; a seeded random
+direction when there is no closed-loop linearization). Both runs take the same steps, so their difference is the
 evolution of that perturbation in the actual nonlinear loop, free of the discretization error both
 share; its modal amplitude ``|w^H delta s|`` (``w`` the left eigenvector) has no beating, and its
 steepest growth rate between windows of the run (:meth:`ModeProbe.growth_rate`) above
@@ -421,8 +422,9 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
         if modes is not None and longest is not None and longest > horizon:
             span = growth_horizon(modes, scheme, h, T, horizon, longest, closed_loop_predicted)
         rec = _run(scenario, x0, integrator, h, span)
-        if probe is not None and rec["status"] == "ok":
-            v, w, _ = probe.mode(scheme, h)
+        mode = probe.mode(scheme, h) if probe is not None and rec["status"] == "ok" else None
+        if mode is not None:
+            v, w, _ = mode
             twin = _run(scenario, x0 + probe.seed(v, TWIN_PERTURBATION), integrator, h, span)
             verdict = trial_verdict(plant, rec, ref_energy)
             if verdict[0] and twin["status"] != "ok":
@@ -432,6 +434,8 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
                 if rate > GROWTH_RATE:
                     verdict = False, (f"the least stable mode, seeded by {TWIN_PERTURBATION:g}, grows at {rate:.3g} /s "
                                       f"(bound {GROWTH_RATE:g} /s)")
+        elif probe is not None:  # the step moves no mode of the loop: the run and the energy bound decide
+            verdict = trial_verdict(plant, rec, ref_energy)
         else:
             twin = (_run(scenario, seeded_start(x0, plant.nz, TWIN_PERTURBATION, seed=1), integrator, h, span)
                     if scenario.controllers.enabled and rec["status"] == "ok" else None)
