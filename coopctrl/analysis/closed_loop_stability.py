@@ -477,6 +477,19 @@ class ModeProbe:
         return np.abs(ds @ w.conj()) if ds.shape[1] == w.size else np.abs(ds[:, :nx] @ w[:nx].conj())
 
     @staticmethod
+    def growth(a: np.ndarray, windows: int = 10) -> float:
+        """``max_j mean(log a over window j) - log a_0`` [-]: how far the modal amplitude rose above its
+        seeded value ``a_0`` (the two runs differ by exactly the seed at the first tick), on the log-means
+        over ``windows`` equal windows after it (so that no single tick decides); ``0`` when too short."""
+        n = len(a) - 1
+        if n < windows or not a[0] > 0.0:
+            return 0.0
+        w = n // windows
+        with np.errstate(divide="ignore"):
+            la = np.log(np.maximum(a[1:1 + w * windows], 1e-300)).reshape(windows, w).mean(axis=1)
+        return float(np.max(la) - math.log(a[0]))
+
+    @staticmethod
     def growth_rate(t: np.ndarray, a: np.ndarray, windows: int = 10, least: int = 3) -> float:
         """Largest growth rate [1/s] of ``a(t)``: the log-mean of ``a`` over ``windows`` equal windows, and the
         steepest slope between two windows at least ``least`` windows apart (0 when too few ticks)."""
