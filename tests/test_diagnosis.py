@@ -5,9 +5,7 @@ the step advice appears only when the step is beyond the closed loop's predicted
 
 from __future__ import annotations
 
-import math
 
-import pytest
 
 from coopctrl.analysis.diagnosis import held_split_cause, unreachable_cause
 from coopctrl.scenario import load_scenario
