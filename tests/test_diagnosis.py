@@ -5,8 +5,6 @@ the step advice appears only when the step is beyond the closed loop's predicted
 
 from __future__ import annotations
 
-
-
 from coopctrl.analysis.diagnosis import held_split_cause, unreachable_cause
 from coopctrl.scenario import load_scenario
 from coopctrl.simulator import closed_loop, simulate
