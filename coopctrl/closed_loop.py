@@ -507,7 +507,10 @@ class ClosedLoop:
                                                  evidence=evidence, k_done=k_done, t_back=t_back)
                 events.append((getattr(exc, "time", k * self.T), "euler_singularity" if chart else "diverged", reason))
         except InfeasibleLoad as exc:
-            status, reason = "qp_failed", str(exc)
+            from coopctrl.analysis.diagnosis import held_split_cause
+
+            held = held_split_cause(events)
+            status, reason = "qp_failed", f"at t = {k * self.T:.6g} s: {exc}" + (f"; cause: {held}" if held else "")
             events.append((k * self.T, "qp_failed", str(exc)))
         finally:
             errstate.__exit__(None, None, None)

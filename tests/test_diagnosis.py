@@ -72,6 +72,17 @@ def test_out_of_reach_waypoint_run_warns_of_the_saturation():
     assert "warning: the torques saturated at tau_max on" in proc.stderr
 
 
+def test_qp_failure_after_held_splits_is_named_with_its_time():
+    """30 kg carried within the torque limits in 0.5 s: the QP fails at the acceleration peak, the loop holds
+    its last split on 4 ticks, then stops; the reason gives the time, the binding family and the held ticks."""
+    result = simulate(load("heavy_payload_torque_limits", **{"object.mass": 30.0, "trajectory.via[1].time": 0.5,
+                                                             "simulation.duration": 0.1}))
+    assert result.status == "qp_failed"
+    reason = result.reason
+    assert reason.startswith("at t = ") and "binding: torque_limits" in reason
+    assert "cause: load distribution: the QP failed on " in reason and "held its last feasible split" in reason
+
+
 def test_held_split_is_named():
     events = [(0.25, "qp_held", "QP status 'infeasible' (binding: torque_limits); holding the last feasible split"),
               (0.26, "qp_held", "QP status 'infeasible' (binding: torque_limits); holding the last feasible split")]
