@@ -21,7 +21,8 @@ non-finite state, a deformation beyond ``max_deformation``, an energy beyond ``m
 numerical failure of the plant) stops the run with a diagnostic naming the time, the quantity and
 its causes checked against the run's evidence (:mod:`coopctrl.analysis.diagnosis`: static
 instability, an unreachable pose, torque saturation, a held QP split, and the step, with a suggested
-step only when the step is beyond the closed loop's predicted limit); it never runs on silently. A spatial node whose pitch comes within
+step only when the step is beyond the closed loop's predicted limit); it never runs on silently. A
+spatial node whose pitch comes within
 :data:`~coopctrl.analysis.euler_singularity.EULER_PITCH_MARGIN_DEG` of +-90 deg stops the run as
 an Euler-angle singularity (and a nominal path that does is refused when the loop is built).
 """
@@ -582,8 +583,8 @@ class ClosedLoop:
         else:
             limit = diag.closed_loop_limit_s
             name = getattr(self.integrator, "name", type(self.integrator).__name__)
-            shown = (f"the closed loop's stable range (its linearization has no limit below the control period {self.T:g} s)"
-                     if limit == math.inf else
+            shown = (f"the closed loop's stable range (its linearization has no limit below the control period "
+                     f"{self.T:g} s)" if limit == math.inf else
                      f"{name}'s predicted closed-loop stability limit {limit:.3g} s" if not math.isnan(limit) else
                      f"{name}'s predicted stability limit {self.predicted_max_step():.3g} s")
             step, advice = None, f"the step h = {self.h:.3g} s is within {shown}, so the step is not the likely cause"
