@@ -522,8 +522,8 @@ class ClosedLoop:
             if isinstance(val, np.ndarray):
                 rec[key] = val[:k_done]
         if saturated:
-            events.append((sat_first, "torque_saturation", f"commanded torques clipped at their limits on {saturated} ticks "
-                                                          f"from t = {sat_first:.4g} s"))
+            events.append((sat_first, "torque_saturation",
+                           f"commanded torques clipped at their limits on {saturated} ticks from t = {sat_first:.4g} s"))
         rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=qp_time,
                    qp_binding_counts=binding_counts, saturated_ticks=saturated, saturated_joint_ticks=sat_joints,
                    saturation_first_time_s=sat_first, saturated_last_tick=sat_last)

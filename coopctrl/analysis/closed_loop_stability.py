@@ -21,8 +21,8 @@ a scheme whose steps do not commute; :meth:`ClosedLoop.set_step`). Linearized ab
 ``K_x, K_I, E_x, E_I`` are central differences of the loop's own controller code (one tick of
 ``ClosedLoop.run`` at ``t_k``, exact sensors, the trajectory shifted to ``t_k``); ``M(h), N(h)``
 are one step of the scheme on the plant linearized at ``(x_k, tau_k)``, ``dx/dt = A x + B tau``
-(:meth:`CooperativePlant.jacobians`; :meth:`LoopLinearization.step_matrices`). The period map is stable at ``h`` when no more of its eigenvalues lie
-outside the unit circle (by :data:`GROWTH_TOLERANCE`) than at a step ``h_0`` far below every limit
+(:meth:`CooperativePlant.jacobians`; :meth:`LoopLinearization.step_matrices`). The period map is
+stable at ``h`` when no more of its eigenvalues lie outside the unit circle (by :data:`GROWTH_TOLERANCE`) than at a step ``h_0`` far below every limit
 (none for a loop that holds; a physically unstable loop, a buckling grasp, keeps its growing modes at
 every step, which no step cures). The predicted limit is the first ``h`` on a log grid up to ``T``
 where it is not, refined by bisection to :data:`RESOLUTION`; ``math.inf`` when ``h = T`` is stable
@@ -471,9 +471,9 @@ class ModeProbe:
         """``|w^H (s_b - s_a)|`` at each tick both runs recorded."""
         n = min(len(rec_a["t"]), len(rec_b["t"]))
         nx = self.lin.x.size
+        integrals = self.linearizer.integrals_of
         ds = np.concatenate([rec_b["x"][:n] - rec_a["x"][:n],
-                             self.linearizer.integrals_of(_head(rec_b, n)) - self.linearizer.integrals_of(_head(rec_a, n))],
-                            axis=1)
+                             integrals(_head(rec_b, n)) - integrals(_head(rec_a, n))], axis=1)
         return np.abs(ds @ w.conj()) if ds.shape[1] == w.size else np.abs(ds[:, :nx] @ w[:nx].conj())
 
     @staticmethod

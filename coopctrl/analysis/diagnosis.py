@@ -60,7 +60,8 @@ def saturation_cause(loop, rec: dict, k_done: int) -> str:
     more = "" if len(order) == int(np.sum(per_joint > 0)) else f" and {int(np.sum(per_joint > 0)) - len(order)} more"
     return (f"torque saturation: the commanded torques were clipped at tau_max on {ticks} of {k_done} ticks from "
             f"t = {first:.4g} s ({joints}{more}); the task needs more torque than the arms have: lower the payload "
-            "(object.mass) or the accelerations, or raise tau_max (`coopctrl check` refuses such a task before it runs)")
+            "(object.mass) or the accelerations, or raise tau_max (`coopctrl check` refuses such a task before it "
+            "runs)")
 
 
 def held_split_cause(events) -> str:
