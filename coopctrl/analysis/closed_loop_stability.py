@@ -23,8 +23,9 @@ a scheme whose steps do not commute; :meth:`ClosedLoop.set_step`). Linearized ab
 are one step of the scheme on the plant linearized at ``(x_k, tau_k)``, ``dx/dt = A x + B tau``
 (:meth:`CooperativePlant.jacobians`; :meth:`LoopLinearization.step_matrices`). The period map is
 stable at ``h`` when no more of its eigenvalues lie outside the unit circle (by
-:data:`GROWTH_TOLERANCE`) than at a step ``h_0`` far below every limit (none for a loop that holds; a physically unstable loop, a buckling grasp, keeps its growing modes at
-every step, which no step cures). The predicted limit is the first ``h`` on a log grid up to ``T``
+:data:`GROWTH_TOLERANCE`) than at a step ``h_0`` far below every limit (none for a loop that holds;
+a physically unstable loop, a buckling grasp, keeps its growing modes at every step, which no step
+cures). The predicted limit is the first ``h`` on a log grid up to ``T``
 where it is not, refined by bisection to :data:`RESOLUTION`; ``math.inf`` when ``h = T`` is stable
 (the loop cannot step longer than ``T``).
 
