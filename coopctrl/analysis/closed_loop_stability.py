@@ -462,7 +462,8 @@ class ModeProbe:
         return cache[key]
 
     def seed(self, v: np.ndarray, size: float) -> np.ndarray:
-        """A plant-state perturbation along ``Re(v)`` (or ``Im(v)`` when larger), largest position ``size`` [m, rad]."""
+        """A plant-state perturbation along ``Re(v)`` (or ``Im(v)`` when larger), its largest position
+        component ``size`` [m, rad]."""
         nx = self.lin.x.size
         nz = nx // 2
         part = v[:nx].real if np.max(np.abs(v[:nz].real)) >= np.max(np.abs(v[:nz].imag)) else v[:nx].imag

@@ -276,8 +276,8 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
         if loop.torque_limits:  # which joint: the split without the torque rows, against the limits
             free = {k: v for k, v in kwargs.items() if k not in ("jacobians", "biases", "tau_max")}
             try:
-                F_free = LoadDistribution(dataclasses.replace(config, torque_limits=False), space, m).solve(terms.Y[1:, :npos], terms.Y[0, :npos],
-                                                                         w_N, **free).F
+                free_ld = LoadDistribution(dataclasses.replace(config, torque_limits=False), space, m)
+                F_free = free_ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **free).F
                 over = _worst_joint(plant, jac, bias, F_free, [0.9 * lim for lim in tau_max])
             except InfeasibleLoad:
                 over = None
