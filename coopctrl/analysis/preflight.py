@@ -239,6 +239,7 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
     ``x`` gets the arms' joints and rates."""
     import dataclasses
 
+    from coopctrl.closed_loop import TORQUE_HEADROOM
     from coopctrl.load_distribution import LoadDistribution
     from plants.errors import PlantError
 
@@ -278,13 +279,14 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
             try:
                 free_ld = LoadDistribution(dataclasses.replace(config, torque_limits=False), space, m)
                 F_free = free_ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **free).F
-                over = _worst_joint(plant, jac, bias, F_free, [0.9 * lim for lim in tau_max])
+                over = _worst_joint(plant, jac, bias, F_free, [TORQUE_HEADROOM * lim for lim in tau_max])
             except InfeasibleLoad:
                 over = None
             if over is not None and over[3] > 1.0:
                 i, j, need, _ = over
                 binds = (f"; without the torque limits arm {i + 1} joint {j + 1} needs {need:.4g} N m > "
-                         f"{0.9 * tau_max[i][j]:.4g} N m (0.9 tau_max, the headroom the QP plans within)")
+                         f"{TORQUE_HEADROOM * tau_max[i][j]:.4g} N m ({TORQUE_HEADROOM:g} tau_max, the headroom the QP "
+                         "plans within)")
         arm_joint = (over[0] + 1, over[1] + 1) if binds else (None, None)
         return (PreflightIssue(t, "qp_infeasible", (
             f"at t = {t:.4g} s the load distribution has no feasible split (status '{exc.status}', binding: "
