@@ -5,7 +5,7 @@ see in the loop):
 
 - ``two-Puma carry``: the exact QP sequence of ``spatial_two_puma_carry`` (n = 12, the wrench
   balance, no inequality family), recorded from a closed-loop run with ``solver="compiled"``;
-- ``m = 2, 3, 4``: spatial arms with all three inequality families (min grip 2 N, friction
+- ``m = 2, 3, 4`` (``--arms``): spatial arms with all three inequality families (min grip 2 N, friction
   mu = 1.0 with 4 facets about normals tilted up, torque limits at 80 % of the largest torque of
   the split without torque limits, 6-joint arms) along a smooth trajectory of the object (it
   turns, its load changes a little each step). Torque limits bind at every tick, the friction
@@ -24,7 +24,7 @@ Columns, all medians in one run [us per solve]:
 - the ratios of the libraries to the compiled QP in the numba loop, and the largest force
   difference to proxsuite [N].
 
-Run: ``python benchmarks/bench_compiled_qp.py [--steps N] [--repeats R] [--quick]``
+Run: ``python benchmarks/bench_compiled_qp.py [--steps N] [--repeats R] [--arms 2 3 4] [--quick]``
 """
 
 from __future__ import annotations
@@ -238,16 +238,19 @@ def bench_quadprog(seq: Sequence):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--steps", type=int, default=2000, help="ticks per m = 2, 3, 4 sequence (1 ms each)")
+    ap.add_argument("--steps", type=int, default=2000, help="ticks per m-sequence (1 ms each)")
     ap.add_argument("--repeats", type=int, default=5, help="repeats of the numba-loop replay (median)")
+    ap.add_argument("--arms", type=int, nargs="+", default=[2, 3, 4], help="arm counts of the m-sequences")
     ap.add_argument("--quick", action="store_true", help="a short smoke run: 300 ticks, 2 repeats")
     args = ap.parse_args(argv)
     if args.quick:
         args.steps, args.repeats = 300, 2
     if args.steps < 1 or args.repeats < 1:
         ap.error(f"--steps {args.steps} / --repeats {args.repeats}: both must be integers >= 1")
+    if any(m < 2 for m in args.arms):
+        ap.error(f"--arms {' '.join(map(str, args.arms))}: arm counts must be integers >= 2")
     print("command:", " ".join([pathlib.Path(sys.executable).name] + sys.argv))
-    seqs = [record_carry()] + [trajectory_problems(m, args.steps) for m in (2, 3, 4)]
+    seqs = [record_carry()] + [trajectory_problems(m, args.steps) for m in args.arms]
     # compile (or load from the cache) before timing
     bench_numba_loop(Sequence("warm-up", seqs[1].P, seqs[1].g[:2], seqs[1].M[:2], seqs[1].lo[:2], seqs[1].hi[:2],
                               seqs[1].n_eq), 1)

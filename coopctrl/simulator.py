@@ -63,6 +63,7 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
                       enabled=scenario.controllers.enabled)
     if step is not None:
         loop.set_step(step, uniform=uniform_step)
+    loop.scenario = scenario  # for the failure diagnosis (coopctrl.analysis.diagnosis: the closed-loop step limit)
     return loop
 
 

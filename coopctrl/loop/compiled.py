@@ -307,7 +307,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
             K.run_ticks(cl.spatial, k, k_stop, N, loop.T, cl.steps, cl.method, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho,
                         loop.max_deformation, band, cl.ctrl, cl.posture, cl.C, cl.qp, qa, state.ws,
                         noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau, state.integrals, state.last_split,
-                        state.flags, state.hold, rec["t"], rec["x"], rec["tau"], rec["Y0_nominal"], rec["F_measured"],
+                        state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"], rec["tau"], rec["Y0_nominal"], rec["F_measured"],
                         rec["F_commanded"], rec["F_external"], rec["F_internal"], rec["r_contacts"], qs, qb,
                         rec["qp_iterations"], x_good, x_fail, out_int, out_float)
             code = int(out_int[0])
@@ -334,10 +334,14 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         if bar is not None:
             bar.close()
     k_done = int(out_int[5])
+    saturated = int(state.flags[2])
+    sat_first = float(state.flags[4] * loop.T) if saturated else math.nan
+    saturation = {"saturated_ticks": saturated, "saturated_joint_ticks": state.saturated_joints.copy(),
+                  "saturation_first_time_s": sat_first, "saturated_last_tick": int(state.flags[5])}
     if exc is not None:
         good = int(out_int[6])
         t_good = good * loop.T if good >= 0 else 0.0
-        status, reason = loop._stop_reason(exc, k, k_done, rec, state.x, x_good, t_good, x0, events)
+        status, reason = loop._stop_reason(exc, k, k_done, rec, state.x, x_good, t_good, x0, events, saturation)
     wall = _time.perf_counter() - wall0
     for key, val in rec.items():
         if isinstance(val, np.ndarray):
@@ -355,10 +359,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         bindings.append("+".join(fam))
         for name in fam:
             counts[name] = counts.get(name, 0) + 1
-    saturated = int(state.flags[2])
     if saturated:
-        events.append((0.0, "torque_saturation", f"commanded torques clipped at their limits on {saturated} ticks"))
+        events.append((sat_first, "torque_saturation",
+                       f"commanded torques clipped at their limits on {saturated} ticks from t = {sat_first:.4g} s"))
     rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=math.nan,
-               qp_binding_counts=counts, saturated_ticks=saturated, qp_status=statuses, qp_binding=bindings,
-               rhs_evaluations=int(out_int[7]))
+               qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings, rhs_evaluations=int(out_int[7]),
+               **saturation)
     return rec

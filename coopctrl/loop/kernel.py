@@ -154,7 +154,7 @@ def _pose_increment(spatial, C, F, Y0, Yi):
 @njit(cache=True)
 def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
               ctrl, posture, C_comp, qp, qp_arrays, ws, noise_q, noise_o, noise_f, noise_cfg,
-              x, tau, integ, last, flags, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
+              x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
               rec_r, rec_qs, rec_qb, rec_qit, x_good, x_fail, out_int, out_float):
     """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
 
@@ -166,7 +166,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     State arrays (updated in place; together with ``ws`` they are the loop state): ``x`` (nx) the
     plant state at tick ``k0``; ``tau`` (nu) the held torques [N m]; ``integ`` (m, p) the followers'
     force-error integrals [N s]; ``last`` (3, m, p) the last feasible split ``(F, external,
-    internal)`` [N, N m]; ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves)``.
+    internal)`` [N, N m]; ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves,
+    first saturated tick, last saturated tick)``; ``sat_joints`` (nu,) int64 saturated ticks per joint.
     ``hold`` (``hold_status[0] = 1``): tick ``k0`` uses the last feasible split (the caller applied
     the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``.
 
@@ -584,6 +585,12 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 sat = True
         if sat:
             flags[2] += 1
+            if flags[2] == 1:
+                flags[4] = k
+            flags[5] = k
+            for c in range(nu):
+                if abs(tau[c]) > tau_max[c]:
+                    sat_joints[c] += 1
             for c in range(nu):
                 if tau[c] < -tau_max[c]:
                     tau[c] = -tau_max[c]

@@ -35,7 +35,9 @@ class LoopRecord:
         events: ``(t [s], kind, message)`` of what happened (held QP splits, saturation, the stop).
         wall_time_s: wall time of the run [s]; qp_time_s: total QP time [s] (NaN when not timed).
         qp_binding_counts: ticks on which each family was binding; saturated_ticks: ticks with a
-            torque clipped at its limit; rhs_evaluations: plant right-hand-side calls (compiled tick).
+            torque clipped at its limit; saturated_joint_ticks: (nu,) such ticks per joint;
+            saturation_first_time_s: time of the first [s] (NaN: none); saturated_last_tick: index of
+            the last (-1: none); rhs_evaluations: plant right-hand-side calls (compiled tick).
 
     Item access (``record["x"]``, ``record.get``, ``record.update``, ``record.items()``) reads and writes
     the same fields, for code written against the former dict.
@@ -63,6 +65,9 @@ class LoopRecord:
     qp_time_s: float = 0.0
     qp_binding_counts: dict = field(default_factory=dict)
     saturated_ticks: int = 0
+    saturated_joint_ticks: np.ndarray | None = None
+    saturation_first_time_s: float = float("nan")
+    saturated_last_tick: int = -1
     rhs_evaluations: int | None = None
 
     @classmethod
@@ -74,7 +79,7 @@ class LoopRecord:
         return cls(t=nan(N), x=nan(N, nx), tau=nan(N, nu), Y0_nominal=nan(N, p), F_measured=nan(N, m, p),
                    F_commanded=nan(N, m, p), F_external=nan(N, m, p), F_internal=nan(N, m, p),
                    r_contacts=nan(N, m, npos), qp_iterations=np.full(N, -1, dtype=np.int64), qp_solve_time_s=nan(N),
-                   energy=nan(N), kinetic_energy=nan(N))
+                   energy=nan(N), kinetic_energy=nan(N), saturated_joint_ticks=np.zeros(nu, dtype=np.int64))
 
     # ---- the former dict's access
     def keys(self):

@@ -22,7 +22,9 @@ class LoopState:
         integrals: (m, p) followers' force-error integrals [N s, N m s] (the leader's row stays 0).
         last_split: (3, m, p) the last feasible split ``(F, external, internal)`` [N, N m], held when a
             QP solve fails.
-        flags: int64 ``(have_last_split, consecutive_qp_failures, saturated_ticks, qp_solves)``.
+        flags: int64 ``(have_last_split, consecutive_qp_failures, saturated_ticks, qp_solves,
+            first_saturated_tick, last_saturated_tick)``.
+        saturated_joints: (nu,) int64 ticks on which each joint's torque was clipped.
         hold: int64 ``(hold_next_tick, qp_status_code, qp_iterations)``: the next tick holds the last split.
         ws: The compiled QP's workspace (its factor and the active set: the warm start of the next solve).
         tick: Index of the next tick to run (the position in the pre-drawn sensor-noise streams too).
@@ -33,6 +35,7 @@ class LoopState:
     integrals: np.ndarray
     last_split: np.ndarray
     flags: np.ndarray
+    saturated_joints: np.ndarray
     hold: np.ndarray
     ws: tuple
     tick: int = 0
@@ -41,4 +44,5 @@ class LoopState:
     def start(cls, x0, nu: int, m: int, p: int, n_qp: int, n_rows: int) -> "LoopState":
         """The state at tick 0: plant state ``x0``, zero torques and integrals, no split yet, a cold QP."""
         return cls(np.array(x0, dtype=float), np.zeros(nu), np.zeros((m, p)), np.zeros((3, m, p)),
-                   np.zeros(4, dtype=np.int64), np.zeros(3, dtype=np.int64), gi_workspace(n_qp, n_rows), 0)
+                   np.array([0, 0, 0, 0, -1, -1], dtype=np.int64), np.zeros(nu, dtype=np.int64),
+                   np.zeros(3, dtype=np.int64), gi_workspace(n_qp, n_rows), 0)
