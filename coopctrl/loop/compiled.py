@@ -57,6 +57,10 @@ def compiled_unsupported(loop) -> str | None:
         return "controllers other than LeaderController and FollowerForceController (e.g. tuning probes)"
     if type(loop.compliance) is not GraspCompliance or type(loop.sensors) is not SensorSuite:
         return "a grasp compliance or sensor suite of another type"
+    from coopctrl.trajectory import MinimumJerkTrajectory
+
+    if type(loop.trajectory) is not MinimumJerkTrajectory:
+        return f"a trajectory of type {type(loop.trajectory).__name__} (compiled: MinimumJerkTrajectory)"
     if not loop.enabled:
         return "controllers.enabled = false (passive run)"
     if loop.max_energy is not None:
