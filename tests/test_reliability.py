@@ -149,10 +149,12 @@ def test_largest_float_stiffness_is_refused_not_a_hang(scene):
 
 # ---------------------------------------------------------------------- 5. the QP answer is checked
 def test_loose_solver_tolerance_cannot_pass_a_split_that_does_not_carry_the_load(capsys):
-    code, _, err = run_cli(["run", LIFT, *SHORT, "-q", "--set", "load_distribution.eps_abs=100"], capsys)
-    line = one_clean_line(err)
-    assert code == 1 and "qp_failed" in line
-    assert "wrench balance" in line and "eps_abs" in line and "binding" not in line
+    # pre-flight solves the same QP first and stops on the same cause; the loop's own check runs without it
+    for extra, kind in ((["--no-preflight"], "qp_failed"), ([], "pre-flight")):
+        code, _, err = run_cli(["run", LIFT, *SHORT, "-q", *extra, "--set", "load_distribution.eps_abs=100"], capsys)
+        line = one_clean_line(err)
+        assert code == 1 and kind in line
+        assert "wrench balance" in line and "eps_abs" in line and "binding" not in line
 
 
 # ---------------------------------------------------------------------- 6. signals mid-write
@@ -309,16 +311,21 @@ def test_json_stdout_stays_clean_when_a_library_writes_to_fd_1():
 
 # ---------------------------------------------------------------------- 8. the true QP failure cause
 def test_iteration_limit_is_named_not_an_absent_family(capsys):
-    code, _, err = run_cli(["run", LIFT, *SHORT, "-q", "--set", "load_distribution.max_iter=1"], capsys)
-    line = one_clean_line(err)
-    assert code == 1 and "iteration limit" in line and "max_iter" in line
+    for extra in (["--no-preflight"], []):  # the loop's policy, and pre-flight (which solves the same QP first)
+        code, _, err = run_cli(["run", LIFT, *SHORT, "-q", *extra, "--set", "load_distribution.max_iter=1"], capsys)
+        line = one_clean_line(err)
+        assert code == 1 and "iteration limit" in line and "max_iter" in line and "binding" not in line
     assert "binding" not in line and "relax those constraints" not in line and "unknown" not in line
 
 
 def test_infeasible_load_names_the_enabled_family(capsys):
-    code, _, err = run_cli(["run", "heavy_payload_torque_limits", *SHORT, "-q", "--set", "object.mass=60"], capsys)
+    code, _, err = run_cli(["run", "heavy_payload_torque_limits", *SHORT, "-q", "--no-preflight",
+                            "--set", "object.mass=60"], capsys)
     line = one_clean_line(err)
     assert code == 1 and "status 'infeasible' (binding: torque_limits)" in line
+    code, _, err = run_cli(["run", "heavy_payload_torque_limits", *SHORT, "-q", "--set", "object.mass=60"], capsys)
+    line = one_clean_line(err)  # pre-flight stops first, naming the same family
+    assert code == 1 and "pre-flight" in line and "status 'infeasible', binding: torque_limits" in line
 
 
 # ---------------------------------------------------------------------- 9. non-finite metrics
