@@ -35,7 +35,7 @@ from numba import njit
 # Every spatial serial arm (DH or URDF) is evaluated by the general-chain kernel.
 from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potential
 from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
-from plants.arms._chain_kernels import chain_arm_terms_into as spatial_arm_terms
+from plants.arms._chain_kernels import chain_arm_terms_inline as spatial_arm_terms
 from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
 from plants.frames import body_rate_map_inverse, rotation_zyx_into
@@ -56,7 +56,7 @@ ARM_CONTACT_POINT = 1
 
 #: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
 #: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 3
+CALLEE_REVISION = 4
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
@@ -104,7 +104,7 @@ def make_workspace(arm_dof, node_count):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
               Y, dY, H_all, h_all, J_all, Jdq_all, wk, status):
     """Kinematics and arm dynamics of every arm, written straight into the stacked arrays
