@@ -51,6 +51,12 @@ from plants.elastic._spatial_kernels import (
     solve_node_rotation,
 )
 
+#: The node and interconnection kernels inlined into the right-hand side (numba IR inlining; see
+#: ``plants.arms._chain_kernels.chain_arm_terms_inline``): calls with a dozen array arguments cost.
+_node_terms = njit(inline="always")(node_terms_into.py_func)
+_interconnection_terms = njit(inline="always")(interconnection_terms_into.py_func)
+_solve_node_rotation = njit(inline="always")(solve_node_rotation.py_func)
+
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
 
@@ -176,8 +182,8 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
     # node terms: W (rotational blocks) and w = gyro - gravity + elastic + damping
     Wr = ws.Wr
     w = ws.w
-    node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
-    st = interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge, ws.frames)
+    _node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
+    st = _interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge, ws.frames)
     if st != STATUS_OK:
         status[0] = st
         return
@@ -244,7 +250,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
                 dx[nz + o + a] = (tau[o + a] - w[k, a]) / mk
                 b3[a] = tau[o + 3 + a] - w[k, 3 + a]
             A = Y_ref[k, 3:6] if immobile else Y[k, 3:6]
-            if not solve_node_rotation(A, node_params[k, 1:4], b3, o3):
+            if not _solve_node_rotation(A, node_params[k, 1:4], b3, o3):
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = k
                 return
@@ -255,7 +261,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         dx[2 * nz - 6 + a] = -w[0, a] / m0
         b3[a] = -w[0, 3 + a]
     A = Y_ref[0, 3:6] if immobile else Y[0, 3:6]
-    if not solve_node_rotation(A, node_params[0, 1:4], b3, o3):
+    if not _solve_node_rotation(A, node_params[0, 1:4], b3, o3):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
         return
