@@ -19,8 +19,10 @@ integrator, or with a free step ``h <= T`` (:meth:`ClosedLoop.set_step`): ``floo
 of ``h`` and one shorter remainder step that lands on the next control instant. Divergence (a
 non-finite state, a deformation beyond ``max_deformation``, an energy beyond ``max_energy``, or a
 numerical failure of the plant) stops the run with a diagnostic naming the time, the quantity and
-a suggested step (half the integrator's predicted stability limit, :mod:`coopctrl.analysis.modes`);
-it never runs on silently. A spatial node whose pitch comes within
+its causes checked against the run's evidence (:mod:`coopctrl.analysis.diagnosis`: static
+instability, an unreachable pose, torque saturation, a held QP split, and the step, with a suggested
+step only when the step is beyond the closed loop's predicted limit); it never runs on silently. A
+spatial node whose pitch comes within
 :data:`~coopctrl.analysis.euler_singularity.EULER_PITCH_MARGIN_DEG` of +-90 deg stops the run as
 an Euler-angle singularity (and a nominal path that does is refused when the loop is built).
 """
@@ -341,7 +343,8 @@ class ClosedLoop:
             "F_internal": np.full((N, m, p), np.nan), "r_contacts": np.full((N, m, self.npos), np.nan),
             "qp_status": [], "qp_binding": [], "qp_iterations": np.full(N, -1, dtype=np.int64), "qp_solve_time_s": np.full(N, np.nan),
             "status": "ok", "reason": "", "events": [], "wall_time_s": 0.0, "qp_time_s": 0.0,
-            "qp_binding_counts": {}, "saturated_ticks": 0,
+            "qp_binding_counts": {}, "saturated_ticks": 0, "saturated_joint_ticks": np.zeros(nu, dtype=np.int64),
+            "saturation_first_time_s": math.nan, "saturated_last_tick": -1,
             "energy": np.full(N, np.nan), "kinetic_energy": np.full(N, np.nan),
         }
 
@@ -367,6 +370,8 @@ class ClosedLoop:
         wall0 = _time.perf_counter()
         qp_time = 0.0
         saturated = 0
+        sat_joints = np.zeros(nu, dtype=np.int64)  # clipped ticks per joint
+        sat_first, sat_last = math.nan, -1
         binding_counts: dict[str, int] = {}
         steps = self._steps
         integrator_step = self.integrator.step
@@ -455,8 +460,13 @@ class ClosedLoop:
                     tau[q_slices[i]] = ctrl.torque(terms, F_set[i], F_meas[i], Yn[i + 1], dYn[i + 1], ddYn[i + 1],
                                                    Y0N, self.T)
                 # ---- actuator saturation
-                if np.any(np.abs(tau) > self.tau_max):
+                clipped = np.abs(tau) > self.tau_max
+                if clipped.any():
                     saturated += 1
+                    sat_joints += clipped
+                    sat_last = k
+                    if saturated == 1:
+                        sat_first = t
                     np.clip(tau, -self.tau_max, self.tau_max, out=tau)
                 # ---- record
                 rec["t"][k] = t
@@ -496,10 +506,16 @@ class ClosedLoop:
                 x_back = rec["x"][back] if k_done else np.asarray(x0, dtype=float)
                 t_back = float(rec["t"][back]) if k_done else 0.0
                 chart = self._chart_stiffening(x_back, t_back, np.asarray(x0, dtype=float)) if spatial else ""
-                reason = self._divergence_reason(exc, k * self.T, x_back, np.asarray(x0, dtype=float), chart)
+                evidence = {"saturated_ticks": saturated, "saturated_joint_ticks": sat_joints,
+                            "saturation_first_time_s": sat_first, "saturated_last_tick": sat_last, "events": events}
+                reason = self._divergence_reason(exc, k * self.T, x_back, np.asarray(x0, dtype=float), chart,
+                                                 evidence=evidence, k_done=k_done, t_back=t_back)
                 events.append((getattr(exc, "time", k * self.T), "euler_singularity" if chart else "diverged", reason))
         except InfeasibleLoad as exc:
-            status, reason = "qp_failed", str(exc)
+            from coopctrl.analysis.diagnosis import held_split_cause
+
+            held = held_split_cause(events)
+            status, reason = "qp_failed", f"at t = {k * self.T:.6g} s: {exc}" + (f"; cause: {held}" if held else "")
             events.append((k * self.T, "qp_failed", str(exc)))
         finally:
             errstate.__exit__(None, None, None)
@@ -510,9 +526,11 @@ class ClosedLoop:
             if isinstance(val, np.ndarray):
                 rec[key] = val[:k_done]
         if saturated:
-            events.append((0.0, "torque_saturation", f"commanded torques clipped at their limits on {saturated} ticks"))
+            events.append((sat_first, "torque_saturation",
+                           f"commanded torques clipped at their limits on {saturated} ticks from t = {sat_first:.4g} s"))
         rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=qp_time,
-                   qp_binding_counts=binding_counts, saturated_ticks=saturated)
+                   qp_binding_counts=binding_counts, saturated_ticks=saturated, saturated_joint_ticks=sat_joints,
+                   saturation_first_time_s=sat_first, saturated_last_tick=sat_last)
         return rec
 
     def _chart_stiffening(self, x_back, t_back: float, x0) -> str:
@@ -550,10 +568,30 @@ class ClosedLoop:
                 "on an inertia L^T I L that vanishes like cos^2(theta)); a smaller step only helps until the pitch "
                 f"grows further; {fix_hint()}")
 
-    def _divergence_reason(self, exc, t_fail: float, x_back, x0, chart: str = "") -> str:
-        """One line: what left its bounds and when, then the step advice (predicted limits at the start
-        and at ``x_back``, a few ticks before the failure), then the physics' diagnosis."""
-        step, advice = self._step_advice(x_back)
+    def _divergence_reason(self, exc, t_fail: float, x_back, x0, chart: str = "", evidence: dict | None = None,
+                           k_done: int = 0, t_back: float = 0.0) -> str:
+        """One line: what left its bounds and when, then its causes checked against the run's ``evidence``
+        (:func:`coopctrl.analysis.diagnosis.diagnose_failure`: static instability, an unreachable pose,
+        torque saturation, a held QP split, the step), and step advice only when the step is the cause
+        (its closed-loop predicted limit at the start and at ``x_back``, a few ticks before the failure)."""
+        from coopctrl.analysis.diagnosis import Diagnosis, diagnose_failure
+
+        try:
+            diag = diagnose_failure(self, evidence or {}, k_done, t_fail, x_back, t_back, x0)
+        except Exception:  # noqa: BLE001 - the diagnosis must never replace the failure it explains
+            diag = Diagnosis((), self.h > self.predicted_max_step(), math.nan)
+        if diag.step_is_cause:
+            step, advice = self._step_advice(x_back)
+            if step is None and advice.startswith("the step h"):  # within the open-loop limit: half the closed-loop one
+                step, advice = 0.5 * min(diag.closed_loop_limit_s, 2.0 * self.T), ""
+        else:
+            limit = diag.closed_loop_limit_s
+            name = getattr(self.integrator, "name", type(self.integrator).__name__)
+            shown = (f"the closed loop's stable range (its linearization has no limit below the control period "
+                     f"{self.T:g} s)" if limit == math.inf else
+                     f"{name}'s predicted closed-loop stability limit {limit:.3g} s" if not math.isnan(limit) else
+                     f"{name}'s predicted stability limit {self.predicted_max_step():.3g} s")
+            step, advice = None, f"the step h = {self.h:.3g} s is within {shown}, so the step is not the likely cause"
         if isinstance(exc, DivergenceError):
             if type(exc) is DivergenceError:
                 reason = str(DivergenceError(exc.time, exc.quantity, exc.value, step))
@@ -571,8 +609,12 @@ class ClosedLoop:
             reason = (f"{reason}: the start state already deforms the grasp beyond simulation.max_deformation = "
                       f"{self.max_deformation:g} m (a static deflection |F| / k: the interconnections are too soft for "
                       "the load); raise the stiffness, lower the load or raise max_deformation")
-        why = self.diagnose(x0)
-        return f"{reason}: {why}" if why else reason
+        causes = list(diag.causes)
+        if causes and causes[0] == self.diagnose(x0):  # static instability: the physics' own sentence
+            reason = f"{reason}: {causes.pop(0)}"
+        if causes:
+            reason = f"{reason}; cause: " + "; ".join(causes)
+        return reason
 
     def _nearest_singularity(self, x, t: float, x_good, t_good: float) -> SingularityHit:
         """The node closest to pitch +-90 deg in the failing state ``x`` (if finite) or the last good one."""

@@ -34,12 +34,14 @@ def closed_loop(scenario) -> ClosedLoop:
     s = scenario.sensors
     sensors = SensorSuite(_sensor(s.joints), _sensor(s.forces), _sensor(s.object), scenario.simulation.seed)
     sim = scenario.simulation
-    return ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
+    loop = ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
                       LoadDistribution(scenario.load_distribution, space, m), compliance, leader,
                       followers, sensors, get_integrator(sim.integrator), sim.control_period, sim.substeps,
                       scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
                       torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
                       enabled=scenario.controllers.enabled)
+    loop.scenario = scenario  # for the failure diagnosis (coopctrl.analysis.diagnosis: the closed-loop step limit)
+    return loop
 
 
 #: Recorded signals whose values (and sums of squares: the RMS metrics) must be finite in an ok run;

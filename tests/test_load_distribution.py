@@ -268,7 +268,7 @@ def test_infeasible_first_solve_raises(space):
 
 
 @pytest.mark.parametrize("space", SPACES)
-@pytest.mark.parametrize("solver", ["proxsuite", "daqp"])
+@pytest.mark.parametrize("solver", ["proxsuite", "daqp", "compiled"])
 def test_hold_last_split_then_raise(space, solver):
     r, r0, w, J, bias, tau_max, _ = torque_scene(space, 2, seed=0)
     cfg = LoadDistributionConfig(torque_limits=True, max_consecutive_failures=3, solver=solver)
@@ -296,7 +296,7 @@ def test_hold_last_split_then_raise(space, solver):
 # --------------------------------------------------------------------------- backends
 @pytest.mark.parametrize("space", SPACES)
 @pytest.mark.parametrize("m", ARMS)
-@pytest.mark.parametrize("backend", ["daqp", "quadprog"])
+@pytest.mark.parametrize("backend", ["daqp", "quadprog", "compiled"])
 @pytest.mark.parametrize("family", ["torque_limits", "grip_and_friction"])
 def test_backends_agree(space, m, backend, family):
     if family == "torque_limits":

@@ -249,11 +249,20 @@ def test_sigterm_during_a_run_exits_143(tmp_path):
 
 # ---------------------------------------------------------------------- 7. huge values
 @pytest.mark.parametrize("override", ["simulation.duration=1e300", "simulation.control_period=1e-300"])
-def test_record_that_cannot_fit_is_refused_with_its_size(override, capsys):
+def test_values_beyond_the_schema_are_refused_before_any_work(override, capsys):
     code, out, err = run_cli(["run", LIFT, "--set", override], capsys)
     line = one_clean_line(err)
     assert code == 2 and out == ""
-    assert "fits in memory" in line and "EiB" in line
+    assert override.split("=")[0] in line and "is invalid" in line
+
+
+def test_record_that_cannot_fit_is_refused_with_its_size(capsys):
+    # each value within its schema range (duration <= 1e4 s, control_period >= 1 us), together 1e10 samples
+    code, out, err = run_cli(["run", LIFT, "--set", "simulation.duration=10000",
+                              "--set", "simulation.control_period=1e-6"], capsys)
+    line = one_clean_line(err)
+    assert code == 2 and out == ""
+    assert "fits in memory" in line and "TiB" in line
 
 
 def test_record_estimate_against_a_given_memory():
@@ -314,10 +323,20 @@ def test_infeasible_load_names_the_enabled_family(capsys):
 
 # ---------------------------------------------------------------------- 9. non-finite metrics
 def test_run_with_non_finite_metrics_is_not_ok(capsys):
+    # the reproduction (force noise 1e300 N) is now outside the schema: refused before any work
     code, out, err = run_cli(["run", LIFT, *SHORT, "--json", "--set", "sensors.forces.noise_std=1e300"], capsys)
-    summary = json.loads(out)
-    assert code == 1 and summary["status"] == "diverged" and "non-finite results" in summary["reason"]
-    assert "Traceback" not in err
+    assert code == 2 and out == "" and "sensors.forces.noise_std" in one_clean_line(err)
+    # a record whose values are finite but whose sum of squares overflows cannot give finite metrics
+    from coopctrl.simulator import non_finite_signal
+
+    t = np.arange(4) * 1e-3
+    rec = {"t": t, "x": np.zeros((4, 6)), "tau": np.zeros((4, 3)), "F_measured": np.full((4, 2, 3), 1e200),
+           "Y0_nominal": np.zeros((4, 3)), "F_commanded": np.zeros((4, 2, 3))}
+    assert "measured contact wrenches" in non_finite_signal(rec)
+    rec["F_measured"][2, 1, 0] = np.nan
+    assert "not finite at t = 0.002 s" in non_finite_signal(rec)
+    rec["F_measured"][:] = 1.0
+    assert non_finite_signal(rec) is None
 
 
 # ---------------------------------------------------------------------- 11. a scheduler that is no scheduler

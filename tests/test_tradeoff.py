@@ -184,10 +184,15 @@ def test_integrator_names_are_checked():
 
 
 # ---------------------------------------------------------------------- the grid
+#: The stiff scene's grasps as they were before issue 12 made the scene stiffer (1e7 N/m).
+STIFFNESS_2E6 = {"springs[0].stiffness": 2e6, "springs[1].stiffness": 2e6}
+
+
 @pytest.fixture(scope="module")
 def stiff_short():
-    """stiff_grasp_extreme (h omega_max = 2.2 for RK4 at T = 1 ms): explicit Euler diverges at T/1."""
-    scene = load("stiff_grasp_extreme", **{"simulation.duration": 0.05})
+    """stiff_grasp_extreme at its former 2e6 N/m grasps (h omega_max = 2.2 for RK4 at T = 1 ms, inside its
+    limit; the shipped 1e7 N/m puts RK4's limit below T): explicit Euler diverges at T/1."""
+    scene = load("stiff_grasp_extreme", **{"simulation.duration": 0.05, **STIFFNESS_2E6})
     return run_tradeoff(scene, ["euler", "rk4"], [1, 2])
 
 
@@ -328,6 +333,7 @@ def test_cli_table(capsys):
 
 def test_cli_json_and_out(tmp_path):
     proc = coopctrl_process("tradeoff", "stiff_grasp_extreme", "--set", "simulation.duration=0.05",
+                            *[a for k, v in STIFFNESS_2E6.items() for a in ("--set", f"{k}={v:g}")],
                             "--integrators", "euler,rk4", "--steps", "T/1", "--json", "--out", tmp_path / "out")
     assert proc.returncode == 0, proc.stderr  # a diverged row is a result, not a failure
     data = json.loads(proc.stdout)  # nothing but JSON on stdout

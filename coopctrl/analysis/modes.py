@@ -115,6 +115,22 @@ class ModalAnalysis:
         ``0.0``: unstable at every step); :meth:`Integrator.max_stable_step` of ``A``."""
         return float(integrator.max_stable_step(self.A))
 
+    def seeded_along(self, k: int, size: float, nz: int | None = None) -> np.ndarray:
+        """The linearization state :attr:`x` plus a perturbation along mode ``k``'s eigenvector.
+
+        The perturbation is the real part of the eigenvector (positions and rates), scaled so that
+        its largest position component is ``size`` [m or rad]: a test that expects an unstable mode
+        to grow seeds it on purpose with this, instead of leaving it to round-off (which varies
+        with the CPU and the library versions). ``nz``: number of positions (default half of ``x``).
+        """
+        nz = self.x.size // 2 if nz is None else int(nz)
+        v = np.asarray(self.eigenvectors[:, k])
+        re = v.real if np.max(np.abs(v.real[:nz])) >= np.max(np.abs(v.imag[:nz])) else v.imag
+        scale = float(np.max(np.abs(re[:nz])))
+        if not scale > 0.0:
+            raise ValueError(f"mode {k} has no position component to scale to size = {size!r}")
+        return self.x + (size / scale) * re
+
 
 def holding_torque(plant, x) -> np.ndarray:
     """The input [N m] that zeroes the joint accelerations at ``x`` in the least-squares sense.

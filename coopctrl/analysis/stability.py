@@ -1,11 +1,18 @@
-"""Stability limits of the integrators on a scenario: predicted from the linearization, measured
-by bisection on the actual closed loop.
+"""Stability limits of the integrators on a scenario: predicted from the linearizations of the
+open-loop plant and of the closed loop, measured by bisection on the actual closed loop.
 
-**Predicted.** :func:`~coopctrl.analysis.modes.linear_modes` about the state the run starts from
+**Predicted, open loop.** :func:`~coopctrl.analysis.modes.linear_modes` about the state the run starts from
 (``build.initial_state``: the loaded state at rest, or the unloaded one for ``start = "unloaded"``)
 gives ``omega_max`` and the damping of the highest mode; each integrator's largest stable step is
 :meth:`Integrator.max_stable_step` of the linearization ``A`` (every mode, with its damping; the
 physically unstable modes skipped, since no step cures them).
+
+**Predicted, closed loop.** The loop that runs is not the open-loop plant: the controllers act on
+every mode at each control instant (computed torque cancels the plant's own forces there). Its
+one-period map (controller, ZOH, the scheme's steps of ``h``) linearized about the start state and
+at instants of a nominal run, and the largest ``h`` whose spectral radius stays within the loop's
+own (:mod:`coopctrl.analysis.closed_loop_stability`), is the closed-loop prediction; ``inf`` when
+``h = T`` is stable (no limit below the control period).
 
 **Measured.** The scenario's own closed loop (controllers, sensors, QP: :func:`coopctrl.simulator.closed_loop`)
 is run from the same state over a short horizon with a free plant step ``h``
@@ -30,10 +37,11 @@ needs ~ ln(5e5) / 0.04 ~ 330 steps to reach the bound. Far above a limit the gro
 slow when the limiting mode is damped (explicit Euler on a lightly damped mode grows by
 ``|1 + h lambda| ~ 1.02`` per step at several times its limit), and slower still in the closed loop,
 whose controllers act on the mode at every control instant (on ``spatial_two_puma_carry`` explicit
-Euler at ``h = T`` is predicted to grow by 1e7 within 0.98 s and diverges at 2.39 s). So a trial
-whose step the linearization predicts unstable (``rho(M(h)) > 1``, ``rho`` the spectral radius of
-the scheme's one-step matrix) runs for the scenario's whole duration (:func:`growth_horizon`): the
-measured limit is the largest step that survives the scenario's own run, not a short window of it. A step so
+Euler at ``h = T`` diverges only at 2.39 s). So a trial whose step either linearization predicts
+unstable (the open-loop one-step matrix, ``rho(M(h)) > 1``, or the closed loop's period map,
+``rho(Phi(h))`` beyond the loop's own) runs for the scenario's whole duration
+(:func:`growth_horizon`): the measured limit is the largest step that survives the scenario's own
+run, not a short window of it. A step so
 small that a trial would take more than :data:`MAX_TRIAL_STEPS` plant steps is not tried.
 
 Every trial (and the reference) starts from the same state with a seeded perturbation of
@@ -47,6 +55,23 @@ shorter remainder step for the Runge-Kutta schemes (whose one-step maps commute,
 cannot destabilize), and as ``T / ceil(T / h)`` uniform steps for symplectic Euler (whose maps do
 not commute: a remainder step lowers its limit by ~20 %); see :meth:`ClosedLoop.set_step`. Its
 measured limit is therefore a step ``T / n``, resolved to ``1 / n`` relative.
+
+**Twin runs.** A trial of a controlled loop that survives is run a second time, from the start state
+moved by :data:`TWIN_PERTURBATION` along the least stable mode that the step moves in the start's
+linearized period map (:class:`~coopctrl.analysis.closed_loop_stability.ModeProbe`: the loop's own slow
+modes, the same at any step, are left out; no twin when the step moves no mode; a seeded random
+direction when there is no closed-loop linearization). Both runs take the same steps, so their difference is the
+evolution of that perturbation in the actual nonlinear loop, free of the discretization error both
+share; its modal amplitude ``|w^H delta s|`` (``w`` the left eigenvector) has no beating, and a rise
+above its seeded value by more than :data:`MODE_GROWTH` (on window means, :meth:`ModeProbe.growth`)
+makes the trial unstable even when the run survives: on ``fidelity_spatial_arms``
+explicit Euler at 1.3 times its closed-loop limit grows that mode by 1.0006 per period, 0.6 /s, which a
+2.5 s run turns into a factor 5 of a tiny seed, invisible to any bound on the elastic energy, while
+seeded on purpose the held loop shows exactly that rate (0.64 /s measured). The measurement remains a
+simulation: if the linearization were wrong, the seeded mode would not grow and the trial would pass.
+Only a controlled loop gets twin runs: it holds its reference, so at a stable step a perturbation
+decays; a passive scene's free-floating and undamped modes let two nearby runs drift apart linearly in
+time at any step (its trials keep the energy bound alone).
 
 The bisection works on ``log h`` to a relative resolution (:data:`RESOLUTION`, 2 %). The loop
 cannot take a step longer than ``T``: when ``h = T`` is stable the result is reported as
@@ -75,6 +100,16 @@ MIN_STEPS = 400
 MAX_TRIAL_STEPS = 200_000
 #: Size of the seeded perturbation of the generalized coordinates ``z`` of the start state [m or rad].
 SEED_PERTURBATION = 1e-9
+#: Size of the perturbation [m or rad] of each trial's twin run (largest position component; module docstring).
+TWIN_PERTURBATION = 1e-7
+#: Growth rate [1/s] of the twin runs' difference above which a trial is unstable: an e-folding time of
+#: 10 s, longer than any shipped scene's run, far faster than the decay of a stable loop's slowest mode
+#: (about -1.4 /s on the fidelity scenes) and slower than a mode 5 % beyond its limit (~0.1 /s and up).
+GROWTH_RATE = 0.1
+#: Rise [-] of the seeded mode's amplitude over its seed beyond which a trial is unstable (module docstring):
+#: a stable mode only decays from its seed; 10 % is above the few-percent wobble a nonlinear, moving loop
+#: gives a slowly decaying mode's amplitude, and reached by a mode growing at 0.1 /s within a second.
+MODE_GROWTH = 0.1
 #: Relative difference [-] between measured and predicted beyond which the report explains it.
 AGREEMENT = 0.2
 #: Why a measurement on the closed loop may differ from the open-loop plant's prediction.
@@ -91,7 +126,12 @@ class StabilityRow:
 
     Attributes:
         integrator: Registry name; ``order`` its order of accuracy.
-        predicted_max_step_s: From the linearization [s]; ``inf`` = no limit, ``0`` = unstable at every step.
+        predicted_max_step_s: From the open-loop plant's linearization [s]; ``inf`` = no limit, ``0`` =
+            unstable at every step.
+        closed_loop_predicted_max_step_s: From the closed loop's linearized period map [s]
+            (:mod:`~coopctrl.analysis.closed_loop_stability`); ``inf`` = stable up to the control period;
+            ``nan`` = not computed.
+        closed_loop_at_time_s: The instant [s] of the nominal run whose linearization sets it.
         limiting_mode_rad_s: ``|lambda|`` [rad/s] of the mode that sets the prediction (``nan`` if none).
         limiting_mode_damping_ratio: Its damping ratio ``-Re(lambda) / |lambda|`` [-].
         measured_max_step_s: Largest stable step found on the closed loop [s], or ``None`` (not measured).
@@ -106,6 +146,8 @@ class StabilityRow:
     integrator: str
     order: int
     predicted_max_step_s: float
+    closed_loop_predicted_max_step_s: float = math.nan
+    closed_loop_at_time_s: float = math.nan
     limiting_mode_rad_s: float = math.nan
     limiting_mode_damping_ratio: float = math.nan
     measured_max_step_s: float | None = None
@@ -120,6 +162,14 @@ class StabilityRow:
     def ratio(self) -> float | None:
         """``measured / predicted`` [-] when both are finite and positive and the measurement is not a bound."""
         p, m = self.predicted_max_step_s, self.measured_max_step_s
+        if m is None or self.limited_by_control_period or not (0.0 < p < math.inf):
+            return None
+        return m / p
+
+    @property
+    def closed_loop_ratio(self) -> float | None:
+        """``measured / closed-loop predicted`` [-] when both are finite and the measurement is not a bound."""
+        p, m = self.closed_loop_predicted_max_step_s, self.measured_max_step_s
         if m is None or self.limited_by_control_period or not (0.0 < p < math.inf):
             return None
         return m / p
@@ -173,14 +223,20 @@ class StabilityReport:
             notes = [r.note] if r.note else []
             if r.predicted_max_step_s == math.inf:
                 notes.append("predicted: no limit (unconditionally stable on every mode)")
+            if r.closed_loop_predicted_max_step_s == math.inf:
+                notes.append("closed-loop prediction: stable up to the control period (null in JSON)")
             m = r.measured_max_step_s
             rows.append({
                 "integrator": r.integrator,
                 "order": r.order,
                 "predicted_max_step_s": r.predicted_max_step_s,
+                "closed_loop_predicted_max_step_s": r.closed_loop_predicted_max_step_s,
+                "closed_loop_beyond_control_period": r.closed_loop_predicted_max_step_s == math.inf,
+                "closed_loop_at_time_s": r.closed_loop_at_time_s,
                 "measured_max_step_s": m,
                 "limited_by_control_period": r.limited_by_control_period,
                 "ratio_measured_predicted": r.ratio,
+                "ratio_measured_closed_loop_predicted": r.closed_loop_ratio,
                 "h_omega_max_at_measured": None if m is None else m * self.omega_max_rad_s,
                 "limiting_mode_rad_s": r.limiting_mode_rad_s,
                 "limiting_mode_damping_ratio": r.limiting_mode_damping_ratio,
@@ -222,18 +278,23 @@ class StabilityReport:
         if ref:
             why = f" ({ref['reason']})" if ref["status"] != "ok" else ""
             lines.append(f"reference run               {ref['integrator']} at {ref['step_s']:.4g} s: {ref['status']}{why}")
-        header = ("integrator", "order", "predicted [s]", "measured [s]", "measured/pred", "h*omega_max", "limiting mode")
+        header = ("integrator", "order", "open-loop pred [s]", "closed-loop pred [s]", "measured [s]",
+                  "meas/open", "meas/closed", "h*omega_max", "limiting mode (open loop)")
         body = []
+        T = self.control_period_s
         for r in self.rows:
             pred = "no limit" if r.predicted_max_step_s == math.inf else f"{r.predicted_max_step_s:.4g}"
+            c = r.closed_loop_predicted_max_step_s
+            closed = "-" if math.isnan(c) else (f"> {T:g}" if c == math.inf else f"{c:.4g}")
             m = r.measured_max_step_s
             meas = "-" if m is None else (f">= {m:.4g}" if r.limited_by_control_period else f"{m:.4g}")
             ratio = "-" if r.ratio is None else f"{r.ratio:.3f}"
+            cratio = "-" if r.closed_loop_ratio is None else f"{r.closed_loop_ratio:.3f}"
             hw = "-" if m is None else (f">= {m * self.omega_max_rad_s:.3g}" if r.limited_by_control_period
                                         else f"{m * self.omega_max_rad_s:.3g}")
             mode = ("-" if not math.isfinite(r.limiting_mode_rad_s)
                     else f"{r.limiting_mode_rad_s:.4g} rad/s, zeta {r.limiting_mode_damping_ratio:.2g}")
-            body.append((r.integrator, str(r.order), pred, meas, ratio, hw, mode))
+            body.append((r.integrator, str(r.order), pred, closed, meas, ratio, cratio, hw, mode))
         widths = [max(len(h), *(len(b[i]) for b in body)) if body else len(h) for i, h in enumerate(header)]
         fmt = lambda cells: "  ".join(c.ljust(w) for c, w in zip(cells, widths)).rstrip()  # noqa: E731
         lines += ["", fmt(header)] + [fmt(b) for b in body]
@@ -279,6 +340,7 @@ def _run(scenario, x0, integrator: str, h: float, horizon: float) -> dict:
     from coopctrl.simulator import closed_loop
 
     loop = closed_loop(scenario)
+    loop.closed_loop_diagnosis = False  # a trial only needs to know that it failed (coopctrl.analysis.diagnosis)
     loop.integrator = get_integrator(integrator)
     loop.set_step(min(h, loop.T), uniform=not commutes(loop.integrator))
     return loop.run(x0, horizon)
@@ -289,10 +351,36 @@ def elastic_energy(plant, rec: dict) -> np.ndarray:
     return np.array([plant.elastic_potential(plant.node_poses(x)) for x in rec["x"]])
 
 
-def trial_verdict(plant, rec: dict, ref_energy: np.ndarray) -> tuple[bool, str]:
-    """``(stable, why not)`` of a trial run against the reference run's elastic energy (module docstring)."""
+def perturbation_growth(rec_a: dict, rec_b: dict, nz: int) -> float:
+    """Growth rate [1/s] of the difference of two runs: ``d_k = max |z_a - z_b|`` per tick, its envelope
+    (maxima over windows of a tenth of the run), and the log-slope of that envelope from the middle
+    window to the last. ``0`` when the runs are too short (fewer than 20 ticks)."""
+    n = min(len(rec_a["t"]), len(rec_b["t"]))
+    if n < 20:
+        return 0.0
+    d = np.max(np.abs(rec_a["x"][:n, :nz] - rec_b["x"][:n, :nz]), axis=1)
+    w = n // 10
+    env = np.array([np.max(d[i * w:(i + 1) * w]) for i in range(n // w)])
+    mid, last = len(env) // 2, len(env) - 1
+    t = rec_a["t"]
+    span = float(t[min(last * w + w // 2, n - 1)] - t[mid * w + w // 2])
+    if not (span > 0.0 and env[mid] > 0.0 and env[last] > 0.0):
+        return 0.0 if env[last] == 0.0 else math.inf
+    return math.log(env[last] / env[mid]) / span
+
+
+def trial_verdict(plant, rec: dict, ref_energy: np.ndarray, twin: dict | None = None) -> tuple[bool, str]:
+    """``(stable, why not)`` of a trial run against the reference run's elastic energy, and of its twin run
+    ``twin`` (from a perturbed start) against it: the growth of their difference (module docstring)."""
     if rec["status"] != "ok":
         return False, rec["reason"] or rec["status"]
+    if twin is not None:
+        if twin["status"] != "ok":
+            return False, f"the twin run (start moved by {TWIN_PERTURBATION:g}): {twin['reason'] or twin['status']}"
+        rate = perturbation_growth(rec, twin, plant.nz)
+        if rate > GROWTH_RATE:
+            return False, (f"a perturbation of the start grows at {rate:.3g} /s over the second half of the run "
+                           f"(bound {GROWTH_RATE:g} /s)")
     E = elastic_energy(plant, rec)
     n = min(len(E), len(ref_energy))
     if n == 0:
@@ -310,14 +398,19 @@ def trial_verdict(plant, rec: dict, ref_energy: np.ndarray) -> tuple[bool, str]:
 
 def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np.ndarray, horizon: float, x0,
                      resolution: float = RESOLUTION, max_trials: int = 40, modes: ModalAnalysis | None = None,
-                     longest: float | None = None) -> dict:
+                     longest: float | None = None, closed_loop_predicted: float = math.nan, progress=None,
+                     probe=None) -> dict:
     """Bisect the largest stable plant step [s] of ``integrator`` on the scenario's closed loop.
 
     ``h = T`` is tried first (the cap); if unstable, a stable lower bracket is searched from
     ``min(predicted, T)`` (halving), then the bracket is bisected in ``log h`` until
     ``hi / lo - 1 <= resolution``. With ``modes`` (the linearization), each trial's horizon is
     :func:`growth_horizon` at its step, between ``horizon`` and ``longest`` [s] (``ref_energy`` must
-    cover ``longest``). Returns ``{"measured", "limited", "first_unstable", "failure", "trials", "note"}``.
+    cover ``longest``). The lower bracket starts at the closed-loop prediction ``closed_loop_predicted``
+    [s] when it is finite, else at the open-loop ``predicted`` [s]. With ``probe``
+    (:class:`~coopctrl.analysis.closed_loop_stability.ModeProbe`) each trial's twin run starts moved along
+    the least stable mode of the start's period map at that step, and that mode's amplitude is tracked.
+    ``progress(message)`` is told of every trial. Returns ``{"measured", "limited", "first_unstable", "failure", "trials", "note"}``.
     """
     from coopctrl.scenario import build
 
@@ -331,14 +424,37 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
         trials += 1
         span = horizon
         if modes is not None and longest is not None and longest > horizon:
-            span = growth_horizon(modes, scheme, h, T, horizon, longest)
-        return trial_verdict(plant, _run(scenario, x0, integrator, h, span), ref_energy)
+            span = growth_horizon(modes, scheme, h, T, horizon, longest, closed_loop_predicted)
+        rec = _run(scenario, x0, integrator, h, span)
+        mode = probe.mode(scheme, h) if probe is not None and rec["status"] == "ok" else None
+        if mode is not None:
+            v, w, _ = mode
+            twin = _run(scenario, x0 + probe.seed(v, TWIN_PERTURBATION), integrator, h, span)
+            verdict = trial_verdict(plant, rec, ref_energy)
+            if verdict[0] and twin["status"] != "ok":
+                verdict = False, f"the twin run (start moved along the least stable mode): {twin['reason']}"
+            elif verdict[0]:
+                rise = probe.growth(probe.amplitude(rec, twin, w))
+                if rise > math.log1p(MODE_GROWTH):
+                    verdict = False, (f"the mode the step destabilizes, seeded by {TWIN_PERTURBATION:g}, grew "
+                                      f"{math.exp(rise):.3g} times (bound {1.0 + MODE_GROWTH:g})")
+        elif probe is not None:  # the step moves no mode of the loop: the run and the energy bound decide
+            verdict = trial_verdict(plant, rec, ref_energy)
+        else:
+            twin = (_run(scenario, seeded_start(x0, plant.nz, TWIN_PERTURBATION, seed=1), integrator, h, span)
+                    if scenario.controllers.enabled and rec["status"] == "ok" else None)
+            verdict = trial_verdict(plant, rec, ref_energy, twin)
+        if progress:
+            progress(f"{integrator}: trial {trials} at h = {h:.4g} s over {span:.3g} s: "
+                     f"{'stable' if verdict[0] else 'unstable'}")
+        return verdict
 
     ok, why = stable(T)
     if ok:
         return {"measured": T, "limited": True, "first_unstable": None, "failure": "", "trials": trials, "note": ""}
     hi, hi_why = T, why
-    lo = min(predicted, T) if 0.0 < predicted < math.inf else 0.25 * T
+    start = closed_loop_predicted if 0.0 < closed_loop_predicted < math.inf else predicted
+    lo = min(start, T) if 0.0 < start < math.inf else 0.25 * T
     lo = effective_step(scheme, lo if lo < hi else 0.5 * hi, T)
     while True:
         if trials >= max_trials or horizon / lo > MAX_TRIAL_STEPS:
@@ -373,17 +489,18 @@ def trial_horizon(control_period: float, predicted: float) -> float:
 
 
 def growth_horizon(modes: ModalAnalysis, scheme, h: float, control_period: float, shortest: float,
-                   longest: float) -> float:
-    """Simulated time [s] of a trial at step ``h``: ``shortest`` when the linearization predicts the
-    step stable (``rho <= 1``, ``rho`` the spectral radius of the scheme's one-step matrix on the
-    linearization with its static instabilities removed), else ``longest`` (the scenario's duration):
-    a predicted growth is given the whole run to show, since the closed loop grows more slowly than
-    the open-loop prediction (which needs ``ln(1e7) / ln rho`` steps to lift the seeded perturbation to a grasp's deformation). Whole control periods."""
+                   longest: float, closed_loop_limit: float = math.nan) -> float:
+    """Simulated time [s] of a trial at step ``h``: ``shortest`` when both linearizations predict the
+    step stable, else ``longest`` (the scenario's duration). Open loop: ``rho <= 1``, ``rho`` the
+    spectral radius of the scheme's one-step matrix on the plant's linearization with its static
+    instabilities removed; closed loop: ``h <= closed_loop_limit`` [s] (the closed-loop prediction,
+    ``nan`` when not computed). A predicted growth is given the whole run to show, since the closed
+    loop can grow more slowly than the open-loop prediction. Whole control periods."""
     from coopctrl.integrators.base import spectral_radius, without_static_instability
 
     h = effective_step(scheme, h, control_period)
     rho = spectral_radius(scheme.one_step_matrix(without_static_instability(modes.A), h))
-    if not rho > 1.0 + 1e-12:
+    if not rho > 1.0 + 1e-12 and not h > closed_loop_limit * (1.0 + 1e-9):
         return shortest
     periods = math.ceil(max(shortest, longest) / control_period - 1e-9)
     return periods * control_period
@@ -397,18 +514,23 @@ def seeded_start(x, nz: int, size: float = SEED_PERTURBATION, seed: int = 0) -> 
 
 
 # ---------------------------------------------------------------------- report
-def stability_report(scenario, integrators=None, measure: bool = True, resolution: float = RESOLUTION) -> StabilityReport:
-    """Predicted and (optionally) measured stability limits of ``integrators`` on ``scenario``.
+def stability_report(scenario, integrators=None, measure: bool = True, resolution: float = RESOLUTION,
+                     closed_loop: bool = True, progress=None) -> StabilityReport:
+    """Predicted (open and closed loop) and (optionally) measured stability limits of ``integrators``.
 
     Args:
         scenario: A :class:`~coopctrl.scenario.Scenario`.
         integrators: Registry names (default: every built-in scheme, :data:`~coopctrl.integrators.INTEGRATORS`).
         measure: Also bisect the limits on the closed loop (a few seconds per integrator).
         resolution: Relative resolution of the bisection [-].
+        closed_loop: Also predict from the closed loop's linearized period map (a passive scene, with
+            the controllers off, has none: its rows keep ``nan``).
+        progress: Optional ``progress(message)`` called as the work advances (the CLI prints it on stderr).
     """
     from coopctrl.errors import ScenarioError
-    from coopctrl.scenario import build
+    from coopctrl.scenario import SensorsConfig, build
 
+    say = progress or (lambda message: None)
     names = list(INTEGRATORS) if integrators is None else list(integrators)
     for name in names:
         get_integrator(name)  # an unknown name is a ScenarioError listing the valid ones
@@ -417,6 +539,7 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
     plant = build.build_plant(scenario)
     x_start = build.initial_state(scenario)
     modes = linear_modes(plant, x_start)
+    say(f"linearized the plant: omega_max = {modes.omega_max:.6g} rad/s")
     x0 = seeded_start(x_start, plant.nz)
     T = scenario.simulation.control_period
     predicted = {name: modes.predicted_max_step(get_integrator(name)) for name in names}
@@ -434,18 +557,37 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
         reference = {"integrator": REFERENCE_INTEGRATOR, "step_s": h_ref, "status": ref_rec["status"],
                      "reason": ref_rec["reason"], "horizon_s": longest,
                      "elastic_energy_max_J": float(np.max(ref_energy)) if ref_energy.size else 0.0}
+        say(f"reference run ({REFERENCE_INTEGRATOR} at {h_ref:.4g} s over {longest:.3g} s): {ref_rec['status']}")
+
+    closed: dict = {}
+    probe = None
+    if closed_loop and scenario.controllers.enabled:
+        from coopctrl.analysis.closed_loop_stability import (LoopLinearizer, ModeProbe, closed_loop_limits,
+                                                              linearizations)
+
+        exact = scenario.sensors == SensorsConfig()
+        record = ref_rec if ref_rec is not None and exact and ref_rec["status"] == "ok" else None
+        try:
+            lins = linearizations(scenario, x_start, record=record, progress=say)
+            closed = closed_loop_limits(lins, names, progress=say)
+            probe = ModeProbe(LoopLinearizer(scenario), lins[0])
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
+            say(f"closed-loop prediction not available: {exc}")
+            closed, probe = {}, None
 
     rows = []
     for name in names:
         scheme = get_integrator(name)
         p = predicted[name]
+        c = closed[name].max_step_s if name in closed else math.nan
         w, z = limiting_mode(modes, scheme)
         row = dict(integrator=name, order=scheme.order, predicted_max_step_s=p, limiting_mode_rad_s=w,
-                   limiting_mode_damping_ratio=z)
+                   limiting_mode_damping_ratio=z, closed_loop_predicted_max_step_s=c,
+                   closed_loop_at_time_s=closed[name].at_time_s if name in closed else math.nan)
         notes = []
         if p == 0.0:
-            notes.append(f"predicted 0: the mode at {w:.4g} rad/s (zeta {z:.2g}) grows at every step in the open-loop "
-                         "linearization (explicit Euler has no stable step on an undamped mode)")
+            notes.append(f"open-loop prediction 0: the mode at {w:.4g} rad/s (zeta {z:.2g}) grows at every step in the "
+                         "open-loop linearization (explicit Euler has no stable step on an undamped mode)")
         if measure:
             if ref_rec["status"] != "ok":
                 notes.append("not measured: the reference run failed (see reference)")
@@ -453,19 +595,26 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
                 horizon = trial_horizon(T, p)
                 # h = T is tried first: an unconditionally stable scheme normally stops there
                 got = measure_max_step(scenario, name, p, ref_energy, horizon, x0, resolution, modes=modes,
-                                       longest=longest)
+                                       longest=longest, closed_loop_predicted=c, progress=say, probe=probe)
                 row.update(measured_max_step_s=got["measured"], limited_by_control_period=got["limited"],
                            first_unstable_step_s=got["first_unstable"], failure=got["failure"],
                            trials=got["trials"], horizon_s=horizon)
                 if got["note"]:
                     notes.append(got["note"])
                 measured = got["measured"]
-                if got["limited"] and 0.0 < p < T:
-                    notes.append(f"stable at the control period although predicted unstable above {p:.3g} s: {_CLOSED_LOOP}, "
-                                 "or the mode grows too slowly to show within the horizon")
-                elif measured is not None and not got["limited"] and 0.0 < p < math.inf and not (
+                say(f"{name}: measured {'>= ' if got['limited'] else ''}{measured if measured is None else f'{measured:.4g} s'}")
+                if got["limited"] and 0.0 < c < T:
+                    notes.append(f"stable at the control period although the closed loop is predicted unstable above "
+                                 f"{c:.3g} s: the mode grows too slowly to show within the scenario's run")
+                elif measured is not None and not got["limited"] and 0.0 < c < math.inf and not (
+                        1.0 - AGREEMENT <= measured / c <= 1.0 + AGREEMENT):
+                    notes.append(f"measured / closed-loop predicted = {measured / c:.3g}")
+                if measured is not None and not got["limited"] and c == math.inf:
+                    notes.append("the closed-loop period map is stable up to the control period, yet the trial above "
+                                 f"{measured:.3g} s failed: {got['failure']}")
+                if measured is not None and not got["limited"] and 0.0 < p < math.inf and not (
                         1.0 - AGREEMENT <= measured / p <= 1.0 + AGREEMENT):
-                    notes.append(f"measured / predicted = {measured / p:.3g}: {_CLOSED_LOOP}")
+                    notes.append(f"measured / open-loop predicted = {measured / p:.3g}: {_CLOSED_LOOP}")
         rows.append(StabilityRow(note="; ".join(notes), **row))
     lam = modes.fastest_eigenvalue
     return StabilityReport(

@@ -1,9 +1,10 @@
 """The ``coopctrl`` command line: one subcommand per module of this package.
 
 Exit codes: 0 success; 1 the run ended with status ``"diverged"`` or ``"qp_failed"`` (one line on
-stderr says why), or a numerical failure (overflow, a failed factorization) stopped it; 2 bad input or
-usage (one line ``coopctrl: error: ...`` on stderr, never a traceback); 130 interrupted (Ctrl-C, SIGINT);
-143 terminated (SIGTERM). On 130 and 143 no temporary file is left and finished files are whole.
+stderr says why), pre-flight (``check``, and ``run`` before its first tick) found the task impossible,
+or a numerical failure (overflow, a failed factorization) stopped it; 2 bad input or usage (one line
+``coopctrl: error: ...`` on stderr, never a traceback); 130 interrupted (Ctrl-C, SIGINT); 143
+terminated (SIGTERM). On 130 and 143 no temporary file is left and finished files are whole.
 
 Adding a subcommand is one module with a function decorated with :func:`subcommand`: it adds its parser to
 the subparsers and sets ``handler`` (``args -> int``), imported below. Keep start-up fast: numpy, matplotlib,
@@ -39,8 +40,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog=PROG,
         description="Simulation and control of several robot arms carrying one object through elastic grasps.",
-        epilog="Exit codes: 0 ok, 1 run diverged or QP failed, 2 bad input, 130 interrupted (SIGINT), "
-        "143 terminated (SIGTERM).",
+        epilog="Exit codes: 0 ok, 1 run diverged or QP failed or the task is impossible (pre-flight), 2 bad input, "
+        "130 interrupted (SIGINT), 143 terminated (SIGTERM).",
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for configure in SUBCOMMANDS:

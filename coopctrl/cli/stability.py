@@ -28,7 +28,11 @@ def cmd_stability(args) -> int:
     scenario = _load(args)
     from coopctrl.analysis.stability import stability_report
 
-    report = stability_report(scenario, names, measure=not args.no_measure)
+    def progress(message: str) -> None:  # stderr, so that stdout stays clean for --json
+        if not args.quiet:
+            print(f"{PROG} stability: {message}", file=sys.stderr, flush=True)
+
+    report = stability_report(scenario, names, measure=not args.no_measure, progress=progress)
     if args.json:
         print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:
@@ -48,9 +52,11 @@ def _stability_parser(sub) -> None:
         help="omega_max and each integrator's largest stable step, predicted and measured",
         description="Linearize the scenario's plant about the state the run starts from and print omega_max "
         "(highest elastic mode, generalized eigenvalues of the stiffness against the mass matrix), its damping "
-        "ratio, and for each integrator the largest stable step predicted from the linearization (with damping) "
-        "and the one measured by bisection (2 %%) on the actual closed loop (controllers on), capped at the "
-        "control period. Exit 0 on success, 1 if the reference run of the measurement failed, 2 for bad input.",
+        "ratio, and for each integrator the largest stable step predicted from the open-loop plant's linearization "
+        "(with damping), the one predicted from the closed loop's linearized one-period map (controller, ZOH, "
+        "steps of h; at the start state and along a nominal run), and the one measured by bisection (2 %%) on the "
+        "actual closed loop (controllers on), capped at the control period, with the ratios. Progress goes to "
+        "stderr. Exit 0 on success, 1 if the reference run of the measurement failed, 2 for bad input.",
     )
     parser.add_argument("scenario", help="scenario .toml file, or the name of one in scenarios/")
     _add_set_option(parser)
@@ -58,4 +64,5 @@ def _stability_parser(sub) -> None:
                         help=f"comma-separated integrators (default: {','.join(_INTEGRATORS)})")
     parser.add_argument("--json", action="store_true", help="print the report as JSON on stdout (nothing else)")
     parser.add_argument("--no-measure", action="store_true", help="predict only: no closed-loop bisection")
+    parser.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     parser.set_defaults(handler=cmd_stability)

@@ -21,7 +21,7 @@ def _available_qpsolvers() -> list[str]:
 def solver_allowed_message() -> str:
     """What ``solver`` accepts on this machine, with the command that installs more."""
     return (
-        f"'proxsuite' (persistent dense QP) or an installed qpsolvers backend "
+        f"'proxsuite' (persistent dense QP), 'compiled' (numba Goldfarb-Idnani) or an installed qpsolvers backend "
         f"(found: {', '.join(_available_qpsolvers()) or 'none'}); "
         "to add one: pip install qpsolvers[<name>]"
     )
@@ -68,8 +68,10 @@ class LoadDistributionConfig:
             about each contact normal, or ``None`` (off).
         friction_facets: Number of facets of the pyramid (>= 3; planar scenes always use 2).
         torque_limits: Enforce ``-tau_max <= J_i^T F_i + bias_i <= tau_max`` [N m].
-        solver: ``"proxsuite"`` (one persistent dense QP, warm started) or a qpsolvers backend
-            name such as ``"daqp"`` or ``"quadprog"``.
+        solver: ``"proxsuite"`` (one persistent dense QP, warm started), ``"compiled"`` (the
+            numba dual active-set solver of :mod:`~coopctrl.load_distribution.goldfarb_idnani`,
+            warm started from the last active set) or a qpsolvers backend name such as
+            ``"daqp"`` or ``"quadprog"``.
         eps_abs: Absolute solver tolerance (proxsuite) [N, N m].
         max_iter: Iteration limit of the proxsuite solver.
         max_consecutive_failures: Consecutive failed solves (answered with the held previous split)
@@ -131,7 +133,7 @@ class LoadDistributionConfig:
         if not isinstance(self.torque_limits, bool):
             raise ScenarioError("torque_limits", self.torque_limits, "True or False")
         if not isinstance(self.solver, str) or (
-            self.solver != "proxsuite" and self.solver not in _available_qpsolvers()
+            self.solver not in ("proxsuite", "compiled") and self.solver not in _available_qpsolvers()
         ):
             raise ScenarioError("solver", self.solver, solver_allowed_message())
         object.__setattr__(self, "eps_abs", _positive("eps_abs", self.eps_abs))

@@ -202,7 +202,11 @@ class QpsolversSolver:
 
 
 def make_solver(name: str, eps_abs: float = 1e-9, max_iter: int = 1000):
-    """The backend called ``name``: ``"proxsuite"`` or a qpsolvers backend name."""
+    """The backend called ``name``: ``"proxsuite"``, ``"compiled"`` or a qpsolvers backend name."""
+    if name == "compiled":
+        from .compiled_solver import CompiledSolver
+
+        return CompiledSolver(eps_abs, max_iter)
     if name == "proxsuite":
         return ProxsuiteSolver(eps_abs, max_iter)
     return QpsolversSolver(name, eps_abs)

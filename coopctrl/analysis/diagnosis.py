@@ -1,0 +1,165 @@
+"""Why a run failed: each possible cause checked against the evidence of the run.
+
+:class:`~coopctrl.closed_loop.ClosedLoop` calls :func:`diagnose_failure` when a run stops (outside the
+Euler-angle singularity, which the loop names itself). The causes, in the order they are reported:
+
+- **static instability**: the object's translational stiffness with the contacts held has a negative
+  eigenvalue at the start (:meth:`ClosedLoop.diagnose`; a squeezed central-spring grasp buckles);
+- **unreachable pose**: an arm cannot reach its nominal node pose at the failure time (inverse
+  kinematics within its joint limits);
+- **torque saturation**: the commanded torques were clipped at ``tau_max`` on at least
+  :data:`SATURATION_SHARE` of the ticks run, or on the last tick before the failure (which joints, how
+  many ticks, the first time); when the step is also a cause, only if the saturation began in the first
+  half of the run (an unstable step saturates the torques as it blows up);
+- **load distribution**: the QP failed and the loop held its last feasible split (how many ticks, the
+  first time);
+- **the step**: ``h`` beyond the closed loop's predicted limit
+  (:mod:`~coopctrl.analysis.closed_loop_stability`) at the start state or a few ticks before the
+  failure. Only then is a smaller step suggested; otherwise the reason says the step is not the cause.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Share of the ticks run [-] with clipped torques from which saturation is named as a cause.
+SATURATION_SHARE = 0.1
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """The causes found for a failed run.
+
+    Attributes:
+        causes: One phrase per cause found, the most fundamental first.
+        step_is_cause: True when the step exceeds the predicted closed-loop limit.
+        closed_loop_limit_s: That limit [s] (``inf``: none below the control period; ``nan``: not known).
+    """
+
+    causes: tuple[str, ...]
+    step_is_cause: bool
+    closed_loop_limit_s: float
+
+
+def saturation_cause(loop, rec: dict, k_done: int) -> str:
+    """The torque saturation phrase, or ``""`` when the evidence does not name it (module docstring)."""
+    ticks = int(rec.get("saturated_ticks", 0))
+    if ticks == 0 or k_done == 0:
+        return ""
+    last = rec.get("saturated_last_tick", -1)
+    if ticks < SATURATION_SHARE * k_done and last < k_done - 1:
+        return ""
+    per_joint = np.asarray(rec.get("saturated_joint_ticks", np.zeros(0)), dtype=int)
+    names = _joint_names(loop)
+    order = [j for j in np.argsort(-per_joint, kind="stable") if per_joint[j] > 0][:4]
+    joints = ", ".join(f"{names[j]} ({per_joint[j]} ticks)" for j in order)
+    first = rec.get("saturation_first_time_s", math.nan)
+    more = "" if len(order) == int(np.sum(per_joint > 0)) else f" and {int(np.sum(per_joint > 0)) - len(order)} more"
+    return (f"torque saturation: the commanded torques were clipped at tau_max on {ticks} of {k_done} ticks from "
+            f"t = {first:.4g} s ({joints}{more}); the task needs more torque than the arms have: lower the payload "
+            "(object.mass) or the accelerations, or raise tau_max (`coopctrl check` refuses such a task before it "
+            "runs)")
+
+
+def held_split_cause(events) -> str:
+    """The load-distribution phrase when the QP failed and the last split was held, else ``""``."""
+    held = [e for e in events if e[1] == "qp_held"]
+    if not held:
+        return ""
+    return (f"load distribution: the QP failed on {len(held)} ticks from t = {held[0][0]:.4g} s and the loop held its "
+            f"last feasible split ({held[0][2]})")
+
+
+def unreachable_cause(loop, t: float) -> str:
+    """The unreachable-pose phrase when an arm cannot reach its nominal node pose at ``t`` [s], else ``""``."""
+    from plants.cooperative import ContactPoint, nominal_node_motion
+    from plants.errors import PlantError, UnreachablePoseError
+
+    try:
+        Y0N, dY0N, ddY0N = loop.trajectory.evaluate(t)
+        Yn = nominal_node_motion(Y0N, dY0N, ddY0N, loop.grasps, loop.space)[0]
+    except (PlantError, ValueError):
+        return ""
+    for i, arm in enumerate(loop.plant.arms):
+        if isinstance(arm, ContactPoint):
+            continue
+        try:
+            arm.inverse_kinematics(Yn[i + 1], seeds=5)
+        except UnreachablePoseError as exc:
+            pose = ", ".join(f"{v:.4g}" for v in Yn[i + 1])
+            return (f"unreachable pose: at t = {t:.4g} s arm {i + 1} (arms[{i}]) cannot reach its nominal node pose "
+                    f"({pose}) within its joint limits (best residual {exc.residual:.3g}); move the waypoint, the "
+                    "grasp or the arm base")
+    return ""
+
+
+def closed_loop_limit(loop, states) -> float:
+    """The smallest predicted closed-loop step limit [s] of ``loop``'s integrator over ``states``
+    (``(x, t)`` pairs; ``nan`` when no linearization succeeded, ``inf`` when none is below ``T``).
+    A loop with ``closed_loop_diagnosis = False`` (the stability trials, which fail by design and only
+    need to know that they failed) skips it: ``nan``, and the open-loop prediction decides."""
+    from coopctrl.analysis.closed_loop_stability import LoopLinearizer
+
+    scenario = getattr(loop, "scenario", None)
+    if scenario is None or not loop.enabled or not getattr(loop, "closed_loop_diagnosis", True):
+        return math.nan
+    try:
+        lin = LoopLinearizer(scenario)
+    except Exception:  # noqa: BLE001 - a diagnosis must never replace the failure it explains
+        return math.nan
+    best = math.nan
+    for x, t in states:
+        if x is None or not np.all(np.isfinite(x)):
+            continue
+        try:
+            h, _ = lin.linearize(x, None, t).max_stable_step(loop.integrator)
+        except Exception:  # noqa: BLE001 - a state the controller or the plant refuses: no limit from it
+            continue
+        best = h if math.isnan(best) else min(best, h)
+    return best
+
+
+def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back: float, x0) -> Diagnosis:
+    """The causes of a failed run (module docstring), from its record ``rec`` up to tick ``k_done``."""
+    causes = []
+    why = loop.diagnose(x0)
+    if why:
+        causes.append(why)
+    if loop.enabled:
+        reach = unreachable_cause(loop, t_fail)
+        if reach:
+            causes.append(reach)
+    if loop.enabled:
+        limit = closed_loop_limit(loop, [(np.asarray(x0, dtype=float), 0.0), (x_back, t_back)])
+    else:  # no controller: the loop is the plant, whose prediction is the open-loop one
+        limit = math.nan
+    if math.isnan(limit):
+        limit_open = loop.predicted_max_step()
+        if x_back is not None and np.all(np.isfinite(x_back)):
+            try:
+                limit_open = min(limit_open, loop.predicted_max_step(x_back))
+            except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+                pass
+        step_is_cause = loop.h > limit_open
+    else:
+        step_is_cause = loop.h > limit
+    if loop.enabled:
+        sat = saturation_cause(loop, rec, k_done)
+        # an unstable step saturates the torques as it blows up: then saturation is named only if it came first
+        if sat and not (step_is_cause and rec.get("saturation_first_time_s", 0.0) > 0.5 * t_fail):
+            causes.append(sat)
+        held = held_split_cause(rec.get("events", ()))
+        if held:
+            causes.append(held)
+    return Diagnosis(tuple(causes), bool(step_is_cause), limit)
+
+
+def _joint_names(loop) -> list[str]:
+    """``"arm 1 joint 2"`` for each input of the plant."""
+    out = []
+    for i, arm in enumerate(loop.plant.arms):
+        out += [f"arm {i + 1} joint {j + 1}" for j in range(arm.dof)]
+    return out

@@ -1,0 +1,295 @@
+"""Pre-flight: is the task possible at all? Checked along the nominal trajectory before any simulation.
+
+At every via point and on a fine grid between them (:data:`SAMPLE_STEP`), the nominal object motion
+gives every contact node's nominal motion (148) and the external load ``w_N``; then, in order:
+
+1. **Reach.** Each arm must reach its node's nominal pose (rigid, then deformed by its planned
+   wrench through the grasp compliance, as :meth:`ClosedLoop.loaded_state` places it) by inverse
+   kinematics within its joint limits (residual at most ``IK_TOLERANCE``); the previous sample's
+   joints seed the next, so the arm follows one branch.
+2. **Load distribution.** The scene's QP (``G F = w_N``, squeeze, grip, friction, and the torque
+   limits when enabled, planned within :data:`~coopctrl.closed_loop.TORQUE_HEADROOM` of them) must
+   have a feasible split at the arms' nominal state.
+3. **Torques.** The joint torques that split needs with the nominal accelerations,
+   ``tau_i = J_i^T F_i + H_i qdd_i + h_i + J_i^T (W_i ddY_i + w_i)`` [N m], must lie within each
+   joint's ``tau_max``.
+4. **Static stability** (at the start and at every via point): the object's translational
+   stiffness with the contact nodes held must be positive definite (a squeezed central-spring grasp
+   buckles, MODEL.md s.3).
+
+The Euler band (a nominal path within 5 deg of pitch +-90 deg) is refused earlier, as bad input
+(exit 2), when the loop is built. The first failure is reported with its time and what binds, e.g.
+``at t = 0.42 s arm 2 joint 3 needs 187 N m > tau_max 97.6 N m``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from coopctrl.errors import CoopctrlError, InfeasibleLoad
+
+#: Largest spacing [s] of the samples between via points (also at most 1/100 of the duration).
+SAMPLE_STEP = 0.01
+
+
+class ImpossibleTask(CoopctrlError, ArithmeticError):
+    """Pre-flight found the task impossible (exit 1: the input is valid, the task is not).
+
+    Attributes:
+        issue: The first :class:`PreflightIssue` found.
+    """
+
+    def __init__(self, issue: "PreflightIssue"):
+        self.issue = issue
+        super().__init__(f"pre-flight: {issue.message}")
+
+
+@dataclass(frozen=True)
+class PreflightIssue:
+    """One reason the task is impossible.
+
+    Attributes:
+        time_s: Time on the nominal trajectory [s].
+        kind: ``"unreachable"``, ``"qp_infeasible"``, ``"torque"`` or ``"static_instability"``.
+        message: One line, beginning with the time, naming what binds and how to fix it.
+        arm: The arm (1-based, as in ``arms[i - 1]``), or ``None``.
+        joint: The joint (1-based), or ``None``.
+    """
+
+    time_s: float
+    kind: str
+    message: str
+    arm: int | None = None
+    joint: int | None = None
+
+
+@dataclass(frozen=True)
+class PreflightReport:
+    """What pre-flight checked and found.
+
+    Attributes:
+        scenario: The scenario's name.
+        samples: Number of instants checked.
+        torque_ratio_max: Largest ``|tau_i| / tau_max_i`` [-] the planned split needs (``nan`` if no
+            sample got that far), at ``torque_ratio_time_s`` [s].
+        issues: The failures, the earliest first (pre-flight stops at the first).
+    """
+
+    scenario: str
+    samples: int
+    torque_ratio_max: float = math.nan
+    torque_ratio_time_s: float = math.nan
+    issues: tuple[PreflightIssue, ...] = field(default_factory=tuple)
+
+    @property
+    def ok(self) -> bool:
+        return not self.issues
+
+    def raise_if_impossible(self) -> None:
+        """Raise :class:`ImpossibleTask` with the first issue, if any."""
+        if self.issues:
+            raise ImpossibleTask(self.issues[0])
+
+
+def sample_times(via_times, duration: float) -> np.ndarray:
+    """Every via time within ``[0, duration]`` and a grid of spacing at most :data:`SAMPLE_STEP` [s]
+    (and ``duration / 100``) between them, sorted."""
+    end = float(duration)
+    n = int(math.ceil(end / min(SAMPLE_STEP, end / 100.0))) if end > 0 else 0
+    grid = np.linspace(0.0, end, n + 1) if n else np.zeros(1)
+    vias = [float(t) for t in via_times if 0.0 <= t <= end]
+    return np.unique(np.round(np.concatenate([grid, vias]), 12))
+
+
+def preflight(scenario, loop=None) -> PreflightReport:
+    """Check the task of ``scenario`` along its nominal trajectory (module docstring).
+
+    ``loop`` is the scenario's :class:`~coopctrl.closed_loop.ClosedLoop` (built when ``None``; building
+    it refuses a path through the Euler band with a :class:`~coopctrl.errors.ScenarioError`).
+    Returns the :class:`PreflightReport` (``report.raise_if_impossible()`` to stop on a failure).
+    """
+    from coopctrl.controllers import required_object_wrench
+    from coopctrl.scenario import build
+    from plants.cooperative import ContactPoint, nominal_node_motion
+    from plants.errors import UnreachablePoseError
+
+    if loop is None:
+        from coopctrl.simulator import closed_loop
+
+        loop = closed_loop(scenario)
+    plant = loop.plant
+    if not scenario.controllers.enabled:  # a passive scene has no task to check
+        return PreflightReport(scenario.name, 0)
+    m, space = plant.arm_count, loop.space
+    via_times = [v.time for v in scenario.trajectory.via]
+    times = sample_times(via_times, scenario.simulation.duration)
+    check_static = {0.0, *[round(float(t), 12) for t in via_times]}
+    x = np.array(build.unloaded_state(scenario), dtype=float)  # the IK seeds; the arms then follow the path
+    tau_max = [np.asarray(a.tau_max, dtype=float) for a in plant.arms]
+    worst, worst_t = math.nan, math.nan
+    names = [f"arms[{i}]" for i in range(m)]
+
+    def fail(issue):
+        return PreflightReport(scenario.name, len(times), worst, worst_t, (issue,))
+
+    def reach(i, target):
+        arm = plant.arms[i]
+        sl = plant.q_slice(i)
+        if isinstance(arm, ContactPoint):
+            return np.asarray(target, dtype=float)
+        try:  # the previous sample's joints first (one branch), then the arm's own random restarts
+            return arm.inverse_kinematics(target, x[sl], seeds=0)
+        except UnreachablePoseError:
+            pass
+        try:
+            return arm.inverse_kinematics(target, x[sl])
+        except UnreachablePoseError as exc:
+            return exc
+
+    # every waypoint first: an out-of-reach waypoint is named as such, not as what fails on the way to it
+    x_start = x.copy()
+    for t in sorted(set(float(v) for v in via_times if 0.0 <= v <= scenario.simulation.duration)):
+        Y0N, dY0N, ddY0N = loop.trajectory.evaluate(t)
+        Yn = nominal_node_motion(Y0N, dY0N, ddY0N, loop.grasps, space)[0]
+        for i in range(m):
+            q = reach(i, Yn[i + 1])
+            if isinstance(q, Exception):
+                return fail(_unreachable(t, i, names[i], Yn[i + 1], q, via_times))
+            x[plant.q_slice(i)] = q
+    x = x_start
+
+    F = None
+    for t in times:
+        t = float(t)
+        Y0N, dY0N, ddY0N = loop.trajectory.evaluate(t)
+        Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, loop.grasps, space)
+        w_N = required_object_wrench(space, loop.object_mass, loop.object_inertia, loop.gravity, Y0N, dY0N, ddY0N)
+        for _ in range(2 if F is None else 1):  # the first sample: the rigid pose, then the deformed one
+            issue, terms, jac, bias, split = _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach,
+                                                     names, via_times, tau_max)
+            if issue is not None:
+                return fail(issue)
+            F = split.F
+        # 3. static stability of the grasp (before the torques: a buckling grasp is the cause, whatever they are)
+        if round(t, 12) in check_static:
+            why = loop.diagnose(x)
+            if why:
+                return fail(PreflightIssue(t, "static_instability", f"at t = {t:.4g} s {why}"))
+        # 4. the torques the split needs
+        over = _worst_joint(plant, jac, bias, F, tau_max)
+        if over is not None:
+            i, j, need, ratio = over
+            if not ratio <= worst:  # also the first (nan)
+                worst, worst_t = ratio, t
+            if ratio > 1.0:
+                return fail(PreflightIssue(t, "torque", (
+                    f"at t = {t:.4g} s arm {i + 1} joint {j + 1} needs {need:.4g} N m > tau_max "
+                    f"{tau_max[i][j]:.4g} N m (the planned split with the nominal accelerations); lower the payload "
+                    f"(object.mass) or the trajectory's accelerations, or raise {names[i]}.tau_max"), i + 1, j + 1))
+    return PreflightReport(scenario.name, len(times), worst, worst_t)
+
+
+def _worst_joint(plant, jac, bias, F, limits):
+    """``(arm, joint, |tau| [N m], |tau| / limit)`` of the joint nearest its limit under the split ``F``
+    (``tau_i = J_i^T F_i + bias_i``), or ``None`` when no arm has joints."""
+    from plants.cooperative import ContactPoint
+
+    best = None
+    for i, arm in enumerate(plant.arms):
+        if isinstance(arm, ContactPoint):
+            continue
+        need = np.abs(jac[i].T @ F[i] + bias[i])
+        lim = np.asarray(limits[i], dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(lim > 0, need / lim, np.inf)
+        j = int(np.argmax(ratio))
+        if best is None or ratio[j] > best[3]:
+            best = (i, j, float(need[j]), float(ratio[j]))
+    return best
+
+
+def _terms_with_velocities(plant, x, dYn):
+    """Control terms at ``x`` with each arm's joint rates set to follow its node's nominal rate
+    (least squares through the arm Jacobian)."""
+    nz = plant.nz
+    x[nz:2 * nz - plant.p] = 0.0
+    terms = plant.control_terms(x)
+    for i, arm in enumerate(plant.arms):
+        sl = plant.q_slice(i)
+        J = terms.J[i, :, :arm.dof]
+        x[nz:][sl] = np.linalg.lstsq(J, dYn[i + 1], rcond=None)[0]
+    return plant.control_terms(x)
+
+
+def _unreachable(t, i, name, target, exc, via_times) -> PreflightIssue:
+    """The issue of arm ``i`` not reaching ``target`` at ``t``, naming the via point if ``t`` is one."""
+    at_via = [k for k, tv in enumerate(via_times) if abs(tv - t) <= 1e-9]
+    where = f" (waypoint trajectory.via[{at_via[0]}])" if at_via else ""
+    pose = ", ".join(f"{v:.4g}" for v in np.asarray(target, dtype=float))
+    return PreflightIssue(t, "unreachable", (
+        f"at t = {t:.4g} s{where} arm {i + 1} ({name}) cannot reach its node pose ({pose}) within its joint "
+        f"limits (best inverse-kinematics residual {exc.residual:.3g}); move the waypoint, the grasp "
+        f"({name}.grasp) or the arm base ({name}.base) closer"), i + 1)
+
+def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, via_times, tau_max):
+    """Reach, then the load distribution, at one instant: ``(issue or None, terms, jac, bias, split)``;
+    ``x`` gets the arms' joints and rates."""
+    import dataclasses
+
+    from coopctrl.closed_loop import TORQUE_HEADROOM
+    from coopctrl.load_distribution import LoadDistribution
+    from plants.errors import PlantError
+
+    nz, p, npos, space, m = plant.nz, plant.p, loop.npos, loop.space, plant.arm_count
+    none = (None, None, None, None)
+    # 1. reach: each node's pose deformed by the previous split (rigid before the first split)
+    x[nz - p:nz] = Y0N
+    x[2 * nz - p:] = dY0N
+    for i in range(m):
+        target = Yn[i + 1] if F is None else loop.compliance.deformation(i, F[i], Y0N, Yn[i + 1])
+        q = reach(i, target)
+        if isinstance(q, Exception):
+            return (_unreachable(t, i, names[i], target, q, via_times), *none)
+        x[plant.q_slice(i)] = q
+    try:
+        terms = _terms_with_velocities(plant, x, dYn)
+    except PlantError as exc:
+        return (PreflightIssue(t, "unreachable", f"at t = {t:.4g} s the nominal state is singular: {exc}"), *none)
+    # 2. the load distribution
+    config = loop.ld.config
+    kwargs = {}
+    if config.min_grip is not None or config.friction_coefficient is not None:
+        kwargs["normals"] = loop._normals(terms)
+    jac, bias = loop._torque_model(terms, ddYn)
+    if loop.torque_limits:
+        kwargs["jacobians"], kwargs["biases"], kwargs["tau_max"] = jac, bias, loop._qp_tau_max
+    if config.split == "elastic":
+        kwargs["K"] = loop.compliance.stiffness_world(Y0N)
+    ld = LoadDistribution(config, space, m)  # each sample on its own: a failure is never a held split
+    try:
+        split = ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **kwargs)
+    except InfeasibleLoad as exc:
+        fams = ", ".join(exc.binding) or "unknown"
+        binds, over = "", None
+        if loop.torque_limits:  # which joint: the split without the torque rows, against the limits
+            free = {k: v for k, v in kwargs.items() if k not in ("jacobians", "biases", "tau_max")}
+            try:
+                free_ld = LoadDistribution(dataclasses.replace(config, torque_limits=False), space, m)
+                F_free = free_ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **free).F
+                over = _worst_joint(plant, jac, bias, F_free, [TORQUE_HEADROOM * lim for lim in tau_max])
+            except InfeasibleLoad:
+                over = None
+            if over is not None and over[3] > 1.0:
+                i, j, need, _ = over
+                binds = (f"; without the torque limits arm {i + 1} joint {j + 1} needs {need:.4g} N m > "
+                         f"{TORQUE_HEADROOM * tau_max[i][j]:.4g} N m ({TORQUE_HEADROOM:g} tau_max, the headroom the QP "
+                         "plans within)")
+        arm_joint = (over[0] + 1, over[1] + 1) if binds else (None, None)
+        return (PreflightIssue(t, "qp_infeasible", (
+            f"at t = {t:.4g} s the load distribution has no feasible split (status '{exc.status}', binding: "
+            f"{fams}){binds}; reduce the payload (object.mass) or the acceleration of the trajectory, or relax "
+            "those constraints"), *arm_joint), *none)
+    return None, terms, jac, bias, split
