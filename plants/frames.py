@@ -38,12 +38,11 @@ EULER_SINGULARITY_COS = 1e-6
 
 
 @njit(cache=True)
-def rotation_zyx(A):
-    """``R(A) = Rz(psi) Ry(theta) Rx(phi)`` for ``A = (psi, theta, phi)`` [rad]; 3x3."""
+def rotation_zyx_into(A, R):
+    """Write ``R(A) = Rz(psi) Ry(theta) Rx(phi)`` for ``A = (psi, theta, phi)`` [rad] into ``R`` (3x3)."""
     cps, sps = math.cos(A[0]), math.sin(A[0])
     cth, sth = math.cos(A[1]), math.sin(A[1])
     cph, sph = math.cos(A[2]), math.sin(A[2])
-    R = np.empty((3, 3))
     R[0, 0] = cps * cth
     R[0, 1] = cps * sth * sph - sps * cph
     R[0, 2] = cps * sth * cph + sps * sph
@@ -53,23 +52,54 @@ def rotation_zyx(A):
     R[2, 0] = -sth
     R[2, 1] = cth * sph
     R[2, 2] = cth * cph
+
+
+@njit(cache=True)
+def rotation_zyx(A):
+    """``R(A) = Rz(psi) Ry(theta) Rx(phi)`` for ``A = (psi, theta, phi)`` [rad]; 3x3 (a new array)."""
+    R = np.empty((3, 3))
+    rotation_zyx_into(A, R)
     return R
 
 
 @njit(cache=True)
-def rotation_zyx_partials(A):
-    """``(dR/dpsi, dR/dtheta, dR/dphi)`` of :func:`rotation_zyx`, each 3x3 (exact)."""
+def rotation_zyx_partials_into(A, dpsi, dth, dph):
+    """Write ``(dR/dpsi, dR/dtheta, dR/dphi)`` of :func:`rotation_zyx` (exact) into three 3x3 arrays."""
+    _partials_from_trig(math.cos(A[0]), math.sin(A[0]), math.cos(A[1]), math.sin(A[1]),
+                        math.cos(A[2]), math.sin(A[2]), dpsi, dth, dph)
+
+
+@njit(cache=True)
+def rotation_zyx_and_partials_into(A, R, dR):
+    """:func:`rotation_zyx_into` and :func:`rotation_zyx_partials_into` (into ``dR[0..2]``) with one
+    evaluation of the six sines and cosines."""
     cps, sps = math.cos(A[0]), math.sin(A[0])
     cth, sth = math.cos(A[1]), math.sin(A[1])
     cph, sph = math.cos(A[2]), math.sin(A[2])
-    dpsi = np.zeros((3, 3))
+    R[0, 0] = cps * cth
+    R[0, 1] = cps * sth * sph - sps * cph
+    R[0, 2] = cps * sth * cph + sps * sph
+    R[1, 0] = sps * cth
+    R[1, 1] = sps * sth * sph + cps * cph
+    R[1, 2] = sps * sth * cph - cps * sph
+    R[2, 0] = -sth
+    R[2, 1] = cth * sph
+    R[2, 2] = cth * cph
+    _partials_from_trig(cps, sps, cth, sth, cph, sph, dR[0], dR[1], dR[2])
+
+
+@njit(cache=True, inline="always")
+def _partials_from_trig(cps, sps, cth, sth, cph, sph, dpsi, dth, dph):
+    """The three partials of ``R(A)`` from the cosines and sines of ``A``."""
     dpsi[0, 0] = -sps * cth
     dpsi[0, 1] = -sps * sth * sph - cps * cph
     dpsi[0, 2] = -sps * sth * cph + cps * sph
     dpsi[1, 0] = cps * cth
     dpsi[1, 1] = cps * sth * sph - sps * cph
     dpsi[1, 2] = cps * sth * cph + sps * sph
-    dth = np.zeros((3, 3))
+    dpsi[2, 0] = 0.0
+    dpsi[2, 1] = 0.0
+    dpsi[2, 2] = 0.0
     dth[0, 0] = -cps * sth
     dth[0, 1] = cps * cth * sph
     dth[0, 2] = cps * cth * cph
@@ -79,13 +109,24 @@ def rotation_zyx_partials(A):
     dth[2, 0] = -cth
     dth[2, 1] = -sth * sph
     dth[2, 2] = -sth * cph
-    dph = np.zeros((3, 3))
+    dph[0, 0] = 0.0
+    dph[1, 0] = 0.0
+    dph[2, 0] = 0.0
     dph[0, 1] = cps * sth * cph + sps * sph
     dph[0, 2] = -cps * sth * sph + sps * cph
     dph[1, 1] = sps * sth * cph - cps * sph
     dph[1, 2] = -sps * sth * sph - cps * cph
     dph[2, 1] = cth * cph
     dph[2, 2] = -cth * sph
+
+
+@njit(cache=True)
+def rotation_zyx_partials(A):
+    """``(dR/dpsi, dR/dtheta, dR/dphi)`` of :func:`rotation_zyx`, each 3x3 (exact; new arrays)."""
+    dpsi = np.empty((3, 3))
+    dth = np.empty((3, 3))
+    dph = np.empty((3, 3))
+    rotation_zyx_partials_into(A, dpsi, dth, dph)
     return dpsi, dth, dph
 
 

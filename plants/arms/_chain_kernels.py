@@ -40,8 +40,9 @@ inertia about the COM [kg m^2] are in link frame ``k`` (after the joint motion);
 ``viscous * dq_k`` to ``h_k`` and ``coulomb`` [N m or N] adds the smoothed Coulomb friction
 ``coulomb * tanh(dq_k / COULOMB_SMOOTHING)``.
 
-No Python objects, no numpy linear algebra: loops are written out. The only allocation is one
-small work array per call.
+No Python objects, no numpy linear algebra: loops are written out. :func:`chain_arm_terms_into`
+allocates nothing (its work array is the caller's); :func:`chain_arm_terms` allocates that one
+small array per call.
 """
 
 from __future__ import annotations
@@ -80,6 +81,8 @@ _IW = 27  # 6: world inertia of link k about its COM: xx, yy, zz, xy, yz, xz
 _F = 33  # 3: inertial force of link k
 _N = 36  # 3: inertial moment of link k about its COM
 _WORK = 39
+#: Columns of the work array of :func:`chain_arm_terms_into` (one row per body, base included).
+CHAIN_WORK_WIDTH = _WORK
 
 
 @njit(cache=True, inline="always")
@@ -138,7 +141,14 @@ def _link_frame(p, row, qk, c):
 
 @njit(cache=True)
 def chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
-    """Fill ``H`` (n x n), ``h`` (n), ``Y`` (6), ``J`` (6 x n) and ``Jdq`` (6) in place.
+    """:func:`chain_arm_terms_into` with a work array of its own (one allocation per call)."""
+    wk = np.empty((q.shape[0] + 1, CHAIN_WORK_WIDTH))
+    return chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
+
+
+@njit(cache=True)
+def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk):
+    """Fill ``H`` (n x n), ``h`` (n), ``Y`` (6), ``J`` (6 x n) and ``Jdq`` (6) in place; allocates nothing.
 
     Args:
         q: Joint positions [rad or m], (n,).
@@ -152,13 +162,14 @@ def chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
         Y: Out: node pose (position [m], ZYX Euler angles [rad]).
         J: Out: analytic Jacobian.
         Jdq: Out: ``dJ/dt dq`` [m/s^2, rad/s^2].
+        wk: Work array, float64 ``(n_rows, CHAIN_WORK_WIDTH)`` with ``n_rows >= n + 1`` (one row
+            per body, base included; rows past ``n`` are not touched); overwritten.
 
     Returns:
         0 on success; 1 if the tip's Euler angles are at the singularity of ``L`` (then the
         angular rows of ``J`` and ``Jdq`` are set to zero, everything else is valid).
     """
     n = q.shape[0]
-    wk = np.empty((n + 1, _WORK))
     gx, gy, gz = gravity[0], gravity[1], gravity[2]
     b = wk[0]
     for i in range(3):
@@ -422,6 +433,12 @@ def chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
     Jdq[4] = l11 * by + l12 * bz
     Jdq[5] = bx + l21 * by + l22 * bz
     return 0
+
+
+#: :func:`chain_arm_terms_into` inlined into the jitted caller (numba IR inlining): for the
+#: cooperative right-hand side, where the call with a dozen array arguments is a measurable part of
+#: the cost. Not cached on its own (it never compiles on its own); the caller's cache holds it.
+chain_arm_terms_inline = njit(inline="always")(chain_arm_terms_into.py_func)
 
 
 @njit(cache=True)

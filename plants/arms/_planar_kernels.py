@@ -42,11 +42,23 @@ _A = 4  # 2: acceleration of o_k (incl. -g), as a point of link k (qdd = 0)
 _C = 6  # 2: COM of link k
 _F = 8  # 2: inertial force of link k
 _WORK = 10
+#: Columns of the work array of :func:`planar_arm_terms_into`.
+PLANAR_WORK_WIDTH = _WORK
 
 
 @njit(cache=True)
 def planar_arm_terms(q, dq, links, base, tool, gravity, H, h, Y, J, Jdq):
+    """:func:`planar_arm_terms_into` with a work array of its own (one allocation per call)."""
+    wk = np.empty((q.shape[0] + 1, PLANAR_WORK_WIDTH))
+    return planar_arm_terms_into(q, dq, links, base, tool, gravity, H, h, Y, J, Jdq, wk)
+
+
+@njit(cache=True)
+def planar_arm_terms_into(q, dq, links, base, tool, gravity, H, h, Y, J, Jdq, wk):
     """Fill ``H`` (n x n), ``h`` (n), ``Y`` (3), ``J`` (3 x n), ``Jdq`` (3) in place; return 0.
+
+    Allocates nothing: ``wk`` is a float64 work array ``(n_rows, PLANAR_WORK_WIDTH)``,
+    ``n_rows >= n + 1`` (rows past ``n`` are not touched), overwritten.
 
     Args:
         q: Joint angles [rad], (n,).
@@ -60,9 +72,9 @@ def planar_arm_terms(q, dq, links, base, tool, gravity, H, h, Y, J, Jdq):
         Y: Out: node pose ``(x, z, theta)``.
         J: Out: Jacobian ``dY/dq``.
         Jdq: Out: ``dJ/dt dq`` [m/s^2, m/s^2, rad/s^2].
+        wk: Work array (see above).
     """
     n = q.shape[0]
-    wk = np.empty((n + 1, _WORK))
     gx, gz = gravity[0], gravity[1]
     ox, oz = base[0], base[1]
     th = base[2]

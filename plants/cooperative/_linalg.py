@@ -17,7 +17,14 @@ def cholesky_solve(A, b, x):
 
     Returns False (and leaves ``x`` undefined) if ``A`` is not positive definite.
     """
-    n = A.shape[0]
+    return cholesky_solve_n(A, b, x, A.shape[0])
+
+
+@njit(cache=True, inline="always")
+def cholesky_solve_n(A, b, x, n):
+    """:func:`cholesky_solve` on the leading ``n x n`` block of ``A`` and the first ``n`` entries of
+    ``b`` and ``x`` (larger preallocated arrays, passed whole so that they stay contiguous). Only the
+    lower triangle (diagonal included) of ``A`` is read."""
     for j in range(n):
         s = A[j, j]
         for k in range(j):

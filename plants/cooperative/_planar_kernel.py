@@ -9,51 +9,85 @@ constant node inertia ``W_i = diag(m_i, m_i, I_i)`` and no gyroscopic terms:
 
 The interconnections' forces, dampers included (frame invariant by default, MODEL.md s.3), come from
 the kernels of :mod:`plants.elastic`. numba's on-disk cache of this file is keyed on this file alone:
-after a change to those kernels, change this file too (or clear ``__pycache__``), or a stale compiled
-right-hand side is loaded.
+after a change to the kernels it calls (:mod:`plants.elastic`, :mod:`plants.arms` ``_chain_kernels`` /
+``_planar_kernels``, :mod:`plants.frames`, :mod:`plants.cooperative._linalg`), change this file too
+(bump ``CALLEE_REVISION`` below) or clear ``__pycache__``, or a stale compiled right-hand side is loaded.
+
+Allocation-free entry points (issue 10): ``rhs_into`` (the right-hand side into ``dx``),
+``control_terms_into`` and ``node_state_into``, each with a workspace made once per run by
+``make_workspace`` / ``make_control_workspace`` (namedtuples of preallocated arrays, documented
+below). ``rhs_kernel`` and ``node_state_kernel`` are thin wrappers that make a workspace per call.
 """
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 
-from plants.arms._planar_kernels import planar_arm_potential, planar_arm_terms
-from plants.cooperative._linalg import cholesky_solve
+from plants.arms._planar_kernels import PLANAR_WORK_WIDTH, planar_arm_potential, planar_arm_terms_into
+from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_OK, STATUS_SINGULAR_MASS
 from plants.elastic._planar_kernels import damping_edges, elastic_edges, interconnection_terms, linear_edges
 
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
 
+#: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
+#: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
+CALLEE_REVISION = 3
+
+
+#: Fields of :class:`PlanarWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(3, largest arm dof)).
+PlanarWorkspace = namedtuple("PlanarWorkspace", (
+    "Y",      # (N, 3) node poses (x, z [m], theta [rad]); row 0 = object
+    "dY",     # (N, 3) node rates
+    "H",      # (m, n, n) arm inertias [kg m^2], block [:n_i, :n_i] valid for a serial arm
+    "h",      # (m, n) arm bias torques [N m]
+    "J",      # (m, 3, n) Jacobians; columns past n_i and contact-point rows stay 0
+    "Jdq",    # (m, 3) dJ/dt dq; contact-point rows stay 0
+    "w",      # (N, 3) node terms w_i: -m g + interconnections [N, N m]
+    "Nm",     # (n, n) one arm's block N_i, then its Cholesky factor
+    "rhs",    # (n,) one arm's right-hand side
+    "qdd",    # (n,) one arm's joint accelerations
+    "chain",  # (n + 1, PLANAR_WORK_WIDTH) work rows of plants.arms._planar_kernels.planar_arm_terms_into
+))
+
+
+@njit(cache=True)
+def make_workspace(arm_dof, node_count):
+    """A new zero-filled :class:`PlanarWorkspace` for arms of ``arm_dof`` (m,) dofs and ``node_count`` nodes."""
+    m = arm_dof.shape[0]
+    N = node_count
+    nmax = 3
+    for i in range(m):
+        if arm_dof[i] > nmax:
+            nmax = arm_dof[i]
+    return PlanarWorkspace(
+        np.zeros((N, 3)), np.zeros((N, 3)), np.zeros((m, nmax, nmax)), np.zeros((m, nmax)),
+        np.zeros((m, 3, nmax)), np.zeros((m, 3)), np.zeros((N, 3)),
+        np.zeros((nmax, nmax)), np.zeros(nmax), np.zeros(nmax), np.zeros((nmax + 1, PLANAR_WORK_WIDTH)),
+    )
+
 
 @njit(cache=True)
 def _arm_pass(z, dz, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all):
+              Y, dY, H_all, h_all, J_all, Jdq_all, wk):
+    """Arm terms written straight into the stacked arrays and node rows ``Y[1:]``, ``dY[1:]``."""
     m = arm_kind.shape[0]
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]
         if arm_kind[i] == ARM_SERIAL:
-            H = np.empty((n, n))
-            h = np.empty(n)
-            Yi = np.empty(3)
-            J = np.empty((3, n))
-            Jdq = np.empty(3)
-            planar_arm_terms(z[o:o + n], dz[o:o + n], links_all[links_off[i]:links_off[i] + n],
-                             bases[i], tools[i], gravity, H, h, Yi, J, Jdq)
+            planar_arm_terms_into(z[o:o + n], dz[o:o + n], links_all[links_off[i]:links_off[i] + n],
+                                  bases[i], tools[i], gravity, H_all[i], h_all[i], Y[i + 1],
+                                  J_all[i], Jdq_all[i], wk)
             for a in range(3):
-                Y[i + 1, a] = Yi[a]
-                Jdq_all[i, a] = Jdq[a]
                 s = 0.0
                 for k in range(n):
-                    J_all[i, a, k] = J[a, k]
-                    s += J[a, k] * dz[o + k]
+                    s += J_all[i, a, k] * dz[o + k]
                 dY[i + 1, a] = s
-            for a in range(n):
-                h_all[i, a] = h[a]
-                for b in range(n):
-                    H_all[i, a, b] = H[a, b]
         else:
             for a in range(3):
                 Y[i + 1, a] = z[o + a]
@@ -61,40 +95,38 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, links_all, links_off, bases, tool
 
 
 @njit(cache=True)
-def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
-               node_params, edge_index, edge_params, Y_ref, immobile, status):
-    """``dx = f(x, tau)``; ``status[0]`` receives a status code and ``status[1]`` the node index."""
+def rhs_into(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
+             node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
+    """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing. Same arguments as the spatial
+    :func:`plants.cooperative._spatial_kernel.rhs_into`, with ``ws`` a :class:`PlanarWorkspace`."""
     nz = x.shape[0] // 2
     z = x[:nz]
     dz = x[nz:]
     m = arm_kind.shape[0]
     N = m + 1
-    nmax = 3
-    for i in range(m):
-        if arm_dof[i] > nmax:
-            nmax = arm_dof[i]
-    Y = np.empty((N, 3))
-    dY = np.empty((N, 3))
-    H_all = np.empty((m, nmax, nmax))
-    h_all = np.empty((m, nmax))
-    J_all = np.empty((m, 3, nmax))
-    Jdq_all = np.empty((m, 3))
+    Y = ws.Y
+    dY = ws.dY
+    H_all = ws.H
+    h_all = ws.h
+    J_all = ws.J
+    Jdq_all = ws.Jdq
     status[0] = STATUS_OK
     for a in range(3):
         Y[0, a] = z[nz - 3 + a]
         dY[0, a] = dz[nz - 3 + a]
     _arm_pass(z, dz, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all)
-    dx = np.empty_like(x)
-    dx[:nz] = dz
-    w = np.zeros((N, 3))
+              Y, dY, H_all, h_all, J_all, Jdq_all, ws.chain)
+    for a in range(nz):
+        dx[a] = dz[a]
+    w = ws.w
     for k in range(N):
         w[k, 0] = -node_params[k, 0] * gravity[0]
         w[k, 1] = -node_params[k, 0] * gravity[1]
+        w[k, 2] = 0.0
     st = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
     if st != STATUS_OK:
         status[0] = st
-        return dx
+        return
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]
@@ -102,8 +134,8 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, to
         mk = node_params[k, 0]
         Ik = node_params[k, 1]
         if arm_kind[i] == ARM_SERIAL:
-            Nm = np.empty((n, n))
-            rhs = np.empty(n)
+            Nm = ws.Nm
+            rhs = ws.rhs
             v0 = mk * Jdq_all[i, 0] + w[k, 0]
             v1 = mk * Jdq_all[i, 1] + w[k, 1]
             v2 = Ik * Jdq_all[i, 2] + w[k, 2]
@@ -114,11 +146,11 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, to
                          + Ik * J_all[i, 2, r] * J_all[i, 2, c])
                     Nm[r, c] = s
                     Nm[c, r] = s
-            qdd = np.empty(n)
-            if not cholesky_solve(Nm, rhs, qdd):
+            qdd = ws.qdd
+            if not cholesky_solve_n(Nm, rhs, qdd, n):
                 status[0] = STATUS_SINGULAR_MASS
                 status[1] = k
-                return dx
+                return
             for r in range(n):
                 dx[nz + o + r] = qdd[r]
         else:
@@ -128,31 +160,40 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, to
     dx[2 * nz - 3] = -w[0, 0] / node_params[0, 0]
     dx[2 * nz - 2] = -w[0, 1] / node_params[0, 0]
     dx[2 * nz - 1] = -w[0, 2] / node_params[0, 1]
+
+
+@njit(cache=True)
+def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
+               node_params, edge_index, edge_params, Y_ref, immobile, status):
+    """``dx = f(x, tau)`` as a new array: :func:`rhs_into` with a workspace of its own (allocated per
+    call); ``status[0]`` receives a status code and ``status[1]`` the node index."""
+    ws = make_workspace(arm_dof, arm_kind.shape[0] + 1)
+    dx = np.empty_like(x)
+    rhs_into(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
+             node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx)
     return dx
 
 
 @njit(cache=True)
-def node_state_kernel(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity, status):
-    """Node poses ``Y`` (N, 3) and rates ``dY`` (N, 3), plus the arm terms."""
+def node_state_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity, status, ws):
+    """Node poses ``ws.Y`` (N, 3), rates ``ws.dY`` and the arm terms into ``ws``; allocates nothing."""
     nz = x.shape[0] // 2
-    m = arm_kind.shape[0]
-    nmax = 3
-    for i in range(m):
-        if arm_dof[i] > nmax:
-            nmax = arm_dof[i]
-    Y = np.empty((m + 1, 3))
-    dY = np.empty((m + 1, 3))
-    H_all = np.empty((m, nmax, nmax))
-    h_all = np.empty((m, nmax))
-    J_all = np.zeros((m, 3, nmax))
-    Jdq_all = np.zeros((m, 3))
+    Y = ws.Y
+    dY = ws.dY
     status[0] = STATUS_OK
     for a in range(3):
         Y[0, a] = x[nz - 3 + a]
         dY[0, a] = x[2 * nz - 3 + a]
     _arm_pass(x[:nz], x[nz:], arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all)
-    return Y, dY, H_all, h_all, J_all, Jdq_all
+              Y, dY, ws.H, ws.h, ws.J, ws.Jdq, ws.chain)
+
+
+@njit(cache=True)
+def node_state_kernel(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity, status):
+    """Node poses ``Y`` (N, 3) and rates ``dY`` (N, 3), plus the arm terms (new arrays)."""
+    ws = make_workspace(arm_dof, arm_kind.shape[0] + 1)
+    node_state_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity, status, ws)
+    return ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq
 
 
 @njit(cache=True)
@@ -168,11 +209,21 @@ def arm_potential_kernel(x, arm_kind, arm_dof, q_off, links_all, links_off, base
 
 @njit(cache=True)
 def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
-    """Planar analogue of the spatial ``interconnection_kernel``: ``(S (N,3), Fw (m,3), True)``."""
+    """Planar analogue of the spatial ``interconnection_kernel``: ``(S (N,3), Fw (m,3), True)`` (new arrays)."""
     N = Y.shape[0]
-    S = np.zeros((N, 3))
-    Fw = np.zeros((m, 3))
-    Fe = np.zeros((N, 3))
+    S = np.empty((N, 3))
+    Fw = np.empty((m, 3))
+    ok = interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, np.empty((N, 3)))
+    return S, Fw, ok
+
+
+@njit(cache=True)
+def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe):
+    """:func:`interconnection_kernel` into ``S`` (N, 3) and ``Fw`` (m, 3); ``Fe`` (N, 3) is work space.
+    Allocates nothing; returns True (the plane has no Euler singularity)."""
+    N = Y.shape[0]
+    S[:, :] = 0.0
+    Fw[:, :] = 0.0
     for e in range(edge_index.shape[0]):
         Fe[:, :] = 0.0
         ei = edge_index[e:e + 1]
@@ -195,4 +246,42 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
             Fw[c - 1, 0] += f0
             Fw[c - 1, 1] += f1
             Fw[c - 1, 2] += -Fe[0, 2] - (d0 * f1 - d1 * f0)
-    return S, Fw, True
+    return True
+
+
+#: The arrays :func:`control_terms_into` fills (planar; see the spatial ``SpatialControlWorkspace``).
+PlanarControlWorkspace = namedtuple("PlanarControlWorkspace", (
+    "ws",      # a PlanarWorkspace: after the call ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq
+    "W",       # (N, 3, 3) node inertias diag(m_i, m_i, I_i)
+    "w_free",  # (N, 3) -m_i g (no interconnections)
+    "S",       # (N, 3) interconnection terms
+    "Fw",      # (m, 3) wrench each contact's edges apply to the object (f_x, f_z [N], n [N m])
+    "Fe",      # (N, 3) work space
+))
+
+
+@njit(cache=True)
+def make_control_workspace(arm_dof, node_count):
+    """A new zero-filled :class:`PlanarControlWorkspace`."""
+    m = arm_dof.shape[0]
+    N = node_count
+    return PlanarControlWorkspace(make_workspace(arm_dof, N), np.zeros((N, 3, 3)), np.zeros((N, 3)),
+                                  np.zeros((N, 3)), np.zeros((m, 3)), np.zeros((N, 3)))
+
+
+@njit(cache=True)
+def control_terms_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
+                       node_params, edge_index, edge_params, Y_ref, immobile, status, cws):
+    """Planar :func:`plants.cooperative._spatial_kernel.control_terms_into`; allocates nothing."""
+    ws = cws.ws
+    node_state_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity, status, ws)
+    N = ws.Y.shape[0]
+    W = cws.W
+    for k in range(N):
+        W[k, 0, 0] = node_params[k, 0]
+        W[k, 1, 1] = node_params[k, 0]
+        W[k, 2, 2] = node_params[k, 1]
+        cws.w_free[k, 0] = -node_params[k, 0] * gravity[0]
+        cws.w_free[k, 1] = -node_params[k, 0] * gravity[1]
+        cws.w_free[k, 2] = 0.0
+    interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe)

@@ -15,66 +15,126 @@ its coordinates are the node pose itself (``J = I``, ``H = h = 0``).
 
 The interconnections' forces, dampers included (frame invariant by default, MODEL.md s.3), come from
 the kernels of :mod:`plants.elastic`. numba's on-disk cache of this file is keyed on this file alone:
-after a change to those kernels, change this file too (or clear ``__pycache__``), or a stale compiled
-right-hand side is loaded.
+after a change to the kernels it calls (:mod:`plants.elastic`, :mod:`plants.arms` ``_chain_kernels`` /
+``_planar_kernels``, :mod:`plants.frames`, :mod:`plants.cooperative._linalg`), change this file too
+(bump ``CALLEE_REVISION`` below) or clear ``__pycache__``, or a stale compiled right-hand side is loaded.
+
+Allocation-free entry points (issue 10): ``rhs_into`` (the right-hand side into ``dx``),
+``control_terms_into`` and ``node_state_into``, each with a workspace made once per run by
+``make_workspace`` / ``make_control_workspace`` (namedtuples of preallocated arrays, documented
+below). ``rhs_kernel`` and ``node_state_kernel`` are thin wrappers that make a workspace per call.
 """
 
 from __future__ import annotations
+
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
 # Every spatial serial arm (DH or URDF) is evaluated by the general-chain kernel.
 from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potential
-from plants.arms._chain_kernels import chain_arm_terms as spatial_arm_terms
-from plants.cooperative._linalg import cholesky_solve
+from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
+from plants.arms._chain_kernels import chain_arm_terms_inline as spatial_arm_terms
+from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
-from plants.frames import body_rate_map_inverse, rotation_zyx
+from plants.frames import body_rate_map_inverse, rotation_zyx_into
 from plants.elastic._spatial_kernels import (
-    damping_edges,
-    elastic_edges,
-    interconnection_terms,
+    EDGE_SCRATCH_SHAPE,
+    NODE_FRAME_BLOCKS,
+    damping_edges_into,
+    elastic_edges_into,
+    interconnection_terms_into,
     linear_edges,
-    node_terms,
+    node_frames_into,
+    node_terms_into,
     solve_node_rotation,
 )
+
+#: The node and interconnection kernels inlined into the right-hand side (numba IR inlining; see
+#: ``plants.arms._chain_kernels.chain_arm_terms_inline``): calls with a dozen array arguments cost.
+_node_terms = njit(inline="always")(node_terms_into.py_func)
+_interconnection_terms = njit(inline="always")(interconnection_terms_into.py_func)
+_solve_node_rotation = njit(inline="always")(solve_node_rotation.py_func)
 
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
 
+#: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
+#: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
+CALLEE_REVISION = 4
+
+
+#: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
+SpatialWorkspace = namedtuple("SpatialWorkspace", (
+    "Y",      # (N, 6) node poses (r [m], ZYX Euler angles [rad]); row 0 = object
+    "dY",     # (N, 6) node rates [m/s, rad/s]
+    "H",      # (m, n, n) arm inertias H_i [kg m^2], block [:n_i, :n_i] valid for a serial arm
+    "h",      # (m, n) arm bias torques h_i [N m]
+    "J",      # (m, 6, n) analytic Jacobians J_i; columns past n_i and contact-point rows stay 0
+    "Jdq",    # (m, 6) dJ_i/dt dq_i [m/s^2, rad/s^2]; contact-point rows stay 0
+    "Wr",     # (N, 3, 3) rotational inertia blocks L^T I L [kg m^2]
+    "w",      # (N, 6) node terms w_i: -m g + gyroscopic + interconnections [N, N m]
+    "Nm",     # (n, n) one arm's block N_i = H_i + J_i^T W_i J_i (lower triangle), then its Cholesky factor
+    "rhs",    # (n,) one arm's right-hand side tau_i - n_i
+    "qdd",    # (n,) one arm's joint accelerations
+    "v",      # (6,) W_i dJ_i dq_i + w_i of one arm's node
+    "WJ",     # (3, n) Wr_i J_i,rot of one arm
+    "b3",     # (3,) right-hand side of a node rotation solve
+    "o3",     # (3,) its solution
+    "chain",  # (n + 1, CHAIN_WORK_WIDTH) work rows of plants.arms._chain_kernels.chain_arm_terms_into
+    "edge",   # EDGE_SCRATCH_SHAPE scratch of the plants.elastic._spatial_kernels *_into kernels
+    "frames", # (N, NODE_FRAME_BLOCKS, 3, 3) every node's R, dR/dA, L (plants.elastic node_frames_into)
+))
+
 
 @njit(cache=True)
+def make_workspace(arm_dof, node_count):
+    """A new :class:`SpatialWorkspace` for arms of ``arm_dof`` (m,) dofs and ``node_count`` = m + 1 nodes.
+
+    Every array is zero-filled; :func:`rhs_into` and :func:`node_state_into` overwrite what they
+    read (except the zero padding of ``J`` and ``Jdq``, which they never write).
+    """
+    m = arm_dof.shape[0]
+    N = node_count
+    nmax = 6
+    for i in range(m):
+        if arm_dof[i] > nmax:
+            nmax = arm_dof[i]
+    return SpatialWorkspace(
+        np.zeros((N, 6)), np.zeros((N, 6)), np.zeros((m, nmax, nmax)), np.zeros((m, nmax)),
+        np.zeros((m, 6, nmax)), np.zeros((m, 6)), np.zeros((N, 3, 3)), np.zeros((N, 6)),
+        np.zeros((nmax, nmax)), np.zeros(nmax), np.zeros(nmax), np.zeros(6), np.zeros((3, nmax)),
+        np.zeros(3), np.zeros(3),
+        np.zeros((nmax + 1, CHAIN_WORK_WIDTH)), np.zeros(EDGE_SCRATCH_SHAPE), np.zeros((N, NODE_FRAME_BLOCKS, 3, 3)),
+    )
+
+
+@njit(cache=True, inline="always")
 def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, status):
-    """Kinematics and arm dynamics of every arm; fills node poses ``Y[1:]`` and rates ``dY[1:]``."""
+              Y, dY, H_all, h_all, J_all, Jdq_all, wk, status):
+    """Kinematics and arm dynamics of every arm, written straight into the stacked arrays
+    ``H_all[i, :n, :n]``, ``h_all[i, :n]``, ``J_all[i, :, :n]``, ``Jdq_all[i]`` and the node poses
+    ``Y[1:]`` and rates ``dY[1:]``; ``wk`` is the chain kernel's work array. Allocates nothing.
+    (The arm kernel gets whole rows ``H_all[i]`` etc. -- contiguous, so numba compiles it for
+    C-layout arrays -- and takes ``n`` from ``q``.)"""
     m = arm_kind.shape[0]
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]
         if arm_kind[i] == ARM_SERIAL:
-            H = np.empty((n, n))
-            h = np.empty(n)
-            Yi = np.empty(6)
-            J = np.empty((6, n))
-            Jdq = np.empty(6)
             st = spatial_arm_terms(z[o:o + n], dz[o:o + n], dh_all[dh_off[i]:dh_off[i] + n],
-                                   bases[i], tools[i], gravity, H, h, Yi, J, Jdq)
+                                   bases[i], tools[i], gravity, H_all[i], h_all[i], Y[i + 1],
+                                   J_all[i], Jdq_all[i], wk)
             if st != 0:
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = i + 1
                 return
             for a in range(6):
-                Y[i + 1, a] = Yi[a]
-                Jdq_all[i, a] = Jdq[a]
                 s = 0.0
                 for k in range(n):
-                    J_all[i, a, k] = J[a, k]
-                    s += J[a, k] * dz[o + k]
+                    s += J_all[i, a, k] * dz[o + k]
                 dY[i + 1, a] = s
-            for a in range(n):
-                h_all[i, a] = h[a]
-                for b in range(n):
-                    H_all[i, a, b] = H[a, b]
         else:
             for a in range(6):
                 Y[i + 1, a] = z[o + a]
@@ -82,82 +142,107 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
 
 
 @njit(cache=True)
-def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-               node_params, edge_index, edge_params, Y_ref, immobile, status):
-    """``dx = f(x, tau)``; ``status[0]`` receives a status code and ``status[1]`` the node index."""
+def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+             node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
+    """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing (all work arrays are in ``ws``).
+
+    Args:
+        x: State ``(z, z')``, float64 (2 nz,), C-contiguous.
+        tau: Inputs (nz - 6,): joint torques [N m] (or node forces of a contact point).
+        arm_kind ... immobile: The plant's packed arrays, in the order of
+            ``CooperativePlant.kernel_into[1]`` (which ends with ``status``).
+        status: int64 (2,): receives a status code (``plants.elastic._layout.STATUS_*``) and
+            the node index it concerns; ``STATUS_OK`` = 0.
+        ws: A :class:`SpatialWorkspace` from :func:`make_workspace` (``CooperativePlant.workspace()``),
+            one per run (not shared between threads). Its content between calls means nothing,
+            except that after a successful call ``ws.Y``, ``ws.dY``, ``ws.H``, ``ws.h``, ``ws.J``,
+            ``ws.Jdq``, ``ws.Wr`` and ``ws.w`` hold the terms of this state.
+        dx: Out: float64 (2 nz,). Left partly written when ``status[0] != STATUS_OK``.
+    """
     nz = x.shape[0] // 2
     z = x[:nz]
     dz = x[nz:]
     m = arm_kind.shape[0]
-    N = m + 1
-    nmax = 6
-    for i in range(m):
-        if arm_dof[i] > nmax:
-            nmax = arm_dof[i]
-    Y = np.empty((N, 6))
-    dY = np.empty((N, 6))
-    H_all = np.empty((m, nmax, nmax))
-    h_all = np.empty((m, nmax))
-    J_all = np.empty((m, 6, nmax))
-    Jdq_all = np.empty((m, 6))
+    Y = ws.Y
+    dY = ws.dY
+    H_all = ws.H
+    h_all = ws.h
+    J_all = ws.J
+    Jdq_all = ws.Jdq
     status[0] = STATUS_OK
     for a in range(6):
         Y[0, a] = z[nz - 6 + a]
         dY[0, a] = dz[nz - 6 + a]
     _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, status)
-    dx = np.empty_like(x)
-    dx[:nz] = dz
+              Y, dY, H_all, h_all, J_all, Jdq_all, ws.chain, status)
+    for a in range(nz):
+        dx[a] = dz[a]
     if status[0] != STATUS_OK:
-        return dx
+        return
     # node terms: W (rotational blocks) and w = gyro - gravity + elastic + damping
-    Wr = np.empty((N, 3, 3))
-    w = np.empty((N, 6))
-    node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w)
-    st = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    Wr = ws.Wr
+    w = ws.w
+    _node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
+    st = _interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge, ws.frames)
     if st != STATUS_OK:
         status[0] = st
-        return dx
-    b3 = np.empty(3)
-    o3 = np.empty(3)
+        return
+    b3 = ws.b3
+    o3 = ws.o3
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]
         k = i + 1
         mk = node_params[k, 0]
         if arm_kind[i] == ARM_SERIAL:
-            Nm = np.empty((n, n))
-            rhs = np.empty(n)
+            Nm = ws.Nm
+            rhs = ws.rhs
+            Ji = J_all[i]
+            Hi = H_all[i]
+            Wk = Wr[k]
             # WJdq + w at the node
-            v = np.empty(6)
+            v = ws.v
             for a in range(3):
                 v[a] = mk * Jdq_all[i, a] + w[k, a]
             for a in range(3):
                 s = w[k, 3 + a]
                 for c in range(3):
-                    s += Wr[k, a, c] * Jdq_all[i, 3 + c]
+                    s += Wk[a, c] * Jdq_all[i, 3 + c]
                 v[3 + a] = s
+            # WJ = Wr J_rot (3 x n), once per arm
+            WJ = ws.WJ
+            for a in range(3):
+                for c in range(n):
+                    t = 0.0
+                    for e in range(3):
+                        t += Wk[a, e] * Ji[3 + e, c]
+                    WJ[a, c] = t
             for r in range(n):
+                j0, j1, j2 = Ji[0, r], Ji[1, r], Ji[2, r]
+                j3, j4, j5 = Ji[3, r], Ji[4, r], Ji[5, r]
                 s = 0.0
-                for a in range(6):
-                    s += J_all[i, a, r] * v[a]
+                s += j0 * v[0]
+                s += j1 * v[1]
+                s += j2 * v[2]
+                s += j3 * v[3]
+                s += j4 * v[4]
+                s += j5 * v[5]
                 rhs[r] = tau[o + r] - h_all[i, r] - s
+                # lower triangle only: cholesky_solve_n reads no entry above the diagonal
                 for c in range(r, n):
-                    s = H_all[i, r, c]
-                    for a in range(3):
-                        s += mk * J_all[i, a, r] * J_all[i, a, c]
-                    for a in range(3):
-                        t = 0.0
-                        for e in range(3):
-                            t += Wr[k, a, e] * J_all[i, 3 + e, c]
-                        s += J_all[i, 3 + a, r] * t
-                    Nm[r, c] = s
+                    s = Hi[r, c]
+                    s += mk * j0 * Ji[0, c]
+                    s += mk * j1 * Ji[1, c]
+                    s += mk * j2 * Ji[2, c]
+                    s += j3 * WJ[0, c]
+                    s += j4 * WJ[1, c]
+                    s += j5 * WJ[2, c]
                     Nm[c, r] = s
-            qdd = np.empty(n)
-            if not cholesky_solve(Nm, rhs, qdd):
+            qdd = ws.qdd
+            if not cholesky_solve_n(Nm, rhs, qdd, n):
                 status[0] = STATUS_SINGULAR_MASS
                 status[1] = k
-                return dx
+                return
             for r in range(n):
                 dx[nz + o + r] = qdd[r]
         else:
@@ -165,10 +250,10 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
                 dx[nz + o + a] = (tau[o + a] - w[k, a]) / mk
                 b3[a] = tau[o + 3 + a] - w[k, 3 + a]
             A = Y_ref[k, 3:6] if immobile else Y[k, 3:6]
-            if not solve_node_rotation(A, node_params[k, 1:4], b3, o3):
+            if not _solve_node_rotation(A, node_params[k, 1:4], b3, o3):
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = k
-                return dx
+                return
             for a in range(3):
                 dx[nz + o + 3 + a] = o3[a]
     m0 = node_params[0, 0]
@@ -176,37 +261,48 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
         dx[2 * nz - 6 + a] = -w[0, a] / m0
         b3[a] = -w[0, 3 + a]
     A = Y_ref[0, 3:6] if immobile else Y[0, 3:6]
-    if not solve_node_rotation(A, node_params[0, 1:4], b3, o3):
+    if not _solve_node_rotation(A, node_params[0, 1:4], b3, o3):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
-        return dx
+        return
     for a in range(3):
         dx[2 * nz - 3 + a] = o3[a]
+
+
+@njit(cache=True)
+def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+               node_params, edge_index, edge_params, Y_ref, immobile, status):
+    """``dx = f(x, tau)`` as a new array: :func:`rhs_into` with a workspace of its own (allocated per
+    call); ``status[0]`` receives a status code and ``status[1]`` the node index."""
+    ws = make_workspace(arm_dof, arm_kind.shape[0] + 1)
+    dx = np.empty_like(x)
+    rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+             node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx)
     return dx
 
 
 @njit(cache=True)
-def node_state_kernel(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status):
-    """Node poses ``Y`` (N, 6) and rates ``dY`` (N, 6) of a state, plus arm terms (for sensors)."""
+def node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws):
+    """Node poses ``ws.Y`` (N, 6) and rates ``ws.dY`` (N, 6) of a state, plus the arm terms ``ws.H``,
+    ``ws.h``, ``ws.J``, ``ws.Jdq`` (see :class:`SpatialWorkspace`); allocates nothing."""
     nz = x.shape[0] // 2
-    m = arm_kind.shape[0]
-    nmax = 6
-    for i in range(m):
-        if arm_dof[i] > nmax:
-            nmax = arm_dof[i]
-    Y = np.empty((m + 1, 6))
-    dY = np.empty((m + 1, 6))
-    H_all = np.empty((m, nmax, nmax))
-    h_all = np.empty((m, nmax))
-    J_all = np.zeros((m, 6, nmax))
-    Jdq_all = np.zeros((m, 6))
+    Y = ws.Y
+    dY = ws.dY
     status[0] = STATUS_OK
     for a in range(6):
         Y[0, a] = x[nz - 6 + a]
         dY[0, a] = x[2 * nz - 6 + a]
     _arm_pass(x[:nz], x[nz:], arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, status)
-    return Y, dY, H_all, h_all, J_all, Jdq_all
+              Y, dY, ws.H, ws.h, ws.J, ws.Jdq, ws.chain, status)
+
+
+@njit(cache=True)
+def node_state_kernel(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status):
+    """Node poses ``Y`` (N, 6) and rates ``dY`` (N, 6) of a state, plus arm terms (for sensors):
+    ``(Y, dY, H, h, J, Jdq)``, new arrays (rows of contact points hold zeros)."""
+    ws = make_workspace(arm_dof, arm_kind.shape[0] + 1)
+    node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws)
+    return ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq
 
 
 @njit(cache=True)
@@ -228,15 +324,34 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     the generalized force the interconnections apply to node i), and ``Fw`` (m, 6) the wrench
     ``(f, n)`` [N, N m] that the edges between the object and contact i apply to the object,
     force at the contact node and couple, world frame. ``ok`` is False at an Euler singularity
-    of the object.
+    of the object. New arrays; see :func:`interconnection_into`.
     """
     N = Y.shape[0]
-    S = np.zeros((N, 6))
-    Fw = np.zeros((m, 6))
-    Fe = np.zeros((N, 6))
-    Linv = np.empty((3, 3))
+    S = np.empty((N, 6))
+    Fw = np.empty((m, 6))
+    ok = interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, np.empty((N, 6)),
+                              np.empty(EDGE_SCRATCH_SHAPE), np.empty((N, NODE_FRAME_BLOCKS, 3, 3)))
+    return S, Fw, ok
+
+
+@njit(cache=True)
+def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
+    """:func:`interconnection_kernel` into ``S`` (N, 6) and ``Fw`` (m, 6) (both overwritten); returns ``ok``.
+
+    Allocates nothing: ``Fe`` (N, 6) is work space, ``scratch`` has ``EDGE_SCRATCH_SHAPE``
+    (blocks 0-13 for the edge kernels, 14 for ``L_0^-1`` and 15 for ``R_0`` here), ``frames`` (N,
+    NODE_FRAME_BLOCKS, 3, 3) receives every node's frames.
+    """
+    N = Y.shape[0]
+    m = Fw.shape[0]
+    S[:, :] = 0.0
+    Fw[:, :] = 0.0
+    Linv = scratch[14]
+    R0 = scratch[15]
     ok = body_rate_map_inverse(Y[0, 3:6], Linv)
-    R0 = rotation_zyx(Y[0, 3:6])
+    rotation_zyx_into(Y[0, 3:6], R0)
+    if not immobile:
+        node_frames_into(Y, frames)
     for e in range(edge_index.shape[0]):
         Fe[:, :] = 0.0
         ei = edge_index[e:e + 1]
@@ -244,8 +359,8 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
         if immobile:
             linear_edges(Y, dY, Y_ref, ei, ep, Fe)
         else:
-            elastic_edges(Y, ei, ep, Fe)
-            damping_edges(Y, dY, ei, ep, Fe)
+            elastic_edges_into(Y, ei, ep, Fe, scratch, frames)
+            damping_edges_into(Y, dY, ei, ep, Fe, scratch, frames)
         for k in range(N):
             for a in range(6):
                 S[k, a] += Fe[k, a]
@@ -255,9 +370,9 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
             c = j if i == 0 else i
             f0, f1, f2 = -Fe[0, 0], -Fe[0, 1], -Fe[0, 2]
             # body torque = Linv^T Q_A ; world torque = R0 tb
-            tb = np.empty(3)
-            for a in range(3):
-                tb[a] = -(Linv[0, a] * Fe[0, 3] + Linv[1, a] * Fe[0, 4] + Linv[2, a] * Fe[0, 5])
+            tb0 = -(Linv[0, 0] * Fe[0, 3] + Linv[1, 0] * Fe[0, 4] + Linv[2, 0] * Fe[0, 5])
+            tb1 = -(Linv[0, 1] * Fe[0, 3] + Linv[1, 1] * Fe[0, 4] + Linv[2, 1] * Fe[0, 5])
+            tb2 = -(Linv[0, 2] * Fe[0, 3] + Linv[1, 2] * Fe[0, 4] + Linv[2, 2] * Fe[0, 5])
             d0 = Y[c, 0] - Y[0, 0]
             d1 = Y[c, 1] - Y[0, 1]
             d2 = Y[c, 2] - Y[0, 2]
@@ -265,9 +380,62 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
             Fw[c - 1, 1] += f1
             Fw[c - 1, 2] += f2
             for a in range(3):
-                tw = R0[a, 0] * tb[0] + R0[a, 1] * tb[1] + R0[a, 2] * tb[2]
+                tw = R0[a, 0] * tb0 + R0[a, 1] * tb1 + R0[a, 2] * tb2
                 Fw[c - 1, 3 + a] += tw
             Fw[c - 1, 3] -= d1 * f2 - d2 * f1
             Fw[c - 1, 4] -= d2 * f0 - d0 * f2
             Fw[c - 1, 5] -= d0 * f1 - d1 * f0
-    return S, Fw, ok
+    return ok
+
+
+#: The arrays :func:`control_terms_into` fills (N = m + 1 nodes; see :class:`plants.cooperative.ControlTerms`).
+SpatialControlWorkspace = namedtuple("SpatialControlWorkspace", (
+    "ws",      # a SpatialWorkspace: after the call ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq (and ws.Wr)
+    "W",       # (N, 6, 6) node inertia blocks W_i = blockdiag(m_i I, L^T I L) (off-blocks stay 0)
+    "w_free",  # (N, 6) gyroscopic - gravity terms of w (no interconnections)
+    "S",       # (N, 6) interconnection terms dPi/dY_i + dD/d(dY_i)
+    "Fw",      # (m, 6) wrench each contact's edges apply to the object (f [N], couple [N m])
+    "Fe",      # (N, 6) work space of one edge's forces
+))
+
+
+@njit(cache=True)
+def make_control_workspace(arm_dof, node_count):
+    """A new zero-filled :class:`SpatialControlWorkspace`."""
+    m = arm_dof.shape[0]
+    N = node_count
+    return SpatialControlWorkspace(make_workspace(arm_dof, N), np.zeros((N, 6, 6)), np.zeros((N, 6)),
+                                   np.zeros((N, 6)), np.zeros((m, 6)), np.zeros((N, 6)))
+
+
+@njit(cache=True)
+def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+                       node_params, edge_index, edge_params, Y_ref, immobile, status, cws):
+    """Every term of :class:`plants.cooperative.ControlTerms` at state ``x`` into ``cws``; allocates nothing.
+
+    Arguments as :func:`rhs_into` (without ``tau``); ``cws`` is a :class:`SpatialControlWorkspace`
+    (``CooperativePlant.control_workspace()``), separate from the right-hand side's workspace so that
+    integrating the plant does not overwrite the terms a controller reads. Fills ``cws.ws.Y``,
+    ``cws.ws.dY``, ``cws.ws.H``, ``cws.ws.h``, ``cws.ws.J``, ``cws.ws.Jdq``, ``cws.W``, ``cws.w_free``,
+    ``cws.S`` and ``cws.Fw``. ``status[0]`` is ``STATUS_EULER_SINGULAR`` with ``status[1]`` the node
+    at an Euler singularity of an arm's tip (node i) or of the object (node 0, then ``S`` is valid
+    and ``Fw`` is not).
+    """
+    ws = cws.ws
+    node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws)
+    if status[0] != STATUS_OK:
+        return
+    N = ws.Y.shape[0]
+    node_terms_into(ws.Y, ws.dY, node_params, gravity, Y_ref, immobile, ws.Wr, cws.w_free, ws.edge)
+    W = cws.W
+    for k in range(N):
+        for a in range(3):
+            W[k, a, a] = node_params[k, 0]
+            for b in range(3):
+                W[k, 3 + a, 3 + b] = ws.Wr[k, a, b]
+    if not interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe,
+                                ws.edge, ws.frames):
+        status[0] = STATUS_EULER_SINGULAR
+        status[1] = 0
+
+

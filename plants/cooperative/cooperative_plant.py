@@ -17,7 +17,6 @@ from plants.elastic._layout import (
     STATUS_SINGULAR_MASS,
 )
 from plants.errors import EulerSingularityError, ParameterError, SingularJacobianError
-from plants.elastic._spatial_kernels import node_terms as _spatial_node_terms
 from plants.frames import body_rate_map_inv, euler_zyx_from_rotation, rotation_zyx
 
 _POSE_NAMES = {"spatial": ("x", "y", "z", "psi", "theta", "phi"), "planar": ("x", "z", "theta")}
@@ -190,6 +189,23 @@ class CooperativePlant:
         side, for loops that want to skip the Python wrapper; ``extra_args[-1]`` is the status array."""
         return self._kern.rhs_kernel, self._args
 
+    def workspace(self):
+        """A new preallocated workspace for :attr:`kernel_into` (one per run; not thread-safe to share).
+
+        A namedtuple of float64 arrays: :class:`plants.cooperative._spatial_kernel.SpatialWorkspace` or
+        :class:`plants.cooperative._planar_kernel.PlanarWorkspace` (their docstrings list the fields).
+        """
+        return self._kern.make_workspace(self._arm_dof, self.node_count)
+
+    @property
+    def kernel_into(self):
+        """``(function, extra_args)``: ``function(x, tau, *extra_args, ws, dx)`` writes the right-hand
+        side into ``dx`` (float64, ``state_size``) and allocates nothing; ``ws`` is a
+        :meth:`workspace`. ``extra_args`` are those of :attr:`kernel` (``extra_args[-1]`` is the
+        int64 (2,) status array: code and node, ``plants.elastic._layout.STATUS_*``). The raw
+        kernel checks nothing: a nonzero ``status[0]`` leaves ``dx`` partly written."""
+        return self._kern.rhs_into, self._args
+
     def _node_state(self, x):
         x = np.ascontiguousarray(x, dtype=float)
         st = np.zeros(2, dtype=np.int64)
@@ -231,29 +247,31 @@ class CooperativePlant:
         return G
 
     def control_terms(self, x) -> ControlTerms:
-        """:class:`ControlTerms` at state ``x`` (three kernel calls)."""
-        Y, dY, H, h, J, Jdq = self._node_state(x)
-        N, p = self.node_count, self.p
-        if self.space == "spatial":
-            Wr = np.empty((N, 3, 3))
-            w_free = np.empty((N, 6))
-            _spatial_node_terms(Y, dY, self._node_params, self._gravity, self._Y_ref, self._immobile, Wr, w_free)
-            W = np.zeros((N, 6, 6))
-            W[:, 0, 0] = W[:, 1, 1] = W[:, 2, 2] = self._node_params[:, 0]
-            W[:, 3:, 3:] = Wr
-        else:
-            W = np.zeros((N, 3, 3))
-            W[:, 0, 0] = W[:, 1, 1] = self._node_params[:, 0]
-            W[:, 2, 2] = self._node_params[:, 1]
-            w_free = np.zeros((N, 3))
-            w_free[:, :2] = -self._node_params[:, :1] * self._gravity[None, :]
-        S, Fw, ok = self._kern.interconnection_kernel(Y, dY, self.arm_count, self._edge_index, self._edge_params,
-                                                      self._Y_ref, self._immobile)
-        if not ok:
-            raise EulerSingularityError("object", float(Y[0, 4]), float(np.cos(Y[0, 4])))
+        """:class:`ControlTerms` at state ``x`` (one kernel call, :attr:`control_kernel_into`, into a new
+        workspace whose arrays the returned object keeps)."""
         xc = np.array(x, dtype=float)
+        st = np.zeros(2, dtype=np.int64)
+        cws = self._kern.make_control_workspace(self._arm_dof, self.node_count)
+        self._kern.control_terms_into(xc, *self._args[:-1], st, cws)
+        if st[0]:
+            self._check(st, xc)
+        ws = cws.ws
         nz = self.nz
-        return ControlTerms(Y, dY, H, h, J, Jdq, W, w_free, S, Fw, xc[:nz], xc[nz:2 * nz])
+        return ControlTerms(ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq, cws.W, cws.w_free, cws.S, cws.Fw,
+                            xc[:nz], xc[nz:2 * nz])
+
+    def control_workspace(self):
+        """A new preallocated workspace for :attr:`control_kernel_into` (keep it apart from :meth:`workspace`)."""
+        return self._kern.make_control_workspace(self._arm_dof, self.node_count)
+
+    @property
+    def control_kernel_into(self):
+        """``(function, extra_args)``: ``function(x, *extra_args, cws)`` writes every term of
+        :meth:`control_terms` into ``cws`` (a :meth:`control_workspace`: ``cws.ws.Y``, ``cws.ws.dY``,
+        ``cws.ws.H``, ``cws.ws.h``, ``cws.ws.J``, ``cws.ws.Jdq``, ``cws.W``, ``cws.w_free``, ``cws.S``,
+        ``cws.Fw``) and allocates nothing. ``extra_args`` are those of :attr:`kernel`, ending with the
+        status array (nonzero ``status[0]``: an Euler singularity at node ``status[1]``)."""
+        return self._kern.control_terms_into, self._args
 
     # ------------------------------------------------------------------ energy
     def elastic_potential(self, Y) -> float:

@@ -22,11 +22,21 @@ from plants.elastic._layout import (
     STATUS_EULER_SINGULAR,
     STATUS_OK,
 )
-from plants.frames import EULER_SINGULARITY_COS, rotation_zyx, rotation_zyx_partials
+from plants.frames import EULER_SINGULARITY_COS, rotation_zyx_and_partials_into
 
 #: Nodes of a central spring with positive rest length closer than this fraction of the rest
 #: length are reported as coincident: ``beta`` and its gradient are undefined at distance 0.
 COINCIDENT_FRACTION = 1e-9
+
+#: Shape of the scratch array of the ``*_into`` edge kernels (3x3 blocks; a block's rows serve as
+#: 3-vectors). :func:`elastic_edges_into`: 8 ``P``, 9 ``QR``, 10 the vectors ``d`` and ``C e``;
+#: :func:`damping_edges_into`: 11-13 the vectors ``rho``, ``omega``, ``g``, ``w_i``, ``w_j``, ``Wd``,
+#: ``h``, ``Hw``, ``Hi``; :func:`node_terms_into`: 15 (``g``, zeros); the cooperative plant's
+#: ``interconnection_into`` (plants.cooperative._spatial_kernel): 14 and 15.
+#: The kernels overwrite what they use; the content between calls means nothing.
+EDGE_SCRATCH_SHAPE = (16, 3, 3)
+#: 3x3 blocks per node of the ``frames`` array of :func:`node_frames_into`: ``R``, three ``dR/dA``, ``L``.
+NODE_FRAME_BLOCKS = 5
 
 
 @njit(cache=True, inline="always")
@@ -37,7 +47,18 @@ def wrap_angle(a):
 
 @njit(cache=True)
 def elastic_edges(Y, edge_index, edge_params, F):
+    """:func:`elastic_edges_into` with scratch and node frames of its own (allocated per call)."""
+    frames = np.empty((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3))
+    node_frames_into(Y, frames)
+    return elastic_edges_into(Y, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
+
+
+@njit(cache=True)
+def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
     """Add ``dPi/dY`` (120-121) of every interconnection into ``F``; return ``(Pi, status)``.
+
+    Allocates nothing: ``scratch`` is a float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten);
+    ``frames`` (N, NODE_FRAME_BLOCKS, 3, 3) holds every node's ``R``, ``dR/dA`` (from :func:`node_frames_into`).
 
     Central element (106-107, 119), ``d = r_i - r_j``, ``s = |d|``, ``g = 1 - l/s``,
     ``beta = g^2``, ``Q = sum_k c_k d_k^2``:
@@ -92,13 +113,12 @@ def elastic_edges(Y, edge_index, edge_params, F):
                     F[i, 3 + k] += cA * dl
                     F[j, 3 + k] -= cA * dl
         else:
-            Ai = Y[i, 3:6]
-            Ri = rotation_zyx(Ai)
-            dRi = rotation_zyx_partials(Ai)
-            d = np.empty(3)
+            Ri = frames[i, 0]
+            dRi = frames[i, 1:4]
+            d = scratch[10, 0]
             for k in range(3):
                 d[k] = Y[j, k] - Y[i, k]
-            Ce = np.empty(3)
+            Ce = scratch[10, 1]
             for k in range(3):
                 ek = Ri[0, k] * d[0] + Ri[1, k] * d[1] + Ri[2, k] * d[2] - p[10 + k]
                 Pi += 0.5 * p[k] * ek * ek
@@ -114,12 +134,11 @@ def elastic_edges(Y, edge_index, edge_params, F):
                         acc += Ce[k] * dRi[a][l, k] * d[l]
                 F[i, 3 + a] += acc
             if p[15] != 0.0 or p[16] != 0.0 or p[17] != 0.0:
-                Aj = Y[j, 3:6]
-                Rj = rotation_zyx(Aj)
-                dRj = rotation_zyx_partials(Aj)
-                # P = R_j R0^T ; QR = (R_i Kd) R0
-                P = np.zeros((3, 3))
-                QR = np.zeros((3, 3))
+                Rj = frames[j, 0]
+                dRj = frames[j, 1:4]
+                # P = R_j R0^T ; QR = (R_i Kd) R0 (every entry written below)
+                P = scratch[8]
+                QR = scratch[9]
                 for l in range(3):
                     for k in range(3):
                         s1 = 0.0
@@ -155,8 +174,28 @@ def body_rate_matrix(A, L):
 
 
 @njit(cache=True)
+def node_frames_into(Y, frames):
+    """Every node k's ``R(A_k)`` (block 0), ``dR/dpsi, dR/dtheta, dR/dphi`` (1-3) and ``L(A_k)`` (4)
+    into ``frames`` (N, NODE_FRAME_BLOCKS, 3, 3): evaluated once per node rather than once per edge end."""
+    for k in range(Y.shape[0]):
+        rotation_zyx_and_partials_into(Y[k, 3:6], frames[k, 0], frames[k, 1:4])
+        body_rate_matrix(Y[k, 3:6], frames[k, 4])
+
+
+@njit(cache=True)
 def damping_edges(Y, dY, edge_index, edge_params, F):
+    """:func:`damping_edges_into` with scratch and node frames of its own (allocated per call)."""
+    frames = np.empty((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3))
+    node_frames_into(Y, frames)
+    return damping_edges_into(Y, dY, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
+
+
+@njit(cache=True)
+def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
     """Add ``dD/d(dY)`` of the dampers (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
+
+    Allocates nothing: ``scratch`` is a float64 array of shape ``EDGE_SCRATCH_SHAPE`` (overwritten);
+    ``frames`` (N, NODE_FRAME_BLOCKS, 3, 3) holds every node's ``R``, ``dR/dA`` (from :func:`node_frames_into`).
 
     Central element, translation: ``D = 1/2 d (u^T (dr_i - dr_j))^2``, ``u = (r_i - r_j)/|r_i - r_j|``
     (the book's, frame invariant). Frame-invariant form (damping form ``DAMPING_FRAME_INVARIANT``,
@@ -175,9 +214,6 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
     ``D = 1/2 dA |dA_i - dA_j|^2`` on the Euler rates.
     """
     D = 0.0
-    Ri = np.empty((3, 3))
-    Li = np.empty((3, 3))
-    Lj = np.empty((3, 3))
     for e in range(edge_index.shape[0]):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
@@ -186,9 +222,8 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
         central = edge_index[e, 2] == ELEMENT_CENTRAL
         dd = p[13]
         dA = p[14]
-        if not book and ((dd != 0.0 and not central) or dA != 0.0):
-            Ri[:, :] = rotation_zyx(Y[i, 3:6])
-            body_rate_matrix(Y[i, 3:6], Li)
+        Ri = frames[i, 0]
+        Li = frames[i, 4]
         if dd != 0.0:
             v0 = dY[i, 0] - dY[j, 0]
             v1 = dY[i, 1] - dY[j, 1]
@@ -207,12 +242,12 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
                 f0, f1, f2 = dd * v0, dd * v1, dd * v2
             else:
                 # rho = R_i^T (r_j - r_i), omega_i = L_i dA_i, e_dot = R_i^T (dr_j - dr_i) + rho x omega_i
-                rho = np.empty(3)
-                om = np.empty(3)
+                rho = scratch[11, 0]
+                om = scratch[11, 1]
                 for k in range(3):
                     rho[k] = -(Ri[0, k] * d0 + Ri[1, k] * d1 + Ri[2, k] * d2)
                     om[k] = Li[k, 0] * dY[i, 3] + Li[k, 1] * dY[i, 4] + Li[k, 2] * dY[i, 5]
-                g = np.empty(3)
+                g = scratch[11, 2]
                 for k in range(3):
                     g[k] = -(Ri[0, k] * v0 + Ri[1, k] * v1 + Ri[2, k] * v2)
                 g[0] += rho[1] * om[2] - rho[2] * om[1]
@@ -245,29 +280,29 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
                     F[i, 3 + k] += dA * v
                     F[j, 3 + k] -= dA * v
             else:
-                Rj = rotation_zyx(Y[j, 3:6])
-                body_rate_matrix(Y[j, 3:6], Lj)
+                Rj = frames[j, 0]
+                Lj = frames[j, 4]
                 # world angular velocities, their difference in node j's frame
-                wi = np.empty(3)
-                wj = np.empty(3)
+                wi = scratch[12, 0]
+                wj = scratch[12, 1]
                 for k in range(3):
                     wi[k] = Li[k, 0] * dY[i, 3] + Li[k, 1] * dY[i, 4] + Li[k, 2] * dY[i, 5]
                     wj[k] = Lj[k, 0] * dY[j, 3] + Lj[k, 1] * dY[j, 4] + Lj[k, 2] * dY[j, 5]
-                Wd = np.empty(3)
+                Wd = scratch[12, 2]
                 for l in range(3):
                     Wd[l] = (Rj[l, 0] * wj[0] + Rj[l, 1] * wj[1] + Rj[l, 2] * wj[2]
                              - Ri[l, 0] * wi[0] - Ri[l, 1] * wi[1] - Ri[l, 2] * wi[2])
-                h = np.empty(3)  # dA * omega_rel, omega_rel = R_j^T (omega_j^w - omega_i^w)
+                h = scratch[13, 0]  # dA * omega_rel, omega_rel = R_j^T (omega_j^w - omega_i^w)
                 for k in range(3):
                     h[k] = Rj[0, k] * Wd[0] + Rj[1, k] * Wd[1] + Rj[2, k] * Wd[2]
                     D += 0.5 * dA * h[k] * h[k]
                 for k in range(3):
                     h[k] *= dA
                 # node j: L_j^T h; node i: -L_i^T R_i^T R_j h
-                Hw = np.empty(3)
+                Hw = scratch[13, 1]
                 for l in range(3):
                     Hw[l] = Rj[l, 0] * h[0] + Rj[l, 1] * h[1] + Rj[l, 2] * h[2]
-                Hi = np.empty(3)
+                Hi = scratch[13, 2]
                 for k in range(3):
                     Hi[k] = Ri[0, k] * Hw[0] + Ri[1, k] * Hw[1] + Ri[2, k] * Hw[2]
                 for a in range(3):
@@ -341,15 +376,24 @@ def node_rotational_terms(A, dA, I, Wr, g):
 
 @njit(cache=True)
 def node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w):
+    """:func:`node_terms_into` with a scratch array of its own (one allocation per call)."""
+    return node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, np.empty(EDGE_SCRATCH_SHAPE))
+
+
+@njit(cache=True)
+def node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, scratch):
     """Per-node inertia and the non-interconnection part of ``w`` (113).
 
     Fills ``Wr`` (N, 3, 3) with the rotational inertia blocks and sets ``w`` (N, 6) to
     ``(-m g, gyroscopic)``; the immobile model uses ``W(Y_ref)`` and no gyroscopic term.
     Returns a status (Euler singularity of a node is checked where ``L^-1`` is needed, by the
-    caller).
+    caller). Allocates nothing: ``scratch`` (``EDGE_SCRATCH_SHAPE``) block 15 is used.
     """
-    g3 = np.empty(3)
-    zero = np.zeros(3)
+    g3 = scratch[15, 0]
+    zero = scratch[15, 1]
+    zero[0] = 0.0
+    zero[1] = 0.0
+    zero[2] = 0.0
     for k in range(Y.shape[0]):
         m = node_params[k, 0]
         for a in range(3):
@@ -390,15 +434,25 @@ def solve_node_rotation(A, I, b, out):
 
 @njit(cache=True)
 def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
+    """:func:`interconnection_terms_into` with scratch and node frames of its own."""
+    return interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w,
+                                      np.empty(EDGE_SCRATCH_SHAPE), np.empty((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3)))
+
+
+@njit(cache=True)
+def interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, scratch, frames):
     """Add every interconnection's part of ``w`` (113) into ``w``: ``dPi/dY + dD/d(dY)``, or the
-    immobile model's ``K y + D dy``. Returns a status code."""
+    immobile model's ``K y + D dy``. Returns a status code. Allocates nothing: ``scratch`` is a
+    float64 array of shape ``EDGE_SCRATCH_SHAPE`` and ``frames`` one of shape (N, NODE_FRAME_BLOCKS, 3, 3),
+    both overwritten (``frames`` with every node's :func:`node_frames_into`)."""
     if immobile:
         linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
         return STATUS_OK
-    _, status = elastic_edges(Y, edge_index, edge_params, w)
+    node_frames_into(Y, frames)
+    _, status = elastic_edges_into(Y, edge_index, edge_params, w, scratch, frames)
     if status != STATUS_OK:
         return status
-    damping_edges(Y, dY, edge_index, edge_params, w)
+    damping_edges_into(Y, dY, edge_index, edge_params, w, scratch, frames)
     return STATUS_OK
 
 
