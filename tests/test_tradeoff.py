@@ -245,6 +245,22 @@ def test_save_writes_json_csv_png(stiff_short, tmp_path):
     assert not list((tmp_path / "out").glob(".*.tmp"))  # atomic writes leave no temporaries
 
 
+def test_plot_of_a_grid_where_every_row_diverged(stiff_short, tmp_path):
+    """A grid with no finished row still draws (no empty log axis: it once failed with "Data cannot be
+    log-scaled"), and says why its panels are empty."""
+    import dataclasses
+
+    from coopctrl.analysis.work_precision_plot import plot_work_precision, work_precision_figure
+
+    failed = [dataclasses.replace(r, status="diverged", position_error_m=None, orientation_error_rad=None,
+                                  force_error_N=None, pareto=False, pareto_force=False) for r in stiff_short.rows]
+    grid = dataclasses.replace(stiff_short, rows=failed)
+    fig = work_precision_figure(grid)
+    texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+    assert sum("every row diverged" in t for t in texts) == 2
+    assert plot_work_precision(grid, tmp_path / "wp.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 # ---------------------------------------------------------------------- the stiff scheme at 10x the explicit limit
 #: The stiff scene: stiff_grasp_extreme with its grasp springs raised to 5e7 N/m and a 3 ms control
 #: period (the loop samples the controller every 3 ms; the gains are the scene's). omega_max is

@@ -53,7 +53,9 @@ class PreflightIssue:
 
     Attributes:
         time_s: Time on the nominal trajectory [s].
-        kind: ``"unreachable"``, ``"qp_infeasible"``, ``"torque"`` or ``"static_instability"``.
+        kind: ``"unreachable"``, ``"qp_infeasible"`` (no split exists), ``"qp_solver"`` (a split exists but
+            the solver did not find it: its iteration limit, an inaccurate answer, a numerical failure),
+            ``"torque"`` or ``"static_instability"``.
         message: One line, beginning with the time, naming what binds and how to fix it.
         arm: The arm (1-based, as in ``arms[i - 1]``), or ``None``.
         joint: The joint (1-based), or ``None``.
@@ -272,6 +274,8 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
     try:
         split = ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **kwargs)
     except InfeasibleLoad as exc:
+        if exc.status != "infeasible":  # a split exists: the solver failed (its limit, its accuracy), say so
+            return (PreflightIssue(t, "qp_solver", f"at t = {t:.4g} s {exc}"), *none)
         fams = ", ".join(exc.binding) or "unknown"
         binds, over = "", None
         if loop.torque_limits:  # which joint: the split without the torque rows, against the limits

@@ -34,6 +34,7 @@ def work_precision_figure(result: "TradeoffResult"):
     names = list(dict.fromkeys(r.integrator for r in result.rows))
     colors = {name: f"C{k}" for k, name in enumerate(names)}
     for ax, (metric, front_key, label) in zip(axes, panels):
+        drawn = 0  # points with a positive error (a log axis needs at least one)
         for name in names:
             rows = [r for r in result.rows if r.integrator == name]
             shown = [r for r in rows if r.status == "ok" and getattr(r, metric) is not None and getattr(r, metric) > 0]
@@ -42,6 +43,7 @@ def work_precision_figure(result: "TradeoffResult"):
             if not shown:
                 ax.plot([], [], marker=_MARKERS.get(name, "o"), color=colors[name], label=legend)
                 continue
+            drawn += len(shown)
             ax.plot([r.wall_time_s for r in shown], [getattr(r, metric) for r in shown], "-",
                     marker=_MARKERS.get(name, "o"), color=colors[name], label=legend, markersize=5)
             for k, r in enumerate(shown):
@@ -57,7 +59,12 @@ def work_precision_figure(result: "TradeoffResult"):
         ax.axvline(result.reference.wall_time_s, color="0.4", ls="--", lw=1.0,
                    label=f"reference {result.reference.config.method} wall time")
         ax.set_xscale("log")
-        ax.set_yscale("log")
+        if drawn:
+            ax.set_yscale("log")
+        else:  # every run of the grid diverged: say so instead of an empty log axis (which cannot be drawn)
+            ax.set_yticks([])
+            ax.text(0.5, 0.5, "no run of the grid finished:\nevery row diverged", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=11, color="C3")
         # wall times often span less than a decade: ticks at 1, 2 and 5 per decade, in plain numbers
         ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
         ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))

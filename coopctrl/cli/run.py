@@ -55,14 +55,14 @@ def cmd_run(args) -> int:
         print(summary_table(summary))
         ticks = len(result.t)
         print(f"{'torque-saturated ticks'.ljust(28)}  {summary.get('torque_saturated_ticks', 0)} of {ticks}")
+        if args.out is not None:
+            print(f"outputs written to {args.out}")
     saturated = int(summary.get("torque_saturated_ticks", 0) or 0)
     if saturated and result.status == "ok":  # a failed run's one-line reason names the saturation when it is a cause
         ratio = summary.get("max_torque_ratio")
         shown = "-" if ratio is None else f"{ratio:.3g}"
         print(f"{PROG}: warning: the torques saturated at tau_max on {saturated} of {len(result.t)} ticks "
               f"(max |tau| / tau_max = {shown})", file=sys.stderr)
-        if args.out is not None:
-            print(f"outputs written to {args.out}")
     if result.status != "ok":
         print(f"{PROG}: {result.status}: {_one_line(result.reason) or 'no reason given'}", file=sys.stderr)
         return 1

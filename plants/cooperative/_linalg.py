@@ -20,7 +20,7 @@ def cholesky_solve(A, b, x):
     return cholesky_solve_n(A, b, x, A.shape[0])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def cholesky_solve_n(A, b, x, n):
     """:func:`cholesky_solve` on the leading ``n x n`` block of ``A`` and the first ``n`` entries of
     ``b`` and ``x`` (larger preallocated arrays, passed whole so that they stay contiguous). Only the

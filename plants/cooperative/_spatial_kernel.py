@@ -35,7 +35,7 @@ from numba import njit
 # Every spatial serial arm (DH or URDF) is evaluated by the general-chain kernel.
 from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potential
 from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
-from plants.arms._chain_kernels import chain_arm_terms_into as spatial_arm_terms
+from plants.arms._chain_kernels import chain_arm_terms_inline as spatial_arm_terms
 from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
 from plants.frames import body_rate_map_inverse, rotation_zyx_into
@@ -51,12 +51,18 @@ from plants.elastic._spatial_kernels import (
     solve_node_rotation,
 )
 
+#: The node and interconnection kernels inlined into the right-hand side (numba IR inlining; see
+#: ``plants.arms._chain_kernels.chain_arm_terms_inline``): calls with a dozen array arguments cost.
+_node_terms = njit(inline="always")(node_terms_into.py_func)
+_interconnection_terms = njit(inline="always")(interconnection_terms_into.py_func)
+_solve_node_rotation = njit(inline="always")(solve_node_rotation.py_func)
+
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
 
 #: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
 #: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 3
+CALLEE_REVISION = 4
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
@@ -104,7 +110,7 @@ def make_workspace(arm_dof, node_count):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
               Y, dY, H_all, h_all, J_all, Jdq_all, wk, status):
     """Kinematics and arm dynamics of every arm, written straight into the stacked arrays
@@ -176,8 +182,8 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
     # node terms: W (rotational blocks) and w = gyro - gravity + elastic + damping
     Wr = ws.Wr
     w = ws.w
-    node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
-    st = interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge, ws.frames)
+    _node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
+    st = _interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge, ws.frames)
     if st != STATUS_OK:
         status[0] = st
         return
@@ -244,7 +250,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
                 dx[nz + o + a] = (tau[o + a] - w[k, a]) / mk
                 b3[a] = tau[o + 3 + a] - w[k, 3 + a]
             A = Y_ref[k, 3:6] if immobile else Y[k, 3:6]
-            if not solve_node_rotation(A, node_params[k, 1:4], b3, o3):
+            if not _solve_node_rotation(A, node_params[k, 1:4], b3, o3):
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = k
                 return
@@ -255,7 +261,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         dx[2 * nz - 6 + a] = -w[0, a] / m0
         b3[a] = -w[0, 3 + a]
     A = Y_ref[0, 3:6] if immobile else Y[0, 3:6]
-    if not solve_node_rotation(A, node_params[0, 1:4], b3, o3):
+    if not _solve_node_rotation(A, node_params[0, 1:4], b3, o3):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
         return
