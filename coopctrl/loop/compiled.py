@@ -35,8 +35,9 @@ METHODS = {"euler": K.METHOD_EULER, "symplectic_euler": K.METHOD_SYMPLECTIC_EULE
 #: QP status names of the kernel's codes (as the compiled backend reports them).
 _QP_STATUS = ("solved", "infeasible", "max_iter", "failed")
 
-#: Ticks per kernel call when a progress bar is shown.
-_PROGRESS_CHUNK = 250
+#: Ticks per kernel call: between calls Python runs its signal handlers (SIGINT, SIGTERM stop a run
+#: within one chunk, tens of ms) and updates the progress bar.
+_CHUNK = 500
 
 
 def compiled_unsupported(loop) -> str | None:
@@ -182,16 +183,9 @@ def _noise(loop, N: int, plant):
     noise_f = np.zeros((N if f.noise_std else 1, m * p))
     if f.noise_std:
         noise_f[:] = sensors.forces.rng.standard_normal((N, m * p)) * f.noise_std
-    if noise_q.shape[0] == 1:
-        noise_q = np.broadcast_to(noise_q, (N, 2 * nq))
-    if noise_o.shape[0] == 1:
-        noise_o = np.broadcast_to(noise_o, (N, 2 * p))
-    if noise_f.shape[0] == 1:
-        noise_f = np.broadcast_to(noise_f, (N, m * p))
     cfg = np.array([j.noise_std if state_noisy else 0.0, j.quantization if state_noisy else 0.0,
                     o.noise_std if state_noisy else 0.0, o.quantization if state_noisy else 0.0, f.quantization])
-    # broadcast views have zero strides: numba takes them as non-contiguous arrays of the same type
-    return (np.ascontiguousarray(noise_q), np.ascontiguousarray(noise_o), np.ascontiguousarray(noise_f), cfg)
+    return noise_q, noise_o, noise_f, cfg  # a noise-free channel: one row of zeros (the kernel reads row 0)
 
 
 def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopState):
@@ -307,7 +301,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     exc = None
     try:
         while True:
-            k_stop = min(k + _PROGRESS_CHUNK, N) if bar is not None else -1
+            k_stop = min(k + _CHUNK, N)
             K.run_ticks(cl.spatial, k, k_stop, N, loop.T, cl.steps, cl.method, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho,
                         loop.max_deformation, band, cl.ctrl, cl.posture, cl.C, cl.qp, qa, state.ws,
                         noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau, state.integrals, state.last_split,
@@ -318,7 +312,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
             k = int(out_int[1])
             state.tick = k
             if code == K.CHUNK_END:
-                bar.update(k - bar.n)
+                if bar is not None:
+                    bar.update(k - bar.n)
                 continue
             if code == K.QP_FAILED:
                 try:

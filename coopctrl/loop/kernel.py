@@ -232,6 +232,9 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             return
         t = k * T
         out_int[1] = k
+        kq = k if noise_q.shape[0] > 1 else 0  # a noise-free channel passes one row of zeros
+        ko = k if noise_o.shape[0] > 1 else 0
+        kf = k if noise_f.shape[0] > 1 else 0
         # ---- sensors (true terms: forces, guards)
         Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _terms(x, P, status, cws_true)
         if status[0] != 0:
@@ -242,14 +245,14 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             return
         if noisy_state:
             for c in range(nz - p):
-                xm[c] = x[c] + noise_q[k, c]
-                xm[nz + c] = x[nz + c] + noise_q[k, nz - p + c]
+                xm[c] = x[c] + noise_q[kq, c]
+                xm[nz + c] = x[nz + c] + noise_q[kq, nz - p + c]
                 if q_joint != 0.0:
                     xm[c] = np.rint(xm[c] / q_joint) * q_joint
                     xm[nz + c] = np.rint(xm[nz + c] / q_joint) * q_joint
             for c in range(p):
-                xm[nz - p + c] = x[nz - p + c] + noise_o[k, c]
-                xm[nx - p + c] = x[nx - p + c] + noise_o[k, p + c]
+                xm[nz - p + c] = x[nz - p + c] + noise_o[ko, c]
+                xm[nx - p + c] = x[nx - p + c] + noise_o[ko, p + c]
                 if q_obj != 0.0:
                     xm[nz - p + c] = np.rint(xm[nz - p + c] / q_obj) * q_obj
                     xm[nx - p + c] = np.rint(xm[nx - p + c] / q_obj) * q_obj
@@ -266,7 +269,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             zx = x
         for i in range(m):
             for a in range(p):
-                v = Fw[i, a] + noise_f[k, i * p + a]
+                v = Fw[i, a] + noise_f[kf, i * p + a]
                 if q_force != 0.0:
                     v = np.rint(v / q_force) * q_force
                 Fm[i, a] = v
