@@ -78,8 +78,7 @@ def _with_step(scenario, h):
 
 
 def _run(scenario, integrator, h):
-    loop = closed_loop(scenario)
-    loop.integrator = get_integrator(integrator)
+    loop = closed_loop(scenario, integrator=integrator)
     rec = loop.run(seeded_start(build.initial_state(scenario), loop.plant.nz), STEPS_PER_RUN * h)
     return loop, rec
 

@@ -405,9 +405,7 @@ def test_measured_limit_holds_over_the_whole_run():
     assert row["predicted_max_step_s"] < h_ok < h_bad <= T
 
     def full_run(h):
-        loop = closed_loop(scenario)
-        loop.integrator = get_integrator("euler")
-        loop.set_step(h)
+        loop = closed_loop(scenario, integrator="euler", step=h)
         return loop.run(build.initial_state(scenario), scenario.simulation.duration)["status"]
 
     assert full_run(h_ok) == "ok"

@@ -355,13 +355,15 @@ class ClosedLoopLimit:
 def nominal_run(scenario, x0, duration: float | None = None) -> dict:
     """The loop with exact sensors and RK4 at a step well inside its open-loop limit, from ``x0``."""
     from coopctrl.analysis.modes import linear_modes
+    from coopctrl.scenario.build import build_plant
     from coopctrl.simulator import closed_loop
 
-    loop = closed_loop(_exact_sensors(scenario))
+    rk4 = get_integrator("rk4")
+    exact = _exact_sensors(scenario)
+    T = scenario.simulation.control_period
+    limit = linear_modes(build_plant(exact), x0).predicted_max_step(rk4)
+    loop = closed_loop(exact, integrator=rk4, step=min(T, 0.25 * limit) if 0.0 < limit < math.inf else T)
     loop.closed_loop_diagnosis = False
-    loop.integrator = get_integrator("rk4")
-    limit = linear_modes(loop.plant, x0).predicted_max_step(loop.integrator)
-    loop.set_step(min(loop.T, 0.25 * limit) if 0.0 < limit < math.inf else loop.T)
     return loop.run(np.asarray(x0, dtype=float), scenario.simulation.duration if duration is None else duration)
 
 
