@@ -29,6 +29,8 @@ import numpy as np
 import psutil
 import pytest
 
+from _processes import descendants, still_alive
+
 from coopctrl import cli
 from coopctrl.load_distribution import LoadDistribution
 
@@ -198,26 +200,6 @@ def _in_main(pid: int, patience_s: float = CHILD_BOUND_S) -> bool:
     return False
 
 
-def _descendants(pid: int) -> list[psutil.Process]:
-    try:
-        return psutil.Process(pid).children(recursive=True)
-    except psutil.NoSuchProcess:
-        return []
-
-
-def _still_alive(processes, patience_s: float = 30.0) -> list[int]:
-    deadline = time.monotonic() + patience_s
-    while True:
-        alive = []
-        for p in processes:
-            try:
-                if p.status() != psutil.STATUS_ZOMBIE:
-                    alive.append(p.pid)
-            except psutil.NoSuchProcess:
-                pass
-        if not alive or time.monotonic() > deadline:
-            return alive
-        time.sleep(0.1)
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="signals and process trees as on Linux")
@@ -245,9 +227,9 @@ def test_fuzz_signals_at_random_moments(tmp_path):
             assert _in_main(proc.pid) or proc.poll() is not None
             deadline = time.monotonic() + delay
             while time.monotonic() < deadline and proc.poll() is None:
-                family += [p for p in _descendants(proc.pid) if p.pid not in {q.pid for q in family}]
+                family += [p for p in descendants(proc.pid) if p.pid not in {q.pid for q in family}]
                 time.sleep(0.05)
-            family += [p for p in _descendants(proc.pid) if p.pid not in {q.pid for q in family}]
+            family += [p for p in descendants(proc.pid) if p.pid not in {q.pid for q in family}]
             if proc.poll() is None:
                 proc.send_signal(sig)
             _, err = proc.communicate(timeout=CHILD_BOUND_S)
@@ -257,7 +239,7 @@ def test_fuzz_signals_at_random_moments(tmp_path):
         assert proc.returncode in (0, expected[sig]), (command, sig, delay, proc.returncode, err)
         assert "Traceback" not in err, err
         no_debris(out)
-        assert _still_alive(family) == [], (command, sig, delay)
+        assert still_alive(family) == [], (command, sig, delay)
         stopped.append((command[0], sig.name, round(delay, 2), proc.returncode))
     # Where each signal landed depends on the machine's speed, so it is not asserted; on this machine
     # class (2 cores) the durations above put them in start-up, the simulation and the writes.

@@ -23,6 +23,8 @@ import numpy as np
 import psutil
 import pytest
 
+from _processes import descendants, still_alive
+
 from coopctrl import cli
 
 REPO = Path(__file__).resolve().parent.parent
@@ -91,27 +93,6 @@ def test_zero_gravity_keeps_default_torque_limits(capsys):
 
 
 # ---------------------------------------------------------------------- 3. workers die with the sweep
-def _children(pid: int) -> list[psutil.Process]:
-    try:
-        return psutil.Process(pid).children(recursive=True)
-    except psutil.NoSuchProcess:
-        return []
-
-
-def _alive(processes, patience_s: float = 30.0) -> list[int]:
-    """Those of ``processes`` still running (not zombies) after up to ``patience_s``."""
-    deadline = time.monotonic() + patience_s
-    while True:
-        alive = []
-        for p in processes:
-            try:
-                if p.status() != psutil.STATUS_ZOMBIE:
-                    alive.append(p.pid)
-            except psutil.NoSuchProcess:
-                pass
-        if not alive or time.monotonic() > deadline:
-            return alive
-        time.sleep(0.1)
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="signals and process trees as on Linux")
@@ -124,10 +105,10 @@ def test_sweep_workers_die_with_the_sweep(sig, tmp_path):
         deadline = time.monotonic() + BOUND_S
         workers = []
         while len(workers) < 2 and time.monotonic() < deadline and proc.poll() is None:  # both workers started
-            workers = [p for p in _children(proc.pid) if "multiprocessing" in " ".join(p.cmdline())]
+            workers = [p for p in descendants(proc.pid) if "multiprocessing" in " ".join(p.cmdline())]
             time.sleep(0.1)
         assert len(workers) >= 2, "the sweep did not start its workers"
-        family = _children(proc.pid)  # workers and the resource tracker
+        family = descendants(proc.pid)  # workers and the resource tracker
         proc.send_signal(sig)
         _, err = proc.communicate(timeout=BOUND_S)
     finally:
@@ -136,7 +117,7 @@ def test_sweep_workers_die_with_the_sweep(sig, tmp_path):
     assert proc.returncode == (-signal.SIGKILL if sig == signal.SIGKILL else 143)
     if sig == signal.SIGTERM:
         assert "Traceback" not in err and "coopctrl: interrupted: 0 of 4 runs finished" in err
-    assert _alive(family) == []
+    assert still_alive(family) == []
 
 
 # ---------------------------------------------------------------------- 4. the largest float
@@ -236,7 +217,7 @@ def test_signal_during_a_write_leaves_no_temp_file(sig, code, tmp_path):
 
 def test_sigterm_during_a_run_exits_143(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "coopctrl", "run", "spatial_two_puma_carry", "-q", "--set",
-                             "simulation.duration=60", "--out", str(tmp_path / "o")],
+                             "simulation.duration=200", "--out", str(tmp_path / "o")],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
     try:
         from test_fuzz import _in_main
@@ -436,7 +417,7 @@ def test_run_deaf_to_its_timeout_is_stopped_from_outside(monkeypatch):
     assert "did not answer its run timeout" in result.rows[1]["reason"]
     left = [p for p in psutil.Process().children(recursive=True) if p.pid not in before
             and "resource_tracker" not in " ".join(p.cmdline())]  # multiprocessing's, lives as long as pytest
-    assert _alive(left) == []
+    assert still_alive(left) == []
 
 
 def test_run_timeout_stops_a_real_simulation(capsys):

@@ -65,6 +65,28 @@ def _stopped(interrupt: KeyboardInterrupt, terminated: list[int]) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code. SIGTERM is handled like Ctrl-C (clean-up, exit 143)
     while it runs, in the main thread."""
+    return _main_with_signals(argv, program=False)
+
+
+#: Signals the program ignores once its work is over (see :func:`_main_with_signals`).
+_END_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def _ignore_end_signals() -> None:
+    """Ignore SIGINT and SIGTERM (whichever thread the kernel would deliver them to): the work is over."""
+    for sig in _END_SIGNALS:
+        signal.signal(sig, signal.SIG_IGN)
+
+
+def _main_with_signals(argv: Sequence[str] | None, program: bool) -> int:
+    """:func:`_main` with SIGTERM raised as :class:`Terminated` in the main thread.
+
+    ``program=False`` (a call from Python) restores the previous SIGTERM handler at the end. ``program=True``
+    (the ``coopctrl`` process) instead ignores SIGINT and SIGTERM from then on: the work is over (outputs
+    whole, or cleaned up), and a signal landing between the end of the work and the end of the process
+    would otherwise meet the restored default handler (death by the signal instead of the exit code) or
+    interrupt the interpreter's own shut-down.
+    """
     terminated: list[int] = []
 
     def on_sigterm(signum, frame) -> None:
@@ -83,7 +105,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt as stop:  # SIGTERM after _main's own handling
         return _stopped(stop, terminated)
     finally:
-        if previous is not None:
+        if program:
+            _ignore_end_signals()
+        elif previous is not None:
             signal.signal(signal.SIGTERM, previous)
 
 
@@ -137,7 +161,11 @@ def console_main() -> None:
     import), CPython marks the KeyboardInterrupt as unhandled even though :func:`main` handled it, and
     would then end the process by SIGINT (status -2) instead of the documented 130. Everything to clean
     up was cleaned before :func:`main` returned (temporary files, sweep workers)."""
-    code = main()
+    try:
+        code = _main_with_signals(None, program=True)
+    except KeyboardInterrupt as stop:  # landed as the work ended, before the signals were held
+        _ignore_end_signals()
+        code = 128 + stop.signum if isinstance(stop, Terminated) else 130
     if code in (130, 143):
         for stream in (sys.stdout, sys.stderr):
             try:
