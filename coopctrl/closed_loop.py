@@ -19,12 +19,17 @@ integrator, or with a free step ``h <= T`` (:meth:`ClosedLoop.set_step`): ``floo
 of ``h`` and one shorter remainder step that lands on the next control instant. Divergence (a
 non-finite state, a deformation beyond ``max_deformation``, an energy beyond ``max_energy``, or a
 numerical failure of the plant) stops the run with a diagnostic naming the time, the quantity and
-its causes checked against the run's evidence (:mod:`coopctrl.analysis.diagnosis`: static
+its causes checked against the run's evidence (:mod:`coopctrl.loop.diagnosis`: static
 instability, an unreachable pose, torque saturation, a held QP split, and the step, with a suggested
 step only when the step is beyond the closed loop's predicted limit); it never runs on silently. A
 spatial node whose pitch comes within
-:data:`~coopctrl.analysis.euler_singularity.EULER_PITCH_MARGIN_DEG` of +-90 deg stops the run as
+:data:`~coopctrl.loop.euler_band.EULER_PITCH_MARGIN_DEG` of +-90 deg stops the run as
 an Euler-angle singularity (and a nominal path that does is refused when the loop is built).
+
+The loop's other concepts have files of their own in :mod:`coopctrl.loop`: the failure diagnosis
+(:mod:`~coopctrl.loop.diagnosis`), the loaded start (:mod:`~coopctrl.loop.loaded_start`), the Euler-angle
+band (:mod:`~coopctrl.loop.euler_band`) and the QP's contact inputs (:mod:`~coopctrl.loop.qp_inputs`);
+the methods below that name them delegate. The loop imports nothing of ``coopctrl.analysis``.
 """
 
 from __future__ import annotations
@@ -34,31 +39,20 @@ import time as _time
 
 import numpy as np
 
-from coopctrl.analysis.euler_singularity import (
-    EULER_PITCH_MARGIN_DEG,
-    SingularityHit,
-    check_nominal_path,
-    closest_to_singularity,
-    fix_hint,
-    margin_cos,
-)
 from coopctrl.controllers import required_object_wrench
-from coopctrl.controllers.computed_torque import task_acceleration
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 from coopctrl.load_distribution import grasp_matrix, internal_force_basis
+from coopctrl.loop import diagnosis, loaded_start
+from coopctrl.loop.diagnosis import DIAGNOSIS_TICKS_BACK
+from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
+from coopctrl.loop.euler_band import check_nominal_path, closest_to_singularity, margin_cos
+from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, contact_normals, qp_torque_limits, torque_model
 from coopctrl.record_memory import check_record_fits
-from plants.cooperative import ContactPoint, nominal_node_motion
-from plants.errors import EulerSingularityError, PlantError
-from plants.frames import body_rate_map, rotation_zyx
+from plants.cooperative import nominal_node_motion
+from plants.errors import PlantError
+from plants.frames import rotation_zyx
 
-
-#: Fraction of each joint torque limit the load-distribution QP may plan with [-].
-TORQUE_HEADROOM = 0.9
-
-#: Control ticks before the failure at which a diverged run is diagnosed [-]: the state of the last
-#: tick may already be far into the blow-up (an unstable mode grows geometrically), so its
-#: linearization would not be the one that failed.
-DIAGNOSIS_TICKS_BACK = 5
+__all__ = ["ClosedLoop", "DIAGNOSIS_TICKS_BACK", "TORQUE_HEADROOM"]
 
 
 class ClosedLoop:
@@ -80,12 +74,15 @@ class ClosedLoop:
         squeeze_desired: (n_pairs,) desired virtual-linkage squeeze [N].
         max_deformation: Divergence bound on any node's displacement from its rigid pose [m].
         max_energy: Optional bound on the total energy [J].
+        failure_causes: Optional ``(loop, evidence, k_done, t_fail, x_back, t_back, x0) -> Diagnosis``:
+            the causes of a divergence checked against the closed loop's predicted step limit (wired by
+            :func:`coopctrl.simulator.closed_loop`; see :mod:`coopctrl.loop.diagnosis`).
     """
 
     def __init__(self, plant, trajectory, grasps, load_distribution, compliance, leader, followers, sensors,
                  integrator, control_period: float, substeps: int, squeeze_desired, max_deformation: float,
                  max_energy: float | None = None, torque_limits: bool = False, name: str = "scenario",
-                 enabled: bool = True, step: float | None = None):
+                 enabled: bool = True, step: float | None = None, failure_causes=None):
         self.plant = plant
         self.trajectory = trajectory
         self.grasps = np.asarray(grasps, dtype=float)
@@ -107,6 +104,7 @@ class ClosedLoop:
         self.torque_limits = bool(torque_limits)
         self.name = name
         self.enabled = bool(enabled)
+        self.failure_causes = failure_causes
         self.space = plant.space
         self.npos = 3 if self.space == "spatial" else 2
         el = plant.elastic
@@ -116,7 +114,7 @@ class ClosedLoop:
         self.tau_max = np.concatenate([np.asarray(a.tau_max, dtype=float) for a in plant.arms])
         #: The QP plans torques within ``TORQUE_HEADROOM`` of each limit, leaving the rest for
         #: the feedback terms; the applied torques are saturated at the limit (actuators).
-        self._qp_tau_max = [TORQUE_HEADROOM * np.asarray(a.tau_max, dtype=float) for a in plant.arms]
+        self._qp_tau_max = qp_torque_limits(plant)
         self._x_ref = None
         self._modes_cache: dict[int, tuple] = {}
         if self.space == "spatial":  # a nominal path through the Euler singularity is bad input
@@ -169,9 +167,9 @@ class ClosedLoop:
         self._steps = (h,) * n + ((rest,) if rest > 1e-9 * self.T else ())
 
     def modes(self, x=None):
-        """:class:`~coopctrl.analysis.modes.ModalAnalysis` of the plant about ``x`` (default: the state
+        """:class:`~coopctrl.integrators.modes.ModalAnalysis` of the plant about ``x`` (default: the state
         the last run started from; ``ValueError`` before any run); cached per state."""
-        from coopctrl.analysis.modes import linear_modes
+        from coopctrl.integrators.modes import linear_modes
 
         if x is None:
             if self._x_ref is None:
@@ -207,120 +205,31 @@ class ClosedLoop:
         return 0.5 * min(limit, 2.0 * self.T)
 
     def _step_advice(self, x_fail=None) -> tuple[float | None, str]:
-        """``(suggested step, advice)`` after a failure at step ``h``: when ``h`` exceeds the predicted
-        limit at the start state or at a state ``x_fail`` shortly before the failure, half the smaller
-        limit (which is below ``h``); otherwise no step and a sentence saying the step is not the likely
-        cause."""
-        limits = [self.predicted_max_step()]
-        if x_fail is not None and np.all(np.isfinite(x_fail)):
-            try:
-                limits.append(self.predicted_max_step(x_fail))
-            except (PlantError, np.linalg.LinAlgError, ValueError):
-                pass
-        limit = min(limits)
-        name = getattr(self.integrator, "name", type(self.integrator).__name__)
-        if limit == 0.0:
-            return None, (f"{name} is unstable at every step on an undamped mode of this plant: use "
-                          "symplectic_euler, rk4, or implicit_euler for stiff grasps")
-        if self.h > limit:
-            return 0.5 * limit, ""
-        return None, (f"the step h = {self.h:.3g} s is within {name}'s predicted stability limit {limit:.3g} s, "
-                      "so the step is not the likely cause")
+        """:func:`coopctrl.loop.diagnosis.step_advice` of this loop."""
+        return diagnosis.step_advice(self, x_fail)
 
     def numerically_stable_step(self) -> bool:
         """True if the integration step is within the chosen integrator's predicted limit."""
         return self.h <= self.predicted_max_step()
 
     def diagnose(self, x) -> str:
-        """Why a run at state ``x`` (the loaded start) cannot stay bounded, if the physics says so.
-
-        Checks the object's stiffness with the contact nodes held (:meth:`ElasticSystem.node_stiffness`):
-        a negative eigenvalue is a static instability of the grasp, whatever the step.
-        """
-        Y = self.plant.node_poses(x)
-        K0 = self.plant.elastic.node_stiffness(Y, 0)
-        npos = self.npos
-        ev, vec = np.linalg.eigh(K0[:npos, :npos])
-        if ev[0] < 0:
-            d = vec[:, 0] * np.sign(vec[np.argmax(np.abs(vec[:, 0])), 0])
-            axes = "xyz" if npos == 3 else "xz"
-            direction = ", ".join(f"{c}: {v:+.2f}" for c, v in zip(axes, d))
-            return (f"the grasp is statically unstable: the object's translational stiffness has a negative "
-                    f"eigenvalue {ev[0]:.4g} N/m along ({direction}); central springs carry lateral load only "
-                    "through tension and squeeze makes their lateral stiffness negative, so the object buckles out "
-                    "of the grasp line (MODEL.md s.3). Use element = \"offset\" (shear stiffness) or less squeeze")
-        return ""
+        """Why a run at state ``x`` (the loaded start) cannot stay bounded, if the physics says so
+        (:func:`coopctrl.loop.diagnosis.static_instability`); else ``""``."""
+        return diagnosis.static_instability(self, x)
 
     def _torque_model(self, terms, ddYn):
-        """QP torque-limit rows: ``tau_i = Jg_i^T F_i + bias_i`` with the nominal node accelerations."""
-        jac, bias = [], []
-        for i, arm in enumerate(self.plant.arms):
-            k = i + 1
-            n = arm.dof
-            if isinstance(arm, ContactPoint):
-                jac.append(np.eye(self.plant.p))
-                bias.append(terms.W[k] @ ddYn[k] + terms.w_free[k])
-                continue
-            J = terms.J[i, :, :n]
-            if self.space == "spatial":
-                Ai = terms.Y[k, 3:6]
-                Jg = J.copy()
-                Jg[3:] = rotation_zyx(Ai) @ body_rate_map(Ai) @ J[3:]
-            else:
-                Jg = J
-            try:
-                qdd = task_acceleration(terms, i, n, ddYn[k] - terms.Jdq[i])  # J^-1, or J^# if redundant
-            except np.linalg.LinAlgError:
-                qdd = np.zeros(n)
-            jac.append(Jg)
-            bias.append(terms.H[i, :n, :n] @ qdd + terms.h[i, :n] + J.T @ (terms.W[k] @ ddYn[k] + terms.w_free[k]))
-        return jac, bias
+        """QP torque-limit rows (:func:`coopctrl.loop.qp_inputs.torque_model`)."""
+        return torque_model(self.plant, terms, ddYn)
 
     def _normals(self, terms):
-        """Inward contact normals: each node's approach axis (its frame's x axis)."""
-        Y = terms.Y
-        out = np.empty((self.plant.arm_count, self.npos))
-        for i in range(self.plant.arm_count):
-            if self.space == "spatial":
-                out[i] = rotation_zyx(Y[i + 1, 3:6])[:, 0]
-            else:
-                out[i] = (math.cos(Y[i + 1, 2]), math.sin(Y[i + 1, 2]))
-        return out
+        """Inward contact normals (:func:`coopctrl.loop.qp_inputs.contact_normals`)."""
+        return contact_normals(self.plant, terms)
 
     def loaded_state(self, x_unloaded) -> np.ndarray:
-        """The loaded state at rest at t = 0, as the controllers plan it.
-
-        The object is on its nominal pose; each contact node is at the pose that makes its
-        interconnection carry the QP split of t = 0 (with the desired squeeze); each arm reaches
-        its node by inverse kinematics (seeded with the unloaded configuration).
-        """
-        plant = self.plant
-        p, npos, m = plant.p, self.npos, plant.arm_count
-        Y0N, dY0N, ddY0N = self.trajectory.evaluate(0.0)
-        Yn = nominal_node_motion(Y0N, dY0N, ddY0N, self.grasps, self.space)[0]
-        w_N = required_object_wrench(self.space, self.object_mass, self.object_inertia, self.gravity, Y0N, dY0N, ddY0N)
-        from coopctrl.load_distribution import LoadDistribution
-
-        ld = LoadDistribution(self.ld.config, self.space, m)
-        terms = plant.control_terms(x_unloaded)
-        kwargs = {}
-        if self.ld.config.min_grip is not None or self.ld.config.friction_coefficient is not None:
-            kwargs["normals"] = self._normals(terms)
-        if self.torque_limits:
-            kwargs["jacobians"], kwargs["biases"] = self._torque_model(terms, np.zeros((m + 1, p)))
-            kwargs["tau_max"] = self._qp_tau_max
-        if self.ld.config.split == "elastic":
-            kwargs["K"] = self.compliance.stiffness_world(Y0N)
-        F = ld.solve(Yn[1:, :npos], Y0N[:npos], w_N, **kwargs).F
-        x = np.array(x_unloaded, dtype=float)
-        nz = plant.nz
-        x[nz:] = 0.0
-        x[nz - p:nz] = Y0N
-        for i, arm in enumerate(plant.arms):
-            Yi = self.compliance.deformation(i, F[i], Y0N, Yn[i + 1])
-            sl = plant.q_slice(i)
-            x[sl] = arm.inverse_kinematics(Yi, x_unloaded[sl]) if not isinstance(arm, ContactPoint) else Yi
-        return x
+        """The loaded state at rest at t = 0, as the controllers plan it, from this loop's parts
+        (:func:`coopctrl.loop.loaded_start.loaded_state`)."""
+        return loaded_start.loaded_state(self.plant, self.trajectory, self.grasps, self.ld.config, self.compliance,
+                                         self.torque_limits, x_unloaded)
 
     # ------------------------------------------------------------------ the loop
     def run(self, x0, duration: float, progress: bool = False, integrals=None):
@@ -527,140 +436,8 @@ class ClosedLoop:
 
     def _stop_reason(self, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
                      saturation: dict) -> tuple[str, str]:
-        """``(status, reason)`` of a run stopped at tick ``k`` by ``exc`` (after ``k_done`` recorded ticks),
-        with its event appended to ``events``: the diagnosis, shared by the Python and compiled ticks.
-        ``saturation``: ``saturated_ticks``, ``saturated_joint_ticks``, ``saturation_first_time_s`` and
-        ``saturated_last_tick`` so far (the diagnosis' evidence)."""
-        spatial = self.space == "spatial"
-        near = margin_cos(2.0 * EULER_PITCH_MARGIN_DEG)  # a failure this close is blamed on the singularity
-        if isinstance(exc, _NearSingularity):
-            status, reason = "diverged", self._singularity_reason(exc.hit)
-            events.append((exc.hit.time, "euler_singularity", reason))
-        elif isinstance(exc, (DivergenceError, PlantError)):
-            status = "diverged"
-            hit = self._nearest_singularity(x, k * self.T, x_good, t_good) if spatial else None
-            if isinstance(exc, EulerSingularityError) or (hit is not None and hit.cos_theta < near):
-                if isinstance(exc, EulerSingularityError) and (hit is None or hit.cos_theta >= near):
-                    hit = _hit_from_plant_error(exc, k * self.T)  # reached inside a control period
-                reason = self._singularity_reason(hit, f"{exc}" if isinstance(exc, DivergenceError) else "")
-                events.append((hit.time, "euler_singularity", reason))
-            else:
-                # the advice is taken a few ticks before the failure: the last good state may already be wild
-                back = max(0, k_done - 1 - DIAGNOSIS_TICKS_BACK)
-                x_back = rec["x"][back] if k_done else np.asarray(x0, dtype=float)
-                t_back = float(rec["t"][back]) if k_done else 0.0
-                chart = self._chart_stiffening(x_back, t_back, np.asarray(x0, dtype=float)) if spatial else ""
-                evidence = dict(saturation, events=events)
-                reason = self._divergence_reason(exc, k * self.T, x_back, np.asarray(x0, dtype=float), chart,
-                                                 evidence=evidence, k_done=k_done, t_back=t_back)
-                events.append((getattr(exc, "time", k * self.T), "euler_singularity" if chart else "diverged", reason))
-        else:  # InfeasibleLoad
-            from coopctrl.analysis.diagnosis import held_split_cause
-
-            held = held_split_cause(events)
-            status, reason = "qp_failed", f"at t = {k * self.T:.6g} s: {exc}" + (f"; cause: {held}" if held else "")
-            events.append((k * self.T, "qp_failed", str(exc)))
-        return status, reason
-
-    def _chart_stiffening(self, x_back, t_back: float, x0) -> str:
-        """Why the step failed, if it is the Euler-angle chart; else ``""``.
-
-        Blamed on the chart when, at the state ``x_back`` a few ticks before the failure (or else at the
-        start state ``x0``), the step is beyond the integrator's predicted limit and the mode that sets
-        that limit lives mostly (share > 1/2,
-        :func:`~coopctrl.analysis.euler_singularity.chart_mode_share`) on the Euler angles of nodes
-        pitched beyond 45 deg: rotational stiffness and damping written in Euler-angle coordinates act
-        on the inertia ``L^T I L``, which loses rank like ``cos^2(theta)`` (MODEL.md s.2), so such a
-        mode stiffens like ``1 / cos^2(theta)`` on the way to the singularity.
-        """
-        from coopctrl.analysis.euler_singularity import chart_mode_share
-
-        for x, t in ((x_back, t_back), (x0, 0.0)):
-            try:
-                modes = self.modes(x)
-                limit = modes.predicted_max_step(self.integrator)
-                k = modes.limiting_mode(self.integrator)
-                if k is None or not self.h > limit:
-                    continue
-                share, hit = chart_mode_share(self.plant, x, modes.eigenvectors[:, k])
-            except (PlantError, np.linalg.LinAlgError, ValueError):
-                continue
-            if share > 0.5:
-                break
-        else:
-            return ""
-        hit = SingularityHit(hit.node, hit.theta, hit.cos_theta, t)
-        name = getattr(self.integrator, "name", type(self.integrator).__name__)
-        return (f"approaching the Euler-angle singularity: {hit.describe()}; the mode that limits {name} there "
-                f"({abs(modes.eigenvalues[k]):.4g} rad/s, {100 * share:.0f} % on the Euler angles of pitched nodes) "
-                "is stiffened by the Euler-angle chart (rotational stiffness and damping in Euler-angle coordinates act "
-                "on an inertia L^T I L that vanishes like cos^2(theta)); a smaller step only helps until the pitch "
-                f"grows further; {fix_hint()}")
-
-    def _divergence_reason(self, exc, t_fail: float, x_back, x0, chart: str = "", evidence: dict | None = None,
-                           k_done: int = 0, t_back: float = 0.0) -> str:
-        """One line: what left its bounds and when, then its causes checked against the run's ``evidence``
-        (:func:`coopctrl.analysis.diagnosis.diagnose_failure`: static instability, an unreachable pose,
-        torque saturation, a held QP split, the step), and step advice only when the step is the cause
-        (its closed-loop predicted limit at the start and at ``x_back``, a few ticks before the failure)."""
-        from coopctrl.analysis.diagnosis import Diagnosis, diagnose_failure
-
-        try:
-            diag = diagnose_failure(self, evidence or {}, k_done, t_fail, x_back, t_back, x0)
-        except Exception:  # noqa: BLE001 - the diagnosis must never replace the failure it explains
-            diag = Diagnosis((), self.h > self.predicted_max_step(), math.nan)
-        if diag.step_is_cause:
-            step, advice = self._step_advice(x_back)
-            if step is None and advice.startswith("the step h"):  # within the open-loop limit: half the closed-loop one
-                step, advice = 0.5 * min(diag.closed_loop_limit_s, 2.0 * self.T), ""
-        else:
-            limit = diag.closed_loop_limit_s
-            name = getattr(self.integrator, "name", type(self.integrator).__name__)
-            shown = (f"the closed loop's stable range (its linearization has no limit below the control period "
-                     f"{self.T:g} s)" if limit == math.inf else
-                     f"{name}'s predicted closed-loop stability limit {limit:.3g} s" if not math.isnan(limit) else
-                     f"{name}'s predicted stability limit {self.predicted_max_step():.3g} s")
-            step, advice = None, f"the step h = {self.h:.3g} s is within {shown}, so the step is not the likely cause"
-        if isinstance(exc, DivergenceError):
-            if type(exc) is DivergenceError:
-                reason = str(DivergenceError(exc.time, exc.quantity, exc.value, step))
-            else:  # an integrator's own failure (Newton): its message already says what to change
-                reason = str(exc) + (f"; the predicted stability limit suggests at most {step:.3g} s" if step else "")
-                advice = ""
-        else:
-            reason = f"diverged at t = {t_fail:.6g} s: {exc}" + (f"; try a step of at most {step:.3g} s" if step else "")
-        if chart:
-            return f"{reason}; {chart}"
-        if advice:
-            reason = f"{reason}; {advice}"
-        quantity = getattr(exc, "quantity", "")
-        if getattr(exc, "time", None) == 0.0 and quantity.startswith("deformation"):
-            reason = (f"{reason}: the start state already deforms the grasp beyond simulation.max_deformation = "
-                      f"{self.max_deformation:g} m (a static deflection |F| / k: the interconnections are too soft for "
-                      "the load); raise the stiffness, lower the load or raise max_deformation")
-        causes = list(diag.causes)
-        if causes and causes[0] == self.diagnose(x0):  # static instability: the physics' own sentence
-            reason = f"{reason}: {causes.pop(0)}"
-        if causes:
-            reason = f"{reason}; cause: " + "; ".join(causes)
-        return reason
-
-    def _nearest_singularity(self, x, t: float, x_good, t_good: float) -> SingularityHit:
-        """The node closest to pitch +-90 deg in the failing state ``x`` (if finite) or the last good one."""
-        hits = []
-        for state, when in ((x, t), (x_good, t_good)):
-            if np.all(np.isfinite(state)):
-                try:
-                    hits.append(closest_to_singularity(self.plant.node_poses(state).reshape(-1, self.plant.p), when))
-                except PlantError:
-                    pass
-        return min(hits, key=lambda h: h.cos_theta) if hits else SingularityHit(0, 0.0, 1.0, t_good)
-
-    def _singularity_reason(self, hit, detail: str = "") -> str:
-        """One line for a run stopped at the Euler-angle singularity."""
-        after = f" (the integration then failed: {detail})" if detail else ""
-        return (f"Euler-angle singularity at t = {hit.time:.6g} s: {hit.describe(with_time=False)}{after}; a smaller step does not "
-                f"help: {fix_hint()}")
+        """:func:`coopctrl.loop.diagnosis.stop_reason` of this loop (the Python and compiled ticks call it)."""
+        return diagnosis.stop_reason(self, exc, k, k_done, rec, x, x_good, t_good, x0, events, saturation)
 
     # ------------------------------------------------------------------ post-processing
     def squeeze_of(self, F, r_contacts, r_object) -> np.ndarray:
@@ -675,22 +452,3 @@ class ClosedLoop:
         E = internal_force_basis(r_contacts, self.space)
         return np.linalg.lstsq(E, f_int, rcond=None)[0]
 
-
-class _NearSingularity(Exception):
-    """Internal: a node of the running state entered the band around pitch +-90 deg."""
-
-    def __init__(self, hit):
-        super().__init__(hit.describe())
-        self.hit = hit
-
-
-def _hit_from_plant_error(exc, t: float) -> SingularityHit:
-    """A :class:`SingularityHit` from the plant's :class:`EulerSingularityError` (or an unknown place)."""
-    theta = float(getattr(exc, "theta", math.nan))
-    node = 0
-    where = str(getattr(exc, "where", ""))
-    if where.startswith("contact node "):
-        digits = where[len("contact node "):].split()[0]
-        node = int(digits) if digits.isdigit() else 0
-    c = abs(math.cos(theta)) if math.isfinite(theta) else 0.0
-    return SingularityHit(node, theta if math.isfinite(theta) else 0.5 * math.pi, c, t)

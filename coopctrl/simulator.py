@@ -13,7 +13,6 @@ from coopctrl.loop.squeeze import squeeze_series
 from coopctrl.results import SimulationResult
 from coopctrl.scenario import build
 from coopctrl.sensors import SensorConfig, SensorSuite
-from coopctrl.trajectory import MinimumJerkTrajectory
 
 
 def _sensor(cfg) -> SensorConfig:
@@ -36,10 +35,11 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
             controllers before they are wired (e.g. wrapped by the probes of
             :mod:`coopctrl.tuning.loop_probes`).
     """
+    from coopctrl.analysis.diagnosis import diagnose_failure
+
     plant = build.build_plant(scenario)
     space, m = scenario.space, len(scenario.arms)
-    via = scenario.trajectory.via
-    trajectory = MinimumJerkTrajectory([v.time for v in via], [v.pose for v in via], space)
+    trajectory = build.trajectory(scenario)
     compliance = GraspCompliance(plant)
     ctrl = scenario.controllers
     leader = LeaderController(plant, scenario.leader, ctrl.leader.natural_frequency, ctrl.leader.damping_ratio)
@@ -60,7 +60,7 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
                       followers, sensors, integrator, sim.control_period, sim.substeps,
                       scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
                       torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
-                      enabled=scenario.controllers.enabled)
+                      enabled=scenario.controllers.enabled, failure_causes=diagnose_failure)
     if step is not None:
         loop.set_step(step, uniform=uniform_step)
     loop.scenario = scenario  # for the failure diagnosis (coopctrl.analysis.diagnosis: the closed-loop step limit)

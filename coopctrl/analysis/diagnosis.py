@@ -1,7 +1,10 @@
 """Why a run failed: each possible cause checked against the evidence of the run.
 
-:class:`~coopctrl.closed_loop.ClosedLoop` calls :func:`diagnose_failure` when a run stops (outside the
-Euler-angle singularity, which the loop names itself). The causes, in the order they are reported:
+:func:`diagnose_failure` is the ``failure_causes`` part that :func:`coopctrl.simulator.closed_loop` wires
+into the loop: :func:`coopctrl.loop.diagnosis.stop_reason` calls it when a run diverges (outside the
+Euler-angle singularity, which the loop names itself). It lives here, above the loop, because it
+linearizes the closed loop (:mod:`~coopctrl.analysis.closed_loop_stability`), which builds loops. The
+causes, in the order they are reported:
 
 - **static instability**: the object's translational stiffness with the contacts held has a negative
   eigenvalue at the start (:meth:`ClosedLoop.diagnose`; a squeezed central-spring grasp buckles);
@@ -21,27 +24,16 @@ Euler-angle singularity, which the loop names itself). The causes, in the order 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.loop.diagnosis import Diagnosis, held_split_cause
+
+__all__ = ["SATURATION_SHARE", "Diagnosis", "closed_loop_limit", "diagnose_failure", "held_split_cause",
+           "saturation_cause", "unreachable_cause"]
+
 #: Share of the ticks run [-] with clipped torques from which saturation is named as a cause.
 SATURATION_SHARE = 0.1
-
-
-@dataclass(frozen=True)
-class Diagnosis:
-    """The causes found for a failed run.
-
-    Attributes:
-        causes: One phrase per cause found, the most fundamental first.
-        step_is_cause: True when the step exceeds the predicted closed-loop limit.
-        closed_loop_limit_s: That limit [s] (``inf``: none below the control period; ``nan``: not known).
-    """
-
-    causes: tuple[str, ...]
-    step_is_cause: bool
-    closed_loop_limit_s: float
 
 
 def saturation_cause(loop, rec: dict, k_done: int) -> str:
@@ -62,15 +54,6 @@ def saturation_cause(loop, rec: dict, k_done: int) -> str:
             f"t = {first:.4g} s ({joints}{more}); the task needs more torque than the arms have: lower the payload "
             "(object.mass) or the accelerations, or raise tau_max (`coopctrl check` refuses such a task before it "
             "runs)")
-
-
-def held_split_cause(events) -> str:
-    """The load-distribution phrase when the QP failed and the last split was held, else ``""``."""
-    held = [e for e in events if e[1] == "qp_held"]
-    if not held:
-        return ""
-    return (f"load distribution: the QP failed on {len(held)} ticks from t = {held[0][0]:.4g} s and the loop held its "
-            f"last feasible split ({held[0][2]})")
 
 
 def unreachable_cause(loop, t: float) -> str:

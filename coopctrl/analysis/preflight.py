@@ -8,7 +8,7 @@ gives every contact node's nominal motion (148) and the external load ``w_N``; t
    kinematics within its joint limits (residual at most ``IK_TOLERANCE``); the previous sample's
    joints seed the next, so the arm follows one branch.
 2. **Load distribution.** The scene's QP (``G F = w_N``, squeeze, grip, friction, and the torque
-   limits when enabled, planned within :data:`~coopctrl.closed_loop.TORQUE_HEADROOM` of them) must
+   limits when enabled, planned within :data:`~coopctrl.loop.qp_inputs.TORQUE_HEADROOM` of them) must
    have a feasible split at the arms' nominal state.
 3. **Torques.** The joint torques that split needs with the nominal accelerations,
    ``tau_i = J_i^T F_i + H_i qdd_i + h_i + J_i^T (W_i ddY_i + w_i)`` [N m], must lie within each
@@ -241,8 +241,8 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
     ``x`` gets the arms' joints and rates."""
     import dataclasses
 
-    from coopctrl.closed_loop import TORQUE_HEADROOM
     from coopctrl.load_distribution import LoadDistribution
+    from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, contact_normals, qp_torque_limits, torque_model
     from plants.errors import PlantError
 
     nz, p, npos, space, m = plant.nz, plant.p, loop.npos, loop.space, plant.arm_count
@@ -264,10 +264,10 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
     config = loop.ld.config
     kwargs = {}
     if config.min_grip is not None or config.friction_coefficient is not None:
-        kwargs["normals"] = loop._normals(terms)
-    jac, bias = loop._torque_model(terms, ddYn)
+        kwargs["normals"] = contact_normals(loop.plant, terms)
+    jac, bias = torque_model(loop.plant, terms, ddYn)
     if loop.torque_limits:
-        kwargs["jacobians"], kwargs["biases"], kwargs["tau_max"] = jac, bias, loop._qp_tau_max
+        kwargs["jacobians"], kwargs["biases"], kwargs["tau_max"] = jac, bias, qp_torque_limits(plant)
     if config.split == "elastic":
         kwargs["K"] = loop.compliance.stiffness_world(Y0N)
     ld = LoadDistribution(config, space, m)  # each sample on its own: a failure is never a held split

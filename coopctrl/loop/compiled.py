@@ -230,8 +230,8 @@ def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopSt
 
 def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_fail, traj):
     """The exception the Python tick raises for the kernel's stop ``code`` at tick ``k``."""
-    from coopctrl.analysis.euler_singularity import closest_to_singularity
-    from coopctrl.closed_loop import _NearSingularity
+    from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
+    from coopctrl.loop.euler_band import closest_to_singularity
     from plants.cooperative import nominal_node_motion
     from plants.frames import body_rate_map_inv
 
@@ -288,7 +288,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     out_float = np.zeros(2)
     held: dict[int, tuple[str, tuple[str, ...]]] = {}
     events: list[tuple[float, str, str]] = []
-    from coopctrl.analysis.euler_singularity import margin_cos
+    from coopctrl.loop.euler_band import margin_cos
 
     band = margin_cos()
     bar = None

@@ -151,17 +151,34 @@ def unloaded_state(scenario) -> np.ndarray:
     return _build(scenario)[1].copy()
 
 
+def trajectory(scenario):
+    """The object's nominal :class:`~coopctrl.trajectory.MinimumJerkTrajectory` through ``trajectory.via``."""
+    from coopctrl.trajectory import MinimumJerkTrajectory
+
+    via = scenario.trajectory.via
+    return MinimumJerkTrajectory([v.time for v in via], [v.pose for v in via], scenario.space)
+
+
 def initial_state(scenario) -> np.ndarray:
     """The state the run starts from (``simulation.start``): the unloaded state, or the loaded
-    state of :meth:`ClosedLoop.loaded_state` (object on its nominal pose, grasps carrying the
-    QP split of t = 0)."""
+    state of :func:`coopctrl.loop.loaded_start.loaded_state` (object on its nominal pose, grasps
+    carrying the QP split of t = 0), planned from the loop's parts built here (the simulator is not
+    needed). A spatial nominal path through the Euler-angle band is refused first, as the loop refuses it."""
     x = unloaded_state(scenario)
     if scenario.simulation.start == "unloaded":
         return x
-    from coopctrl.simulator import closed_loop
+    from coopctrl.controllers import GraspCompliance
+    from coopctrl.loop.euler_band import check_nominal_path
+    from coopctrl.loop.loaded_start import loaded_state
 
+    plant = build_plant(scenario)
+    path = trajectory(scenario)
+    grasps = nominal_grasps(scenario)
+    if scenario.space == "spatial":
+        check_nominal_path(path, grasps)
+    ld = scenario.load_distribution
     try:
-        return closed_loop(scenario).loaded_state(x)
+        return loaded_state(plant, path, grasps, ld, GraspCompliance(plant), ld.torque_limits, x)
     except UnreachablePoseError as exc:
         raise ScenarioError("simulation.start", "loaded", f"a loaded pose within reach ({exc})", scenario.source) from None
 

@@ -1,0 +1,275 @@
+"""Why a run stopped: the reason a failed run reports, from the evidence the loop collected.
+
+When a tick stops the run (the Euler-angle band, a divergence guard, a numerical failure of the
+plant, a QP failure past its policy), the Python tick and the compiled one hand the same evidence
+to :func:`stop_reason`: the exception, the tick, the recorded states, the last good state, the
+torque saturation so far and the events. It returns ``(status, reason)`` and appends the failure's
+event:
+
+- **Euler-angle singularity**: a node entered the band (:class:`~coopctrl.loop.euler_band.NearSingularity`),
+  or the plant failed while a node was within twice the band's margin: named, with the fix (never a
+  smaller step);
+- **QP failure**: the solver's cause, and the held splits before it;
+- **divergence**: what left its bounds and when, then its causes (:func:`divergence_reason`), and a
+  suggested step only when the step is the cause. When the step limit that decides it belongs to a mode
+  stiffened by the Euler-angle chart, that is named instead (:func:`chart_stiffening`).
+
+Where the dependency runs. The divergence's causes are checked against the closed loop's predicted step
+limit, which linearizes a loop built from the scenario (:mod:`coopctrl.analysis.closed_loop_stability`):
+the analysis layer, which builds loops and so stands above them. The loop therefore imports nothing of
+``coopctrl.analysis``: the causes come from the loop's ``failure_causes`` part, a function
+``(loop, evidence, k_done, t_fail, x_back, t_back, x0) -> Diagnosis`` wired by whoever builds the loop
+(:func:`coopctrl.simulator.closed_loop` wires :func:`coopctrl.analysis.diagnosis.diagnose_failure`).
+A loop built without it (``failure_causes=None``) still names the failure, the static instability and
+the held QP splits, and judges the step by the plant's open-loop prediction
+(:meth:`ClosedLoop.predicted_max_step <coopctrl.closed_loop.ClosedLoop.predicted_max_step>`). The
+diagnosis runs after the run, in Python, on the recorded states.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from coopctrl.errors import DivergenceError
+from coopctrl.loop.euler_band import (
+    EULER_PITCH_MARGIN_DEG,
+    NearSingularity,
+    SingularityHit,
+    chart_mode_share,
+    closest_to_singularity,
+    fix_hint,
+    hit_from_plant_error,
+    margin_cos,
+)
+from plants.errors import EulerSingularityError, PlantError
+
+#: Control ticks before the failure at which a diverged run is diagnosed [-]: the state of the last
+#: tick may already be far into the blow-up (an unstable mode grows geometrically), so its
+#: linearization would not be the one that failed.
+DIAGNOSIS_TICKS_BACK = 5
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """The causes found for a failed run.
+
+    Attributes:
+        causes: One phrase per cause found, the most fundamental first.
+        step_is_cause: True when the step exceeds the predicted closed-loop limit.
+        closed_loop_limit_s: That limit [s] (``inf``: none below the control period; ``nan``: not known).
+    """
+
+    causes: tuple[str, ...]
+    step_is_cause: bool
+    closed_loop_limit_s: float
+
+
+def _integrator_name(loop) -> str:
+    return getattr(loop.integrator, "name", type(loop.integrator).__name__)
+
+
+def held_split_cause(events) -> str:
+    """The load-distribution phrase when the QP failed and the last split was held, else ``""``."""
+    held = [e for e in events if e[1] == "qp_held"]
+    if not held:
+        return ""
+    return (f"load distribution: the QP failed on {len(held)} ticks from t = {held[0][0]:.4g} s and the loop held its "
+            f"last feasible split ({held[0][2]})")
+
+
+def static_instability(loop, x) -> str:
+    """Why a run at state ``x`` (the loaded start) cannot stay bounded, if the physics says so; else ``""``.
+
+    Checks the object's stiffness with the contact nodes held (:meth:`ElasticSystem.node_stiffness`):
+    a negative eigenvalue [N/m] is a static instability of the grasp, whatever the step.
+    """
+    Y = loop.plant.node_poses(x)
+    K0 = loop.plant.elastic.node_stiffness(Y, 0)
+    npos = loop.npos
+    ev, vec = np.linalg.eigh(K0[:npos, :npos])
+    if ev[0] < 0:
+        d = vec[:, 0] * np.sign(vec[np.argmax(np.abs(vec[:, 0])), 0])
+        axes = "xyz" if npos == 3 else "xz"
+        direction = ", ".join(f"{c}: {v:+.2f}" for c, v in zip(axes, d))
+        return (f"the grasp is statically unstable: the object's translational stiffness has a negative "
+                f"eigenvalue {ev[0]:.4g} N/m along ({direction}); central springs carry lateral load only "
+                "through tension and squeeze makes their lateral stiffness negative, so the object buckles out "
+                "of the grasp line (MODEL.md s.3). Use element = \"offset\" (shear stiffness) or less squeeze")
+    return ""
+
+
+def step_advice(loop, x_fail=None) -> tuple[float | None, str]:
+    """``(suggested step [s], advice)`` after a failure at step ``h``: when ``h`` exceeds the predicted
+    limit at the start state or at a state ``x_fail`` shortly before the failure, half the smaller
+    limit (which is below ``h``); otherwise no step and a sentence saying the step is not the likely
+    cause."""
+    limits = [loop.predicted_max_step()]
+    if x_fail is not None and np.all(np.isfinite(x_fail)):
+        try:
+            limits.append(loop.predicted_max_step(x_fail))
+        except (PlantError, np.linalg.LinAlgError, ValueError):
+            pass
+    limit = min(limits)
+    name = _integrator_name(loop)
+    if limit == 0.0:
+        return None, (f"{name} is unstable at every step on an undamped mode of this plant: use "
+                      "symplectic_euler, rk4, or implicit_euler for stiff grasps")
+    if loop.h > limit:
+        return 0.5 * limit, ""
+    return None, (f"the step h = {loop.h:.3g} s is within {name}'s predicted stability limit {limit:.3g} s, "
+                  "so the step is not the likely cause")
+
+
+def nearest_singularity(loop, x, t: float, x_good, t_good: float) -> SingularityHit:
+    """The node closest to pitch +-90 deg in the failing state ``x`` (if finite) or the last good one."""
+    plant = loop.plant
+    hits = []
+    for state, when in ((x, t), (x_good, t_good)):
+        if np.all(np.isfinite(state)):
+            try:
+                hits.append(closest_to_singularity(plant.node_poses(state).reshape(-1, plant.p), when))
+            except PlantError:
+                pass
+    return min(hits, key=lambda h: h.cos_theta) if hits else SingularityHit(0, 0.0, 1.0, t_good)
+
+
+def singularity_reason(hit: SingularityHit, detail: str = "") -> str:
+    """One line for a run stopped at the Euler-angle singularity."""
+    after = f" (the integration then failed: {detail})" if detail else ""
+    return (f"Euler-angle singularity at t = {hit.time:.6g} s: {hit.describe(with_time=False)}{after}; a smaller step does not "
+            f"help: {fix_hint()}")
+
+
+def chart_stiffening(loop, x_back, t_back: float, x0) -> str:
+    """Why the step failed, if it is the Euler-angle chart; else ``""``.
+
+    Blamed on the chart when, at the state ``x_back`` a few ticks before the failure (or else at the
+    start state ``x0``), the step is beyond the integrator's predicted limit and the mode that sets
+    that limit lives mostly (share > 1/2, :func:`~coopctrl.loop.euler_band.chart_mode_share`) on the
+    Euler angles of nodes pitched beyond 45 deg: rotational stiffness and damping written in Euler-angle
+    coordinates act on the inertia ``L^T I L``, which loses rank like ``cos^2(theta)`` (MODEL.md s.2),
+    so such a mode stiffens like ``1 / cos^2(theta)`` on the way to the singularity.
+    """
+    for x, t in ((x_back, t_back), (x0, 0.0)):
+        try:
+            modes = loop.modes(x)
+            limit = modes.predicted_max_step(loop.integrator)
+            k = modes.limiting_mode(loop.integrator)
+            if k is None or not loop.h > limit:
+                continue
+            share, hit = chart_mode_share(loop.plant, x, modes.eigenvectors[:, k])
+        except (PlantError, np.linalg.LinAlgError, ValueError):
+            continue
+        if share > 0.5:
+            break
+    else:
+        return ""
+    hit = SingularityHit(hit.node, hit.theta, hit.cos_theta, t)
+    return (f"approaching the Euler-angle singularity: {hit.describe()}; the mode that limits {_integrator_name(loop)} "
+            f"there ({abs(modes.eigenvalues[k]):.4g} rad/s, {100 * share:.0f} % on the Euler angles of pitched nodes) "
+            "is stiffened by the Euler-angle chart (rotational stiffness and damping in Euler-angle coordinates act "
+            "on an inertia L^T I L that vanishes like cos^2(theta)); a smaller step only helps until the pitch "
+            f"grows further; {fix_hint()}")
+
+
+def open_loop_causes(loop, evidence: dict, k_done: int, t_fail: float, x_back, t_back: float, x0) -> Diagnosis:
+    """The causes a loop finds without the closed-loop stability analysis: the static instability at the
+    start, the held QP splits, and the step judged against the plant's open-loop predicted limit."""
+    causes = [c for c in (static_instability(loop, x0), held_split_cause(evidence.get("events", ()))) if c]
+    return Diagnosis(tuple(causes), bool(loop.h > loop.predicted_max_step()), math.nan)
+
+
+def divergence_reason(loop, exc, t_fail: float, x_back, x0, chart: str = "", evidence: dict | None = None,
+                      k_done: int = 0, t_back: float = 0.0) -> str:
+    """One line: what left its bounds and when, then its causes checked against the run's ``evidence``
+    (the loop's ``failure_causes``, else :func:`open_loop_causes`), and step advice only when the step is
+    the cause (its closed-loop predicted limit at the start and at ``x_back``, a few ticks before the
+    failure)."""
+    causes_of = getattr(loop, "failure_causes", None) or open_loop_causes
+    try:
+        diag = causes_of(loop, evidence or {}, k_done, t_fail, x_back, t_back, x0)
+    except Exception:  # noqa: BLE001 - the diagnosis must never replace the failure it explains
+        diag = Diagnosis((), loop.h > loop.predicted_max_step(), math.nan)
+    if diag.step_is_cause:
+        step, advice = step_advice(loop, x_back)
+        if step is None and advice.startswith("the step h"):  # within the open-loop limit: half the closed-loop one
+            step, advice = 0.5 * min(diag.closed_loop_limit_s, 2.0 * loop.T), ""
+    else:
+        limit = diag.closed_loop_limit_s
+        name = _integrator_name(loop)
+        shown = (f"the closed loop's stable range (its linearization has no limit below the control period "
+                 f"{loop.T:g} s)" if limit == math.inf else
+                 f"{name}'s predicted closed-loop stability limit {limit:.3g} s" if not math.isnan(limit) else
+                 f"{name}'s predicted stability limit {loop.predicted_max_step():.3g} s")
+        step, advice = None, f"the step h = {loop.h:.3g} s is within {shown}, so the step is not the likely cause"
+    if isinstance(exc, DivergenceError):
+        if type(exc) is DivergenceError:
+            reason = str(DivergenceError(exc.time, exc.quantity, exc.value, step))
+        else:  # an integrator's own failure (Newton): its message already says what to change
+            reason = str(exc) + (f"; the predicted stability limit suggests at most {step:.3g} s" if step else "")
+            advice = ""
+    else:
+        reason = f"diverged at t = {t_fail:.6g} s: {exc}" + (f"; try a step of at most {step:.3g} s" if step else "")
+    if chart:
+        return f"{reason}; {chart}"
+    if advice:
+        reason = f"{reason}; {advice}"
+    quantity = getattr(exc, "quantity", "")
+    if getattr(exc, "time", None) == 0.0 and quantity.startswith("deformation"):
+        reason = (f"{reason}: the start state already deforms the grasp beyond simulation.max_deformation = "
+                  f"{loop.max_deformation:g} m (a static deflection |F| / k: the interconnections are too soft for "
+                  "the load); raise the stiffness, lower the load or raise max_deformation")
+    causes = list(diag.causes)
+    if causes and causes[0] == static_instability(loop, x0):  # static instability: the physics' own sentence
+        reason = f"{reason}: {causes.pop(0)}"
+    if causes:
+        reason = f"{reason}; cause: " + "; ".join(causes)
+    return reason
+
+
+def stop_reason(loop, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
+                saturation: dict) -> tuple[str, str]:
+    """``(status, reason)`` of a run of ``loop`` stopped at tick ``k`` by ``exc`` (after ``k_done`` recorded
+    ticks), with its event appended to ``events``: the diagnosis, shared by the Python and compiled ticks.
+
+    ``rec`` holds the recorded states ``x`` and times ``t``; ``x`` is the failing state, ``x_good`` the
+    last state that passed the checks (at ``t_good`` [s]), ``x0`` the start; ``saturation``:
+    ``saturated_ticks``, ``saturated_joint_ticks``, ``saturation_first_time_s`` and ``saturated_last_tick``
+    so far (the diagnosis' evidence)."""
+    from coopctrl.errors import InfeasibleLoad
+
+    spatial = loop.space == "spatial"
+    T = loop.T
+    near = margin_cos(2.0 * EULER_PITCH_MARGIN_DEG)  # a failure this close is blamed on the singularity
+    if isinstance(exc, NearSingularity):
+        status, reason = "diverged", singularity_reason(exc.hit)
+        events.append((exc.hit.time, "euler_singularity", reason))
+    elif isinstance(exc, (DivergenceError, PlantError)):
+        status = "diverged"
+        hit = nearest_singularity(loop, x, k * T, x_good, t_good) if spatial else None
+        if isinstance(exc, EulerSingularityError) or (hit is not None and hit.cos_theta < near):
+            if isinstance(exc, EulerSingularityError) and (hit is None or hit.cos_theta >= near):
+                hit = hit_from_plant_error(exc, k * T)  # reached inside a control period
+            reason = singularity_reason(hit, f"{exc}" if isinstance(exc, DivergenceError) else "")
+            events.append((hit.time, "euler_singularity", reason))
+        else:
+            # the advice is taken a few ticks before the failure: the last good state may already be wild
+            back = max(0, k_done - 1 - DIAGNOSIS_TICKS_BACK)
+            x_start = np.asarray(x0, dtype=float)
+            x_back = rec["x"][back] if k_done else x_start
+            t_back = float(rec["t"][back]) if k_done else 0.0
+            chart = chart_stiffening(loop, x_back, t_back, x_start) if spatial else ""
+            evidence = dict(saturation, events=events)
+            reason = divergence_reason(loop, exc, k * T, x_back, x_start, chart, evidence=evidence, k_done=k_done,
+                                       t_back=t_back)
+            events.append((getattr(exc, "time", k * T), "euler_singularity" if chart else "diverged", reason))
+    elif isinstance(exc, InfeasibleLoad):
+        held = held_split_cause(events)
+        status, reason = "qp_failed", f"at t = {k * T:.6g} s: {exc}" + (f"; cause: {held}" if held else "")
+        events.append((k * T, "qp_failed", str(exc)))
+    else:
+        raise TypeError(f"stop_reason: {type(exc).__name__} is not a stop of the loop") from exc
+    return status, reason
