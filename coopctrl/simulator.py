@@ -1,70 +1,35 @@
-"""``simulate(scenario)``: build the closed loop of a scenario, run it, and return its result."""
+"""``simulate(scenario)``: build the closed loop of a scenario, run it, and return its result.
+
+The loop is wired by :mod:`coopctrl.wiring`; :func:`closed_loop` adds the failure analysis of the
+analysis layer (:func:`coopctrl.analysis.diagnosis.diagnose_failure`), which the loop cannot import
+(:mod:`coopctrl.loop.diagnosis`): this module is where the two are composed.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
+from coopctrl import wiring
 from coopctrl.closed_loop import ClosedLoop
 from coopctrl.errors import InfeasibleLoad
-from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
-from coopctrl.integrators import get_integrator
-from coopctrl.load_distribution import LoadDistribution
 from coopctrl.loop.squeeze import squeeze_series
 from coopctrl.results import SimulationResult
 from coopctrl.scenario import build
-from coopctrl.sensors import SensorConfig, SensorSuite
-
-
-def _sensor(cfg) -> SensorConfig:
-    return SensorConfig(noise_std=cfg.noise_std, quantization=cfg.quantization)
 
 
 def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform_step: bool = False,
                 controllers=None) -> ClosedLoop:
-    """The :class:`ClosedLoop` of a scenario, every part built and wired explicitly.
+    """The :class:`ClosedLoop` of a scenario (:func:`coopctrl.wiring.closed_loop`, same arguments), with
+    the failure analysis wired in: a divergence's causes are checked against the closed loop's predicted
+    step limit (:func:`coopctrl.analysis.diagnosis.diagnose_failure`; see :mod:`coopctrl.loop.diagnosis`).
 
-    Tuning and analysis build a loop with other parts instead of patching a built one:
-
-    Args:
-        scenario: The :class:`~coopctrl.scenario.Scenario`.
-        integrator: An integrator name or :class:`~coopctrl.integrators.Integrator` instead of
-            ``simulation.integrator``.
-        step: A free plant step ``0 < h <= T`` [s] instead of ``T / substeps`` (see
-            :meth:`ClosedLoop.set_step`; ``uniform_step`` splits the period into equal steps).
-        controllers: ``f(leader, followers) -> (leader, followers)``, applied to the scenario's
-            controllers before they are wired (e.g. wrapped by the probes of
-            :mod:`coopctrl.tuning.loop_probes`).
+    The analysis layer builds its own loops with :func:`coopctrl.wiring.closed_loop` (it stands above the
+    loop and below this module, which composes the two).
     """
     from coopctrl.analysis.diagnosis import diagnose_failure
 
-    plant = build.build_plant(scenario)
-    space, m = scenario.space, len(scenario.arms)
-    trajectory = build.trajectory(scenario)
-    compliance = GraspCompliance(plant)
-    ctrl = scenario.controllers
-    leader = LeaderController(plant, scenario.leader, ctrl.leader.natural_frequency, ctrl.leader.damping_ratio)
-    f = ctrl.followers
-    followers = {i: FollowerForceController(plant, i, compliance, f.force_kp, f.force_ki, f.natural_frequency,
-                                            f.damping_ratio, f.force_loop) for i in scenario.followers}
-    if controllers is not None:
-        leader, followers = controllers(leader, followers)
-    s = scenario.sensors
-    sensors = SensorSuite(_sensor(s.joints), _sensor(s.forces), _sensor(s.object), scenario.simulation.seed)
-    sim = scenario.simulation
-    if integrator is None:
-        integrator = sim.integrator
-    if isinstance(integrator, str):
-        integrator = get_integrator(integrator)
-    loop = ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
-                      LoadDistribution(scenario.load_distribution, space, m), compliance, leader,
-                      followers, sensors, integrator, sim.control_period, sim.substeps,
-                      scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
-                      torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
-                      enabled=scenario.controllers.enabled, failure_causes=diagnose_failure)
-    if step is not None:
-        loop.set_step(step, uniform=uniform_step)
-    loop.scenario = scenario  # for the failure diagnosis (coopctrl.analysis.diagnosis: the closed-loop step limit)
-    return loop
+    return wiring.closed_loop(scenario, integrator=integrator, step=step, uniform_step=uniform_step,
+                              controllers=controllers, failure_causes=diagnose_failure)
 
 
 #: Recorded signals whose values (and sums of squares: the RMS metrics) must be finite in an ok run;

@@ -259,7 +259,7 @@ class LoopLinearizer:
     """
 
     def __init__(self, scenario):
-        from coopctrl.simulator import closed_loop
+        from coopctrl.wiring import closed_loop
 
         self.scenario = scenario
         self.loop = closed_loop(_exact_sensors(scenario))
@@ -354,9 +354,9 @@ class ClosedLoopLimit:
 
 def nominal_run(scenario, x0, duration: float | None = None) -> dict:
     """The loop with exact sensors and RK4 at a step well inside its open-loop limit, from ``x0``."""
-    from coopctrl.analysis.modes import linear_modes
+    from coopctrl.integrators.modes import linear_modes
     from coopctrl.scenario.build import build_plant
-    from coopctrl.simulator import closed_loop
+    from coopctrl.wiring import closed_loop
 
     rk4 = get_integrator("rk4")
     exact = _exact_sensors(scenario)

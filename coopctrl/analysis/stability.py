@@ -337,7 +337,7 @@ def effective_step(scheme, h: float, control_period: float) -> float:
 
 def _run(scenario, x0, integrator: str, h: float, horizon: float) -> dict:
     """One closed-loop trial: the scenario's loop with ``integrator`` at plant step ``h`` [s]."""
-    from coopctrl.simulator import closed_loop
+    from coopctrl.wiring import closed_loop
 
     scheme = get_integrator(integrator)
     T = scenario.simulation.control_period

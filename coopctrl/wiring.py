@@ -1,0 +1,68 @@
+"""Wire the closed loop of a scenario: every part built from the scenario and connected explicitly.
+
+:func:`closed_loop` is the one place where a :class:`~coopctrl.scenario.Scenario` becomes a
+:class:`~coopctrl.closed_loop.ClosedLoop` (plant, trajectory, grasp compliance, leader and followers,
+sensors, load distribution, integrator). The analysis layer builds its loops here;
+:func:`coopctrl.simulator.closed_loop` adds the failure analysis, which stands above the loop.
+"""
+
+from __future__ import annotations
+
+from coopctrl.closed_loop import ClosedLoop
+from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
+from coopctrl.integrators import get_integrator
+from coopctrl.load_distribution import LoadDistribution
+from coopctrl.scenario import build
+from coopctrl.sensors import SensorConfig, SensorSuite
+
+
+def _sensor(cfg) -> SensorConfig:
+    return SensorConfig(noise_std=cfg.noise_std, quantization=cfg.quantization)
+
+
+def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform_step: bool = False,
+                controllers=None, failure_causes=None) -> ClosedLoop:
+    """The :class:`ClosedLoop` of a scenario, every part built and wired explicitly.
+
+    Tuning and analysis build a loop with other parts instead of patching a built one:
+
+    Args:
+        scenario: The :class:`~coopctrl.scenario.Scenario`.
+        integrator: An integrator name or :class:`~coopctrl.integrators.Integrator` instead of
+            ``simulation.integrator``.
+        step: A free plant step ``0 < h <= T`` [s] instead of ``T / substeps`` (see
+            :meth:`ClosedLoop.set_step`; ``uniform_step`` splits the period into equal steps).
+        controllers: ``f(leader, followers) -> (leader, followers)``, applied to the scenario's
+            controllers before they are wired (e.g. wrapped by the probes of
+            :mod:`coopctrl.tuning.loop_probes`).
+        failure_causes: The loop's ``failure_causes`` part (:mod:`coopctrl.loop.diagnosis`); ``None``: the
+            open-loop diagnosis.
+    """
+    plant = build.build_plant(scenario)
+    space, m = scenario.space, len(scenario.arms)
+    trajectory = build.trajectory(scenario)
+    compliance = GraspCompliance(plant)
+    ctrl = scenario.controllers
+    leader = LeaderController(plant, scenario.leader, ctrl.leader.natural_frequency, ctrl.leader.damping_ratio)
+    f = ctrl.followers
+    followers = {i: FollowerForceController(plant, i, compliance, f.force_kp, f.force_ki, f.natural_frequency,
+                                            f.damping_ratio, f.force_loop) for i in scenario.followers}
+    if controllers is not None:
+        leader, followers = controllers(leader, followers)
+    s = scenario.sensors
+    sensors = SensorSuite(_sensor(s.joints), _sensor(s.forces), _sensor(s.object), scenario.simulation.seed)
+    sim = scenario.simulation
+    if integrator is None:
+        integrator = sim.integrator
+    if isinstance(integrator, str):
+        integrator = get_integrator(integrator)
+    loop = ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
+                      LoadDistribution(scenario.load_distribution, space, m), compliance, leader,
+                      followers, sensors, integrator, sim.control_period, sim.substeps,
+                      scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
+                      torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
+                      enabled=scenario.controllers.enabled, failure_causes=failure_causes)
+    if step is not None:
+        loop.set_step(step, uniform=uniform_step)
+    loop.scenario = scenario  # for the failure diagnosis (coopctrl.analysis.diagnosis: the closed-loop step limit)
+    return loop
