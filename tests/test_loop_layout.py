@@ -1,0 +1,88 @@
+"""Layout (issue 10, item 5): the loop imports nothing of ``coopctrl.analysis``, and the scenario layer plans
+a loaded start without the simulator or the closed loop.
+
+The imports are read from the source (every ``import`` statement, also those inside functions, which run
+later), and followed through the project's own modules: what a module needs at any time, not only at
+import time."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+from test_cli import REPO
+
+PACKAGE = REPO / "coopctrl"
+
+
+def _module_file(name: str) -> Path | None:
+    rel = Path(*name.split("."))
+    for path in (REPO / rel.with_suffix(".py"), REPO / rel / "__init__.py"):
+        if path.is_file():
+            return path
+    return None
+
+
+def _imports(path: Path) -> set[str]:
+    """Project modules ``path`` imports (``coopctrl.*``), with the packages on the way."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        names = []
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+        for name in names:
+            if name.split(".")[0] != "coopctrl":
+                continue
+            parts = name.split(".")
+            out.update(".".join(parts[:k]) for k in range(1, len(parts) + 1))
+    return {n for n in out if _module_file(n) is not None}
+
+
+def closure(module: str) -> set[str]:
+    """Every project module ``module`` reaches through its imports (itself included)."""
+    seen, todo = set(), [module]
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        todo.extend(_imports(_module_file(name)) - seen)
+    return seen
+
+
+def test_the_import_reader_finds_lazy_imports():
+    """The reader is not blind: ``coopctrl.simulator`` imports the analysis' diagnosis inside a function."""
+    assert "coopctrl.analysis.diagnosis" in closure("coopctrl.simulator")
+
+
+def test_the_loop_does_not_reach_the_analysis_layer():
+    loop_modules = ["coopctrl.closed_loop"] + [f"coopctrl.loop.{p.stem}" for p in (PACKAGE / "loop").glob("*.py")
+                                                if p.stem != "__init__"]
+    for module in loop_modules:
+        reached = sorted(m for m in closure(module) if m.startswith("coopctrl.analysis") or m == "coopctrl.simulator")
+        assert reached == [], f"{module} reaches {reached}"
+
+
+def test_the_scenario_layer_does_not_reach_the_simulator_or_the_loop():
+    for path in (PACKAGE / "scenario").glob("*.py"):
+        module = "coopctrl.scenario" + ("" if path.stem == "__init__" else f".{path.stem}")
+        reached = sorted(m for m in closure(module) if m in ("coopctrl.simulator", "coopctrl.closed_loop",
+                                                             "coopctrl.wiring") or m.startswith("coopctrl.analysis"))
+        assert reached == [], f"{module} reaches {reached}"
+
+
+def test_a_loaded_start_is_planned_without_loading_the_simulator():
+    """At run time too: the loaded start of the carry leaves the simulator and the closed loop unloaded."""
+    code = ("import sys\nfrom coopctrl.scenario import load_scenario\n"
+            f"s = load_scenario({str(REPO / 'scenarios' / 'spatial_two_puma_carry.toml')!r})\n"
+            "assert s.simulation.start == 'loaded'\nx = s.initial_state()\n"
+            "print(sorted(m for m in sys.modules if m in ('coopctrl.simulator', 'coopctrl.closed_loop', 'coopctrl.wiring')"
+            " or m.startswith('coopctrl.analysis')))")
+    proc = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=300,
+                          env={**__import__("os").environ, "PYTHONPATH": str(REPO)})
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
