@@ -68,6 +68,7 @@ def test_a_divergence_names_the_quantity_and_judges_the_step():
     scenario = load("spatial_two_puma_carry")
     x0 = build.initial_state(scenario)
     for loop in (closed_loop(scenario), wiring.closed_loop(scenario)):
+        loop.run(x0, 0.0)  # the open-loop step limit is predicted about the state the last run started from
         rec, sat = _evidence(loop, x0)
         events = []
         status, reason = diagnosis.stop_reason(loop, DivergenceError(0.002, "deformation of contact 0 [m]", 0.5), 2, 3,

@@ -25,33 +25,41 @@ def _module_file(name: str) -> Path | None:
     return None
 
 
-def _imports(path: Path) -> set[str]:
-    """Project modules ``path`` imports (``coopctrl.*``), with the packages on the way."""
-    out = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+def _imports(path: Path, top_level_only: bool = False) -> tuple[set[str], set[str]]:
+    """``(modules, packages)``: the project modules (``coopctrl.*``) that ``path`` imports (with
+    ``top_level_only``, only those imported when it is imported), and the packages on their way, which
+    Python imports too (of those only their own top-level imports run)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    modules, packages = set(), set()
+    for node in (tree.body if top_level_only else ast.walk(tree)):
         names = []
         if isinstance(node, ast.Import):
             names = [a.name for a in node.names]
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
             names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
         for name in names:
-            if name.split(".")[0] != "coopctrl":
-                continue
             parts = name.split(".")
-            out.update(".".join(parts[:k]) for k in range(1, len(parts) + 1))
-    return {n for n in out if _module_file(n) is not None}
+            if parts[0] != "coopctrl":
+                continue
+            if _module_file(name) is not None:
+                modules.add(name)
+            packages.update(".".join(parts[:k]) for k in range(1, len(parts)))
+    return modules, {n for n in packages if _module_file(n) is not None} - modules
 
 
 def closure(module: str) -> set[str]:
-    """Every project module ``module`` reaches through its imports (itself included)."""
-    seen, todo = set(), [module]
+    """Every project module ``module`` reaches through its imports (itself included): all the imports of
+    a module named in an import, the top-level ones of a package that is only on the way."""
+    seen, todo = set(), [(module, False)]
     while todo:
-        name = todo.pop()
-        if name in seen:
+        name, on_the_way = todo.pop()
+        key = (name, on_the_way)
+        if key in seen or (name, False) in seen:
             continue
-        seen.add(name)
-        todo.extend(_imports(_module_file(name)) - seen)
-    return seen
+        seen.add(key)
+        modules, packages = _imports(_module_file(name), top_level_only=on_the_way)
+        todo += [(m, False) for m in modules] + [(p, True) for p in packages]
+    return {name for name, _ in seen}
 
 
 def test_the_import_reader_finds_lazy_imports():
