@@ -1,5 +1,8 @@
-"""The closed loop's run machinery: its state (:mod:`.state`), the compiled tick (:mod:`.kernel`) and
-the driver that runs a :class:`~coopctrl.closed_loop.ClosedLoop` with it (:mod:`.compiled`)."""
+"""The closed loop's parts: its state (:mod:`.state`), the compiled tick (:mod:`.kernel`), the driver
+that runs a :class:`~coopctrl.closed_loop.ClosedLoop` with it (:mod:`.compiled`), the record
+(:mod:`.record`), why a run stopped (:mod:`.diagnosis`), the loaded start (:mod:`.loaded_start`), the
+Euler-angle band (:mod:`.euler_band`) and the QP's contact inputs (:mod:`.qp_inputs`). Nothing here
+imports ``coopctrl.analysis``."""
 
 from coopctrl.loop.state import LoopState
 
