@@ -7,7 +7,8 @@ linearizes the closed loop (:mod:`~coopctrl.analysis.closed_loop_stability`), wh
 causes, in the order they are reported:
 
 - **static instability**: the object's translational stiffness with the contacts held has a negative
-  eigenvalue at the start (:meth:`ClosedLoop.diagnose`; a squeezed central-spring grasp buckles);
+  eigenvalue at the start (:func:`coopctrl.loop.diagnosis.static_instability`; a squeezed
+  central-spring grasp buckles);
 - **unreachable pose**: an arm cannot reach its nominal node pose at the failure time (inverse
   kinematics within its joint limits);
 - **torque saturation**: the commanded torques were clipped at ``tau_max`` on at least
@@ -27,7 +28,7 @@ import math
 
 import numpy as np
 
-from coopctrl.loop.diagnosis import Diagnosis, held_split_cause
+from coopctrl.loop.diagnosis import Diagnosis, held_split_cause, static_instability
 
 __all__ = ["SATURATION_SHARE", "Diagnosis", "closed_loop_limit", "diagnose_failure", "held_split_cause",
            "saturation_cause", "unreachable_cause"]
@@ -108,7 +109,7 @@ def closed_loop_limit(loop, states) -> float:
 def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back: float, x0) -> Diagnosis:
     """The causes of a failed run (module docstring), from its record ``rec`` up to tick ``k_done``."""
     causes = []
-    why = loop.diagnose(x0)
+    why = static_instability(loop, x0)
     if why:
         causes.append(why)
     if loop.enabled:

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
+from coopctrl.loop.diagnosis import static_instability
 
 #: Largest spacing [s] of the samples between via points (also at most 1/100 of the duration).
 SAMPLE_STEP = 0.01
@@ -177,7 +178,7 @@ def preflight(scenario, loop=None) -> PreflightReport:
             F = split.F
         # 3. static stability of the grasp (before the torques: a buckling grasp is the cause, whatever they are)
         if round(t, 12) in check_static:
-            why = loop.diagnose(x)
+            why = static_instability(loop, x)
             if why:
                 return fail(PreflightIssue(t, "static_instability", f"at t = {t:.4g} s {why}"))
         # 4. the torques the split needs
