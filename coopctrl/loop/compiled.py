@@ -22,7 +22,6 @@ import time as _time
 import numpy as np
 
 from coopctrl.errors import DivergenceError, InfeasibleLoad
-from coopctrl.integrators import NewtonConvergenceError
 from coopctrl.load_distribution.goldfarb_idnani import gi_workspace
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 from coopctrl.loop import integrate as I
@@ -244,8 +243,7 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
     if code == K.NONFINITE:
         return DivergenceError(t, "state (non-finite)", float("nan"))
     if code == K.NEWTON_FAILED:  # the Python integrator's exception, from the step that failed
-        return NewtonConvergenceError(float(out_float[1]), float(out_float[0]), int(out_int[3]),
-                                      float(cl.steps[int(out_int[2])]), loop.integrator.name)
+        return I.newton_failure(loop.integrator.name, cl.steps, out_int, out_float)
     if code == K.DEFORMATION:
         return DivergenceError(t, f"deformation of contact {int(out_int[2])} [m]", float(out_float[0]))
     if code == K.NEAR_SINGULARITY:

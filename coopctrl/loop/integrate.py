@@ -104,6 +104,15 @@ def make_plan(integrator, nx: int):
                         *(np.zeros(nx) for _ in range(8)), np.zeros(3))
 
 
+def newton_failure(scheme: str, steps, out_int, out_float):
+    """The :class:`~coopctrl.integrators.NewtonConvergenceError` the Python integrator raises, from the
+    outputs of a :func:`zoh_advance` that returned :data:`STEP_NEWTON_FAILED` on the period ``steps``."""
+    from coopctrl.integrators import NewtonConvergenceError
+
+    return NewtonConvergenceError(float(out_float[1]), float(out_float[0]), int(out_int[3]),
+                                  float(steps[int(out_int[2])]), scheme)
+
+
 # ---------------------------------------------------------------------------------------------- plant
 def rhs_into(x, tau, P, status, ws, dx):
     """The plant's right-hand side into ``dx`` (the allocation-free ``rhs_into`` of
