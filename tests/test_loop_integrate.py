@@ -4,6 +4,7 @@ ones with their Newton iteration in the kernel, against the Python integrators o
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 
 import coopctrl
-from coopctrl.integrators import ImplicitEuler, NewtonConvergenceError, get_integrator
+from coopctrl.integrators import DiagonallyImplicitRungeKutta, ImplicitEuler, NewtonConvergenceError, get_integrator
 from coopctrl.loop import integrate
 from coopctrl.loop.compiled import compiled_unsupported
 from coopctrl.scenario import build
@@ -73,6 +74,18 @@ class _Plant:
         return states, calls[0]
 
 
+class _SDIRK2(DiagonallyImplicitRungeKutta):
+    """Two-stage L-stable SDIRK (Alexander 1977), gamma = 1 - 1/sqrt(2), as in tests/test_integrators.py:
+    the kernel's multi-stage path (the known part of a later stage, a stage's predictor from the
+    previous one). Not registered, so a loop never runs it compiled; the plan takes any tableau."""
+
+    name = "sdirk2"
+    order = 2
+    tableau = ((1.0 - 1.0 / math.sqrt(2.0),), (1.0 / math.sqrt(2.0), 1.0 - 1.0 / math.sqrt(2.0)))
+    weights = (1.0 / math.sqrt(2.0), 1.0 - 1.0 / math.sqrt(2.0))
+    stability_numerator = (1.0, math.sqrt(2.0) - 1.0)
+
+
 @pytest.fixture(scope="module")
 def planar():
     return _Plant("planar_two_arm_lift")
@@ -95,6 +108,7 @@ def test_explicit_steps_are_the_python_arithmetic(planar, name):
     # at h omega_max ~ 100 Newton converges slowly on the first steps: the Jacobian is refreshed within a
     # step (rate > reuse_rate) and after a slow step; the reuse policy must take the same decisions
     ("stiff_grasp_extreme", "implicit_euler", 3e-3, 6, 4),
+    ("planar_two_arm_lift", _SDIRK2, 1e-3, 4, 1),
 ])
 def test_implicit_steps_match_the_python_integrator(scene, name, h, steps, jacobians):
     """Several implicit steps from one seeded state, the Newton state (matrix, predictors) kept between them.
@@ -110,7 +124,7 @@ def test_implicit_steps_match_the_python_integrator(scene, name, h, steps, jacob
     Measured: 6e-17 (planar), 3.5e-13 m (stiff, 6 steps) against bounds of 7e-12 and 1.1e-11.
     """
     case = _Plant(scene)
-    ki, pi = get_integrator(name), get_integrator(name)
+    ki, pi = (name(), name()) if isinstance(name, type) else (get_integrator(name), get_integrator(name))
     codes, states, plan, out_int, _ = case.kernel_steps(ki, h, steps)
     expected, calls = case.python_steps(pi, h, steps)
     assert codes == [integrate.STEP_OK] * steps
