@@ -24,13 +24,16 @@ import numpy as np
 from coopctrl.errors import DivergenceError, InfeasibleLoad
 from coopctrl.load_distribution.goldfarb_idnani import gi_workspace
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
+from coopctrl.loop import integrate as I
 from coopctrl.loop import kernel as K
 from coopctrl.loop.state import LoopState
 from plants.cooperative import ContactPoint
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
 
-#: Integrators the kernel implements, by name.
-METHODS = {"euler": K.METHOD_EULER, "symplectic_euler": K.METHOD_SYMPLECTIC_EULER, "rk4": K.METHOD_RK4}
+#: Integrators the kernel implements, by name (:mod:`coopctrl.loop.integrate`): the explicit ones share a
+#: compiled loop; the implicit ones (Newton in the kernel, their settings read from the integrator) another.
+METHODS = {"euler": I.METHOD_EULER, "symplectic_euler": I.METHOD_SYMPLECTIC_EULER, "rk4": I.METHOD_RK4,
+           "implicit_midpoint": I.METHOD_SDIRK, "implicit_euler": I.METHOD_SDIRK}
 
 #: QP status names of the kernel's codes (as the compiled backend reports them).
 _QP_STATUS = ("solved", "infeasible", "max_iter", "failed")
@@ -239,6 +242,8 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
     t = k * loop.T
     if code == K.NONFINITE:
         return DivergenceError(t, "state (non-finite)", float("nan"))
+    if code == K.NEWTON_FAILED:  # the Python integrator's exception, from the step that failed
+        return I.newton_failure(loop.integrator.name, cl.steps, out_int, out_float)
     if code == K.DEFORMATION:
         return DivergenceError(t, f"deformation of contact {int(out_int[2])} [m]", float(out_float[0]))
     if code == K.NEAR_SINGULARITY:
@@ -276,6 +281,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         state.integrals[i] = value
     qa = cl.qp_arrays()
     plant_ws = cl.plant_workspaces(plant)
+    plan = I.make_plan(loop.integrator, plant.state_size)  # the integrator's work arrays and Newton state, cold
     times = np.arange(N) * loop.T
     traj = np.ascontiguousarray(np.stack(loop.trajectory.sample(times)) if N else np.zeros((3, 0, p)))
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
@@ -298,7 +304,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         bar = tqdm(total=N - 1, unit="tick", desc=loop.name, leave=False, mininterval=0.2)
     def advance(k0: int, k_stop: int) -> None:
         """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) in the kernel."""
-        K.run_ticks(cl.spatial, k0, k_stop, N, loop.T, cl.steps, cl.method, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho,
+        K.run_ticks(cl.spatial, k0, k_stop, N, loop.T, cl.steps, plan, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho,
             loop.max_deformation, band, cl.ctrl, cl.posture, cl.C, cl.qp, qa, state.ws,
             noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau, state.integrals, state.last_split,
             state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"], rec["tau"], rec["Y0_nominal"], rec["F_measured"],

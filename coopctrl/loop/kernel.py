@@ -19,8 +19,10 @@ arrays of a :class:`~coopctrl.loop.state.LoopState` and writes the record rows i
    redundant arm;
 6. **saturation** at ``tau_max``;
 7. **plant**: zero-order hold over the period, one integrator step per entry of ``steps``
-   (``METHOD_EULER``, ``METHOD_SYMPLECTIC_EULER``, ``METHOD_RK4``), each the exact arithmetic
-   of the Python integrator.
+   (:func:`coopctrl.loop.integrate.zoh_advance` with the run's plan ``method``: an
+   ``ExplicitPlan`` for euler, symplectic Euler and RK4, an ``ImplicitPlan`` for implicit
+   midpoint and implicit Euler, their Newton iteration included), each the arithmetic of the
+   Python integrator.
 
 It returns when the run ends or an event stops it, with ``out_int = (code, tick, ...)``: the
 caller (:mod:`coopctrl.loop.compiled`) raises the same exception the Python tick raises and runs
@@ -48,6 +50,7 @@ from coopctrl.load_distribution.assembly import (
     pseudo_inverse_external,
 )
 from coopctrl.load_distribution.goldfarb_idnani import gi_solve
+from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
 from plants.cooperative.loaded_state import _planar_motion, _spatial_motion
@@ -65,10 +68,7 @@ NOMINAL_SINGULAR = 6  #: a nominal node pose is at the Euler singularity (``out_
 SINGULAR_JACOBIAN = 7  #: a controller met a singular Jacobian (``out_int[2]`` = arm)
 POSE_INCREMENT_SINGULAR = 8  #: a node's body-rate map is singular in the compliance map (``out_int[2]`` = arm)
 CHUNK_END = 9       #: stopped at ``k_stop`` (progress reporting); resume at ``out_int[1]``
-
-METHOD_EULER = 0
-METHOD_SYMPLECTIC_EULER = 1
-METHOD_RK4 = 2
+NEWTON_FAILED = 10  #: an implicit step's Newton iteration failed (``out_int[2]`` = step of the period, ``[3]`` iterations; ``out_float`` = (correction, time))
 
 #: Bits of the QP family masks (the record's ``qp_binding``), in the row order of the problem.
 FAMILY_MIN_GRIP = 1
@@ -161,7 +161,9 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     ``P`` = the plant's kernel arguments ``(arm_kind, arm_dof, q_off, tables, table_off, bases, tools,
     gravity, node_params, edge_index, edge_params, Y_ref, immobile)`` (``CooperativePlant.kernel``
     without the status); ``plant_ws`` = ``(rhs workspace, true control workspace, measured control
-    workspace)``: the plant kernels' preallocated work arrays.
+    workspace)``: the plant kernels' preallocated work arrays. ``steps`` [s]: the plant steps of one
+    period; ``method``: the run's integration plan (:func:`coopctrl.loop.integrate.make_plan`; an
+    implicit plan carries the Newton state from step to step).
 
     State arrays (updated in place; together with ``ws`` they are the loop state): ``x`` (nx) the
     plant state at tick ``k0``; ``tau`` (nu) the held torques [N m]; ``integ`` (m, p) the followers'
@@ -618,64 +620,17 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
         out_int[5] = k + 1  # ticks recorded
         if k == N - 1:
             break
-        # ---- plant, zero-order hold over the period (the Python integrators' arithmetic, element by element)
-        for si in range(steps.shape[0]):
-            hs = steps[si]
-            if method == METHOD_RK4:
-                h2 = 0.5 * hs
-                _rhs_into(x, tau, P, status, pws, k1)
-                out_int[7] += 1
-                if status[0] != 0:
-                    x_fail[:] = x
-                    break
-                for c in range(nx):
-                    y[c] = k1[c] * h2 + x[c]
-                _rhs_into(y, tau, P, status, pws, k2)
-                out_int[7] += 1
-                if status[0] != 0:
-                    x_fail[:] = y
-                    break
-                for c in range(nx):
-                    y[c] = k2[c] * h2 + x[c]
-                _rhs_into(y, tau, P, status, pws, k3)
-                out_int[7] += 1
-                if status[0] != 0:
-                    x_fail[:] = y
-                    break
-                for c in range(nx):
-                    y[c] = k3[c] * hs + x[c]
-                _rhs_into(y, tau, P, status, pws, k4)
-                out_int[7] += 1
-                if status[0] != 0:
-                    x_fail[:] = y
-                    break
-                h6 = hs / 6.0
-                for c in range(nx):
-                    x[c] = ((((k2[c] + k3[c]) * 2.0) + k1[c]) + k4[c]) * h6 + x[c]
-            elif method == METHOD_SYMPLECTIC_EULER:
-                _rhs_into(x, tau, P, status, pws, k1)
-                out_int[7] += 1
-                if status[0] != 0:
-                    x_fail[:] = x
-                    break
-                for c in range(nz):
-                    x[nz + c] = k1[nz + c] * hs + x[nz + c]
-                for c in range(nz):
-                    x[c] = x[nz + c] * hs + x[c]
-            else:
-                _rhs_into(x, tau, P, status, pws, k1)
-                out_int[7] += 1
-                if status[0] != 0:
-                    x_fail[:] = x
-                    break
-                for c in range(nx):
-                    x[c] = k1[c] * hs + x[c]
-        if status[0] != 0:
+        # ---- plant, zero-order hold over the period (coopctrl.loop.integrate: the Python integrators' arithmetic)
+        step_code = zoh_advance(method, x, tau, P, status, pws, t, steps, x_fail, out_int, out_float)
+        if step_code != STEP_OK:
             # the Python loop keeps the state of the tick (the exception leaves ``advance``)
             x[:] = rec_x[k]
-            out_int[0] = PLANT_ERROR
-            out_int[2] = status[0]
-            out_int[3] = status[1]
+            if step_code == STEP_NEWTON_FAILED:
+                out_int[0] = NEWTON_FAILED
+            else:
+                out_int[0] = PLANT_ERROR
+                out_int[2] = status[0]
+                out_int[3] = status[1]
             return
         k += 1
     out_int[1] = k

@@ -1,0 +1,468 @@
+"""The plant's zero-order-hold advance over one control period, compiled: the five integrators.
+
+:func:`zoh_advance` integrates ``dx/dt = f(x, tau)`` over one control period with ``tau`` held,
+one step of the chosen scheme per entry ``h_s`` [s] of ``steps`` (``T / substeps`` each, or the
+free step of :meth:`ClosedLoop.set_step <coopctrl.closed_loop.ClosedLoop.set_step>`: ``floor(T / h)``
+steps and a remainder), with the same arithmetic as the Python integrators of
+:mod:`coopctrl.integrators`:
+
+- an :class:`ExplicitPlan` for ``"euler"``, ``"symplectic_euler"`` and ``"rk4"`` (the scheme is a
+  run-time code: the three share one compiled loop), element by element the operations of
+  :class:`~coopctrl.integrators.ExplicitEuler`, :class:`~coopctrl.integrators.SymplecticEuler` and
+  :class:`~coopctrl.integrators.RungeKutta4`;
+- an :class:`ImplicitPlan` for ``"implicit_midpoint"`` and ``"implicit_euler"``: the singly diagonally
+  implicit Runge-Kutta step of
+  :class:`~coopctrl.integrators.diagonally_implicit.DiagonallyImplicitRungeKutta` (its tableau in the
+  plan), each stage ``G(k_i) = k_i - f(S_i + gamma h k_i) = 0`` solved by simplified Newton with
+  ``M = (I - gamma h J)^-1``: the same forward-difference Jacobian (increment
+  ``d_j = sqrt(eps) max(|x_j|, 1)``, rounded to a representable one), the same predictors, convergence
+  test, round-off stop, Jacobian reuse (``reuse_rate``) and failure (:data:`STEP_NEWTON_FAILED`,
+  which :mod:`coopctrl.loop.compiled` turns into the same
+  :class:`~coopctrl.integrators.NewtonConvergenceError`). ``M`` and the stage slopes are kept from
+  step to step, tick to tick, as the Python integrator keeps them; a new plan starts cold.
+
+The scheme family is chosen when numba types the call (the plan's namedtuple class): a scene that
+integrates with RK4 never compiles the Newton code. Every work array is in the plan, made once per
+run by :func:`make_plan`: a step allocates nothing (the singular-matrix fallback
+``numpy.linalg.pinv`` of the Python integrator aside).
+
+The plant's right-hand side is ``rhs_into`` of :mod:`plants.cooperative` (spatial or planar, chosen by
+the type of the plant's arrays ``P``). numba's disk cache of a caller is keyed on the caller's file
+only: after changing this file, clear the ``__pycache__`` of :mod:`coopctrl.loop` (the cached
+:func:`coopctrl.loop.kernel.run_ticks` would keep the old code).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+from numba.extending import overload
+
+from plants.cooperative import _planar_kernel as _pk
+from plants.cooperative import _spatial_kernel as _sk
+
+#: Explicit schemes (the run-time code ``ExplicitPlan.method``).
+METHOD_EULER = 0
+METHOD_SYMPLECTIC_EULER = 1
+METHOD_RK4 = 2
+#: The diagonally implicit Runge-Kutta schemes (an :class:`ImplicitPlan`; the tableau says which).
+METHOD_SDIRK = 3
+
+#: Results of :func:`zoh_advance`.
+STEP_OK = 0  #: the period is integrated
+STEP_PLANT_ERROR = 1  #: the right-hand side failed (``status`` holds its code, ``x_fail`` the state it was called at)
+STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``out_int[2:4]``, ``out_float[0:2]``: see :func:`zoh_advance`)
+
+_EPS = float(np.finfo(float).eps)
+_SQRT_EPS = math.sqrt(_EPS)
+
+#: Work arrays of the explicit schemes (float64 ``(nx,)`` each): the slopes ``k1 .. k4`` and the stage state ``y``.
+ExplicitPlan = namedtuple("ExplicitPlan", "method k1 k2 k3 k4 y")
+
+#: The diagonally implicit scheme and its Newton state (see :func:`make_plan`):
+#: ``settings`` = ``(rtol [-], atol [units of x], max_iterations, reuse_rate [-])``; ``tableau`` ``(s, s)``
+#: (lower triangular, diagonal ``gamma``), ``weights`` ``(s,)`` = ``b``, ``nodes`` ``(s,)`` = ``c``;
+#: ``M`` ``(nx, nx)`` the iteration matrix ``(I - gamma h J)^-1``, ``A`` and ``LU`` ``(nx, nx)`` work;
+#: ``slopes`` and ``predictors`` ``(s, nx)``; ``known``, ``k``, ``xs``, ``fs``, ``dk``, ``fx``, ``xp``,
+#: ``fp`` ``(nx,)`` work; ``memo`` float64 ``(3,)`` = (``M`` is kept: 1.0 / 0.0, the step ``h`` [s] it was made
+#: for, Jacobian evaluations so far: ``jacobian_evaluations`` of the Python integrator).
+ImplicitPlan = namedtuple("ImplicitPlan", "settings tableau weights nodes M A LU slopes predictors "
+                                          "known k xs fs dk fx xp fp memo")
+
+
+def make_plan(integrator, nx: int):
+    """A fresh plan (work arrays, cold Newton state) for one run of ``integrator`` on a state of size ``nx``.
+
+    Args:
+        integrator: An :class:`~coopctrl.integrators.ExplicitEuler`,
+            :class:`~coopctrl.integrators.SymplecticEuler`, :class:`~coopctrl.integrators.RungeKutta4`
+            or a :class:`~coopctrl.integrators.DiagonallyImplicitRungeKutta` (implicit midpoint,
+            implicit Euler); its Newton settings are read now.
+        nx: State size ``2 nz``.
+
+    Raises:
+        TypeError: for another integrator.
+    """
+    from coopctrl.integrators import DiagonallyImplicitRungeKutta, ExplicitEuler, RungeKutta4, SymplecticEuler
+
+    explicit = {ExplicitEuler: METHOD_EULER, SymplecticEuler: METHOD_SYMPLECTIC_EULER, RungeKutta4: METHOD_RK4}
+    if type(integrator) in explicit:
+        return ExplicitPlan(np.int64(explicit[type(integrator)]), *(np.zeros(nx) for _ in range(5)))
+    if not isinstance(integrator, DiagonallyImplicitRungeKutta) or not integrator.tableau:
+        raise TypeError(f"integrator {type(integrator).__name__!r} has no compiled step")
+    s = len(integrator.tableau)
+    tableau = np.zeros((s, s))
+    for i, row in enumerate(integrator.tableau):
+        tableau[i, :len(row)] = row
+    settings = np.array([integrator.rtol, integrator.atol, float(integrator.max_iterations), integrator.reuse_rate])
+    return ImplicitPlan(settings, tableau, np.array(integrator.weights, dtype=float),
+                        np.array(integrator.nodes, dtype=float), np.zeros((nx, nx)), np.zeros((nx, nx)),
+                        np.zeros((nx, nx)), np.zeros((s, nx)), np.zeros((s, nx)),
+                        *(np.zeros(nx) for _ in range(8)), np.zeros(3))
+
+
+def newton_failure(scheme: str, steps, out_int, out_float):
+    """The :class:`~coopctrl.integrators.NewtonConvergenceError` the Python integrator raises, from the
+    outputs of a :func:`zoh_advance` that returned :data:`STEP_NEWTON_FAILED` on the period ``steps``."""
+    from coopctrl.integrators import NewtonConvergenceError
+
+    return NewtonConvergenceError(float(out_float[1]), float(out_float[0]), int(out_int[3]),
+                                  float(steps[int(out_int[2])]), scheme)
+
+
+# ---------------------------------------------------------------------------------------------- plant
+def rhs_into(x, tau, P, status, ws, dx):
+    """The plant's right-hand side into ``dx`` (the allocation-free ``rhs_into`` of
+    ``plants.cooperative``), compiled for the spatial or the planar kernel by the type of ``P``'s
+    bases (``(m, 4, 4)`` spatial, ``(m, 3)`` planar). ``P`` = ``CooperativePlant._args`` without the
+    status array."""
+    raise NotImplementedError("called from numba only")
+
+
+@overload(rhs_into)
+def _rhs_into_typed(x, tau, P, status, ws, dx):
+    kernel = _sk.rhs_into if P[5].ndim == 3 else _pk.rhs_into
+
+    def impl(x, tau, P, status, ws, dx):
+        kernel(x, tau, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
+               status, ws, dx)
+    return impl
+
+
+# ---------------------------------------------------------------------------------------------- period
+def zoh_advance(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+    """Advance ``x`` in place over one control period from ``t`` [s], one step per entry of ``steps`` [s].
+
+    Args:
+        plan: An :class:`ExplicitPlan` or :class:`ImplicitPlan` (:func:`make_plan`); the implicit
+            plan's Newton state is updated.
+        x: float64 ``(nx,)``: the state at ``t``, on return the state at ``t + sum(steps)`` (on a
+            failure: partly advanced; the caller restores it).
+        tau: The held inputs.
+        P, status, ws: The plant's kernel arrays, its int64 ``(2,)`` status and its workspace.
+        t: Time [s] at the start of the period (the implicit schemes' failure time counts from it).
+        steps: float64: the steps [s] of the period.
+        x_fail: Out: the state the right-hand side failed at (:data:`STEP_PLANT_ERROR`).
+        out_int: ``out_int[7]`` counts the right-hand-side evaluations; on :data:`STEP_NEWTON_FAILED`
+            ``out_int[2]`` = the index of the failed step in ``steps``, ``out_int[3]`` = the Newton
+            iterations of the failed stage.
+        out_float: On :data:`STEP_NEWTON_FAILED`: ``(last Newton correction, time [s] at the start of
+            the failed step)``.
+
+    Returns:
+        :data:`STEP_OK`, :data:`STEP_PLANT_ERROR` or :data:`STEP_NEWTON_FAILED`.
+    """
+    raise NotImplementedError("called from numba only")
+
+
+@overload(zoh_advance)
+def _zoh_advance_typed(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+    if getattr(plan, "instance_class", None) is ImplicitPlan:
+        def impl(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+            ts = t
+            for si in range(steps.shape[0]):
+                hs = steps[si]
+                code, iterations, correction = _sdirk_step(plan, x, tau, P, status, ws, ts, hs, x_fail, out_int)
+                if code == STEP_NEWTON_FAILED:
+                    out_int[2] = si
+                    out_int[3] = iterations
+                    out_float[0] = correction
+                    out_float[1] = ts
+                if code != STEP_OK:
+                    return code
+                ts += hs
+            return STEP_OK
+        return impl
+    if getattr(plan, "instance_class", None) is ExplicitPlan:
+        def impl(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+            for si in range(steps.shape[0]):
+                code = _explicit_step(plan, x, tau, P, status, ws, steps[si], x_fail, out_int)
+                if code != STEP_OK:
+                    return code
+            return STEP_OK
+        return impl
+    return None
+
+
+@njit(cache=True)
+def advance_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+    """:func:`zoh_advance` callable from Python (tests, one-step checks against the Python integrators)."""
+    return zoh_advance(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float)
+
+
+# ---------------------------------------------------------------------------------------------- explicit
+@njit(inline="always")
+def _explicit_step(plan, x, tau, P, status, ws, hs, x_fail, out_int):
+    """One step of ``plan.method``, the Python integrators' arithmetic element by element."""
+    k1, k2, k3, k4, y = plan.k1, plan.k2, plan.k3, plan.k4, plan.y
+    nx = x.shape[0]
+    nz = nx // 2
+    method = plan.method
+    if method == METHOD_RK4:
+        h2 = 0.5 * hs
+        rhs_into(x, tau, P, status, ws, k1)
+        out_int[7] += 1
+        if status[0] != 0:
+            x_fail[:] = x
+            return STEP_PLANT_ERROR
+        for c in range(nx):
+            y[c] = k1[c] * h2 + x[c]
+        rhs_into(y, tau, P, status, ws, k2)
+        out_int[7] += 1
+        if status[0] != 0:
+            x_fail[:] = y
+            return STEP_PLANT_ERROR
+        for c in range(nx):
+            y[c] = k2[c] * h2 + x[c]
+        rhs_into(y, tau, P, status, ws, k3)
+        out_int[7] += 1
+        if status[0] != 0:
+            x_fail[:] = y
+            return STEP_PLANT_ERROR
+        for c in range(nx):
+            y[c] = k3[c] * hs + x[c]
+        rhs_into(y, tau, P, status, ws, k4)
+        out_int[7] += 1
+        if status[0] != 0:
+            x_fail[:] = y
+            return STEP_PLANT_ERROR
+        h6 = hs / 6.0
+        for c in range(nx):
+            x[c] = ((((k2[c] + k3[c]) * 2.0) + k1[c]) + k4[c]) * h6 + x[c]
+    elif method == METHOD_SYMPLECTIC_EULER:
+        rhs_into(x, tau, P, status, ws, k1)
+        out_int[7] += 1
+        if status[0] != 0:
+            x_fail[:] = x
+            return STEP_PLANT_ERROR
+        for c in range(nz):
+            x[nz + c] = k1[nz + c] * hs + x[nz + c]
+        for c in range(nz):
+            x[c] = x[nz + c] * hs + x[c]
+    else:
+        rhs_into(x, tau, P, status, ws, k1)
+        out_int[7] += 1
+        if status[0] != 0:
+            x_fail[:] = x
+            return STEP_PLANT_ERROR
+        for c in range(nx):
+            x[c] = k1[c] * hs + x[c]
+    return STEP_OK
+
+
+# ---------------------------------------------------------------------------------------------- implicit
+@njit(cache=True)
+def _max_abs(v):
+    """``max |v_c|`` as ``float(np.abs(v).max())``: NaN if any entry is NaN."""
+    m = 0.0
+    for c in range(v.shape[0]):
+        a = abs(v[c])
+        if a > m or a != a:
+            m = a
+            if a != a:
+                return a
+    return m
+
+
+@njit(cache=True)
+def invert_into(A, LU, M):
+    """``M = A^-1`` by LU factorization with partial pivoting (``LU`` receives the factors).
+
+    Returns False, leaving ``M`` undefined, when a pivot is exactly zero (where LAPACK's ``getrf``
+    reports a singular matrix and ``numpy.linalg.inv`` raises). Allocates nothing.
+    """
+    n = A.shape[0]
+    for r in range(n):
+        for c in range(n):
+            LU[r, c] = A[r, c]
+            M[r, c] = 0.0
+        M[r, r] = 1.0
+    for j in range(n):
+        p = j
+        best = abs(LU[j, j])
+        for r in range(j + 1, n):
+            v = abs(LU[r, j])
+            if v > best:
+                best = v
+                p = r
+        if LU[p, j] == 0.0:
+            return False
+        if p != j:  # swap rows of the factors and of the right-hand side P I
+            for c in range(n):
+                LU[j, c], LU[p, c] = LU[p, c], LU[j, c]
+                M[j, c], M[p, c] = M[p, c], M[j, c]
+        piv = LU[j, j]
+        for r in range(j + 1, n):
+            lrj = LU[r, j] / piv
+            LU[r, j] = lrj
+            if lrj != 0.0:
+                for c in range(j + 1, n):
+                    LU[r, c] -= lrj * LU[j, c]
+                for c in range(n):
+                    M[r, c] -= lrj * M[j, c]
+    for r in range(n - 1, -1, -1):  # back substitution U X = L^-1 P I, all columns at once
+        for j in range(r + 1, n):
+            u = LU[r, j]
+            if u != 0.0:
+                for c in range(n):
+                    M[r, c] -= u * M[j, c]
+        d = LU[r, r]
+        for c in range(n):
+            M[r, c] /= d
+    return True
+
+
+@njit(cache=True)
+def _pinv_into(A, M):
+    """``M = pinv(A)`` (the Python integrator's fallback for a singular ``I - gamma h J``); NaN when
+    ``A`` is not finite (Newton then fails on a non-finite correction, as the Python step does)."""
+    for r in range(A.shape[0]):
+        for c in range(A.shape[1]):
+            if not math.isfinite(A[r, c]):
+                M[:, :] = np.nan
+                return
+    M[:, :] = np.linalg.pinv(A)
+
+
+@njit(inline="always")
+def _refresh(plan, x, tau, P, status, ws, fx, gh, out_int, x_fail):
+    """``plan.M = (I - gh J)^-1`` with ``J`` the forward-difference Jacobian at ``x`` (``fx = f(x)``),
+    as ``DiagonallyImplicitRungeKutta._refresh``: column ``j`` is ``(f(x + d_j e_j) - fx) / d_j``.
+    Returns False on a right-hand-side failure (``x_fail`` set)."""
+    A, xp, fp = plan.A, plan.xp, plan.fp
+    n = x.shape[0]
+    plan.memo[2] += 1.0
+    for c in range(n):
+        xp[c] = x[c]
+    for j in range(n):
+        xj = x[j]
+        d = _SQRT_EPS * max(abs(xj), 1.0)
+        xp[j] = xj + d
+        d = xp[j] - xj  # exactly representable increment
+        rhs_into(xp, tau, P, status, ws, fp)
+        out_int[7] += 1
+        if status[0] != 0:
+            x_fail[:] = xp
+            return False
+        for r in range(n):
+            A[r, j] = (1.0 if r == j else 0.0) - gh * ((fp[r] - fx[r]) / d)
+        xp[j] = xj
+    if not invert_into(A, plan.LU, plan.M):
+        _pinv_into(A, plan.M)
+    return True
+
+
+@njit(cache=True)
+def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
+    """One step of ``DiagonallyImplicitRungeKutta.step`` on ``x`` in place.
+
+    Returns ``(code, iterations, correction)``: :data:`STEP_OK`, :data:`STEP_PLANT_ERROR` or
+    :data:`STEP_NEWTON_FAILED` with the failed stage's iterations and last correction
+    ``h max|dk|`` (the arguments of ``NewtonConvergenceError``).
+    """
+    rtol, atol = plan.settings[0], plan.settings[1]
+    max_iterations = int(plan.settings[2])
+    reuse_rate = plan.settings[3]
+    tableau, weights, nodes = plan.tableau, plan.weights, plan.nodes
+    M, slopes, predictors, memo = plan.M, plan.slopes, plan.predictors, plan.memo
+    known, k, xs, fs, dk = plan.known, plan.k, plan.xs, plan.fs, plan.dk
+    n = x.shape[0]
+    s = tableau.shape[0]
+    gamma = tableau[0, 0]
+    # a matrix made for another step, or dropped after a slow step: cold start (no predictors)
+    have_M = memo[0] != 0.0 and memo[1] == h
+    warm = have_M
+    gh = gamma * h
+    fresh = False  # M was evaluated during this step
+    slow = False  # some stage converged slower than reuse_rate
+    xmax = _max_abs(x)
+    tol = atol + rtol * xmax
+    for i in range(s):
+        ts = t + nodes[i] * h
+        for c in range(n):  # S_i = x + h sum_{j<i} a_ij k_j
+            known[c] = x[c]
+        for j in range(i):
+            a = tableau[i, j]
+            if a != 0.0:
+                ah = a * h
+                for c in range(n):
+                    known[c] += ah * slopes[j, c]
+        if warm:
+            for c in range(n):
+                k[c] = predictors[i, c]
+        elif i == 0:  # explicit slope as predictor
+            rhs_into(x, tau, P, status, ws, k)
+            out_int[7] += 1
+            if status[0] != 0:
+                x_fail[:] = x
+                return STEP_PLANT_ERROR, 0, 0.0
+        else:
+            for c in range(n):
+                k[c] = slopes[i - 1, c]
+        previous = math.inf
+        rate = 0.0
+        total = 0
+        while True:
+            for c in range(n):
+                xs[c] = k[c] * gh + known[c]
+            rhs_into(xs, tau, P, status, ws, fs)
+            out_int[7] += 1
+            if status[0] != 0:
+                x_fail[:] = xs
+                return STEP_PLANT_ERROR, 0, 0.0
+            if not have_M:
+                if not _refresh(plan, xs, tau, P, status, ws, fs, gh, out_int, x_fail):
+                    return STEP_PLANT_ERROR, 0, 0.0
+                memo[0] = 1.0
+                memo[1] = h
+                have_M = True
+                fresh = True
+                previous = math.inf
+            for r in range(n):  # dk = M (k - fs)
+                acc = 0.0
+                for c in range(n):
+                    acc += M[r, c] * (k[c] - fs[c])
+                dk[r] = acc
+            for c in range(n):
+                k[c] -= dk[c]
+            total += 1
+            correction = h * _max_abs(dk)
+            if correction <= tol or correction <= tol + rtol * h * _max_abs(k):
+                break
+            if not math.isfinite(correction):
+                if fresh:
+                    memo[0] = 0.0
+                    return STEP_NEWTON_FAILED, total, correction
+                rhs_into(x, tau, P, status, ws, k)  # the stale matrix threw the iterate away: restart
+                out_int[7] += 1
+                if status[0] != 0:
+                    x_fail[:] = x
+                    return STEP_PLANT_ERROR, 0, 0.0
+                have_M = False
+                continue
+            rate = correction / previous
+            hk = h * _max_abs(k)
+            if fresh and rate > 0.5 and correction <= _SQRT_EPS * (hk if hk > xmax else xmax):
+                break  # stagnating at the round-off floor of f: as converged as it can be
+            if total >= max_iterations:
+                memo[0] = 0.0
+                return STEP_NEWTON_FAILED, total, correction
+            if rate > reuse_rate:
+                have_M = False  # slow: re-evaluate the Jacobian at the current iterate
+            previous = correction
+        slow = slow or not (total <= 2 or rate <= reuse_rate)
+        for c in range(n):
+            slopes[i, c] = k[c]
+    if slow:
+        memo[0] = 0.0  # slow this step: refresh at the start of the next one
+    for i in range(s):
+        for c in range(n):
+            predictors[i, c] = slopes[i, c]
+    for i in range(s):
+        bh = weights[i] * h
+        for c in range(n):
+            x[c] += bh * slopes[i, c]
+    return STEP_OK, 0, 0.0
