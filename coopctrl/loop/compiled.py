@@ -22,11 +22,9 @@ import time as _time
 import numpy as np
 
 from coopctrl.errors import DivergenceError, InfeasibleLoad
-from coopctrl.load_distribution.goldfarb_idnani import gi_workspace
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 from coopctrl.loop import kernel as K
 from coopctrl.loop.state import LoopState
-from plants.cooperative import ContactPoint
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
 
 #: Integrators the kernel implements, by name.
@@ -45,11 +43,23 @@ def _inner(controller):
     return getattr(controller, "inner", controller)
 
 
-def compiled_unsupported(loop) -> str | None:
-    """Why ``loop`` cannot run the compiled tick (``None``: it can)."""
+def integrator_outside(loop) -> str | None:
+    """Why ``loop``'s plant integration cannot run in the kernel (``None``: it can): an integrator the
+    kernel does not implement, stepped in Python between kernel calls (:data:`~coopctrl.loop.kernel.PLANT_EXTERNAL`)."""
     name = getattr(loop.integrator, "name", None)
     if name not in METHODS or type(loop.integrator).__module__.split(".")[1:2] != ["integrators"]:
         return f"integrator {name or type(loop.integrator).__name__!r} (compiled: {', '.join(METHODS)})"
+    return None
+
+
+def compiled_unsupported(loop) -> str | None:
+    """What of ``loop`` does not run entirely in the kernel (``None``: everything does): an integrator
+    the kernel lacks (the plant is then stepped in Python between kernel calls), or parts of types the
+    kernel does not implement (such a loop cannot run: :func:`run_compiled` raises ``TypeError``)."""
+    return integrator_outside(loop) or _unsupported_parts(loop)
+
+
+def _unsupported_parts(loop) -> str | None:
     from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
     from coopctrl.sensors import SensorSuite
     from coopctrl.tuning.loop_probes import FollowerProbe, LeaderProbe
@@ -125,7 +135,8 @@ class CompiledLoop:
         self.npairs = pb.E.shape[1]
         self.problem = pb
         self.ld_config = cfg
-        self.method = METHODS[loop.integrator.name]
+        self.method = METHODS.get(getattr(loop.integrator, "name", None), -1)
+        self.plant_outside = integrator_outside(loop) is not None
         self.steps = np.array(loop._steps, dtype=float)
         self.nmax = nmax
         self.external_qp = cfg.solver != "compiled"
@@ -166,7 +177,8 @@ class CompiledLoop:
         from coopctrl.tuning.loop_probes import FollowerProbe, LeaderProbe
 
         p, n, m = (6 if self.spatial else 3), self.n, self.K_obj.shape[0]
-        switches = np.zeros(5, dtype=np.int64)
+        switches = np.zeros(6, dtype=np.int64)
+        switches[K.OPT_EXTERNAL_PLANT] = int(self.plant_outside)
         switches[K.OPT_PASSIVE] = int(passive)
         switches[K.OPT_ENERGY] = 2 if loop.max_energy is not None else int(passive)
         switches[K.OPT_ELASTIC] = int(self.elastic)
@@ -192,7 +204,7 @@ class CompiledLoop:
 
 def _compiled(loop) -> CompiledLoop:
     c = getattr(loop, "_compiled_cache", None)
-    key = (tuple(loop._steps), loop.integrator.name)
+    key = (tuple(loop._steps), getattr(loop.integrator, "name", None), id(loop.integrator))
     if c is None or c[0] != key:
         c = (key, CompiledLoop(loop))
         loop._compiled_cache = c
@@ -309,6 +321,10 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
 def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``."""
     plant = loop.plant
+    why = _unsupported_parts(loop)
+    if why is not None:
+        raise TypeError(f"the closed loop cannot run {why}: use the controllers, compliance, sensors and trajectory "
+                        "that coopctrl.simulator.closed_loop builds")
     cl = _compiled(loop)
     wall0 = _time.perf_counter()
     m, p = plant.arm_count, plant.p
@@ -356,6 +372,15 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
             rec["F_commanded"], rec["F_external"], rec["F_internal"], rec["r_contacts"], qs, qb,
             rec["qp_iterations"], x_good, x_fail, out_int, out_float)
 
+    steps, rhs, integrator_step = loop._steps, plant.rhs, loop.integrator.step
+
+    def step_period(x, t):
+        """The plant over one control period from ``t`` with the held torques (ZOH), in Python."""
+        for hs in steps:
+            x = integrator_step(rhs, t, x, state.tau, hs)
+            t += hs
+        return x
+
     # a call that runs no tick: numba resolves the argument types and loads the compiled kernel from its
     # cache here (about 0.1 s once per process), start-up that is not the loop's wall time
     t_load = _time.perf_counter()
@@ -376,6 +401,17 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
             state.tick = k
             if code == K.CHUNK_END:
                 if bar is not None:
+                    bar.update(k - bar.n)
+                continue
+            if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
+                try:
+                    with np.errstate(over="ignore", invalid="ignore"):  # a diverging state is caught by the guards
+                        state.x[:] = step_period(state.x, (k - 1) * loop.T)
+                except (DivergenceError, PlantError) as e:
+                    exc = e
+                    k -= 1
+                    break
+                if bar is not None and k % 50 == 0:
                     bar.update(k - bar.n)
                 continue
             if code == K.QP_EXTERNAL:  # the reference path: solve with the chosen backend, resume the tick
@@ -449,7 +485,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     _probe_errors(loop, rec)
     rec.update(status=status, reason=reason, events=events, wall_time_s=wall,
                qp_time_s=qp_time if ld is not None or passive else math.nan,
-               qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings, rhs_evaluations=int(out_int[7]),
+               qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings,
+               rhs_evaluations=None if cl.plant_outside else int(out_int[7]),
                **saturation)
     return rec
 

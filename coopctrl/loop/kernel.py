@@ -70,6 +70,8 @@ CHUNK_END = 9       #: stopped at ``k_stop`` (progress reporting); resume at ``o
 ENERGY = 10         #: the total energy left ``max_energy`` (``out_float[0]`` = the energy [J])
 QP_EXTERNAL = 11    #: the QP of tick ``out_int[1]`` is assembled (``out_int[4]``: its ``P`` changed) for a
                     #: solver outside the kernel: resume at that tick with the answer (``hold_status[0] = 2``)
+PLANT_EXTERNAL = 12  #: tick ``out_int[1] - 1`` is recorded and its torques are in ``tau``: the caller integrates
+                     #: ``x`` over the period and resumes at tick ``out_int[1]``
 
 #: Entries of ``opts[0]`` (int64 switches of a run).
 OPT_PASSIVE = 0     #: no QP, no controllers, zero torques; energy recorded
@@ -77,6 +79,7 @@ OPT_ENERGY = 1      #: evaluate the energy each tick (1: record it, 2: also guar
 OPT_ELASTIC = 2     #: ``split = "elastic"``: ``A_K`` and ``P = K^-1`` from the grasp stiffness
 OPT_EXTERNAL_QP = 3  #: stop at each QP solve with :data:`QP_EXTERNAL` (the reference path's solver)
 OPT_PROBES = 4      #: the followers' tuning probes (setpoint offset, PI output, error gain, delay)
+OPT_EXTERNAL_PLANT = 5  #: stop after each tick's record with :data:`PLANT_EXTERNAL` (an integrator outside the kernel)
 
 METHOD_EULER = 0
 METHOD_SYMPLECTIC_EULER = 1
@@ -231,6 +234,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     elastic = switches[OPT_ELASTIC] != 0
     external_qp = switches[OPT_EXTERNAL_QP] != 0
     probes = switches[OPT_PROBES] != 0
+    plant_outside = switches[OPT_EXTERNAL_PLANT] != 0
     F_cmd = np.empty((m, p))
     F_seen = np.empty((m, p))
     n_in = Mq.shape[0] - p
@@ -608,7 +612,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             for a in range(p):
                 if probes:
                     fc = (F_set[i, a] + pr_r[i, a]) + pr_v[i, a]
-                    seen = Fm[i, a] if pr_d[i, a] == 0 else rec_Fm[max(k - pr_d[i, a], 0), i, a]
+                    j = max(k - pr_d[i, a], 0)  # the reading of tick j (recorded, or this tick's)
+                    seen = Fm[i, a] if j == k else rec_Fm[j, i, a]
                     F_cmd[i, a] = fc
                     F_seen[i, a] = fc - pr_g[i, a] * (fc - seen)
                 else:
@@ -711,6 +716,10 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
         out_int[5] = k + 1  # ticks recorded
         if k == N - 1:
             break
+        if plant_outside:  # an integrator the kernel lacks: the caller advances x over the period, then resumes
+            out_int[0] = PLANT_EXTERNAL
+            out_int[1] = k + 1
+            return
         # ---- plant, zero-order hold over the period (the Python integrators' arithmetic, element by element)
         for si in range(steps.shape[0]):
             hs = steps[si]
