@@ -1,5 +1,6 @@
-"""The loop the user runs (issue 10): explicit loop state (repeatable runs) and the compiled tick
-agreeing with the reference path (the Python tick with proxsuite at eps_abs 1e-9) on every shipped scene."""
+"""The loop the user runs (issue 10): explicit loop state (repeatable runs), one compiled tick for every
+configuration, and the compiled QP agreeing with the reference path (the same tick handing its QPs to
+proxsuite at eps_abs 1e-9) on every shipped scene."""
 
 from __future__ import annotations
 
@@ -182,3 +183,65 @@ def test_elastic_split_in_the_kernel(name):
     assert ref["status"] == "ok"
     assert np.abs(rec["F_commanded"] - ref["F_commanded"]).max() <= 1e-6
     assert np.abs(rec["x"] - ref["x"]).max() <= 1e-9
+
+
+# ---------------------------------------------------------------------- one tick for every configuration
+class _OutsideRK4:
+    """RK4 as an integrator the kernel does not implement: the plant steps in Python between kernel calls."""
+
+    name = "rk4_outside"
+
+    def __init__(self):
+        from coopctrl.integrators import get_integrator
+
+        self.inner = get_integrator("rk4")
+
+    def step(self, f, t, x, u, h):
+        return self.inner.step(f, t, x, u, h)
+
+    def __getattr__(self, attr):
+        return getattr(self.inner, attr)
+
+
+def test_an_integrator_outside_the_kernel_runs_the_same_tick():
+    """An integrator the kernel lacks (here RK4 from Python) steps the plant between kernel calls; the rest
+    of the tick is the kernel's, so the run is the in-kernel RK4's (the kernel's RK4 is the Python
+    integrator's arithmetic element by element: 1e-12 m, 1e-9 N over the run)."""
+    scenario = _scene("planar_two_arm_lift", **{"simulation.duration": 0.2})
+    x0 = build.initial_state(scenario)
+    inside = closed_loop(scenario).run(x0, 0.2)
+    loop = closed_loop(scenario, integrator=_OutsideRK4())
+    assert "rk4_outside" in compiled_unsupported(loop)
+    outside = loop.run(x0, 0.2)
+    assert outside["status"] == inside["status"] == "ok" and len(outside["t"]) == 201
+    assert np.abs(outside["x"] - inside["x"]).max() <= 1e-12
+    assert np.abs(outside["F_commanded"] - inside["F_commanded"]).max() <= 1e-9
+    assert outside["rhs_evaluations"] is None and inside["rhs_evaluations"] == 4 * 200
+
+
+def test_tuning_probes_are_kernel_inputs():
+    """The probes' signals enter the kernel: a follower probe with error gain 0 opens its force loop, so
+    the run is the scene's with force_kp = force_ki = 0 (bit for bit: the PI adds exact zeros); a
+    setpoint offset moves the forces; the probe's errors are F* + r - F_meas of every recorded tick."""
+    from coopctrl.tuning.loop_probes import probed_closed_loop
+
+    over = {"simulation.duration": 0.2}
+    scenario = _scene("planar_two_arm_lift", **over)
+    x0 = build.initial_state(scenario)
+    loop, leader, followers = probed_closed_loop(scenario)
+    assert compiled_unsupported(loop) is None
+    followers[1].error_gain[:] = 0.0
+    opened = loop.run(x0, 0.2)
+    plain = closed_loop(_scene("planar_two_arm_lift", **over, **{"controllers.followers.force_kp": 0.0,
+                                                                "controllers.followers.force_ki": 0.0})).run(x0, 0.2)
+    assert opened["status"] == plain["status"] == "ok"
+    np.testing.assert_array_equal(opened["x"], plain["x"])
+    followers[1].error_gain[:] = 1.0
+    followers[1].setpoint_offset[0] = 2.0
+    stepped = loop.run(x0, 0.2)
+    errors = np.array(followers[1].errors)
+    assert errors.shape == (201, 3)
+    np.testing.assert_array_equal(errors, stepped["F_commanded"][:, 1] + followers[1].setpoint_offset
+                                  - stepped["F_measured"][:, 1])
+    assert abs(errors[0, 0] - 2.0) <= 1e-3  # seen at once (the loaded start carries F* to 5e-6 N)
+    assert np.abs(stepped["F_measured"][-1, 1, 0] - opened["F_measured"][-1, 1, 0]) > 0.5  # the PI follows it

@@ -3,15 +3,21 @@
 :func:`run_compiled` builds the kernel's constant arrays once per loop (:class:`CompiledLoop`),
 a fresh :class:`~coopctrl.loop.state.LoopState` per run (so a run depends on ``x0`` and the
 scenario only: the same loop run twice gives bit-identical records), calls the kernel, and turns
-its stop code back into the exception the Python tick raises, so the diagnosis of
-:meth:`ClosedLoop._stop_reason` runs unchanged. A failed QP solve comes back to Python: the
-failure policy of :class:`~coopctrl.load_distribution.LoadDistribution` (the infeasibility cause,
-hold the last feasible split, give up after ``max_consecutive_failures``) is applied there and
-the kernel resumes at the same tick.
+its stop code back into an exception, so the diagnosis of :meth:`ClosedLoop._stop_reason` runs
+unchanged. A failed QP solve comes back to Python: the failure policy of
+:class:`~coopctrl.load_distribution.LoadDistribution` (the infeasibility cause, hold the last
+feasible split, give up after ``max_consecutive_failures``) is applied there and the kernel resumes
+at the same tick.
 
-The compiled tick runs when ``load_distribution.solver = "compiled"`` and the loop uses only what
-the kernel implements (:func:`compiled_unsupported` names what it does not); otherwise the Python
-tick of :mod:`coopctrl.closed_loop` runs, with the chosen QP backend.
+Every run goes through the kernel. The reference path (``load_distribution.solver`` other than
+``"compiled"``): the kernel assembles each QP in the arrays of a
+:class:`~coopctrl.load_distribution.problem.LoadDistributionProblem` and stops
+(:data:`~coopctrl.loop.kernel.QP_EXTERNAL`); :meth:`LoadDistribution.solve_assembled` solves it with the
+chosen backend (answer check, failure policy, binding families, time per solve) and the kernel
+resumes the tick with the answer. An integrator the kernel lacks (:func:`integrator_outside`) steps
+the plant in Python between kernel calls (:data:`~coopctrl.loop.kernel.PLANT_EXTERNAL`). Passive runs,
+``max_energy``, the elastic split and the tuning probes of :mod:`coopctrl.tuning.loop_probes` are
+kernel inputs (:meth:`CompiledLoop.options`).
 """
 
 from __future__ import annotations
@@ -70,10 +76,8 @@ def _unsupported_parts(loop) -> str | None:
         return "controllers other than LeaderController and FollowerForceController (or their tuning probes)"
     if type(loop.compliance) is not GraspCompliance or type(loop.sensors) is not SensorSuite:
         return "a grasp compliance or sensor suite of another type"
-    from coopctrl.trajectory import MinimumJerkTrajectory
-
-    if type(loop.trajectory) is not MinimumJerkTrajectory:
-        return f"a trajectory of type {type(loop.trajectory).__name__} (compiled: MinimumJerkTrajectory)"
+    if not callable(getattr(loop.trajectory, "evaluate", None)):
+        return f"a trajectory of type {type(loop.trajectory).__name__} without evaluate(t)"
     return None
 
 
@@ -283,7 +287,8 @@ def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopSt
 
 
 def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_fail, traj):
-    """The exception the Python tick raises for the kernel's stop ``code`` at tick ``k``."""
+    """The exception that names the kernel's stop ``code`` at tick ``k`` (what the plant, the guards and the
+    controllers raise from Python)."""
     from coopctrl.analysis.euler_singularity import closest_to_singularity
     from coopctrl.closed_loop import _NearSingularity
     from plants.cooperative import nominal_node_motion
@@ -344,7 +349,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     opts = cl.options(loop, rec, passive)
     plant_ws = cl.plant_workspaces(plant)
     times = np.arange(N) * loop.T
-    traj = np.ascontiguousarray(np.stack(loop.trajectory.sample(times)) if N else np.zeros((3, 0, p)))
+    traj = _trajectory_samples(loop.trajectory, times, p)
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
     qs = np.zeros(N, dtype=np.int64)
     qb = np.zeros(N, dtype=np.int64)
@@ -483,6 +488,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         events.append((sat_first, "torque_saturation",
                        f"commanded torques clipped at their limits on {saturated} ticks from t = {sat_first:.4g} s"))
     _probe_errors(loop, rec)
+    for i, c in loop.followers.items():  # the controllers' integrals as the run left them (read by analysis code)
+        _inner(c).integral[:] = state.integrals[i]
     rec.update(status=status, reason=reason, events=events, wall_time_s=wall,
                qp_time_s=qp_time if ld is not None or passive else math.nan,
                qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings,
@@ -512,3 +519,18 @@ def _probe_errors(loop, rec) -> None:
         if isinstance(c, FollowerProbe):
             E = (rec["F_commanded"][:, i] + c.setpoint_offset) - rec["F_measured"][:, i]
             c.errors[:] = list(E)
+
+
+def _trajectory_samples(trajectory, times, p: int) -> np.ndarray:
+    """``(Y, dY, ddY)`` of the nominal object motion at ``times``, stacked (3, N, p) [m, rad, per s, per s^2]:
+    ``sample`` (vectorized) when the trajectory has it, else ``evaluate`` tick by tick."""
+    from coopctrl.trajectory import MinimumJerkTrajectory
+
+    if not len(times):
+        return np.zeros((3, 0, p))
+    if type(trajectory) is MinimumJerkTrajectory:
+        return np.ascontiguousarray(np.stack(trajectory.sample(times)))
+    out = np.empty((3, len(times), p))
+    for k, t in enumerate(times):
+        out[:, k] = trajectory.evaluate(float(t))
+    return out

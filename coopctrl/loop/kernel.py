@@ -23,10 +23,16 @@ arrays of a :class:`~coopctrl.loop.state.LoopState` and writes the record rows i
    of the Python integrator.
 
 It returns when the run ends or an event stops it, with ``out_int = (code, tick, ...)``: the
-caller (:mod:`coopctrl.loop.compiled`) raises the same exception the Python tick raises and runs
-the diagnosis in Python; a failed QP solve (:data:`QP_FAILED`) returns *before* the controllers
+caller (:mod:`coopctrl.loop.compiled`) raises the exception that names the stop and runs the
+diagnosis in Python; a failed QP solve (:data:`QP_FAILED`) returns *before* the controllers
 of its tick, so the caller can apply the failure policy and resume at the same tick with
 ``hold = 1`` (the last feasible split).
+
+The same tick serves every configuration (``opts``): a passive run (no QP, no controllers, zero
+torques, the energy recorded), the ``max_energy`` guard (:data:`ENERGY`), the elastic split, the
+tuning probes' signals; the reference path stops at each assembled QP (:data:`QP_EXTERNAL`) for the
+caller's backend and resumes at the same tick with its answer (``hold = 2``); an integrator the
+kernel lacks stops after each tick's record (:data:`PLANT_EXTERNAL`) for the caller to step the plant.
 """
 
 from __future__ import annotations
