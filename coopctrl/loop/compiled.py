@@ -398,8 +398,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     qp_time = 0.0
     bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
     try:
+        k_stop = min(_CHUNK, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
         while True:
-            k_stop = min(k + _CHUNK, N)
             advance(k, k_stop)
             code = int(out_int[0])
             k = int(out_int[1])
@@ -407,6 +407,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
             if code == K.CHUNK_END:
                 if bar is not None:
                     bar.update(k - bar.n)
+                k_stop = min(k + _CHUNK, N)
                 continue
             if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
                 try:
@@ -416,8 +417,6 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
                     exc = e
                     k -= 1
                     break
-                if bar is not None and k % 50 == 0:
-                    bar.update(k - bar.n)
                 continue
             if code == K.QP_EXTERNAL:  # the reference path: solve with the chosen backend, resume the tick
                 if out_int[4]:
