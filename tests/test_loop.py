@@ -104,10 +104,20 @@ def test_compiled_integrators_agree(integrator):
 
 
 def test_unsupported_parts_name_why():
-    """A loop the kernel does not implement names the part; the reference path's solver is not one."""
-    loop = closed_loop(_scene("planar_two_arm_lift", **COMPILED, **{"simulation.integrator": "implicit_euler"}))
-    assert "implicit_euler" in compiled_unsupported(loop)
+    """What of a loop does not run in the kernel is named (an integrator it lacks); the reference path's
+    solver is not such a part, and a part of a type the kernel does not know refuses to run."""
+    loop = closed_loop(_scene("planar_two_arm_lift", **COMPILED), integrator=_OutsideRK4())
+    assert "rk4_outside" in compiled_unsupported(loop)
     assert compiled_unsupported(closed_loop(_scene("planar_two_arm_lift", **REFERENCE))) is None
+
+    class Sensors:  # not a SensorSuite
+        pass
+
+    odd = closed_loop(_scene("planar_two_arm_lift", **COMPILED))
+    odd.sensors = Sensors()
+    assert "sensor suite" in compiled_unsupported(odd)
+    with pytest.raises(TypeError, match="sensor suite"):
+        odd.run(build.initial_state(_scene("planar_two_arm_lift")), 0.01)
 
 
 # ---------------------------------------------------------------------- passive runs, energy guard, elastic split
