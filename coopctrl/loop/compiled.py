@@ -368,14 +368,19 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         from tqdm import tqdm
 
         bar = tqdm(total=N - 1, unit="tick", desc=loop.name, leave=False, mininterval=0.2)
+    # every argument bound once (the reference path enters the kernel twice per tick)
+    head = (cl.spatial,)
+    args = (N, loop.T, cl.steps, cl.method, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
+            cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
+            state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
+            rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
+            rec["r_contacts"], qs, qb, rec["qp_iterations"], x_good, x_fail, out_int, out_float)
+    run_ticks = K.run_ticks
+    qp_solve_time = rec["qp_solve_time_s"]
+
     def advance(k0: int, k_stop: int) -> None:
         """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) in the kernel."""
-        K.run_ticks(cl.spatial, k0, k_stop, N, loop.T, cl.steps, cl.method, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho,
-            loop.max_deformation, band, cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws,
-            noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau, state.integrals, state.last_split,
-            state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"], rec["tau"], rec["Y0_nominal"], rec["F_measured"],
-            rec["F_commanded"], rec["F_external"], rec["F_internal"], rec["r_contacts"], qs, qb,
-            rec["qp_iterations"], x_good, x_fail, out_int, out_float)
+        run_ticks(*head, k0, k_stop, *args)
 
     steps, rhs, integrator_step = loop._steps, plant.rhs, loop.integrator.step
 
@@ -426,7 +431,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
                 except InfeasibleLoad as e:
                     exc = e
                     break
-                rec["qp_solve_time_s"][k] = split.solve_time_s
+                qp_solve_time[k] = split.solve_time_s
                 qp_time += split.solve_time_s
                 st = _QP_STATUS.index(split.status)
                 if split.held:
