@@ -35,12 +35,10 @@ the methods below that name them delegate. The loop imports nothing of ``coopctr
 from __future__ import annotations
 
 import math
-import time as _time
 
 import numpy as np
 
 from coopctrl.controllers import required_object_wrench
-from coopctrl.errors import DivergenceError, InfeasibleLoad
 from coopctrl.load_distribution import grasp_matrix, internal_force_basis
 from coopctrl.loop import diagnosis, loaded_start
 from coopctrl.loop.diagnosis import DIAGNOSIS_TICKS_BACK
@@ -262,177 +260,15 @@ class ClosedLoop:
         return LoadDistribution(self.ld.config, self.space, self.plant.arm_count)
 
     def _run(self, rec, x0, N, progress):
-        from coopctrl.loop.compiled import compiled_unsupported, run_compiled
+        """Run ``N`` ticks from ``x0`` into ``rec``: the one tick of :mod:`coopctrl.loop.kernel`, driven by
+        :func:`coopctrl.loop.compiled.run_compiled` for every configuration. The reference path
+        (``load_distribution.solver`` other than ``"compiled"``) runs the same kernel, which hands each QP
+        it assembles to the chosen backend; an integrator the kernel lacks steps the plant in Python
+        between kernel calls; passive runs, ``max_energy``, the elastic split and the tuning probes are
+        kernel inputs."""
+        from coopctrl.loop.compiled import run_compiled
 
-        if compiled_unsupported(self) is None:
-            return run_compiled(self, rec, x0, N, progress)
-        plant = self.plant
-        m, p = plant.arm_count, plant.p
-        nu = plant.input_size
-        events: list[tuple[float, str, str]] = []
-        status, reason = "ok", ""
-        x = np.array(x0, dtype=float)
-        self._x_ref = x.copy()
-        q_slices = [plant.q_slice(i) for i in range(m)]
-        nz = plant.nz
-        rhs = plant.rhs
-        bar = None
-        if progress:
-            from tqdm import tqdm
-
-            bar = tqdm(total=N - 1, unit="tick", desc=self.name, leave=False, mininterval=0.2)
-        tau = np.zeros(nu)
-        k_done = 0
-        # the loop state starts afresh on every run (LoopState): noise streams, integrals, warm start, last split
-        sensors = self.sensors.restarted()
-        ld = self._fresh_load_distribution()
-        if hasattr(self.leader, "reset"):
-            self.leader.reset()
-        for ctrl in self.followers.values():
-            ctrl.reset()
-        for i, value in getattr(self, "_initial_integrals", {}).items():
-            self.followers[i].integral[:] = value
-        state_exact = sensors.joints.config.is_exact and sensors.object.config.is_exact
-        wall0 = _time.perf_counter()
-        qp_time = 0.0
-        saturated = 0
-        sat_joints = np.zeros(nu, dtype=np.int64)  # clipped ticks per joint
-        sat_first, sat_last = math.nan, -1
-        binding_counts: dict[str, int] = {}
-        steps = self._steps
-        integrator_step = self.integrator.step
-
-        def advance(x, t):
-            """The plant over one control period from ``t``, the torques ``tau`` held (ZOH)."""
-            for hs in steps:
-                x = integrator_step(rhs, t, x, tau, hs)
-                t += hs
-            return x
-
-        spatial = self.space == "spatial"
-        band = margin_cos()
-        x_good = x.copy()  # the last state that passed the checks (for the failure diagnosis)
-        t_good = 0.0
-        # a diverging state overflows before the next check stops the run: detect it, do not warn about it
-        errstate = np.errstate(over="ignore", invalid="ignore")
-        errstate.__enter__()  # left in the ``finally`` below
-        try:
-            for k in range(N):
-                t = k * self.T
-                # ---- sensors
-                true_terms = plant.control_terms(x)
-                if state_exact:
-                    terms = true_terms
-                else:
-                    xm = x.copy()
-                    for i in range(m):
-                        xm[q_slices[i]], xm[nz:][q_slices[i]] = sensors.read_joints(x[q_slices[i]], x[nz:][q_slices[i]])
-                    xm[nz - p:nz], xm[2 * nz - p:] = sensors.read_object(x[nz - p:nz], x[2 * nz - p:])
-                    terms = plant.control_terms(xm)
-                F_meas = sensors.read_forces(true_terms.Fw)
-                # ---- divergence checks on the state we are at
-                if not np.all(np.isfinite(x)):
-                    raise DivergenceError(t, "state (non-finite)", float("nan"))
-                if spatial and min(abs(math.cos(v)) for v in true_terms.Y[:, 4].tolist()) < band:
-                    raise _NearSingularity(closest_to_singularity(true_terms.Y, t))
-                dmax, which = self._deformation(true_terms.Y)
-                if dmax > self.max_deformation:
-                    raise DivergenceError(t, f"deformation of contact {which} [m]", dmax)
-                if self.max_energy is not None:
-                    E = plant.energy(x)
-                    if not abs(E) <= self.max_energy:
-                        raise DivergenceError(t, "energy [J]", E)
-                x_good[:] = x
-                t_good = t
-                # ---- nominal motion and load
-                Y0N, dY0N, ddY0N = self.trajectory.evaluate(t)
-                if not self.enabled:  # passive run: no QP, no torques; the energy is recorded
-                    rec["t"][k], rec["x"][k], rec["tau"][k], rec["Y0_nominal"][k] = t, x, tau, Y0N
-                    rec["F_measured"][k] = F_meas
-                    rec["r_contacts"][k] = true_terms.Y[1:, :self.npos]
-                    rec["energy"][k] = plant.energy(x)
-                    rec["kinetic_energy"][k] = plant.kinetic_energy(x)
-                    k_done = k + 1
-                    if k == N - 1:
-                        break
-                    x = advance(x, t)
-                    continue
-                Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, self.grasps, self.space)
-                w_N = required_object_wrench(self.space, self.object_mass, self.object_inertia, self.gravity,
-                                             Y0N, dY0N, ddY0N)
-                kwargs = {}
-                if self.ld.config.min_grip is not None or self.ld.config.friction_coefficient is not None:
-                    kwargs["normals"] = self._normals(terms)
-                if self.torque_limits:
-                    kwargs["jacobians"], kwargs["biases"] = self._torque_model(terms, ddYn)
-                    kwargs["tau_max"] = self._qp_tau_max
-                if self.ld.config.split == "elastic":
-                    kwargs["K"] = self.compliance.stiffness_world(Y0N)
-                q0 = _time.perf_counter()
-                split = ld.solve(terms.Y[1:, :self.npos], terms.Y[0, :self.npos], w_N, **kwargs)
-                qp_time += _time.perf_counter() - q0
-                if split.held:
-                    events.append((t, "qp_held", f"QP status '{split.status}' (binding: {', '.join(split.binding) or '-'}); "
-                                                 "holding the last feasible split"))
-                F_set = split.F
-                for fam in split.binding:
-                    binding_counts[fam] = binding_counts.get(fam, 0) + 1
-                # ---- controllers
-                Yv = self.compliance.deformation(self.leader.index, F_set[self.leader.index], Y0N, Yn[self.leader.index + 1])
-                tau[q_slices[self.leader.index]] = self.leader.torque(terms, Yv, dYn[self.leader.index + 1],
-                                                                     ddYn[self.leader.index + 1])
-                for i, ctrl in self.followers.items():
-                    tau[q_slices[i]] = ctrl.torque(terms, F_set[i], F_meas[i], Yn[i + 1], dYn[i + 1], ddYn[i + 1],
-                                                   Y0N, self.T)
-                # ---- actuator saturation
-                clipped = np.abs(tau) > self.tau_max
-                if clipped.any():
-                    saturated += 1
-                    sat_joints += clipped
-                    sat_last = k
-                    if saturated == 1:
-                        sat_first = t
-                    np.clip(tau, -self.tau_max, self.tau_max, out=tau)
-                # ---- record
-                rec["t"][k] = t
-                rec["x"][k] = x
-                rec["tau"][k] = tau
-                rec["Y0_nominal"][k] = Y0N
-                rec["F_measured"][k] = F_meas
-                rec["F_commanded"][k] = F_set
-                rec["F_external"][k] = split.external
-                rec["F_internal"][k] = split.internal
-                rec["r_contacts"][k] = true_terms.Y[1:, :self.npos]
-                rec["qp_status"].append(split.status)
-                rec["qp_binding"].append("+".join(split.binding))  # families binding this tick (plots)
-                rec["qp_iterations"][k] = split.iterations
-                rec["qp_solve_time_s"][k] = split.solve_time_s
-                k_done = k + 1
-                if k == N - 1:
-                    break
-                # ---- plant, zero-order hold over the period
-                x = advance(x, t)
-                if bar is not None and k % 50 == 0:
-                    bar.update(50)
-        except (_NearSingularity, DivergenceError, PlantError, InfeasibleLoad) as exc:
-            saturation = {"saturated_ticks": saturated, "saturated_joint_ticks": sat_joints,
-                          "saturation_first_time_s": sat_first, "saturated_last_tick": sat_last}
-            status, reason = self._stop_reason(exc, k, k_done, rec, x, x_good, t_good, x0, events, saturation)
-        finally:
-            errstate.__exit__(None, None, None)
-            if bar is not None:
-                bar.close()
-        wall = _time.perf_counter() - wall0
-        for key, val in rec.items():
-            if isinstance(val, np.ndarray):
-                rec[key] = val[:k_done]
-        if saturated:
-            events.append((sat_first, "torque_saturation",
-                           f"commanded torques clipped at their limits on {saturated} ticks from t = {sat_first:.4g} s"))
-        rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=qp_time,
-                   qp_binding_counts=binding_counts, saturated_ticks=saturated, saturated_joint_ticks=sat_joints,
-                   saturation_first_time_s=sat_first, saturated_last_tick=sat_last)
-        return rec
+        return run_compiled(self, rec, x0, N, progress)
 
     def _stop_reason(self, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
                      saturation: dict) -> tuple[str, str]:

@@ -156,11 +156,25 @@ def test_drift_into_the_singularity_stops_the_run():
 def test_plant_singularity_inside_a_period_is_reported_as_such():
     """If the plant itself refuses a state (cos(theta) < 1e-6 inside a control period), the run reports the
     Euler-angle singularity with the node and the angle, not a generic plant error. The failure is
-    injected through the plant's Python right-hand side, which the reference path (the Python tick,
-    here with proxsuite) calls; the compiled tick maps the kernel's status to the same exception."""
-    scenario = load_scenario(REPO / "scenarios" / "contact_points_only.toml",
-                             {"simulation.duration": 0.05, "load_distribution.solver": "proxsuite"})
-    loop = closed_loop(scenario)
+    injected through the plant's Python right-hand side, which an integrator outside the kernel calls
+    (the plant then steps in Python between kernel calls); the kernel's own integration maps its
+    status to the same exception."""
+    from coopctrl.integrators import get_integrator
+
+    class OutsideRK4:  # an integrator the kernel does not implement: RK4 stepped from Python
+        name = "rk4_outside"
+
+        def __init__(self):
+            self.inner = get_integrator("rk4")
+
+        def step(self, f, t, x, u, h):
+            return self.inner.step(f, t, x, u, h)
+
+        def __getattr__(self, attr):
+            return getattr(self.inner, attr)
+
+    scenario = load_scenario(REPO / "scenarios" / "contact_points_only.toml", {"simulation.duration": 0.05})
+    loop = closed_loop(scenario, integrator=OutsideRK4())
     rhs = loop.plant.rhs
 
     def failing(t, x, tau):

@@ -111,7 +111,7 @@ def test_pi_closed_on_the_model_matches_the_loop_with_other_gains(planar):
 
 def test_probes_with_zero_signals_do_not_change_the_loop():
     """A probed loop is the loop: same run to the last bit."""
-    # the reference path: the probed loop runs the Python tick, so the plain one does too
+    # the reference path (proxsuite): the probes' signals are kernel inputs on every path
     s = load(PLANAR, **{"simulation.duration": 0.2, "load_distribution.solver": "proxsuite"})
     x0 = s.initial_state()
     plain = closed_loop(s).run(x0, 0.2)

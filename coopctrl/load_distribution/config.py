@@ -72,7 +72,7 @@ class LoadDistributionConfig:
             :mod:`~coopctrl.load_distribution.goldfarb_idnani`, warm started from the last active
             set, inside the compiled tick of :mod:`coopctrl.loop`), ``"proxsuite"`` (one persistent
             dense QP, warm started) or a qpsolvers backend name such as ``"daqp"`` or
-            ``"quadprog"``: the reference path (the Python tick with that solver).
+            ``"quadprog"``: the reference path (the same compiled tick, handing each QP to that solver).
         eps_abs: Absolute solver tolerance (proxsuite) [N, N m].
         max_iter: Iteration limit of the proxsuite solver.
         max_consecutive_failures: Consecutive failed solves (answered with the held previous split)

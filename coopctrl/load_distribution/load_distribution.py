@@ -119,8 +119,16 @@ class LoadDistribution:
             InfeasibleLoad: The first solve fails, or ``max_consecutive_failures`` fail in a row.
             ScenarioError: An input has the wrong shape or is missing.
         """
+        self.problem.update(r_contacts, r_object, w_N, normals, jacobians, biases, tau_max, K)
+        return self.solve_assembled(r_contacts)
+
+    def solve_assembled(self, r_contacts) -> LoadSplit:
+        """:meth:`solve` on the problem as it stands: its arrays filled by :meth:`LoadDistributionProblem.update`
+        or in place by the compiled tick's assembly (the reference path of :mod:`coopctrl.loop.compiled`),
+        with ``P_changed`` set when ``P`` changed. The backend's solve, the answer check, the failure
+        policy and the binding families, as in :meth:`solve`; ``r_contacts`` (m, npos) [m] only goes
+        into the returned split."""
         pb = self.problem
-        pb.update(r_contacts, r_object, w_N, normals, jacobians, biases, tau_max, K)
         res = self.solver.solve(pb)
         status = res.status
         x = res.x

@@ -3,15 +3,21 @@
 :func:`run_compiled` builds the kernel's constant arrays once per loop (:class:`CompiledLoop`),
 a fresh :class:`~coopctrl.loop.state.LoopState` per run (so a run depends on ``x0`` and the
 scenario only: the same loop run twice gives bit-identical records), calls the kernel, and turns
-its stop code back into the exception the Python tick raises, so the diagnosis of
-:meth:`ClosedLoop._stop_reason` runs unchanged. A failed QP solve comes back to Python: the
-failure policy of :class:`~coopctrl.load_distribution.LoadDistribution` (the infeasibility cause,
-hold the last feasible split, give up after ``max_consecutive_failures``) is applied there and
-the kernel resumes at the same tick.
+its stop code back into an exception, so the diagnosis of :meth:`ClosedLoop._stop_reason` runs
+unchanged. A failed QP solve comes back to Python: the failure policy of
+:class:`~coopctrl.load_distribution.LoadDistribution` (the infeasibility cause, hold the last
+feasible split, give up after ``max_consecutive_failures``) is applied there and the kernel resumes
+at the same tick.
 
-The compiled tick runs when ``load_distribution.solver = "compiled"`` and the loop uses only what
-the kernel implements (:func:`compiled_unsupported` names what it does not); otherwise the Python
-tick of :mod:`coopctrl.closed_loop` runs, with the chosen QP backend.
+Every run goes through the kernel. The reference path (``load_distribution.solver`` other than
+``"compiled"``): the kernel assembles each QP in the arrays of a
+:class:`~coopctrl.load_distribution.problem.LoadDistributionProblem` and stops
+(:data:`~coopctrl.loop.kernel.QP_EXTERNAL`); :meth:`LoadDistribution.solve_assembled` solves it with the
+chosen backend (answer check, failure policy, binding families, time per solve) and the kernel
+resumes the tick with the answer. An integrator the kernel lacks (:func:`integrator_outside`) steps
+the plant in Python between kernel calls (:data:`~coopctrl.loop.kernel.PLANT_EXTERNAL`). Passive runs,
+``max_energy``, the elastic split and the tuning probes of :mod:`coopctrl.tuning.loop_probes` are
+kernel inputs (:meth:`CompiledLoop.options`).
 """
 
 from __future__ import annotations
@@ -22,12 +28,11 @@ import time as _time
 import numpy as np
 
 from coopctrl.errors import DivergenceError, InfeasibleLoad
-from coopctrl.load_distribution.goldfarb_idnani import gi_workspace
+from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 from coopctrl.loop import integrate as I
 from coopctrl.loop import kernel as K
 from coopctrl.loop.state import LoopState
-from plants.cooperative import ContactPoint
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
 
 #: Integrators the kernel implements, by name (:mod:`coopctrl.loop.integrate`): the explicit ones share a
@@ -43,32 +48,40 @@ _QP_STATUS = ("solved", "infeasible", "max_iter", "failed")
 _CHUNK = 500
 
 
-def compiled_unsupported(loop) -> str | None:
-    """Why ``loop`` cannot run the compiled tick (``None``: it can)."""
-    cfg = loop.ld.config
-    if cfg.solver != "compiled":
-        return f"load_distribution.solver = {cfg.solver!r} (the reference path)"
+def _inner(controller):
+    """The controller a tuning probe wraps (or the controller itself)."""
+    return getattr(controller, "inner", controller)
+
+
+def integrator_outside(loop) -> str | None:
+    """Why ``loop``'s plant integration cannot run in the kernel (``None``: it can): an integrator the
+    kernel does not implement, stepped in Python between kernel calls (:data:`~coopctrl.loop.kernel.PLANT_EXTERNAL`)."""
     name = getattr(loop.integrator, "name", None)
     if name not in METHODS or type(loop.integrator).__module__.split(".")[1:2] != ["integrators"]:
         return f"integrator {name or type(loop.integrator).__name__!r} (compiled: {', '.join(METHODS)})"
-    if cfg.split != "pseudo_inverse":
-        return f"load_distribution.split = {cfg.split!r}"
+    return None
+
+
+def compiled_unsupported(loop) -> str | None:
+    """What of ``loop`` does not run entirely in the kernel (``None``: everything does): an integrator
+    the kernel lacks (the plant is then stepped in Python between kernel calls), or parts of types the
+    kernel does not implement (such a loop cannot run: :func:`run_compiled` raises ``TypeError``)."""
+    return integrator_outside(loop) or _unsupported_parts(loop)
+
+
+def _unsupported_parts(loop) -> str | None:
     from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
     from coopctrl.sensors import SensorSuite
+    from coopctrl.tuning.loop_probes import FollowerProbe, LeaderProbe
 
-    if type(loop.leader) is not LeaderController or any(type(c) is not FollowerForceController
-                                                         for c in loop.followers.values()):
-        return "controllers other than LeaderController and FollowerForceController (e.g. tuning probes)"
+    if (type(loop.leader) not in (LeaderController, LeaderProbe) or type(_inner(loop.leader)) is not LeaderController
+            or any(type(c) not in (FollowerForceController, FollowerProbe) or type(_inner(c)) is not FollowerForceController
+                   for c in loop.followers.values())):
+        return "controllers other than LeaderController and FollowerForceController (or their tuning probes)"
     if type(loop.compliance) is not GraspCompliance or type(loop.sensors) is not SensorSuite:
         return "a grasp compliance or sensor suite of another type"
-    from coopctrl.trajectory import MinimumJerkTrajectory
-
-    if type(loop.trajectory) is not MinimumJerkTrajectory:
-        return f"a trajectory of type {type(loop.trajectory).__name__} (compiled: MinimumJerkTrajectory)"
-    if not loop.enabled:
-        return "controllers.enabled = false (passive run)"
-    if loop.max_energy is not None:
-        return "simulation.max_energy"
+    if not callable(getattr(loop.trajectory, "evaluate", None)):
+        return f"a trajectory of type {type(loop.trajectory).__name__} without evaluate(t)"
     return None
 
 
@@ -84,15 +97,16 @@ class CompiledLoop:
         self.grasps = np.ascontiguousarray(loop.grasps, dtype=float)
         self.obj = np.concatenate([[loop.object_mass], loop.object_inertia]).astype(float)
         self.rho = np.ascontiguousarray(loop._rho, dtype=float)
-        fol = list(loop.followers.values())
+        fol = [_inner(c) for c in loop.followers.values()]
         f = fol[0] if fol else None
-        self.ctrl = np.array([loop.leader.index, loop.leader.Kp, loop.leader.Kd,
+        leader = _inner(loop.leader)
+        self.ctrl = np.array([leader.index, leader.Kp, leader.Kd,
                               f.kp if f else 0.0, f.ki if f else 0.0, f.Kp if f else 0.0, f.Kd if f else 0.0,
                               float(f.force_loop) if f else 0.0, float(f.integral_limit) if f else 0.0])
         nmax = max([p] + list(plant.arm_dofs))
         q_rest = np.zeros((m, nmax))
-        post = loop.leader.posture
-        for c in [loop.leader] + fol:
+        post = leader.posture
+        for c in [leader] + fol:
             if c.posture.active:
                 q_rest[c.index, :c.posture.n] = c.posture.q_rest
         self.posture = (np.array([post.Kp, post.Kd]), q_rest)
@@ -129,17 +143,29 @@ class CompiledLoop:
         self.npairs = pb.E.shape[1]
         self.problem = pb
         self.ld_config = cfg
-        self.method = METHODS[loop.integrator.name]
+        self.method = METHODS.get(getattr(loop.integrator, "name", None), -1)
+        self.plant_outside = integrator_outside(loop) is not None
         self.steps = np.array(loop._steps, dtype=float)
         self.nmax = nmax
+        self.external_qp = cfg.solver != "compiled"
+        self.elastic = cfg.split == "elastic"
+        self.K_obj = np.ascontiguousarray(loop.compliance.K, dtype=float)
 
     def plant_workspaces(self, plant):
         """Fresh plant workspaces ``(rhs, true control terms, measured control terms)``."""
         return plant.workspace(), plant.control_workspace(), plant.control_workspace()
 
-    def qp_arrays(self):
-        """Fresh QP arrays ``(M, lo, hi, H, g, x, z, external, F_pref, E, A, y)`` with the fixed rows set."""
+    def qp_arrays(self, problem=None):
+        """Fresh QP arrays ``(M, lo, hi, H, g, x, z, external, F_pref, E, A, y)`` with the fixed rows set.
+
+        With ``problem`` (a fresh :class:`~coopctrl.load_distribution.problem.LoadDistributionProblem`
+        of the reference path, its torque rows allocated) ``M, lo, hi, H, g, external, F_pref`` are that
+        problem's own arrays: the kernel assembles the QP in place and the backend reads it there."""
         p, n, n_in = (6 if self.spatial else 3), self.n, self.n_in
+        if problem is not None:
+            pb = problem
+            return (pb.M, pb.lo, pb.hi, pb.P, pb.g, np.zeros(n), np.zeros(p + n_in), pb.external, pb.F_pref,
+                    np.zeros((n, max(self.npairs, 1))), np.zeros((p, p)), np.zeros(p))
         pb = self.problem
         M = np.zeros((p + n_in, n))
         M[:p] = pb._G0
@@ -153,10 +179,40 @@ class CompiledLoop:
         return (M, lo, hi, np.diag(pb.W_diag), np.zeros(n), np.zeros(n), np.zeros(p + n_in), np.zeros(n), np.zeros(n),
                 np.zeros((n, max(self.npairs, 1))), np.zeros((p, p)), np.zeros(p))
 
+    def options(self, loop, rec, passive: bool):
+        """The kernel's ``opts`` of one run (see :func:`coopctrl.loop.kernel.run_ticks`): the switches, the
+        energy record, the elastic split's arrays and the tuning probes' inputs as they are now."""
+        from coopctrl.tuning.loop_probes import FollowerProbe, LeaderProbe
+
+        p, n, m = (6 if self.spatial else 3), self.n, self.K_obj.shape[0]
+        switches = np.zeros(6, dtype=np.int64)
+        switches[K.OPT_EXTERNAL_PLANT] = int(self.plant_outside)
+        switches[K.OPT_PASSIVE] = int(passive)
+        switches[K.OPT_ENERGY] = 2 if loop.max_energy is not None else int(passive)
+        switches[K.OPT_ELASTIC] = int(self.elastic)
+        switches[K.OPT_EXTERNAL_QP] = int(self.external_qp)
+        reals = np.array([float(loop.max_energy) if loop.max_energy is not None else math.inf])
+        lead_off = np.zeros(p)
+        if isinstance(loop.leader, LeaderProbe):
+            lead_off[:] = loop.leader.offset
+        r, v, d = np.zeros((m, p)), np.zeros((m, p)), np.zeros((m, p), dtype=np.int64)
+        g = np.ones((m, p))
+        for i, c in loop.followers.items():
+            if isinstance(c, FollowerProbe):
+                switches[K.OPT_PROBES] = 1
+                r[i], v[i], g[i] = c.setpoint_offset, c.pi_output, c.error_gain
+                d[i] = np.asarray(c.measurement_delay, dtype=np.int64)
+        if np.any(d < 0):
+            raise ValueError(f"FollowerProbe.measurement_delay = {d.tolist()}: expected integers >= 0 [ticks]")
+        nodes = m + 1
+        return (switches, reals, np.zeros((nodes, p)), np.zeros((nodes, p)), rec["energy"], rec["kinetic_energy"],
+                self.K_obj, np.zeros((n, n)), np.zeros((n, p)), np.zeros((p, p)), np.zeros((p, 2 * p)),
+                lead_off, r, v, g, d)
+
 
 def _compiled(loop) -> CompiledLoop:
     c = getattr(loop, "_compiled_cache", None)
-    key = (tuple(loop._steps), loop.integrator.name)
+    key = (tuple(loop._steps), getattr(loop.integrator, "name", None), id(loop.integrator))
     if c is None or c[0] != key:
         c = (key, CompiledLoop(loop))
         loop._compiled_cache = c
@@ -203,6 +259,9 @@ def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopSt
                              "move the grasps apart")
     if code == -2:
         raise InfeasibleLoad("failed", (), "two contact points coincide", "move the grasps apart")
+    if code == -3:
+        raise InfeasibleLoad("failed", (), "the grasp stiffness is singular: the elastic split needs K^-1",
+                             "use load_distribution.split = \"pseudo_inverse\", or interconnections stiff in every direction")
     ld = loop._fresh_load_distribution()
     pb = ld.problem
     if cl.joint_counts and "torque_limits" in cl.rows:
@@ -232,7 +291,8 @@ def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopSt
 
 
 def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_fail, traj):
-    """The exception the Python tick raises for the kernel's stop ``code`` at tick ``k``."""
+    """The exception that names the kernel's stop ``code`` at tick ``k`` (what the plant, the guards and the
+    controllers raise from Python)."""
     from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
     from coopctrl.loop.euler_band import closest_to_singularity
     from plants.cooperative import nominal_node_motion
@@ -246,6 +306,8 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
         return I.newton_failure(loop.integrator.name, cl.steps, out_int, out_float)
     if code == K.DEFORMATION:
         return DivergenceError(t, f"deformation of contact {int(out_int[2])} [m]", float(out_float[0]))
+    if code == K.ENERGY:
+        return DivergenceError(t, "energy [J]", float(out_float[0]))
     if code == K.NEAR_SINGULARITY:
         return _NearSingularity(closest_to_singularity(plant.node_poses(x_fail).reshape(-1, plant.p), t))
     try:
@@ -270,6 +332,10 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
 def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``."""
     plant = loop.plant
+    why = _unsupported_parts(loop)
+    if why is not None:
+        raise TypeError(f"the closed loop cannot run {why}: use the controllers, compliance, sensors and trajectory "
+                        "that coopctrl.simulator.closed_loop builds")
     cl = _compiled(loop)
     wall0 = _time.perf_counter()
     m, p = plant.arm_count, plant.p
@@ -279,11 +345,20 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     state = LoopState.start(x0, plant.input_size, m, p, cl.n, p + cl.n_in)
     for i, value in getattr(loop, "_initial_integrals", {}).items():
         state.integrals[i] = value
-    qa = cl.qp_arrays()
+    passive = not loop.enabled
+    ld = None
+    if cl.external_qp and not passive:  # the reference path: the kernel assembles, the chosen backend solves
+        ld = loop._fresh_load_distribution()
+        if "torque_limits" in cl.rows:
+            ld.problem._allocate(cl.joint_counts)
+    qa = cl.qp_arrays(ld.problem if ld is not None else None)
+    opts = cl.options(loop, rec, passive)
     plant_ws = cl.plant_workspaces(plant)
-    plan = I.make_plan(loop.integrator, plant.state_size)  # the integrator's work arrays and Newton state, cold
+    # the integrator's work arrays and Newton state, cold (an integrator outside the kernel steps in Python:
+    # the kernel stops before its plant block, and an explicit Euler plan only fixes the argument types)
+    plan = I.make_plan(loop.integrator if not cl.plant_outside else ExplicitEuler(), plant.state_size)
     times = np.arange(N) * loop.T
-    traj = np.ascontiguousarray(np.stack(loop.trajectory.sample(times)) if N else np.zeros((3, 0, p)))
+    traj = _trajectory_samples(loop.trajectory, times, p)
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
     qs = np.zeros(N, dtype=np.int64)
     qb = np.zeros(N, dtype=np.int64)
@@ -302,14 +377,28 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         from tqdm import tqdm
 
         bar = tqdm(total=N - 1, unit="tick", desc=loop.name, leave=False, mininterval=0.2)
+    # every argument bound once (the reference path enters the kernel twice per tick)
+    head = (cl.spatial,)
+    args = (N, loop.T, cl.steps, plan, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
+            cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
+            state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
+            rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
+            rec["r_contacts"], qs, qb, rec["qp_iterations"], x_good, x_fail, out_int, out_float)
+    run_ticks = K.run_ticks
+    qp_solve_time = rec["qp_solve_time_s"]
+
     def advance(k0: int, k_stop: int) -> None:
         """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) in the kernel."""
-        K.run_ticks(cl.spatial, k0, k_stop, N, loop.T, cl.steps, plan, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho,
-            loop.max_deformation, band, cl.ctrl, cl.posture, cl.C, cl.qp, qa, state.ws,
-            noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau, state.integrals, state.last_split,
-            state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"], rec["tau"], rec["Y0_nominal"], rec["F_measured"],
-            rec["F_commanded"], rec["F_external"], rec["F_internal"], rec["r_contacts"], qs, qb,
-            rec["qp_iterations"], x_good, x_fail, out_int, out_float)
+        run_ticks(*head, k0, k_stop, *args)
+
+    steps, rhs, integrator_step = loop._steps, plant.rhs, loop.integrator.step
+
+    def step_period(x, t):
+        """The plant over one control period from ``t`` with the held torques (ZOH), in Python."""
+        for hs in steps:
+            x = integrator_step(rhs, t, x, state.tau, hs)
+            t += hs
+        return x
 
     # a call that runs no tick: numba resolves the argument types and loads the compiled kernel from its
     # cache here (about 0.1 s once per process), start-up that is not the loop's wall time
@@ -320,9 +409,11 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     status, reason = "ok", ""
     k = 0
     exc = None
+    qp_time = 0.0
+    bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
     try:
+        k_stop = min(_CHUNK, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
         while True:
-            k_stop = min(k + _CHUNK, N)
             advance(k, k_stop)
             code = int(out_int[0])
             k = int(out_int[1])
@@ -330,6 +421,36 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
             if code == K.CHUNK_END:
                 if bar is not None:
                     bar.update(k - bar.n)
+                k_stop = min(k + _CHUNK, N)
+                continue
+            if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
+                try:
+                    with np.errstate(over="ignore", invalid="ignore"):  # a diverging state is caught by the guards
+                        state.x[:] = step_period(state.x, (k - 1) * loop.T)
+                except (DivergenceError, PlantError) as e:
+                    exc = e
+                    k -= 1
+                    break
+                continue
+            if code == K.QP_EXTERNAL:  # the reference path: solve with the chosen backend, resume the tick
+                if out_int[4]:
+                    ld.problem.P_changed = True
+                try:
+                    split = ld.solve_assembled(_moment_arms(qa[0], m, p, npos))
+                except InfeasibleLoad as e:
+                    exc = e
+                    break
+                qp_solve_time[k] = split.solve_time_s
+                qp_time += split.solve_time_s
+                st = _QP_STATUS.index(split.status)
+                if split.held:
+                    held[k] = (split.status, split.binding)
+                    events.append((k * loop.T, "qp_held", f"QP status '{split.status}' (binding: "
+                                   f"{', '.join(split.binding) or '-'}); holding the last feasible split"))
+                    state.hold[:] = (1, st, split.iterations, 0)
+                else:
+                    qa[5][:] = split.F.reshape(-1)
+                    state.hold[:] = (2, st, split.iterations, sum(bits[f] for f in split.binding))
                 continue
             if code == K.QP_FAILED:
                 try:
@@ -340,7 +461,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
                 held[k] = (qstatus, binding)
                 events.append((k * loop.T, "qp_held", f"QP status '{qstatus}' (binding: {', '.join(binding) or '-'}); "
                                                       "holding the last feasible split"))
-                state.hold[:] = (1, _QP_STATUS.index(qstatus) if qstatus in _QP_STATUS else 3, int(out_int[3]))
+                state.hold[:] = (1, _QP_STATUS.index(qstatus) if qstatus in _QP_STATUS else 3, int(out_int[3]), 0)
                 continue
             if code != K.DONE:
                 exc = _exception(loop, cl, code, k, out_int, out_float, x_fail, traj)
@@ -362,9 +483,11 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         if isinstance(val, np.ndarray):
             rec[key] = val[:k_done]
     families = [name for name in ("min_grip", "friction", "torque_limits") if name in cl.rows]
-    bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
     statuses, bindings, counts = [], [], {}
-    for i in range(k_done):
+    if passive:  # no QP ran: no split, no status
+        for key in ("F_commanded", "F_external", "F_internal"):
+            rec[key][:] = np.nan
+    for i in range(0 if passive else k_done):
         if i in held:
             st, fam = held[i]
         else:
@@ -377,7 +500,50 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     if saturated:
         events.append((sat_first, "torque_saturation",
                        f"commanded torques clipped at their limits on {saturated} ticks from t = {sat_first:.4g} s"))
-    rec.update(status=status, reason=reason, events=events, wall_time_s=wall, qp_time_s=math.nan,
-               qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings, rhs_evaluations=int(out_int[7]),
+    _probe_errors(loop, rec)
+    for i, c in loop.followers.items():  # the controllers' integrals as the run left them (read by analysis code)
+        _inner(c).integral[:] = state.integrals[i]
+    rec.update(status=status, reason=reason, events=events, wall_time_s=wall,
+               qp_time_s=qp_time if ld is not None or passive else math.nan,
+               qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings,
+               rhs_evaluations=None if cl.plant_outside else int(out_int[7]),
                **saturation)
     return rec
+
+
+def _moment_arms(M, m: int, p: int, npos: int) -> np.ndarray:
+    """``r_i - r_0`` (m, npos) [m] of the grasp matrix ``G = M[:p]`` the kernel assembled (the contact
+    points of a reference-path split, relative to the object: all its squeeze needs)."""
+    r = np.empty((m, npos))
+    for i in range(m):
+        c = p * i
+        if p == 6:
+            r[i] = (M[4, c + 2] * -1.0, M[5, c + 0] * -1.0, M[3, c + 1] * -1.0)
+        else:
+            r[i] = (M[2, c + 1], -M[2, c])
+    return r
+
+
+def _probe_errors(loop, rec) -> None:
+    """Each tuning probe's ``errors``: ``F* + r - F_meas`` of every recorded tick (true, undelayed) [N, N m]."""
+    from coopctrl.tuning.loop_probes import FollowerProbe
+
+    for i, c in loop.followers.items():
+        if isinstance(c, FollowerProbe):
+            E = (rec["F_commanded"][:, i] + c.setpoint_offset) - rec["F_measured"][:, i]
+            c.errors[:] = list(E)
+
+
+def _trajectory_samples(trajectory, times, p: int) -> np.ndarray:
+    """``(Y, dY, ddY)`` of the nominal object motion at ``times``, stacked (3, N, p) [m, rad, per s, per s^2]:
+    ``sample`` (vectorized) when the trajectory has it, else ``evaluate`` tick by tick."""
+    from coopctrl.trajectory import MinimumJerkTrajectory
+
+    if not len(times):
+        return np.zeros((3, 0, p))
+    if type(trajectory) is MinimumJerkTrajectory:
+        return np.ascontiguousarray(np.stack(trajectory.sample(times)))
+    out = np.empty((3, len(times), p))
+    for k, t in enumerate(times):
+        out[:, k] = trajectory.evaluate(float(t))
+    return out

@@ -25,10 +25,16 @@ arrays of a :class:`~coopctrl.loop.state.LoopState` and writes the record rows i
    Python integrator.
 
 It returns when the run ends or an event stops it, with ``out_int = (code, tick, ...)``: the
-caller (:mod:`coopctrl.loop.compiled`) raises the same exception the Python tick raises and runs
-the diagnosis in Python; a failed QP solve (:data:`QP_FAILED`) returns *before* the controllers
+caller (:mod:`coopctrl.loop.compiled`) raises the exception that names the stop and runs the
+diagnosis in Python; a failed QP solve (:data:`QP_FAILED`) returns *before* the controllers
 of its tick, so the caller can apply the failure policy and resume at the same tick with
 ``hold = 1`` (the last feasible split).
+
+The same tick serves every configuration (``opts``): a passive run (no QP, no controllers, zero
+torques, the energy recorded), the ``max_energy`` guard (:data:`ENERGY`), the elastic split, the
+tuning probes' signals; the reference path stops at each assembled QP (:data:`QP_EXTERNAL`) for the
+caller's backend and resumes at the same tick with its answer (``hold = 2``); an integrator the
+kernel lacks stops after each tick's record (:data:`PLANT_EXTERNAL`) for the caller to step the plant.
 """
 
 from __future__ import annotations
@@ -49,8 +55,10 @@ from coopctrl.load_distribution.assembly import (
     fill_torque_rows,
     pseudo_inverse_external,
 )
+from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_solve
 from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
+from coopctrl.loop.energy import plant_energy
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
 from plants.cooperative.loaded_state import _planar_motion, _spatial_motion
@@ -69,6 +77,20 @@ SINGULAR_JACOBIAN = 7  #: a controller met a singular Jacobian (``out_int[2]`` =
 POSE_INCREMENT_SINGULAR = 8  #: a node's body-rate map is singular in the compliance map (``out_int[2]`` = arm)
 CHUNK_END = 9       #: stopped at ``k_stop`` (progress reporting); resume at ``out_int[1]``
 NEWTON_FAILED = 10  #: an implicit step's Newton iteration failed (``out_int[2]`` = step of the period, ``[3]`` iterations; ``out_float`` = (correction, time))
+ENERGY = 11         #: the total energy left ``max_energy`` (``out_float[0]`` = the energy [J])
+QP_EXTERNAL = 12    #: the QP of tick ``out_int[1]`` is assembled (``out_int[4]``: its ``P`` changed) for a
+                    #: solver outside the kernel: resume at that tick with the answer (``hold_status[0] = 2``)
+PLANT_EXTERNAL = 13  #: tick ``out_int[1] - 1`` is recorded and its torques are in ``tau``: the caller integrates
+                     #: ``x`` over the period and resumes at tick ``out_int[1]``
+
+#: Entries of ``opts[0]`` (int64 switches of a run).
+OPT_PASSIVE = 0     #: no QP, no controllers, zero torques; energy recorded
+OPT_ENERGY = 1      #: evaluate the energy each tick (1: record it, 2: also guard ``max_energy``)
+OPT_ELASTIC = 2     #: ``split = "elastic"``: ``A_K`` and ``P = K^-1`` from the grasp stiffness
+OPT_EXTERNAL_QP = 3  #: stop at each QP solve with :data:`QP_EXTERNAL` (the reference path's solver)
+OPT_PROBES = 4      #: the followers' tuning probes (setpoint offset, PI output, error gain, delay)
+OPT_EXTERNAL_PLANT = 5  #: stop after each tick's record with :data:`PLANT_EXTERNAL` (an integrator outside the kernel)
+
 
 #: Bits of the QP family masks (the record's ``qp_binding``), in the row order of the problem.
 FAMILY_MIN_GRIP = 1
@@ -153,7 +175,7 @@ def _pose_increment(spatial, C, F, Y0, Yi):
 
 @njit(cache=True)
 def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
-              ctrl, posture, C_comp, qp, qp_arrays, ws, noise_q, noise_o, noise_f, noise_cfg,
+              ctrl, posture, C_comp, qp, qp_arrays, opts, ws, noise_q, noise_o, noise_f, noise_cfg,
               x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
               rec_r, rec_qs, rec_qb, rec_qit, x_good, x_fail, out_int, out_float):
     """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
@@ -171,7 +193,19 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     internal)`` [N, N m]; ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves,
     first saturated tick, last saturated tick)``; ``sat_joints`` (nu,) int64 saturated ticks per joint.
     ``hold`` (``hold_status[0] = 1``): tick ``k0`` uses the last feasible split (the caller applied
-    the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``.
+    the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``;
+    ``hold_status[0] = 2``: the caller solved the QP of tick ``k0`` (after :data:`QP_EXTERNAL`) and
+    wrote its answer into ``x`` of ``qp_arrays``, with status, iterations and binding families mask
+    ``hold_status[1:4]``.
+
+    ``opts = (switches, reals, energy_scratch, zero_rates, rec_energy, rec_kinetic, K_obj, K, KGt, Rb,
+    work, leader_offset, r, v, g, d)``: ``switches`` int64 (``OPT_*``); ``reals = (max_energy [J],)``;
+    ``energy_scratch``, ``zero_rates`` (N, p); ``rec_energy``, ``rec_kinetic`` (N,) the energy record
+    [J]; the elastic split's ``K_obj`` (m, p, p) object-frame grasp stiffness [N/m, N m/rad] and its
+    work arrays ``K`` (n, n), ``KGt`` (n, p), ``Rb`` (p, p), ``work`` (p, 2p); the tuning probes:
+    ``leader_offset`` (p,) added to the leader's target [m, rad] and, per arm (m, p), the followers'
+    setpoint offset ``r`` and PI output ``v`` [N, N m], error gain ``g`` [-] and measurement delay
+    ``d`` (int64, ticks) (:class:`~coopctrl.tuning.loop_probes.FollowerProbe`).
 
     Returns nothing; ``out_int = (code, tick, detail, detail, -, ticks recorded, last tick that passed
     the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
@@ -201,6 +235,17 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     torque_limits = row_tau >= 0
     need_normals = row_grip >= 0 or row_fric >= 0
     (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
+    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d) = opts
+    passive = switches[OPT_PASSIVE] != 0
+    energy_on = switches[OPT_ENERGY] != 0
+    energy_guard = switches[OPT_ENERGY] == 2
+    max_energy = reals[0]
+    elastic = switches[OPT_ELASTIC] != 0
+    external_qp = switches[OPT_EXTERNAL_QP] != 0
+    probes = switches[OPT_PROBES] != 0
+    plant_outside = switches[OPT_EXTERNAL_PLANT] != 0
+    F_cmd = np.empty((m, p))
+    F_seen = np.empty((m, p))
     n_in = Mq.shape[0] - p
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
@@ -322,6 +367,21 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             out_int[2] = which
             out_float[0] = worst
             return
+        if energy_on:  # the energy guard; a passive run records the energy
+            E, KE, est = plant_energy(x, P, cws_true, eF, eDY0)
+            if est != 0:
+                out_int[0] = PLANT_ERROR
+                out_int[2] = est
+                out_int[3] = 0
+                x_fail[:] = x
+                return
+            if energy_guard and not abs(E) <= max_energy:
+                out_int[0] = ENERGY
+                out_float[0] = E
+                return
+            if passive:
+                rec_E[k] = E
+                rec_KE[k] = KE
         x_good[:] = x
         out_int[6] = k  # the last tick whose state passed the guards
         # ---- nominal motion and load
@@ -338,8 +398,16 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             Yn, dYn, ddYn = _planar_motion(Y0N, dY0N, ddY0N, grasps)
         required_wrench(spatial, obj_mass, obj_inertia, gravity, Y0N, dY0N, ddY0N, wN)
         # ---- the QP
-        hold = hold_status[0] != 0
-        if hold:
+        hold = hold_status[0] == 1
+        supplied = hold_status[0] == 2
+        if passive:  # no QP (the caller records no split)
+            for i in range(m):
+                for a in range(p):
+                    F_set[i, a] = 0.0
+            qs = 0
+            qit = -1
+            qb = 0
+        elif hold:
             hold_status[0] = 0
             for i in range(m):
                 for a in range(p):
@@ -359,7 +427,15 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             for a in range(npos):
                 r0[a] = Ym[0, a]
             fill_grasp_rows(Mq, rc, r0, spatial)
-            if not pseudo_inverse_external(Mq, p, W_inv_diag, wN, external, Ak, yk):
+            P_changed = False
+            if elastic:
+                ecode, P_changed = fill_elastic_split(Mq, p, K_obj, Y0N, spatial, Kw, Hq, wN, external, KGt, Ak, yk,
+                                                      Rb, ework)
+                if ecode != 0:
+                    out_int[0] = QP_FAILED
+                    out_int[2] = ecode  # -1 degenerate grasp, -3 singular grasp stiffness
+                    return
+            elif not pseudo_inverse_external(Mq, p, W_inv_diag, wN, external, Ak, yk):
                 out_int[0] = QP_FAILED
                 out_int[2] = -1  # degenerate grasp (ScenarioError in the Python problem)
                 return
@@ -377,8 +453,15 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             else:
                 for c in range(n):
                     Fpref[c] = external[c]
-            for c in range(n):
-                gq[c] = -W_diag[c] * Fpref[c]
+            if elastic:  # g = -P F_pref
+                for c in range(n):
+                    s = 0.0
+                    for e in range(n):
+                        s += Hq[c, e] * Fpref[e]
+                    gq[c] = -s
+            else:
+                for c in range(n):
+                    gq[c] = -W_diag[c] * Fpref[c]
             if need_normals:
                 for i in range(m):
                     if spatial:
@@ -463,59 +546,69 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                                 Jg[i, a, r] = Ji[a, r]
                     j0 += ni
                 fill_torque_rows(Mq, lo, hi, p + row_tau, Jg, arm_dof, p, tau_qp, bias)
-            first = flags[3] == 0
-            code, qit = gi_solve(Hq, gq, Mq, lo, hi, p, xq, zq, ws, first, eps_abs, max_iter)
-            flags[3] += 1
-            qs = code
-            okqp = code == 0
-            for c in range(n):
-                if not math.isfinite(xq[c]):
-                    okqp = False
-            viol_mask = 0
-            if code != 3 and okqp:
-                viol = -np.inf
-                scale = 0.0
-                for r in range(Mq.shape[0]):
-                    s = 0.0
-                    for c in range(n):
-                        s += Mq[r, c] * xq[c]
-                    v = max(lo[r] - s, s - hi[r])
-                    if v > viol:
-                        viol = v
-                    if abs(s) > scale:
-                        scale = abs(s)
-                tol = 100.0 * eps_abs * (1.0 + scale)
-                if not viol <= min(tol, answer_rho):  # LoadDistribution.answer_tolerance: capped by the load
-                    load = 1.0
-                    for r in range(Mq.shape[0]):
-                        if r < p or math.isfinite(lo[r]):
-                            load = max(load, abs(lo[r]))
-                        if r >= p and math.isfinite(hi[r]):
-                            load = max(load, abs(hi[r]))
-                    tol = min(tol, answer_rho * load)
-                if not viol <= tol:
-                    okqp = False
-            if not okqp:
-                out_int[0] = QP_FAILED
-                out_int[2] = code
-                out_int[3] = qit
+            if external_qp and not supplied:  # the caller solves it and resumes this tick
+                out_int[0] = QP_EXTERNAL
+                out_int[4] = 1 if P_changed else 0
                 return
-            flags[1] = 0
-            qb = 0
-            if n_in > 0:
-                gmax = 0.0
+            if supplied:
+                hold_status[0] = 0
+                qs = hold_status[1]
+                qit = hold_status[2]
+                qb = hold_status[3]
+            else:
+                first = flags[3] == 0
+                code, qit = gi_solve(Hq, gq, Mq, lo, hi, p, xq, zq, ws, first or P_changed, eps_abs, max_iter)
+                flags[3] += 1
+                qs = code
+                okqp = code == 0
                 for c in range(n):
-                    if abs(gq[c]) > gmax:
-                        gmax = abs(gq[c])
-                thr = 1e-7 * (1.0 + gmax)
-                for r in range(n_in):
-                    if abs(zq[p + r]) > thr:
-                        if row_grip >= 0 and row_grip <= r < row_grip + m:
-                            qb |= FAMILY_MIN_GRIP
-                        elif row_fric >= 0 and row_fric <= r < row_fric + m * n_fric:
-                            qb |= FAMILY_FRICTION
-                        elif row_tau >= 0 and r >= row_tau:
-                            qb |= FAMILY_TORQUE
+                    if not math.isfinite(xq[c]):
+                        okqp = False
+                viol_mask = 0
+                if code != 3 and okqp:
+                    viol = -np.inf
+                    scale = 0.0
+                    for r in range(Mq.shape[0]):
+                        s = 0.0
+                        for c in range(n):
+                            s += Mq[r, c] * xq[c]
+                        v = max(lo[r] - s, s - hi[r])
+                        if v > viol:
+                            viol = v
+                        if abs(s) > scale:
+                            scale = abs(s)
+                    tol = 100.0 * eps_abs * (1.0 + scale)
+                    if not viol <= min(tol, answer_rho):  # LoadDistribution.answer_tolerance: capped by the load
+                        load = 1.0
+                        for r in range(Mq.shape[0]):
+                            if r < p or math.isfinite(lo[r]):
+                                load = max(load, abs(lo[r]))
+                            if r >= p and math.isfinite(hi[r]):
+                                load = max(load, abs(hi[r]))
+                        tol = min(tol, answer_rho * load)
+                    if not viol <= tol:
+                        okqp = False
+                if not okqp:
+                    out_int[0] = QP_FAILED
+                    out_int[2] = code
+                    out_int[3] = qit
+                    return
+                flags[1] = 0
+                qb = 0
+                if n_in > 0:
+                    gmax = 0.0
+                    for c in range(n):
+                        if abs(gq[c]) > gmax:
+                            gmax = abs(gq[c])
+                    thr = 1e-7 * (1.0 + gmax)
+                    for r in range(n_in):
+                        if abs(zq[p + r]) > thr:
+                            if row_grip >= 0 and row_grip <= r < row_grip + m:
+                                qb |= FAMILY_MIN_GRIP
+                            elif row_fric >= 0 and row_fric <= r < row_fric + m * n_fric:
+                                qb |= FAMILY_FRICTION
+                            elif row_tau >= 0 and r >= row_tau:
+                                qb |= FAMILY_TORQUE
             for i in range(m):
                 for a in range(p):
                     F_set[i, a] = xq[i * p + a]
@@ -523,6 +616,18 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                     last[1, i, a] = external[i * p + a]
                     last[2, i, a] = xq[i * p + a] - external[i * p + a]
             flags[0] = 1
+        # the followers' setpoint and measured force (a tuning probe's F* + r + v and delayed, scaled error)
+        for i in range(m):
+            for a in range(p):
+                if probes:
+                    fc = (F_set[i, a] + pr_r[i, a]) + pr_v[i, a]
+                    j = max(k - pr_d[i, a], 0)  # the reading of tick j (recorded, or this tick's)
+                    seen = Fm[i, a] if j == k else rec_Fm[j, i, a]
+                    F_cmd[i, a] = fc
+                    F_seen[i, a] = fc - pr_g[i, a] * (fc - seen)
+                else:
+                    F_cmd[i, a] = F_set[i, a]
+                    F_seen[i, a] = Fm[i, a]
         # ---- controllers: the leader on its nominal deformed node
         kl = leader + 1
         inc, okp = _pose_increment(spatial, C_comp[leader], F_set[leader].copy(), Y0N, Yn[kl])
@@ -530,29 +635,29 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             out_int[0] = POSE_INCREMENT_SINGULAR
             out_int[2] = leader
             return
-        for i in range(m):
+        for i in range(0 if passive else m):  # a passive run keeps tau = 0
             ki = i + 1
             ni = arm_dof[i]
             o = q_off[i]
             if i == leader:
                 for a in range(p):
                     err[a] = 0.0
-                Yv = Yn[kl] + inc
+                Yv = Yn[kl] + inc + lead_off
                 _pose_error(Yv, Ym[kl], npos, err)
                 for a in range(p):
                     a_cmd[a] = ddYn[kl, a] + Kd_l * (dYn[kl, a] - dYm[kl, a]) + Kp_l * err[a]
             else:
-                corr = F_set[i].copy()
+                corr = F_cmd[i].copy()
                 if force_loop:
                     for a in range(p):
-                        e = F_set[i, a] - Fm[i, a]
+                        e = F_cmd[i, a] - F_seen[i, a]
                         v = integ[i, a] + e * T
                         if v < -integral_limit:
                             v = -integral_limit
                         elif v > integral_limit:
                             v = integral_limit
                         integ[i, a] = v
-                        corr[a] = F_set[i, a] + kp_f * e + ki_f * v
+                        corr[a] = F_cmd[i, a] + kp_f * e + ki_f * v
                 incf, okp = _pose_increment(spatial, C_comp[i], corr, Y0N, Yn[ki])
                 if not okp:
                     out_int[0] = POSE_INCREMENT_SINGULAR
@@ -620,6 +725,10 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
         out_int[5] = k + 1  # ticks recorded
         if k == N - 1:
             break
+        if plant_outside:  # an integrator the kernel lacks: the caller advances x over the period, then resumes
+            out_int[0] = PLANT_EXTERNAL
+            out_int[1] = k + 1
+            return
         # ---- plant, zero-order hold over the period (coopctrl.loop.integrate: the Python integrators' arithmetic)
         step_code = zoh_advance(method, x, tau, P, status, pws, t, steps, x_fail, out_int, out_float)
         if step_code != STEP_OK:

@@ -24,8 +24,10 @@ class LoopRecord:
         F_external: (N, m, p) its external part ``A w_N`` [N, N m].
         F_internal: (N, m, p) its internal part ``F - A w_N`` [N, N m].
         r_contacts: (N, m, npos) true contact-node positions [m].
-        qp_iterations: (N,) active-set changes (compiled) or iterations of the QP solve [-].
-        qp_solve_time_s: (N,) QP solve time [s] (NaN on the compiled tick, which does not time it).
+        qp_iterations: (N,) active-set changes (compiled) or iterations of the QP solve (the reference
+            path's backend; -1 when it does not report them, and on a passive run) [-].
+        qp_solve_time_s: (N,) QP solve time [s] of the reference path's backend (NaN with the compiled
+            solver, which the kernel does not time per solve, and on a passive run).
         energy, kinetic_energy: (N,) total and kinetic energy [J] (passive runs only, else NaN).
         qp_status: per tick the QP status (``"solved"``, ``"infeasible"``, ...).
         qp_binding: per tick the binding inequality families joined by ``+`` (``""``: none).
@@ -33,11 +35,13 @@ class LoopRecord:
     Run summary:
         status: ``"ok"``, ``"diverged"`` or ``"qp_failed"``; reason: why it stopped (``""`` if ok).
         events: ``(t [s], kind, message)`` of what happened (held QP splits, saturation, the stop).
-        wall_time_s: wall time of the run [s]; qp_time_s: total QP time [s] (NaN when not timed).
+        wall_time_s: wall time of the run [s]; qp_time_s: total QP time [s] (NaN with the compiled
+            solver, not timed; 0 on a passive run).
         qp_binding_counts: ticks on which each family was binding; saturated_ticks: ticks with a
             torque clipped at its limit; saturated_joint_ticks: (nu,) such ticks per joint;
             saturation_first_time_s: time of the first [s] (NaN: none); saturated_last_tick: index of
-            the last (-1: none); rhs_evaluations: plant right-hand-side calls (compiled tick).
+            the last (-1: none); rhs_evaluations: plant right-hand-side calls of the kernel's integration
+            (``None`` when an integrator outside the kernel steps the plant).
 
     Item access (``record["x"]``, ``record.get``, ``record.update``, ``record.items()``) reads and writes
     the same fields, for code written against the former dict.

@@ -25,7 +25,8 @@ class LoopState:
         flags: int64 ``(have_last_split, consecutive_qp_failures, saturated_ticks, qp_solves,
             first_saturated_tick, last_saturated_tick)``.
         saturated_joints: (nu,) int64 ticks on which each joint's torque was clipped.
-        hold: int64 ``(hold_next_tick, qp_status_code, qp_iterations)``: the next tick holds the last split.
+        hold: int64 ``(mode, qp_status_code, qp_iterations, binding_mask)`` for the next tick: mode 1 holds
+            the last split (a failed solve), 2 takes the QP answer the caller supplied (the reference path).
         ws: The compiled QP's workspace (its factor and the active set: the warm start of the next solve).
         tick: Index of the next tick to run (the position in the pre-drawn sensor-noise streams too).
     """
@@ -45,4 +46,4 @@ class LoopState:
         """The state at tick 0: plant state ``x0``, zero torques and integrals, no split yet, a cold QP."""
         return cls(np.array(x0, dtype=float), np.zeros(nu), np.zeros((m, p)), np.zeros((3, m, p)),
                    np.array([0, 0, 0, 0, -1, -1], dtype=np.int64), np.zeros(nu, dtype=np.int64),
-                   np.zeros(3, dtype=np.int64), gi_workspace(n_qp, n_rows), 0)
+                   np.zeros(4, dtype=np.int64), gi_workspace(n_qp, n_rows), 0)

@@ -2,11 +2,12 @@
 actual :class:`~coopctrl.closed_loop.ClosedLoop` and record what the followers see.
 
 They let the linear models and the checks against the nonlinear loop use the loop exactly as
-``coopctrl run`` runs it (same plant, QP, controllers, ZOH and integrator), without any
-change to :mod:`coopctrl.closed_loop`: the loop only calls ``leader.torque(...)`` and
-``follower.torque(...)`` and reads ``leader.index``, so a wrapper with the same interface
-is all it takes. With every injected signal at zero, a probe returns exactly the torques of
-the controller it wraps.
+``coopctrl run`` runs it (same plant, QP, controllers, ZOH and integrator). The compiled tick reads
+a probe's signals (leader ``offset``; follower ``setpoint_offset``, ``pi_output``, ``error_gain``,
+``measurement_delay``) as inputs of the run, constant over it, and fills ``errors`` from the record
+(:mod:`coopctrl.loop.compiled`); :meth:`LeaderProbe.torque` and :meth:`FollowerProbe.torque` state
+the same arithmetic for one tick in Python. With every injected signal at zero, a probe returns the
+torques of the controller it wraps.
 """
 
 from __future__ import annotations
