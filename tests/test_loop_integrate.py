@@ -157,11 +157,28 @@ def test_newton_failure_is_the_python_exception():
     assert str(got).startswith("implicit_euler: Newton did not converge at t = 0 s with h = 0.05 s after 2 iterations")
 
 
+class _Outside:
+    """The Python integrator ``inner`` stepping the plant between kernel calls (the kernel's plant block
+    is bypassed: :func:`coopctrl.loop.compiled.integrator_outside`), under the inner scheme's name."""
+
+    def __init__(self, inner):
+        self.inner = inner
+
+    def __getattr__(self, name):
+        return getattr(self.inner, name)
+
+    def step(self, f, t, x, u, h):
+        return self.inner.step(f, t, x, u, h)
+
+
 def _run_both(name, integrator, duration, step=None, **overrides):
+    """The compiled path (compiled QP, compiled integrator) and the reference path (proxsuite, and the
+    Python integrator stepping the plant outside the kernel), both through the same tick."""
     runs = []
     for solver in (COMPILED, REFERENCE):
         scene = _scene(name, **solver, **overrides)
-        loop = closed_loop(scene, integrator=integrator(), step=step)
+        scheme = integrator() if solver is COMPILED else _Outside(integrator())
+        loop = closed_loop(scene, integrator=scheme, step=step)
         assert (compiled_unsupported(loop) is None) == (solver is COMPILED)
         runs.append(loop.run(build.initial_state(scene), duration))
     return runs
