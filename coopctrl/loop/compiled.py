@@ -16,7 +16,7 @@ Every run goes through the kernel. The reference path (``load_distribution.solve
 chosen backend (answer check, failure policy, binding families, time per solve) and the kernel
 resumes the tick with the answer. An integrator the kernel lacks (:func:`integrator_outside`) steps
 the plant in Python between kernel calls (:data:`~coopctrl.loop.kernel.PLANT_EXTERNAL`). Passive runs,
-``max_energy``, the elastic split and the tuning probes of :mod:`coopctrl.tuning.loop_probes` are
+``max_energy``, the elastic split and the tuning probes of :mod:`coopctrl.controllers.probes` are
 kernel inputs (:meth:`CompiledLoop.options`).
 """
 
@@ -72,7 +72,7 @@ def compiled_unsupported(loop) -> str | None:
 def _unsupported_parts(loop) -> str | None:
     from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
     from coopctrl.sensors import SensorSuite
-    from coopctrl.tuning.loop_probes import FollowerProbe, LeaderProbe
+    from coopctrl.controllers.probes import FollowerProbe, LeaderProbe
 
     if (type(loop.leader) not in (LeaderController, LeaderProbe) or type(_inner(loop.leader)) is not LeaderController
             or any(type(c) not in (FollowerForceController, FollowerProbe) or type(_inner(c)) is not FollowerForceController
@@ -182,7 +182,7 @@ class CompiledLoop:
     def options(self, loop, rec, passive: bool):
         """The kernel's ``opts`` of one run (see :func:`coopctrl.loop.kernel.run_ticks`): the switches, the
         energy record, the elastic split's arrays and the tuning probes' inputs as they are now."""
-        from coopctrl.tuning.loop_probes import FollowerProbe, LeaderProbe
+        from coopctrl.controllers.probes import FollowerProbe, LeaderProbe
 
         p, n, m = (6 if self.spatial else 3), self.n, self.K_obj.shape[0]
         switches = np.zeros(6, dtype=np.int64)
@@ -526,7 +526,7 @@ def _moment_arms(M, m: int, p: int, npos: int) -> np.ndarray:
 
 def _probe_errors(loop, rec) -> None:
     """Each tuning probe's ``errors``: ``F* + r - F_meas`` of every recorded tick (true, undelayed) [N, N m]."""
-    from coopctrl.tuning.loop_probes import FollowerProbe
+    from coopctrl.controllers.probes import FollowerProbe
 
     for i, c in loop.followers.items():
         if isinstance(c, FollowerProbe):
