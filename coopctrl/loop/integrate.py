@@ -55,7 +55,7 @@ METHOD_SDIRK = 3
 #: Results of :func:`zoh_advance`.
 STEP_OK = 0  #: the period is integrated
 STEP_PLANT_ERROR = 1  #: the right-hand side failed (``status`` holds its code, ``x_fail`` the state it was called at)
-STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``out_int[2:4]``, ``out_float[0:2]``: see :func:`zoh_advance`)
+STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``out_int[2:4]``, ``out_float``: see :func:`zoh_advance`)
 
 _EPS = float(np.finfo(float).eps)
 _SQRT_EPS = math.sqrt(_EPS)

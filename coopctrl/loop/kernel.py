@@ -68,7 +68,7 @@ NOMINAL_SINGULAR = 6  #: a nominal node pose is at the Euler singularity (``out_
 SINGULAR_JACOBIAN = 7  #: a controller met a singular Jacobian (``out_int[2]`` = arm)
 POSE_INCREMENT_SINGULAR = 8  #: a node's body-rate map is singular in the compliance map (``out_int[2]`` = arm)
 CHUNK_END = 9       #: stopped at ``k_stop`` (progress reporting); resume at ``out_int[1]``
-NEWTON_FAILED = 10  #: an implicit step's Newton iteration failed (``out_int[2]`` = step of the period, ``[3]`` iterations; ``out_float`` = (correction, time))
+NEWTON_FAILED = 10  #: an implicit step's Newton failed (``out_int[2:4]`` = step, iterations; ``out_float`` = correction, time)
 
 #: Bits of the QP family masks (the record's ``qp_binding``), in the row order of the problem.
 FAMILY_MIN_GRIP = 1
