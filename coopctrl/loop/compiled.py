@@ -391,6 +391,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) in the kernel."""
         run_ticks(*head, k0, k_stop, *args)
 
+    if cl.plant_outside and hasattr(loop.integrator, "reset"):
+        loop.integrator.reset()  # a Python integrator's own state (a Newton matrix) starts afresh with the run
     steps, rhs, integrator_step = loop._steps, plant.rhs, loop.integrator.step
 
     def step_period(x, t):

@@ -15,7 +15,8 @@ steps and a remainder), with the same arithmetic as the Python integrators of
   :class:`~coopctrl.integrators.diagonally_implicit.DiagonallyImplicitRungeKutta` (its tableau in the
   plan), each stage ``G(k_i) = k_i - f(S_i + gamma h k_i) = 0`` solved by simplified Newton with
   ``M = (I - gamma h J)^-1``: the same forward-difference Jacobian (increment
-  ``d_j = sqrt(eps) max(|x_j|, 1)``, rounded to a representable one), the same predictors, convergence
+  ``d_j = sqrt(eps) max(|x_j|, 1)``, rounded to a representable one; the cooperative plant has no
+  analytic ``jac`` for the Python integrator to use instead), the same predictors, convergence
   test, round-off stop, Jacobian reuse (``reuse_rate``) and failure (:data:`STEP_NEWTON_FAILED`,
   which :mod:`coopctrl.loop.compiled` turns into the same
   :class:`~coopctrl.integrators.NewtonConvergenceError`). ``M`` and the stage slopes are kept from
@@ -54,7 +55,7 @@ METHOD_SDIRK = 3
 #: Results of :func:`zoh_advance`.
 STEP_OK = 0  #: the period is integrated
 STEP_PLANT_ERROR = 1  #: the right-hand side failed (``status`` holds its code, ``x_fail`` the state it was called at)
-STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``out_int[2:4]``, ``out_float[0:2]``: see :func:`zoh_advance`)
+STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``out_int[2:4]``, ``out_float``: see :func:`zoh_advance`)
 
 _EPS = float(np.finfo(float).eps)
 _SQRT_EPS = math.sqrt(_EPS)
@@ -66,11 +67,11 @@ ExplicitPlan = namedtuple("ExplicitPlan", "method k1 k2 k3 k4 y")
 #: ``settings`` = ``(rtol [-], atol [units of x], max_iterations, reuse_rate [-])``; ``tableau`` ``(s, s)``
 #: (lower triangular, diagonal ``gamma``), ``weights`` ``(s,)`` = ``b``, ``nodes`` ``(s,)`` = ``c``;
 #: ``M`` ``(nx, nx)`` the iteration matrix ``(I - gamma h J)^-1``, ``A`` and ``LU`` ``(nx, nx)`` work;
-#: ``slopes`` and ``predictors`` ``(s, nx)``; ``known``, ``k``, ``xs``, ``fs``, ``dk``, ``fx``, ``xp``,
-#: ``fp`` ``(nx,)`` work; ``memo`` float64 ``(3,)`` = (``M`` is kept: 1.0 / 0.0, the step ``h`` [s] it was made
+#: ``slopes`` and ``predictors`` ``(s, nx)``; ``known``, ``k``, ``xs``, ``fs``, ``dk``, ``xp``, ``fp``
+#: ``(nx,)`` work; ``memo`` float64 ``(3,)`` = (``M`` is kept: 1.0 / 0.0, the step ``h`` [s] it was made
 #: for, Jacobian evaluations so far: ``jacobian_evaluations`` of the Python integrator).
 ImplicitPlan = namedtuple("ImplicitPlan", "settings tableau weights nodes M A LU slopes predictors "
-                                          "known k xs fs dk fx xp fp memo")
+                                          "known k xs fs dk xp fp memo")
 
 
 def make_plan(integrator, nx: int):
@@ -101,7 +102,7 @@ def make_plan(integrator, nx: int):
     return ImplicitPlan(settings, tableau, np.array(integrator.weights, dtype=float),
                         np.array(integrator.nodes, dtype=float), np.zeros((nx, nx)), np.zeros((nx, nx)),
                         np.zeros((nx, nx)), np.zeros((s, nx)), np.zeros((s, nx)),
-                        *(np.zeros(nx) for _ in range(8)), np.zeros(3))
+                        *(np.zeros(nx) for _ in range(7)), np.zeros(3))
 
 
 def newton_failure(scheme: str, steps, out_int, out_float):

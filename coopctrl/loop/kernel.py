@@ -76,7 +76,7 @@ NOMINAL_SINGULAR = 6  #: a nominal node pose is at the Euler singularity (``out_
 SINGULAR_JACOBIAN = 7  #: a controller met a singular Jacobian (``out_int[2]`` = arm)
 POSE_INCREMENT_SINGULAR = 8  #: a node's body-rate map is singular in the compliance map (``out_int[2]`` = arm)
 CHUNK_END = 9       #: stopped at ``k_stop`` (progress reporting); resume at ``out_int[1]``
-NEWTON_FAILED = 10  #: an implicit step's Newton iteration failed (``out_int[2]`` = step of the period, ``[3]`` iterations; ``out_float`` = (correction, time))
+NEWTON_FAILED = 10  #: an implicit step's Newton failed (``out_int[2:4]`` = step, iterations; ``out_float`` = correction, time)
 ENERGY = 11         #: the total energy left ``max_energy`` (``out_float[0]`` = the energy [J])
 QP_EXTERNAL = 12    #: the QP of tick ``out_int[1]`` is assembled (``out_int[4]``: its ``P`` changed) for a
                     #: solver outside the kernel: resume at that tick with the answer (``hold_status[0] = 2``)
