@@ -533,3 +533,19 @@ def test_the_real_loop_grows_the_predicted_mode_at_the_predicted_rate():
             assert rate == pytest.approx(predicted, rel=0.01)
         else:
             assert predicted <= 0.0 and rate <= 0.0
+
+
+def test_the_linearization_carries_the_force_integrals():
+    """The followers' force-error integrals are part of the linearized loop state: one tick maps
+    ``I' = I + e T`` (inside the anti-windup clip), so ``dI'/dI`` is the identity (central differences
+    of an affine map: exact to rounding, 1e-9), and ``dtau/dI`` is nonzero when ``ki != 0`` (the
+    integral feeds the follower's commanded force). A loop that ignored the starting integrals would
+    give ``dI'/dI = 0`` and ``dtau/dI = 0``."""
+    from coopctrl.analysis.closed_loop_stability import LoopLinearizer
+
+    scenario = load_scenario(REPO / "scenarios" / "planar_two_arm_lift.toml")
+    lin = LoopLinearizer(scenario)
+    assert lin.integral_size > 0 and all(lin.loop.followers[i].ki != 0 for i in lin.pi)
+    L = lin.linearize(build.initial_state(scenario))
+    assert np.max(np.abs(L.EI - np.eye(lin.integral_size))) <= 1e-9
+    assert np.max(np.abs(L.KI)) > 0.0

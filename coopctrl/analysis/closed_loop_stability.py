@@ -280,11 +280,10 @@ class LoopLinearizer:
         """``(tau, I')``: one tick of the loop's controller at ``(x, I)`` and time ``t`` [s]."""
         loop, p = self.loop, self.p
         loop.trajectory = _ShiftedTrajectory(self.trajectory, t)
-        for i, c in loop.followers.items():
-            c.reset()
-        for k, i in enumerate(self.pi):
-            loop.followers[i].integral[:] = integral[p * k:p * (k + 1)]
-        rec = loop.run(np.asarray(x, dtype=float), 0.0)
+        # the integrals enter as the run's starting loop state (a run starts from a fresh LoopState: values
+        # written into the controllers beforehand would be reset)
+        start = {i: integral[p * k:p * (k + 1)] for k, i in enumerate(self.pi)}
+        rec = loop.run(np.asarray(x, dtype=float), 0.0, integrals=start)
         if rec["status"] != "ok":
             raise ArithmeticError(f"the controller failed at t = {t:.6g} s: {rec['reason']}")
         new = np.concatenate([loop.followers[i].integral for i in self.pi]) if self.pi else np.zeros(0)
