@@ -40,8 +40,8 @@ def pose_work():
 @njit(cache=True)
 def lu_factor_into(A, n, M, piv):
     """Gaussian elimination with partial pivoting of ``A[:n, :n]`` into ``M`` (the multipliers below
-    the diagonal, ``U`` on and above it) and the row swaps ``piv[:n]``. Returns False for a
-    (numerically) singular ``A`` (a pivot ``<= 1e-13 max|A|``)."""
+    the diagonal, ``U`` above it and the reciprocals ``1 / U_cc`` on it) and the row swaps ``piv[:n]``.
+    Returns False for a (numerically) singular ``A`` (a pivot ``<= 1e-13 max|A|``)."""
     scale = 0.0
     for i in range(n):
         for j in range(n):
@@ -60,19 +60,19 @@ def lu_factor_into(A, n, M, piv):
         if p != c:
             for j in range(n):
                 M[c, j], M[p, j] = M[p, j], M[c, j]
+        inv = 1.0 / M[c, c]
+        M[c, c] = inv
         for r in range(c + 1, n):
-            f = M[r, c] / M[c, c]
-            if f != 0.0:
-                for j in range(c + 1, n):
-                    M[r, j] -= f * M[c, j]
+            f = M[r, c] * inv
+            for j in range(c + 1, n):
+                M[r, j] -= f * M[c, j]
             M[r, c] = f
     return True
 
 
 @njit(cache=True)
 def lu_solve_factored_into(M, piv, n, b, x):
-    """``x[:n] = A^-1 b`` from :func:`lu_factor_into`'s ``(M, piv)``: the same operations, in the
-    same order, as the elimination applied to ``b`` alongside ``A`` (``b`` and ``x`` may alias)."""
+    """``x[:n] = A^-1 b`` from :func:`lu_factor_into`'s ``(M, piv)`` (``b`` and ``x`` may alias)."""
     for i in range(n):
         x[i] = b[i]
     for c in range(n):
@@ -80,15 +80,14 @@ def lu_solve_factored_into(M, piv, n, b, x):
         if p != c:
             x[c], x[p] = x[p], x[c]
     for c in range(n):
+        xc = x[c]
         for r in range(c + 1, n):
-            f = M[r, c]
-            if f != 0.0:
-                x[r] -= f * x[c]
+            x[r] -= M[r, c] * xc
     for c in range(n - 1, -1, -1):
         s = x[c]
         for j in range(c + 1, n):
             s -= M[c, j] * x[j]
-        x[c] = s / M[c, c]
+        x[c] = s * M[c, c]
 
 
 @njit(cache=True)
@@ -190,11 +189,12 @@ def consistent_acceleration_into(W, H, J, rhs, n, wv, wm, piv, qdd):
                 t += W[a, b] * J[b, c]
             WJ[a, c] = t
     for r in range(n):
-        for c in range(n):
+        for c in range(r + 1):  # J^T W J is symmetric (W is): the lower triangle, mirrored
             s = 0.0
             for a in range(p):
                 s += J[a, r] * WJ[a, c]
             Nm[r, c] = H[r, c] + s
+            Nm[c, r] = H[c, r] + s
     col = wv[1]
     if not lu_factor_into(Nm, n, LU, piv):
         for c in range(n):

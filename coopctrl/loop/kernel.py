@@ -64,8 +64,8 @@ from plants.frames import rotation_zyx_into
 #: numba's on-disk cache of this file is keyed on this file's source alone: after a change to a kernel it
 #: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
 #: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
-#: or a stale compiled tick is loaded. 1: the allocation-free ``*_into`` kernels (issue 10).
-CALLEE_REVISION = 1
+#: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
+CALLEE_REVISION = 2
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran
