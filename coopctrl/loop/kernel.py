@@ -22,6 +22,10 @@ arrays of a :class:`~coopctrl.loop.state.LoopState` and writes the record rows i
    (``METHOD_EULER``, ``METHOD_SYMPLECTIC_EULER``, ``METHOD_RK4``), each the exact arithmetic
    of the Python integrator.
 
+A tick allocates nothing: every work array is made once per call, before the tick loop, and the
+small solves run in the ``*_into`` kernels of :mod:`coopctrl.controllers._kernels` and
+:mod:`plants.cooperative.loaded_state` (``tests/test_loop_kernel.py`` counts numba's allocations).
+
 It returns when the run ends or an event stops it, with ``out_int = (code, tick, ...)``: the
 caller (:mod:`coopctrl.loop.compiled`) raises the same exception the Python tick raises and runs
 the diagnosis in Python; a failed QP solve (:data:`QP_FAILED`) returns *before* the controllers
