@@ -24,6 +24,10 @@ arrays of a :class:`~coopctrl.loop.state.LoopState` and writes the record rows i
    midpoint and implicit Euler, their Newton iteration included), each the arithmetic of the
    Python integrator.
 
+A tick allocates nothing: every work array is made once per call, before the tick loop, and the
+small solves run in the ``*_into`` kernels of :mod:`coopctrl.controllers._kernels` and
+:mod:`plants.cooperative.loaded_state` (``tests/test_loop_kernel.py`` counts numba's allocations).
+
 It returns when the run ends or an event stops it, with ``out_int = (code, tick, ...)``: the
 caller (:mod:`coopctrl.loop.compiled`) raises the exception that names the stop and runs the
 diagnosis in Python; a failed QP solve (:data:`QP_FAILED`) returns *before* the controllers
@@ -45,8 +49,16 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from coopctrl.controllers._kernels import lu_solve, node_torque, node_torque_redundant, pose_increment_planar
-from coopctrl.controllers._kernels import pose_increment_spatial
+from coopctrl.controllers._kernels import (
+    consistent_acceleration_into,
+    lu_solve_into,
+    node_torque_into,
+    node_torque_redundant_into,
+    pose_increment_planar_into,
+    pose_increment_spatial_into,
+    WORK_MATRICES,
+    WORK_VECTORS,
+)
 from coopctrl.load_distribution.assembly import (
     fill_friction_rows,
     fill_grasp_rows,
@@ -61,9 +73,14 @@ from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
 from coopctrl.loop.energy import plant_energy
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
-from plants.cooperative.loaded_state import _planar_motion, _spatial_motion
-from plants.elastic._spatial_kernels import node_terms as _spatial_node_terms
-from plants.frames import body_rate_map, body_rate_map_dot, rotation_zyx
+from plants.cooperative.loaded_state import body_rate_map_into, body_rates_into, planar_motion_into, spatial_motion_into
+from plants.frames import rotation_zyx_into
+
+#: numba's on-disk cache of this file is keyed on this file's source alone: after a change to a kernel it
+#: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
+#: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
+#: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
+CALLEE_REVISION = 2
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran
@@ -98,27 +115,11 @@ FAMILY_FRICTION = 2
 FAMILY_TORQUE = 4
 
 
-def _rhs_into(x, tau, P, status, ws, dx):
-    """The plant's right-hand side into ``dx`` (the allocation-free ``rhs_into`` of
-    ``plants.cooperative``): compiled for the spatial or the planar kernel by the type of ``P``'s
-    bases (``(m, 4, 4)`` spatial, ``(m, 3)`` planar), so a scene compiles only its own kind."""
-    raise NotImplementedError("called from numba only")
-
-
-@overload(_rhs_into)
-def _rhs_into_typed(x, tau, P, status, ws, dx):
-    rhs_into = _sk.rhs_into if P[5].ndim == 3 else _pk.rhs_into
-
-    def impl(x, tau, P, status, ws, dx):
-        rhs_into(x, tau, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
-                      status, ws, dx)
-    return impl
-
-
 def _terms(x, P, status, cws):
     """``(Y, dY, H, h, J, Jdq, W, w_free, S, Fw)`` at ``x``: the kernel form of
     ``CooperativePlant.control_terms`` (``control_terms_into``) in the control workspace ``cws``;
-    ``status[0]`` nonzero at a singularity. Compiled per kind, as :func:`_rhs_into`."""
+    ``status[0]`` nonzero at a singularity. Compiled per kind (spatial or planar) by the type of ``P``'s
+    bases, as :func:`coopctrl.loop.integrate.rhs_into`."""
     raise NotImplementedError("called from numba only")
 
 
@@ -135,26 +136,25 @@ def _terms_typed(x, P, status, cws):
 
 
 @njit(cache=True)
-def required_wrench(spatial, mass, inertia, gravity, Y0, dY0, ddY0, out):
-    """``w_N`` of :func:`coopctrl.controllers.required_object_wrench`, written into ``out``."""
+def required_wrench(spatial, mass, inertia, gravity, Y0, dY0, ddY0, out, v, R):
+    """``w_N`` of :func:`coopctrl.controllers.required_object_wrench`, written into ``out``; ``v``
+    (8, 3) and ``R`` (3, 3) scratch."""
     if not spatial:
         out[0] = mass * (ddY0[0] - gravity[0])
         out[1] = mass * (ddY0[1] - gravity[1])
         out[2] = inertia[0] * ddY0[2]
         return
-    A = Y0[3:].copy()
-    dA = dY0[3:].copy()
-    ddA = ddY0[3:].copy()
-    L = body_rate_map(A)
-    w = L @ dA
-    dw = L @ ddA + body_rate_map_dot(A, dA) @ dA
-    Iw = inertia * w
-    tb = inertia * dw + np.array([w[1] * Iw[2] - w[2] * Iw[1], w[2] * Iw[0] - w[0] * Iw[2], w[0] * Iw[1] - w[1] * Iw[0]])
-    R = rotation_zyx(A)
-    tw = R @ tb
+    w, dw, tb = v[0], v[1], v[2]
+    A = Y0[3:]
+    body_rates_into(A, dY0[3:], ddY0[3:], w, dw)
+    Iw0, Iw1, Iw2 = inertia[0] * w[0], inertia[1] * w[1], inertia[2] * w[2]
+    tb[0] = inertia[0] * dw[0] + (w[1] * Iw2 - w[2] * Iw1)
+    tb[1] = inertia[1] * dw[1] + (w[2] * Iw0 - w[0] * Iw2)
+    tb[2] = inertia[2] * dw[2] + (w[0] * Iw1 - w[1] * Iw0)
+    rotation_zyx_into(A, R)
     for a in range(3):
         out[a] = mass * (ddY0[a] - gravity[a])
-        out[3 + a] = tw[a]
+        out[3 + a] = R[a, 0] * tb[0] + R[a, 1] * tb[1] + R[a, 2] * tb[2]
 
 
 @njit(cache=True)
@@ -167,10 +167,12 @@ def _pose_error(target, Y, npos, out):
 
 
 @njit(cache=True)
-def _pose_increment(spatial, C, F, Y0, Yi):
+def _pose_increment(spatial, C, F, Y0, Yi, R, v, out):
+    """The node pose increment of :class:`~coopctrl.controllers.GraspCompliance` into ``out``; ok."""
     if spatial:
-        return pose_increment_spatial(C, F, Y0[3:6].copy(), Yi[3:6].copy())
-    return pose_increment_planar(C, F, Y0[2]), True
+        return pose_increment_spatial_into(C, F, Y0[3:6], Yi[3:6], R, v, out)
+    pose_increment_planar_into(C, F, Y0[2], out)
+    return True
 
 
 @njit(cache=True)
@@ -251,11 +253,6 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
     status = np.zeros(2, np.int64)
     pws, cws_true, cws_meas = plant_ws
-    k1 = np.empty(nx)
-    k2 = np.empty(nx)
-    k3 = np.empty(nx)
-    k4 = np.empty(nx)
-    y = np.empty(nx)
     xm = np.empty(nx)
     Fm = np.empty((m, p))
     F_set = np.empty((m, p))
@@ -270,6 +267,26 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     a_cmd = np.empty(p)
     err = np.empty(p)
     d = np.empty(npos)
+    # every work array of a tick, made once per call (a tick allocates nothing)
+    Yn = np.empty((Nn, p))
+    dYn = np.empty((Nn, p))
+    ddYn = np.empty((Nn, p))
+    R3 = np.empty((4, 3, 3))
+    v3 = np.empty((8, 3))
+    pv = np.empty((3, 6))
+    rc = np.empty((m, npos))
+    r0 = np.empty(npos)
+    Wa = np.empty(p)
+    rhs_t = np.empty(p)
+    qdd = np.empty(nmax)
+    piv = np.empty(nmax, np.int64)
+    wv = np.empty((WORK_VECTORS, nmax))
+    wm = np.empty((WORK_MATRICES, nmax, nmax))
+    inc = np.empty(p)
+    corr = np.empty(p)
+    Yv = np.empty(p)
+    tp = np.empty(nmax)
+    ti = np.empty(nmax)
     k = k0
     out_int[0] = DONE
     while k < N:
@@ -341,8 +358,9 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 return
         worst = 0.0
         which = 0
+        R0 = R3[0]
         if spatial:
-            R0 = rotation_zyx(Y[0, 3:6].copy())
+            rotation_zyx_into(Y[0, 3:6], R0)
         for i in range(m):
             if spatial:
                 for a in range(3):
@@ -389,14 +407,14 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
         dY0N = traj[1, k]
         ddY0N = traj[2, k]
         if spatial:
-            Yn, dYn, ddYn, bad = _spatial_motion(Y0N, dY0N, ddY0N, grasps)
+            bad = spatial_motion_into(Y0N, dY0N, ddY0N, grasps, Yn, dYn, ddYn, R3, v3)
             if bad >= 0:
                 out_int[0] = NOMINAL_SINGULAR
                 out_int[2] = bad
                 return
         else:
-            Yn, dYn, ddYn = _planar_motion(Y0N, dY0N, ddY0N, grasps)
-        required_wrench(spatial, obj_mass, obj_inertia, gravity, Y0N, dY0N, ddY0N, wN)
+            planar_motion_into(Y0N, dY0N, ddY0N, grasps, Yn, dYn, ddYn)
+        required_wrench(spatial, obj_mass, obj_inertia, gravity, Y0N, dY0N, ddY0N, wN, v3, R3[0])
         # ---- the QP
         hold = hold_status[0] == 1
         supplied = hold_status[0] == 2
@@ -419,8 +437,6 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             for a in range(p):
                 lo[a] = wN[a]
                 hi[a] = wN[a]
-            rc = np.empty((m, npos))
-            r0 = np.empty(npos)
             for i in range(m):
                 for a in range(npos):
                     rc[i, a] = Ym[i + 1, a]
@@ -465,7 +481,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             if need_normals:
                 for i in range(m):
                     if spatial:
-                        Ri = rotation_zyx(Ym[i + 1, 3:6].copy())
+                        Ri = R3[0]
+                        rotation_zyx_into(Ym[i + 1, 3:6], Ri)
                         for a in range(3):
                             nrm[i, a] = Ri[a, 0]
                     else:
@@ -487,7 +504,6 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                     ni = arm_dof[i]
                     kk = i + 1
                     # W_k ddYn_k + w_free_k
-                    Wa = np.empty(p)
                     for a in range(p):
                         s = wm_free[kk, a]
                         for b in range(p):
@@ -500,29 +516,16 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                             bias[j0 + a] = Wa[a]
                         j0 += ni
                         continue
-                    Ji = Jm[i, :, :ni].copy()
-                    rhs = np.empty(p)
+                    Ji = Jm[i]  # (p, nmax): columns :ni are the arm's
                     for a in range(p):
-                        rhs[a] = ddYn[kk, a] - Jdqm[i, a]
+                        rhs_t[a] = ddYn[kk, a] - Jdqm[i, a]
                     if ni == p:
-                        qdd, okq = lu_solve(Ji, rhs)
+                        okq = lu_solve_into(Ji, rhs_t, p, wm[0], piv, qdd)
                     else:
-                        Nmat = Hm[i, :ni, :ni] + Ji.T @ (Wm[kk] @ Ji)
-                        X = np.empty((ni, p))
-                        okq = True
-                        col = np.empty(ni)
-                        for c in range(p):
-                            for r in range(ni):
-                                col[r] = Ji[c, r]
-                            xc, okc = lu_solve(Nmat, col)
-                            okq = okq and okc
-                            for r in range(ni):
-                                X[r, c] = xc[r]
-                        yy, oky = lu_solve(Ji @ X, rhs)
-                        okq = okq and oky
-                        qdd = X @ yy
+                        okq = consistent_acceleration_into(Wm[kk], Hm[i], Ji, rhs_t, ni, wv, wm, piv, qdd)
                     if not okq:
-                        qdd = np.zeros(ni)
+                        for c in range(ni):
+                            qdd[c] = 0.0
                     for r in range(ni):
                         s = hm[i, r]
                         for c in range(ni):
@@ -531,8 +534,14 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                             s += Ji[a, r] * Wa[a]
                         bias[j0 + r] = s
                     if spatial:
-                        A = Ym[kk, 3:6].copy()
-                        RL = rotation_zyx(A) @ body_rate_map(A)
+                        # R(A) L(A): the analytic Jacobian's angular rows to world angular velocity
+                        RA, LA, RL = R3[0], R3[1], R3[2]
+                        A = Ym[kk, 3:6]
+                        rotation_zyx_into(A, RA)
+                        body_rate_map_into(A, LA)
+                        for a in range(3):
+                            for b in range(3):
+                                RL[a, b] = RA[a, 0] * LA[0, b] + RA[a, 1] * LA[1, b] + RA[a, 2] * LA[2, b]
                         for r in range(ni):
                             for a in range(3):
                                 Jg[i, a, r] = Ji[a, r]
@@ -630,7 +639,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                     F_seen[i, a] = Fm[i, a]
         # ---- controllers: the leader on its nominal deformed node
         kl = leader + 1
-        inc, okp = _pose_increment(spatial, C_comp[leader], F_set[leader].copy(), Y0N, Yn[kl])
+        okp = _pose_increment(spatial, C_comp[leader], F_set[leader], Y0N, Yn[kl], R3, pv, inc)
         if not okp:
             out_int[0] = POSE_INCREMENT_SINGULAR
             out_int[2] = leader
@@ -641,13 +650,13 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             o = q_off[i]
             if i == leader:
                 for a in range(p):
-                    err[a] = 0.0
-                Yv = Yn[kl] + inc + lead_off
+                    Yv[a] = Yn[kl, a] + inc[a] + lead_off[a]
                 _pose_error(Yv, Ym[kl], npos, err)
                 for a in range(p):
                     a_cmd[a] = ddYn[kl, a] + Kd_l * (dYn[kl, a] - dYm[kl, a]) + Kp_l * err[a]
             else:
-                corr = F_cmd[i].copy()
+                for a in range(p):
+                    corr[a] = F_cmd[i, a]
                 if force_loop:
                     for a in range(p):
                         e = F_cmd[i, a] - F_seen[i, a]
@@ -658,13 +667,14 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                             v = integral_limit
                         integ[i, a] = v
                         corr[a] = F_cmd[i, a] + kp_f * e + ki_f * v
-                incf, okp = _pose_increment(spatial, C_comp[i], corr, Y0N, Yn[ki])
+                okp = _pose_increment(spatial, C_comp[i], corr, Y0N, Yn[ki], R3, pv, Yv)
                 if not okp:
                     out_int[0] = POSE_INCREMENT_SINGULAR
                     out_int[2] = i
                     return
-                Ycmd = Yn[ki] + incf
-                _pose_error(Ycmd, Ym[ki], npos, err)
+                for a in range(p):
+                    Yv[a] += Yn[ki, a]
+                _pose_error(Yv, Ym[ki], npos, err)
                 for a in range(p):
                     a_cmd[a] = ddYn[ki, a] + Kd_f * (dYn[ki, a] - dYm[ki, a]) + Kp_f * err[a]
             contact = arm_kind[i] != 0
@@ -674,14 +684,13 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 for c in range(ni):
                     tr += Hm[i, c, c]
                 m_bar = tr / ni
-                tp = np.empty(ni)
                 for c in range(ni):
                     tp[c] = m_bar * (post_gain[0] * (q_rest[i, c] - zx[o + c]) - post_gain[1] * zx[nz + o + c])
-                ti, okt = node_torque_redundant(Wm[ki].copy(), wm_free[ki].copy(), Sm[ki].copy(), Hm[i, :ni, :ni].copy(),
-                                                hm[i, :ni].copy(), Jm[i, :, :ni].copy(), Jdqm[i].copy(), a_cmd.copy(), tp)
+                okt = node_torque_redundant_into(Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd, tp, ni,
+                                                 wv, wm, piv, ti)
             else:
-                ti, okt = node_torque(Wm[ki], wm_free[ki], Sm[ki], Hm[i, :ni, :ni], hm[i, :ni], Jm[i, :, :ni],
-                                      Jdqm[i], a_cmd.copy(), contact)
+                okt = node_torque_into(Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd, contact, ni,
+                                       wv, wm, piv, ti)
             if not okt:
                 out_int[0] = SINGULAR_JACOBIAN
                 out_int[2] = i

@@ -1,0 +1,79 @@
+"""The compiled tick (coopctrl/loop/kernel.py) allocates nothing per tick (issue 10).
+
+numba's runtime counts its allocations (``NUMBA_NRT_STATS=1``; ``rtsys.get_allocation_stats``).
+Each call of ``run_ticks`` makes its work arrays once, before its tick loop; a tick must then
+allocate nothing, so a run of 2N ticks allocates exactly as much as a run of N ticks (the same
+number of kernel calls). Deterministic: no timing is involved.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+# scenes covering the kernel's branches: square spatial arms (the carry), redundant arms with the
+# torque-limit rows (iiwa), square arms with torque-limit rows, and the planar loop with noisy,
+# quantized sensors (the measured-state terms)
+CASES = [
+    ("spatial_two_puma_carry", {}),
+    ("three_iiwa_tray", {}),
+    ("heavy_payload_torque_limits", {}),
+    ("planar_two_arm_lift", {"sensors.forces.noise_std": 0.05, "sensors.joints.noise_std": 1e-5,
+                             "sensors.joints.quantization": 1e-6}),
+]
+
+_SCRIPT = """
+import json, sys
+from pathlib import Path
+import coopctrl
+from coopctrl.loop import kernel as K
+from coopctrl.scenario import build
+from coopctrl.simulator import closed_loop
+from numba.core.runtime import rtsys
+
+kernel = K.run_ticks
+counts = []
+
+def counted(*args):
+    a0 = rtsys.get_allocation_stats().alloc
+    kernel(*args)
+    counts.append(rtsys.get_allocation_stats().alloc - a0)
+
+K.run_ticks = counted
+out = {{}}
+for name, overrides in json.loads(sys.argv[1]):
+    scenario = coopctrl.load_scenario(Path({root!r}) / "scenarios" / (name + ".toml"), overrides)
+    loop = closed_loop(scenario)
+    x0 = build.initial_state(scenario)
+    T = scenario.simulation.control_period
+    loop.run(x0, 10 * T)  # compile or load the kernel
+    res = []
+    for ticks in (100, 200):
+        counts.clear()
+        rec = loop.run(x0, ticks * T)
+        res.append((rec["status"], len(rec["t"]), list(counts)))
+    out[name] = res
+print(json.dumps(out))
+"""
+
+
+def test_a_tick_of_the_compiled_loop_allocates_nothing():
+    env = dict(os.environ, NUMBA_NRT_STATS="1",
+               PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
+    run = subprocess.run([sys.executable, "-c", _SCRIPT.format(root=str(ROOT)), json.dumps(CASES)], env=env,
+                         capture_output=True, text=True, timeout=1200)
+    assert run.returncode == 0, run.stderr[-3000:]
+    result = json.loads(run.stdout.strip().splitlines()[-1])
+    for name, _ in CASES:
+        (status_n, ticks_n, calls_n), (status_2n, ticks_2n, calls_2n) = result[name]
+        assert (status_n, status_2n) == ("ok", "ok"), (name, result[name])
+        assert (ticks_n, ticks_2n) == (101, 201), (name, result[name])  # t = 0 .. duration
+        # the same kernel calls (a probe call, then one chunk), each allocating only its work arrays
+        assert len(calls_n) == len(calls_2n) == 2, (name, calls_n, calls_2n)
+        assert calls_n == calls_2n, f"{name}: allocations per kernel call {calls_n} (N ticks) vs {calls_2n} (2N ticks)"
+        assert calls_n[1] > 0, name  # the counter counts (the work arrays of the call)
