@@ -62,7 +62,7 @@ ARM_CONTACT_POINT = 1
 
 #: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
 #: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 4
+CALLEE_REVISION = 5
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
@@ -141,7 +141,7 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
                 dY[i + 1, a] = dz[o + a]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
              node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
     """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing (all work arrays are in ``ws``).
@@ -281,7 +281,7 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
     return dx
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws):
     """Node poses ``ws.Y`` (N, 6) and rates ``ws.dY`` (N, 6) of a state, plus the arm terms ``ws.H``,
     ``ws.h``, ``ws.J``, ``ws.Jdq`` (see :class:`SpatialWorkspace`); allocates nothing."""
@@ -334,7 +334,7 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     return S, Fw, ok
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
     """:func:`interconnection_kernel` into ``S`` (N, 6) and ``Fw`` (m, 6) (both overwritten); returns ``ok``.
 
@@ -408,7 +408,7 @@ def make_control_workspace(arm_dof, node_count):
                                    np.zeros((N, 6)), np.zeros((m, 6)), np.zeros((N, 6)))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
                        node_params, edge_index, edge_params, Y_ref, immobile, status, cws):
     """Every term of :class:`plants.cooperative.ControlTerms` at state ``x`` into ``cws``; allocates nothing.
