@@ -435,12 +435,6 @@ def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
     return 0
 
 
-#: :func:`chain_arm_terms_into` inlined into the jitted caller (numba IR inlining): for the
-#: cooperative right-hand side, where the call with a dozen array arguments is a measurable part of
-#: the cost. Not cached on its own (it never compiles on its own); the caller's cache holds it.
-chain_arm_terms_inline = njit(inline="always")(chain_arm_terms_into.py_func)
-
-
 @njit(cache=True)
 def chain_arm_potential(q, table, base, gravity):
     """Gravitational potential energy of the links ``U = -sum_k m_k g . p_com_k`` [J]."""

@@ -162,6 +162,18 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tool
     dx[2 * nz - 1] = -w[0, 2] / node_params[0, 1]
 
 
+@njit(cache=True, _nrt=False)
+def rhs_into_packed(x, tau, P, status, ws, dx):
+    """:func:`rhs_into` with the plant's packed arrays as one tuple ``P`` (``arm_kind .. immobile``: the
+    first 13 of ``CooperativePlant.kernel_into[1]``, without ``status``).
+
+    For a compiled caller with numba's reference counting (one that allocates): taking the 13 arrays
+    out of its tuple costs it an atomic increment and decrement each, on every call (about 0.3 us);
+    passed whole, ``P`` is unpacked here, where nothing is counted."""
+    rhs_into(x, tau, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
+             status, ws, dx)
+
+
 @njit(cache=True)
 def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
                node_params, edge_index, edge_params, Y_ref, immobile, status):
@@ -285,3 +297,10 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases,
         cws.w_free[k, 1] = -node_params[k, 0] * gravity[1]
         cws.w_free[k, 2] = 0.0
     interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe)
+
+
+@njit(cache=True, _nrt=False)
+def control_terms_packed(x, P, status, cws):
+    """:func:`control_terms_into` with the packed arrays as one tuple ``P`` (see :func:`rhs_into_packed`)."""
+    control_terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
+                       status, cws)
