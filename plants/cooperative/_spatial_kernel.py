@@ -63,7 +63,7 @@ ARM_CONTACT_POINT = 1
 
 #: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
 #: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 6
+CALLEE_REVISION = 7
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
@@ -361,13 +361,15 @@ def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw,
     (blocks 0-13 for the edge kernels, 14 for ``L_0^-1`` and 15 for ``R_0`` here), ``frames`` (N,
     NODE_FRAME_BLOCKS, 3, 3) receives every node's frames.
     """
-    return _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames, False)
+    if not immobile:
+        node_frames_into(Y, frames)
+    return _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames)
 
 
 @njit(cache=True, _nrt=False)
-def _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames, frames_ready):
-    """:func:`interconnection_into`; ``frames_ready``: ``frames`` already holds every node's frames
-    (:func:`plants.elastic._spatial_kernels.node_frames_terms_into`), so they are not evaluated again."""
+def _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
+    """:func:`interconnection_into` with ``frames`` already holding every node's frames (mobile model;
+    :func:`plants.elastic._spatial_kernels.node_frames_into` or ``node_frames_terms_into``)."""
     N = Y.shape[0]
     m = Fw.shape[0]
     S[:, :] = 0.0
@@ -376,8 +378,6 @@ def _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw
     R0 = scratch[15]
     ok = body_rate_map_inverse(Y[0, 3:6], Linv)
     rotation_zyx_into(Y[0, 3:6], R0)
-    if not immobile and not frames_ready:
-        node_frames_into(Y, frames)
     for e in range(edge_index.shape[0]):
         Fe[:, :] = 0.0
         ei = edge_index[e:e + 1]
@@ -463,7 +463,7 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools
             for b in range(3):
                 W[k, 3 + a, 3 + b] = ws.Wr[k, a, b]
     if not _interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe,
-                                 ws.edge, ws.frames, not immobile):
+                                 ws.edge, ws.frames):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
 
