@@ -13,6 +13,10 @@ one right-hand side [us]:
   makes its workspace per call);
 * ``loop new``: the allocation-free ``plant.kernel_into`` (``rhs_into``, one workspace made before
   the loop) called inside a compiled numba loop: what a compiled closed loop pays;
+* ``loop P``: the same through ``rhs_into_packed(x, tau, P, status, ws, dx)``, the plant's arrays
+  passed as one tuple ``P`` (a caller compiled with numba's reference counting pays an atomic
+  increment and decrement for each array it takes out of a tuple, on every call; ``loop new`` takes
+  the 14 arrays out of its tuple as ``coopctrl.loop.kernel`` does today);
 * ``loop old``: the right-hand side as it was before the workspace (``tests/_rhs_reference.py``,
   a dozen ``np.empty`` per call) in the same compiled loop;
 * ``new/old``: their ratio, and ``RK4``: four in-loop evaluations (one RK4 step of the plant).
@@ -90,13 +94,19 @@ def _loops():
         return dx[0]
 
     @njit
+    def loop_packed(fn, x, tau, P, status, ws, dx, reps):
+        for _ in range(reps):
+            fn(x, tau, P, status, ws, dx)
+        return dx[0]
+
+    @njit
     def loop_old(fn, x, tau, args, reps):
         s = 0.0
         for _ in range(reps):
             s += fn(x, tau, *args)[0]
         return s
 
-    return loop_new, loop_old
+    return loop_new, loop_packed, loop_old
 
 
 def scene_names(quick):
@@ -123,7 +133,7 @@ def main(argv=None):
     import _rhs_reference as ref
     from coopctrl import load_scenario
 
-    loop_new, loop_old = _loops()
+    loop_new, loop_packed, loop_old = _loops()
     rng = np.random.default_rng(0)
     rows = []
     for name in scene_names(args.quick):
@@ -137,6 +147,8 @@ def main(argv=None):
         tau = rng.normal(0.0, 1.0, nq)
         fn, extra = plant.kernel
         fn_into, _ = plant.kernel_into
+        fn_packed = sys.modules[fn_into.py_func.__module__].rhs_into_packed
+        P, status = extra[:-1], extra[-1]
         old = ref.spatial_rhs_old if plant.space == "spatial" else ref.planar_rhs_old
         ws, dx = plant.workspace(), np.empty_like(x)
         # warm: compile (or load from the numba cache) before timing; check new == old here too
@@ -145,31 +157,35 @@ def main(argv=None):
         assert extra[-1][0] == 0, (name, extra[-1])
         assert np.max(np.abs(dx - want)) <= 1e-14 * max(1.0, np.max(np.abs(want))), name
         loop_new(fn_into, x, tau, extra, ws, dx, 2)
+        loop_packed(fn_packed, x, tau, P, status, ws, dx, 2)
         loop_old(old, x, tau, extra, 2)
         for _ in range(200):
             plant.rhs(0.0, x, tau)
             fn(x, tau, *extra)
         rhs_us = median_us(lambda: plant.rhs(0.0, x, tau), args.calls)
         raw_us = median_us(lambda: fn(x, tau, *extra), args.calls)
-        new_t, old_t = [], []
+        new_t, packed_t, old_t = [], [], []
         chunks = max(1, args.calls // CHUNK)
         run_new = lambda r: loop_new(fn_into, x, tau, extra, ws, dx, r)  # noqa: E731
+        run_packed = lambda r: loop_packed(fn_packed, x, tau, P, status, ws, dx, r)  # noqa: E731
         run_old = lambda r: loop_old(old, x, tau, extra, r)  # noqa: E731
         for _ in range(args.repeats):
             new_t.append(chunked_us(run_new, chunks))
+            packed_t.append(chunked_us(run_packed, chunks))
             old_t.append(chunked_us(run_old, chunks))
-        rows.append((name, plant.state_size, rhs_us, raw_us, float(np.median(new_t)), float(np.median(old_t))))
+        rows.append((name, plant.state_size, rhs_us, raw_us, float(np.median(new_t)), float(np.median(packed_t)),
+                     float(np.median(old_t))))
     print(f"set-up and warm-up (scenes, numba compile or cache): {time.perf_counter() - t0:.1f} s; "
           f"{args.calls} calls per figure, in-loop medians over {args.repeats} rounds\n")
-    print(f"{'scene':32s} {'states':>6s} {'python':>8s} {'kernel':>8s} {'loop new':>9s} {'loop old':>9s} "
+    print(f"{'scene':32s} {'states':>6s} {'python':>8s} {'kernel':>8s} {'loop new':>9s} {'loop P':>8s} {'loop old':>9s} "
           f"{'new/old':>8s} {'RK4 new':>8s}   [us per right-hand side]")
-    for name, n, r, k, new, old in rows:
-        print(f"{name:32s} {n:6d} {r:8.2f} {k:8.2f} {new:9.2f} {old:9.2f} {new / old:8.2f} {4 * new:8.2f}")
+    for name, n, r, k, new, packed, old in rows:
+        print(f"{name:32s} {n:6d} {r:8.2f} {k:8.2f} {new:9.2f} {packed:8.2f} {old:9.2f} {new / old:8.2f} {4 * new:8.2f}")
     carry = rows[0]
     verdict = "PASS" if carry[4] <= TARGET_US else "MISS"
     print(f"\n{CARRY}: {carry[4]:.2f} us per right-hand side in a compiled loop (target <= {TARGET_US:.0f} us: "
-          f"{verdict}); {carry[5]:.2f} us before the workspace (ratio {carry[4] / carry[5]:.2f}); "
-          f"{carry[2]:.2f} us from Python")
+          f"{verdict}); {carry[5]:.2f} us with the arrays passed as one tuple; {carry[6]:.2f} us before the workspace "
+          f"(ratio {carry[4] / carry[6]:.2f}); {carry[2]:.2f} us from Python")
     print("\nMuJoCo 4.0 for scale (two 6-DOF arms + welded object, plant only, per 1 ms step):")
     for mname, us in MUJOCO_US_PER_STEP.items():
         evals = 4 if mname == "RK4" else 1

@@ -37,7 +37,7 @@ from plants.errors import EulerSingularityError
 EULER_SINGULARITY_COS = 1e-6
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rotation_zyx_into(A, R):
     """Write ``R(A) = Rz(psi) Ry(theta) Rx(phi)`` for ``A = (psi, theta, phi)`` [rad] into ``R`` (3x3)."""
     cps, sps = math.cos(A[0]), math.sin(A[0])
@@ -62,20 +62,25 @@ def rotation_zyx(A):
     return R
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rotation_zyx_partials_into(A, dpsi, dth, dph):
     """Write ``(dR/dpsi, dR/dtheta, dR/dphi)`` of :func:`rotation_zyx` (exact) into three 3x3 arrays."""
     _partials_from_trig(math.cos(A[0]), math.sin(A[0]), math.cos(A[1]), math.sin(A[1]),
                         math.cos(A[2]), math.sin(A[2]), dpsi, dth, dph)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rotation_zyx_and_partials_into(A, R, dR):
     """:func:`rotation_zyx_into` and :func:`rotation_zyx_partials_into` (into ``dR[0..2]``) with one
     evaluation of the six sines and cosines."""
-    cps, sps = math.cos(A[0]), math.sin(A[0])
-    cth, sth = math.cos(A[1]), math.sin(A[1])
-    cph, sph = math.cos(A[2]), math.sin(A[2])
+    rotation_and_partials_from_trig(math.cos(A[0]), math.sin(A[0]), math.cos(A[1]), math.sin(A[1]),
+                                    math.cos(A[2]), math.sin(A[2]), R, dR[0], dR[1], dR[2])
+
+
+@njit(cache=True, inline="always")
+def rotation_and_partials_from_trig(cps, sps, cth, sth, cph, sph, R, dpsi, dth, dph):
+    """``R(A)`` and its three partials (as :func:`rotation_zyx_and_partials_into`) from the cosines
+    and sines of ``A = (psi, theta, phi)``."""
     R[0, 0] = cps * cth
     R[0, 1] = cps * sth * sph - sps * cph
     R[0, 2] = cps * sth * cph + sps * sph
@@ -85,7 +90,7 @@ def rotation_zyx_and_partials_into(A, R, dR):
     R[2, 0] = -sth
     R[2, 1] = cth * sph
     R[2, 2] = cth * cph
-    _partials_from_trig(cps, sps, cth, sth, cph, sph, dR[0], dR[1], dR[2])
+    _partials_from_trig(cps, sps, cth, sth, cph, sph, dpsi, dth, dph)
 
 
 @njit(cache=True, inline="always")
@@ -170,7 +175,7 @@ def body_rate_map_dot(A, dA):
     return Ld
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def body_rate_map_inverse(A, Linv):
     """Write ``L(A)^-1`` into ``Linv`` (3x3); return False (and leave it) at a singularity.
 

@@ -5,7 +5,8 @@
   planar 3R, contact point, the Panda / UR5e / iiwa14 general chains), m = 1..4, planar and
   spatial, every element and damping form, mobile and immobile; with a workspace that starts as
   NaN and is reused across plants' states (nothing stale is read).
-* ``control_terms_into`` gives what ``plant.control_terms`` gives.
+* ``control_terms_into`` gives what ``plant.control_terms`` gives; ``rhs_into_packed`` and
+  ``control_terms_packed`` (the arrays as one tuple) give the same bits as the unpacked entry points.
 * Called 10^4 times inside a numba loop, neither allocates: numba's NRT allocation counters (on
   with ``NUMBA_NRT_STATS=1``, so checked in a subprocess) count the same allocations for 10 calls
   as for 10^4 + 10.
@@ -151,6 +152,33 @@ def test_control_terms_into_equals_control_terms(space, m):
             np.testing.assert_array_equal(arr, getattr(ct, name), err_msg=name)
         # S and Fw as the plant's own contact-wrench query computes them (independent loop)
         np.testing.assert_allclose(cws.Fw, plant.contact_wrenches(x), rtol=1e-12, atol=1e-9)
+
+
+@pytest.mark.parametrize("space,m,unloaded_state", [("spatial", 2, "mobile"), ("spatial", 3, "immobile"),
+                                                    ("planar", 3, "mobile")])
+def test_packed_entry_points_equal_the_unpacked_ones(space, m, unloaded_state):
+    """``rhs_into_packed`` / ``control_terms_packed`` (the plant's arrays as one tuple) call the same
+    kernels with the same arrays: the same bits, and the same status."""
+    plant = random_plant(space, m, seed=41 + m, unloaded_state=unloaded_state)
+    fn, args = plant.kernel_into
+    cfn, cargs = plant.control_kernel_into
+    kernels = sys.modules[fn.py_func.__module__]
+    P, status = args[:-1], args[-1]
+    rng = np.random.default_rng(9)
+    for _ in range(3):
+        x, tau = random_state(plant, rng)
+        want, got = np.full_like(x, np.nan), np.full_like(x, np.nan)
+        fn(x, tau, *args, plant.workspace(), want)
+        st = status.copy()
+        kernels.rhs_into_packed(x, tau, P, status, plant.workspace(), got)
+        np.testing.assert_array_equal(status, st)
+        np.testing.assert_array_equal(got, want)
+        c_want, c_got = plant.control_workspace(), plant.control_workspace()
+        cfn(x, *cargs, c_want)
+        kernels.control_terms_packed(x, P, status, c_got)
+        for name in ("W", "w_free", "S", "Fw"):
+            np.testing.assert_array_equal(getattr(c_got, name), getattr(c_want, name), err_msg=name)
+        np.testing.assert_array_equal(c_got.ws.J, c_want.ws.J)
 
 
 _ALLOC_SCRIPT = textwrap.dedent("""

@@ -146,7 +146,7 @@ def chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
     return chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk):
     """Fill ``H`` (n x n), ``h`` (n), ``Y`` (6), ``J`` (6 x n) and ``Jdq`` (6) in place; allocates nothing.
 
@@ -433,12 +433,6 @@ def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
     Jdq[4] = l11 * by + l12 * bz
     Jdq[5] = bx + l21 * by + l22 * bz
     return 0
-
-
-#: :func:`chain_arm_terms_into` inlined into the jitted caller (numba IR inlining): for the
-#: cooperative right-hand side, where the call with a dozen array arguments is a measurable part of
-#: the cost. Not cached on its own (it never compiles on its own); the caller's cache holds it.
-chain_arm_terms_inline = njit(inline="always")(chain_arm_terms_into.py_func)
 
 
 @njit(cache=True)

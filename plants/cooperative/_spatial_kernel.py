@@ -23,6 +23,13 @@ Allocation-free entry points (issue 10): ``rhs_into`` (the right-hand side into 
 ``control_terms_into`` and ``node_state_into``, each with a workspace made once per run by
 ``make_workspace`` / ``make_control_workspace`` (namedtuples of preallocated arrays, documented
 below). ``rhs_kernel`` and ``node_state_kernel`` are thin wrappers that make a workspace per call.
+
+Compilation (issue 10: speed and start-up). The allocation-free kernels here and their callees are
+compiled with ``_nrt=False``: without numba's reference counting, which otherwise costs an atomic
+increment and decrement per array argument and per view on every call (about a third of the
+right-hand side). They call the arm, node and edge kernels (each compiled and cached once) rather
+than inlining them: inlining made each entry point compile its own copy of the chain kernel (tens of
+seconds on a cold cache) and gained about 5 % per call.
 """
 
 from __future__ import annotations
@@ -35,7 +42,7 @@ from numba import njit
 # Every spatial serial arm (DH or URDF) is evaluated by the general-chain kernel.
 from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potential
 from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
-from plants.arms._chain_kernels import chain_arm_terms_inline as spatial_arm_terms
+from plants.arms._chain_kernels import chain_arm_terms_into
 from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
 from plants.frames import body_rate_map_inverse, rotation_zyx_into
@@ -44,25 +51,19 @@ from plants.elastic._spatial_kernels import (
     NODE_FRAME_BLOCKS,
     damping_edges_into,
     elastic_edges_into,
-    interconnection_terms_into,
     linear_edges,
     node_frames_into,
+    node_frames_terms_into,
     node_terms_into,
     solve_node_rotation,
 )
-
-#: The node and interconnection kernels inlined into the right-hand side (numba IR inlining; see
-#: ``plants.arms._chain_kernels.chain_arm_terms_inline``): calls with a dozen array arguments cost.
-_node_terms = njit(inline="always")(node_terms_into.py_func)
-_interconnection_terms = njit(inline="always")(interconnection_terms_into.py_func)
-_solve_node_rotation = njit(inline="always")(solve_node_rotation.py_func)
 
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
 
 #: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
 #: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 4
+CALLEE_REVISION = 7
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
@@ -123,9 +124,9 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         n = arm_dof[i]
         o = q_off[i]
         if arm_kind[i] == ARM_SERIAL:
-            st = spatial_arm_terms(z[o:o + n], dz[o:o + n], dh_all[dh_off[i]:dh_off[i] + n],
-                                   bases[i], tools[i], gravity, H_all[i], h_all[i], Y[i + 1],
-                                   J_all[i], Jdq_all[i], wk)
+            st = chain_arm_terms_into(z[o:o + n], dz[o:o + n], dh_all[dh_off[i]:dh_off[i] + n],
+                                      bases[i], tools[i], gravity, H_all[i], h_all[i], Y[i + 1],
+                                      J_all[i], Jdq_all[i], wk)
             if st != 0:
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = i + 1
@@ -141,7 +142,7 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
                 dY[i + 1, a] = dz[o + a]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
              node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
     """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing (all work arrays are in ``ws``).
@@ -182,11 +183,17 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
     # node terms: W (rotational blocks) and w = gyro - gravity + elastic + damping
     Wr = ws.Wr
     w = ws.w
-    _node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
-    st = _interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w, ws.edge, ws.frames)
-    if st != STATUS_OK:
-        status[0] = st
-        return
+    if immobile:
+        node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
+        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
+    else:
+        # = node_terms_into + interconnection_terms_into, each node's sines and cosines evaluated once
+        node_frames_terms_into(Y, dY, node_params, gravity, ws.frames, Wr, w)
+        _, st = elastic_edges_into(Y, edge_index, edge_params, w, ws.edge, ws.frames)
+        if st != STATUS_OK:
+            status[0] = st
+            return
+        damping_edges_into(Y, dY, edge_index, edge_params, w, ws.edge, ws.frames)
     b3 = ws.b3
     o3 = ws.o3
     for i in range(m):
@@ -250,7 +257,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
                 dx[nz + o + a] = (tau[o + a] - w[k, a]) / mk
                 b3[a] = tau[o + 3 + a] - w[k, 3 + a]
             A = Y_ref[k, 3:6] if immobile else Y[k, 3:6]
-            if not _solve_node_rotation(A, node_params[k, 1:4], b3, o3):
+            if not solve_node_rotation(A, node_params[k, 1:4], b3, o3):
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = k
                 return
@@ -261,12 +268,24 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         dx[2 * nz - 6 + a] = -w[0, a] / m0
         b3[a] = -w[0, 3 + a]
     A = Y_ref[0, 3:6] if immobile else Y[0, 3:6]
-    if not _solve_node_rotation(A, node_params[0, 1:4], b3, o3):
+    if not solve_node_rotation(A, node_params[0, 1:4], b3, o3):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
         return
     for a in range(3):
         dx[2 * nz - 3 + a] = o3[a]
+
+
+@njit(cache=True, _nrt=False)
+def rhs_into_packed(x, tau, P, status, ws, dx):
+    """:func:`rhs_into` with the plant's packed arrays as one tuple ``P`` (``arm_kind .. immobile``: the
+    first 13 of ``CooperativePlant.kernel_into[1]``, without ``status``).
+
+    For a compiled caller with numba's reference counting (one that allocates): taking the 13 arrays
+    out of its tuple costs it an atomic increment and decrement each, on every call (about 0.3 us);
+    passed whole, ``P`` is unpacked here, where nothing is counted."""
+    rhs_into(x, tau, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
+             status, ws, dx)
 
 
 @njit(cache=True)
@@ -281,7 +300,7 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
     return dx
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws):
     """Node poses ``ws.Y`` (N, 6) and rates ``ws.dY`` (N, 6) of a state, plus the arm terms ``ws.H``,
     ``ws.h``, ``ws.J``, ``ws.Jdq`` (see :class:`SpatialWorkspace`); allocates nothing."""
@@ -334,7 +353,7 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     return S, Fw, ok
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
     """:func:`interconnection_kernel` into ``S`` (N, 6) and ``Fw`` (m, 6) (both overwritten); returns ``ok``.
 
@@ -342,6 +361,15 @@ def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw,
     (blocks 0-13 for the edge kernels, 14 for ``L_0^-1`` and 15 for ``R_0`` here), ``frames`` (N,
     NODE_FRAME_BLOCKS, 3, 3) receives every node's frames.
     """
+    if not immobile:
+        node_frames_into(Y, frames)
+    return _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames)
+
+
+@njit(cache=True, _nrt=False)
+def _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
+    """:func:`interconnection_into` with ``frames`` already holding every node's frames (mobile model;
+    :func:`plants.elastic._spatial_kernels.node_frames_into` or ``node_frames_terms_into``)."""
     N = Y.shape[0]
     m = Fw.shape[0]
     S[:, :] = 0.0
@@ -350,8 +378,6 @@ def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw,
     R0 = scratch[15]
     ok = body_rate_map_inverse(Y[0, 3:6], Linv)
     rotation_zyx_into(Y[0, 3:6], R0)
-    if not immobile:
-        node_frames_into(Y, frames)
     for e in range(edge_index.shape[0]):
         Fe[:, :] = 0.0
         ei = edge_index[e:e + 1]
@@ -408,7 +434,7 @@ def make_control_workspace(arm_dof, node_count):
                                    np.zeros((N, 6)), np.zeros((m, 6)), np.zeros((N, 6)))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
                        node_params, edge_index, edge_params, Y_ref, immobile, status, cws):
     """Every term of :class:`plants.cooperative.ControlTerms` at state ``x`` into ``cws``; allocates nothing.
@@ -426,16 +452,24 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools
     if status[0] != STATUS_OK:
         return
     N = ws.Y.shape[0]
-    node_terms_into(ws.Y, ws.dY, node_params, gravity, Y_ref, immobile, ws.Wr, cws.w_free, ws.edge)
+    if immobile:
+        node_terms_into(ws.Y, ws.dY, node_params, gravity, Y_ref, immobile, ws.Wr, cws.w_free, ws.edge)
+    else:  # node_terms_into and every node's frames, each node's sines and cosines evaluated once
+        node_frames_terms_into(ws.Y, ws.dY, node_params, gravity, ws.frames, ws.Wr, cws.w_free)
     W = cws.W
     for k in range(N):
         for a in range(3):
             W[k, a, a] = node_params[k, 0]
             for b in range(3):
                 W[k, 3 + a, 3 + b] = ws.Wr[k, a, b]
-    if not interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe,
-                                ws.edge, ws.frames):
+    if not _interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe,
+                                 ws.edge, ws.frames):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
 
 
+@njit(cache=True, _nrt=False)
+def control_terms_packed(x, P, status, cws):
+    """:func:`control_terms_into` with the packed arrays as one tuple ``P`` (see :func:`rhs_into_packed`)."""
+    control_terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
+                       status, cws)

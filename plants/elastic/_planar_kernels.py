@@ -18,7 +18,7 @@ from plants.elastic._layout import DAMPING_BOOK, ELEMENT_CENTRAL, STATUS_COINCID
 from plants.elastic._spatial_kernels import COINCIDENT_FRACTION, wrap_angle
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def elastic_edges(Y, edge_index, edge_params, F):
     """Add ``dPi/dY`` of every interconnection into ``F``; return ``(Pi, status)``.
 
@@ -79,7 +79,7 @@ def elastic_edges(Y, edge_index, edge_params, F):
     return Pi, STATUS_OK
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def damping_edges(Y, dY, edge_index, edge_params, F):
     """Add ``dD/d(dY)`` (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
 
@@ -145,7 +145,7 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
     return D
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     """Immobile unloaded state (4.5): add ``K y + D dy`` per edge into ``F``; return ``Pi``."""
     Pi = 0.0
@@ -168,7 +168,7 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     return Pi
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
     """Add every interconnection's part of ``w`` into ``w`` (planar); returns a status code."""
     if immobile:

@@ -22,7 +22,7 @@ from plants.elastic._layout import (
     STATUS_EULER_SINGULAR,
     STATUS_OK,
 )
-from plants.frames import EULER_SINGULARITY_COS, rotation_zyx_and_partials_into
+from plants.frames import EULER_SINGULARITY_COS, rotation_and_partials_from_trig, rotation_zyx_and_partials_into
 
 #: Nodes of a central spring with positive rest length closer than this fraction of the rest
 #: length are reported as coincident: ``beta`` and its gradient are undefined at distance 0.
@@ -53,7 +53,7 @@ def elastic_edges(Y, edge_index, edge_params, F):
     return elastic_edges_into(Y, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
     """Add ``dPi/dY`` (120-121) of every interconnection into ``F``; return ``(Pi, status)``.
 
@@ -173,13 +173,36 @@ def body_rate_matrix(A, L):
     L[2, 0], L[2, 1], L[2, 2] = cph * cth, -sph, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_frames_into(Y, frames):
     """Every node k's ``R(A_k)`` (block 0), ``dR/dpsi, dR/dtheta, dR/dphi`` (1-3) and ``L(A_k)`` (4)
     into ``frames`` (N, NODE_FRAME_BLOCKS, 3, 3): evaluated once per node rather than once per edge end."""
     for k in range(Y.shape[0]):
         rotation_zyx_and_partials_into(Y[k, 3:6], frames[k, 0], frames[k, 1:4])
         body_rate_matrix(Y[k, 3:6], frames[k, 4])
+
+
+@njit(cache=True, _nrt=False)
+def node_frames_terms_into(Y, dY, node_params, gravity, frames, Wr, w):
+    """:func:`node_frames_into` and :func:`node_terms_into` of the mobile model (``immobile`` False) in
+    one pass, with one evaluation of each node's six sines and cosines (instead of 14): ``frames``
+    (N, NODE_FRAME_BLOCKS, 3, 3) receives ``R``, ``dR/dA``, ``L``; ``Wr`` (N, 3, 3) the rotational
+    inertia blocks; ``w`` (N, 6) is set to ``(-m g, gyroscopic)``. The same arithmetic as those two
+    kernels, so the same bits. Allocates nothing."""
+    for k in range(Y.shape[0]):
+        cps, sps = math.cos(Y[k, 3]), math.sin(Y[k, 3])
+        cth, sth = math.cos(Y[k, 4]), math.sin(Y[k, 4])
+        cph, sph = math.cos(Y[k, 5]), math.sin(Y[k, 5])
+        rotation_and_partials_from_trig(cps, sps, cth, sth, cph, sph, frames[k, 0], frames[k, 1], frames[k, 2],
+                                        frames[k, 3])
+        L = frames[k, 4]
+        L[0, 0], L[0, 1], L[0, 2] = -sth, 0.0, 1.0
+        L[1, 0], L[1, 1], L[1, 2] = sph * cth, cph, 0.0
+        L[2, 0], L[2, 1], L[2, 2] = cph * cth, -sph, 0.0
+        m = node_params[k, 0]
+        for a in range(3):
+            w[k, a] = -m * gravity[a]
+        _rotational_terms_from_trig(cth, sth, cph, sph, dY[k, 3:6], node_params[k, 1:4], Wr[k], w[k, 3:6])
 
 
 @njit(cache=True)
@@ -190,7 +213,7 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
     return damping_edges_into(Y, dY, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
     """Add ``dD/d(dY)`` of the dampers (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
 
@@ -311,7 +334,7 @@ def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
     return D
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     """Immobile unloaded state (4.5): add ``K y + D dy`` per edge into ``F``; return ``Pi``.
 
@@ -338,7 +361,7 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     return Pi
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_rotational_terms(A, dA, I, Wr, g):
     """Rotational inertia ``Wr = L^T I L`` (105, 114) and gyroscopic term ``g`` of one node.
 
@@ -346,8 +369,12 @@ def node_rotational_terms(A, dA, I, Wr, g):
 
     ``I`` is the principal inertia (3,) [kg m^2]. Writes into ``Wr`` (3x3) and ``g`` (3,).
     """
-    cth, sth = math.cos(A[1]), math.sin(A[1])
-    cph, sph = math.cos(A[2]), math.sin(A[2])
+    _rotational_terms_from_trig(math.cos(A[1]), math.sin(A[1]), math.cos(A[2]), math.sin(A[2]), dA, I, Wr, g)
+
+
+@njit(cache=True, inline="always")
+def _rotational_terms_from_trig(cth, sth, cph, sph, dA, I, Wr, g):
+    """:func:`node_rotational_terms` from the cosines and sines of ``theta`` and ``phi``."""
     # L rows
     L00, L01, L02 = -sth, 0.0, 1.0
     L10, L11, L12 = sph * cth, cph, 0.0
@@ -380,7 +407,7 @@ def node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w):
     return node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, np.empty(EDGE_SCRATCH_SHAPE))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, scratch):
     """Per-node inertia and the non-interconnection part of ``w`` (113).
 
@@ -412,7 +439,7 @@ def node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, scratch
     return STATUS_OK
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def solve_node_rotation(A, I, b, out):
     """Solve ``(L^T I L) x = b`` for one node as ``x = L^-1 I^-1 L^-T b``; False if singular."""
     cth = math.cos(A[1])
@@ -439,7 +466,7 @@ def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
                                       np.empty(EDGE_SCRATCH_SHAPE), np.empty((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3)))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, scratch, frames):
     """Add every interconnection's part of ``w`` (113) into ``w``: ``dPi/dY + dD/d(dY)``, or the
     immobile model's ``K y + D dy``. Returns a status code. Allocates nothing: ``scratch`` is a
