@@ -230,3 +230,30 @@ def test_rhs_into_and_control_terms_into_allocate_nothing_in_a_numba_loop():
         # the allocations of one call from Python (unboxing, the loop's own frame) are the same for
         # 10 and for 10010 calls in the loop: none happens per call
         assert int(many) == int(few), f"{loop} ({space}, m = {m}): {few} allocations for 10 calls, {many} for 10010"
+
+
+@pytest.mark.parametrize("m,unloaded_state", [(2, "mobile"), (3, "immobile"), (4, "mobile")])
+def test_rhs_from_terms_equals_the_rhs(m, unloaded_state):
+    """``rhs_from_terms_into`` (a closed-loop tick's first right-hand side of the period, finished from
+    the control terms at the same state) performs the operations of ``rhs_into`` in the same order:
+    the same bits and the same status, for seeded states of spatial plants of every arm kind; and the
+    control terms it reads are left as they were (the controllers read them)."""
+    plant = random_plant("spatial", m, seed=71 + m, unloaded_state=unloaded_state)
+    fn, args = plant.kernel_into
+    kernels = sys.modules[fn.py_func.__module__]
+    P, status = args[:-1], args[-1]
+    rng = np.random.default_rng(17)
+    for _ in range(3):
+        x, tau = random_state(plant, rng)
+        want, got = np.full_like(x, np.nan), np.full_like(x, np.nan)
+        fn(x, tau, *args, plant.workspace(), want)
+        st = status.copy()
+        cws = plant.control_workspace()
+        kernels.control_terms_packed(x, P, status, cws)
+        before = [np.array(a, copy=True) for a in (cws.ws.Y, cws.ws.H, cws.ws.J, cws.W, cws.w_free, cws.S, cws.Fw)]
+        kernels.rhs_from_terms_into(x, tau, P, status, cws, got)
+        np.testing.assert_array_equal(status, st)
+        np.testing.assert_array_equal(got, want)
+        after = (cws.ws.Y, cws.ws.H, cws.ws.J, cws.W, cws.w_free, cws.S, cws.Fw)
+        for a, b in zip(before, after):
+            np.testing.assert_array_equal(a, b)

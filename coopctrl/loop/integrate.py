@@ -39,7 +39,7 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 from numba.extending import overload
 
 from plants.cooperative import _planar_kernel as _pk
@@ -125,16 +125,35 @@ def rhs_into(x, tau, P, status, ws, dx):
 
 @overload(rhs_into)
 def _rhs_into_typed(x, tau, P, status, ws, dx):
-    kernel = _sk.rhs_into if P[5].ndim == 3 else _pk.rhs_into
+    # the packed entry point: P passes whole, and is unpacked where nothing is reference-counted
+    kernel = _sk.rhs_into_packed if P[5].ndim == 3 else _pk.rhs_into_packed
 
     def impl(x, tau, P, status, ws, dx):
-        kernel(x, tau, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
-               status, ws, dx)
+        kernel(x, tau, P, status, ws, dx)
+    return impl
+
+
+def first_rhs_into(x, tau, P, status, ws, terms, dx):
+    """:func:`rhs_into` at the state whose control terms ``terms`` holds: a spatial plant finishes the
+    right-hand side from them (``rhs_from_terms_into``: no second arm pass, the same bits); a planar
+    plant, or ``terms = None``, evaluates it afresh."""
+    raise NotImplementedError("called from numba only")
+
+
+@overload(first_rhs_into)
+def _first_rhs_into_typed(x, tau, P, status, ws, terms, dx):
+    if terms is not None and not isinstance(terms, types.NoneType) and P[5].ndim == 3:
+        def impl(x, tau, P, status, ws, terms, dx):
+            _sk.rhs_from_terms_into(x, tau, P, status, terms, dx)
+        return impl
+
+    def impl(x, tau, P, status, ws, terms, dx):
+        rhs_into(x, tau, P, status, ws, dx)
     return impl
 
 
 # ---------------------------------------------------------------------------------------------- period
-def zoh_advance(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+def zoh_advance(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
     """Advance ``x`` in place over one control period from ``t`` [s], one step per entry of ``steps`` [s].
 
     Args:
@@ -144,6 +163,9 @@ def zoh_advance(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_floa
             failure: partly advanced; the caller restores it).
         tau: The held inputs.
         P, status, ws: The plant's kernel arrays, its int64 ``(2,)`` status and its workspace.
+        terms: The control workspace holding the plant's terms at ``x`` (the tick's sensors at the true
+            state), or ``None``. An explicit scheme's first right-hand side of the period then reuses
+            them (:func:`first_rhs_into`: the same bits, one arm pass fewer); the implicit ones ignore it.
         t: Time [s] at the start of the period (the implicit schemes' failure time counts from it).
         steps: float64: the steps [s] of the period.
         x_fail: Out: the state the right-hand side failed at (:data:`STEP_PLANT_ERROR`).
@@ -160,9 +182,9 @@ def zoh_advance(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_floa
 
 
 @overload(zoh_advance)
-def _zoh_advance_typed(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+def _zoh_advance_typed(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
     if getattr(plan, "instance_class", None) is ImplicitPlan:
-        def impl(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+        def impl(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
             ts = t
             for si in range(steps.shape[0]):
                 hs = steps[si]
@@ -178,9 +200,9 @@ def _zoh_advance_typed(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, o
             return STEP_OK
         return impl
     if getattr(plan, "instance_class", None) is ExplicitPlan:
-        def impl(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+        def impl(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
             for si in range(steps.shape[0]):
-                code = _explicit_step(plan, x, tau, P, status, ws, steps[si], x_fail, out_int)
+                code = _explicit_step(plan, x, tau, P, status, ws, terms, si == 0, steps[si], x_fail, out_int)
                 if code != STEP_OK:
                     return code
             return STEP_OK
@@ -191,20 +213,24 @@ def _zoh_advance_typed(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, o
 @njit(cache=True)
 def advance_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
     """:func:`zoh_advance` callable from Python (tests, one-step checks against the Python integrators)."""
-    return zoh_advance(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float)
+    return zoh_advance(plan, x, tau, P, status, ws, None, t, steps, x_fail, out_int, out_float)
 
 
 # ---------------------------------------------------------------------------------------------- explicit
 @njit(inline="always")
-def _explicit_step(plan, x, tau, P, status, ws, hs, x_fail, out_int):
-    """One step of ``plan.method``, the Python integrators' arithmetic element by element."""
+def _explicit_step(plan, x, tau, P, status, ws, terms, first, hs, x_fail, out_int):
+    """One step of ``plan.method``, the Python integrators' arithmetic element by element; the first
+    step of a period (``first``) takes its first right-hand side from ``terms`` (:func:`first_rhs_into`)."""
     k1, k2, k3, k4, y = plan.k1, plan.k2, plan.k3, plan.k4, plan.y
     nx = x.shape[0]
     nz = nx // 2
     method = plan.method
     if method == METHOD_RK4:
         h2 = 0.5 * hs
-        rhs_into(x, tau, P, status, ws, k1)
+        if first:
+            first_rhs_into(x, tau, P, status, ws, terms, k1)
+        else:
+            rhs_into(x, tau, P, status, ws, k1)
         out_int[7] += 1
         if status[0] != 0:
             x_fail[:] = x
@@ -234,7 +260,10 @@ def _explicit_step(plan, x, tau, P, status, ws, hs, x_fail, out_int):
         for c in range(nx):
             x[c] = ((((k2[c] + k3[c]) * 2.0) + k1[c]) + k4[c]) * h6 + x[c]
     elif method == METHOD_SYMPLECTIC_EULER:
-        rhs_into(x, tau, P, status, ws, k1)
+        if first:
+            first_rhs_into(x, tau, P, status, ws, terms, k1)
+        else:
+            rhs_into(x, tau, P, status, ws, k1)
         out_int[7] += 1
         if status[0] != 0:
             x_fail[:] = x
@@ -244,7 +273,10 @@ def _explicit_step(plan, x, tau, P, status, ws, hs, x_fail, out_int):
         for c in range(nz):
             x[c] = x[nz + c] * hs + x[c]
     else:
-        rhs_into(x, tau, P, status, ws, k1)
+        if first:
+            first_rhs_into(x, tau, P, status, ws, terms, k1)
+        else:
+            rhs_into(x, tau, P, status, ws, k1)
         out_int[7] += 1
         if status[0] != 0:
             x_fail[:] = x

@@ -80,7 +80,7 @@ from plants.frames import rotation_zyx_into
 #: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
 #: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
 #: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
-CALLEE_REVISION = 2
+CALLEE_REVISION = 4
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran
@@ -125,12 +125,12 @@ def _terms(x, P, status, cws):
 
 @overload(_terms)
 def _terms_typed(x, P, status, cws):
-    terms_into = _sk.control_terms_into if P[5].ndim == 3 else _pk.control_terms_into
+    # the packed entry point (see coopctrl.loop.integrate.rhs_into)
+    terms_into = _sk.control_terms_packed if P[5].ndim == 3 else _pk.control_terms_packed
 
     def impl(x, P, status, cws):
         status[0] = 0
-        terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11],
-                                P[12], status, cws)
+        terms_into(x, P, status, cws)
         return cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free, cws.S, cws.Fw
     return impl
 
@@ -739,7 +739,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             out_int[1] = k + 1
             return
         # ---- plant, zero-order hold over the period (coopctrl.loop.integrate: the Python integrators' arithmetic)
-        step_code = zoh_advance(method, x, tau, P, status, pws, t, steps, x_fail, out_int, out_float)
+        step_code = zoh_advance(method, x, tau, P, status, pws, cws_true, t, steps, x_fail, out_int, out_float)
         if step_code != STEP_OK:
             # the Python loop keeps the state of the tick (the exception leaves ``advance``)
             x[:] = rec_x[k]

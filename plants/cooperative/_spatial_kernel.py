@@ -63,7 +63,7 @@ ARM_CONTACT_POINT = 1
 
 #: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
 #: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 7
+CALLEE_REVISION = 8
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
@@ -143,57 +143,19 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
 
 
 @njit(cache=True, _nrt=False)
-def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-             node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
-    """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing (all work arrays are in ``ws``).
-
-    Args:
-        x: State ``(z, z')``, float64 (2 nz,), C-contiguous.
-        tau: Inputs (nz - 6,): joint torques [N m] (or node forces of a contact point).
-        arm_kind ... immobile: The plant's packed arrays, in the order of
-            ``CooperativePlant.kernel_into[1]`` (which ends with ``status``).
-        status: int64 (2,): receives a status code (``plants.elastic._layout.STATUS_*``) and
-            the node index it concerns; ``STATUS_OK`` = 0.
-        ws: A :class:`SpatialWorkspace` from :func:`make_workspace` (``CooperativePlant.workspace()``),
-            one per run (not shared between threads). Its content between calls means nothing,
-            except that after a successful call ``ws.Y``, ``ws.dY``, ``ws.H``, ``ws.h``, ``ws.J``,
-            ``ws.Jdq``, ``ws.Wr`` and ``ws.w`` hold the terms of this state.
-        dx: Out: float64 (2 nz,). Left partly written when ``status[0] != STATUS_OK``.
-    """
+def _accelerations_into(x, tau, arm_kind, arm_dof, q_off, node_params, Y_ref, immobile, status, ws, dx):
+    """The accelerations ``dx[nz:]`` from the terms in ``ws`` (``Y``, ``H``, ``h``, ``J``, ``Jdq``, ``Wr``
+    and ``w``, the node forces with every interconnection): each arm's ``(H + J^T W J) ddq = tau - h -
+    J^T (W Jdq + w)`` by Cholesky, each contact point's and the object's Newton-Euler equations."""
     nz = x.shape[0] // 2
-    z = x[:nz]
-    dz = x[nz:]
     m = arm_kind.shape[0]
     Y = ws.Y
-    dY = ws.dY
     H_all = ws.H
     h_all = ws.h
     J_all = ws.J
     Jdq_all = ws.Jdq
-    status[0] = STATUS_OK
-    for a in range(6):
-        Y[0, a] = z[nz - 6 + a]
-        dY[0, a] = dz[nz - 6 + a]
-    _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, ws.chain, status)
-    for a in range(nz):
-        dx[a] = dz[a]
-    if status[0] != STATUS_OK:
-        return
-    # node terms: W (rotational blocks) and w = gyro - gravity + elastic + damping
     Wr = ws.Wr
     w = ws.w
-    if immobile:
-        node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
-        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
-    else:
-        # = node_terms_into + interconnection_terms_into, each node's sines and cosines evaluated once
-        node_frames_terms_into(Y, dY, node_params, gravity, ws.frames, Wr, w)
-        _, st = elastic_edges_into(Y, edge_index, edge_params, w, ws.edge, ws.frames)
-        if st != STATUS_OK:
-            status[0] = st
-            return
-        damping_edges_into(Y, dY, edge_index, edge_params, w, ws.edge, ws.frames)
     b3 = ws.b3
     o3 = ws.o3
     for i in range(m):
@@ -274,6 +236,61 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         return
     for a in range(3):
         dx[2 * nz - 3 + a] = o3[a]
+
+
+@njit(cache=True, _nrt=False)
+def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+             node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
+    """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing (all work arrays are in ``ws``).
+
+    Args:
+        x: State ``(z, z')``, float64 (2 nz,), C-contiguous.
+        tau: Inputs (nz - 6,): joint torques [N m] (or node forces of a contact point).
+        arm_kind ... immobile: The plant's packed arrays, in the order of
+            ``CooperativePlant.kernel_into[1]`` (which ends with ``status``).
+        status: int64 (2,): receives a status code (``plants.elastic._layout.STATUS_*``) and
+            the node index it concerns; ``STATUS_OK`` = 0.
+        ws: A :class:`SpatialWorkspace` from :func:`make_workspace` (``CooperativePlant.workspace()``),
+            one per run (not shared between threads). Its content between calls means nothing,
+            except that after a successful call ``ws.Y``, ``ws.dY``, ``ws.H``, ``ws.h``, ``ws.J``,
+            ``ws.Jdq``, ``ws.Wr`` and ``ws.w`` hold the terms of this state.
+        dx: Out: float64 (2 nz,). Left partly written when ``status[0] != STATUS_OK``.
+    """
+    nz = x.shape[0] // 2
+    z = x[:nz]
+    dz = x[nz:]
+    m = arm_kind.shape[0]
+    Y = ws.Y
+    dY = ws.dY
+    H_all = ws.H
+    h_all = ws.h
+    J_all = ws.J
+    Jdq_all = ws.Jdq
+    status[0] = STATUS_OK
+    for a in range(6):
+        Y[0, a] = z[nz - 6 + a]
+        dY[0, a] = dz[nz - 6 + a]
+    _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
+              Y, dY, H_all, h_all, J_all, Jdq_all, ws.chain, status)
+    for a in range(nz):
+        dx[a] = dz[a]
+    if status[0] != STATUS_OK:
+        return
+    # node terms: W (rotational blocks) and w = gyro - gravity + elastic + damping
+    Wr = ws.Wr
+    w = ws.w
+    if immobile:
+        node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, ws.edge)
+        linear_edges(Y, dY, Y_ref, edge_index, edge_params, w)
+    else:
+        # = node_terms_into + interconnection_terms_into, each node's sines and cosines evaluated once
+        node_frames_terms_into(Y, dY, node_params, gravity, ws.frames, Wr, w)
+        _, st = elastic_edges_into(Y, edge_index, edge_params, w, ws.edge, ws.frames)
+        if st != STATUS_OK:
+            status[0] = st
+            return
+        damping_edges_into(Y, dY, edge_index, edge_params, w, ws.edge, ws.frames)
+    _accelerations_into(x, tau, arm_kind, arm_dof, q_off, node_params, Y_ref, immobile, status, ws, dx)
 
 
 @njit(cache=True, _nrt=False)
@@ -473,3 +490,34 @@ def control_terms_packed(x, P, status, cws):
     """:func:`control_terms_into` with the packed arrays as one tuple ``P`` (see :func:`rhs_into_packed`)."""
     control_terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
                        status, cws)
+
+
+
+@njit(cache=True, _nrt=False)
+def rhs_from_terms_into(x, tau, P, status, cws, dx):
+    """``dx = f(x, tau)`` reusing the terms :func:`control_terms_packed` left in ``cws`` for the same state
+    ``x`` (the arms' ``H``, ``h``, ``J``, ``Jdq``, the nodes' frames, ``Wr`` and ``w_free``): only the
+    interconnection forces and the accelerations are evaluated. The same operations in the same order
+    as :func:`rhs_into`, so the same bits. ``P`` as in :func:`rhs_into_packed`; ``cws`` must hold the
+    terms of ``x`` (a closed-loop tick's sensors at the true state, before the plant step)."""
+    arm_kind, arm_dof, q_off, node_params = P[0], P[1], P[2], P[8]
+    edge_index, edge_params, Y_ref, immobile = P[9], P[10], P[11], P[12]
+    ws = cws.ws
+    nz = x.shape[0] // 2
+    status[0] = STATUS_OK
+    for a in range(nz):
+        dx[a] = x[nz + a]
+    w = ws.w
+    w_free = cws.w_free
+    for k in range(w.shape[0]):
+        for a in range(6):
+            w[k, a] = w_free[k, a]
+    if immobile:
+        linear_edges(ws.Y, ws.dY, Y_ref, edge_index, edge_params, w)
+    else:
+        _, st = elastic_edges_into(ws.Y, edge_index, edge_params, w, ws.edge, ws.frames)
+        if st != STATUS_OK:
+            status[0] = st
+            return
+        damping_edges_into(ws.Y, ws.dY, edge_index, edge_params, w, ws.edge, ws.frames)
+    _accelerations_into(x, tau, arm_kind, arm_dof, q_off, node_params, Y_ref, immobile, status, ws, dx)
