@@ -5,7 +5,7 @@ Run: python benchmarks/bench_closed_loop.py [--repeats N] [--quick] [--scenes a,
 For every shipped scene, the loop the user runs (``closed_loop(scenario).run(x0, duration)``: its
 full duration at its own control rate; the spatial carry at 1 kHz, RK4, one substep) is timed
 ``repeats`` times after a warm-up run, once with the compiled tick (``load_distribution.solver =
-"compiled"``, the default) and once with the reference path (the Python tick with proxsuite); the
+"compiled"``, the default) and once with the reference path (the same kernel, stopping at each QP for proxsuite); the
 medians are printed side by side with their ratio. Post-processing (``simulate()``'s squeeze) is
 not included.
 """

@@ -9,18 +9,20 @@ Two settings, both on spatial_two_puma_carry (two Pumas, 36 states), in one run:
 1. **The closed loop the user runs** (``coopctrl.simulator.closed_loop(scenario).run``, as
    ``coopctrl.simulate`` runs it): 0.5 s of the carry, the controller at T = 1 ms with the torque held
    between ticks. A fixed-step integrator takes ``n`` substeps of ``h = T / n`` per tick; euler,
-   symplectic_euler and rk4 run in the compiled loop (the whole tick in one numba kernel), a scheme
-   the kernel does not implement in the Python tick (its rows say so). The reference is the same
+   symplectic_euler, rk4 and the implicit schemes run in the compiled loop (the whole tick in one
+   numba kernel); a scheme the kernel does not implement steps the plant in Python between kernel
+   calls (its rows say "plant in Python"). The reference is the same
    loop, same scenario, same controller code and the same compiled QP, with the plant integrated by
    solve_ivp, restarted at every tick over ``[t_k, t_k + T]`` (the held torque jumps there; the last
-   accepted step is passed on as ``first_step``): the Python tick, since solve_ivp is a Python call.
+   accepted step is passed on as ``first_step``): the same kernel runs the tick and stops at each
+   period for solve_ivp, a Python call, to step the plant.
    The error of a run is the largest deviation, over all ticks, of the positions z = (q, Y_0)
    [rad, m] from a reference run whose ticks are integrated by DOP853 at rtol = atol = 1e-12 with at
    most T/4 per step (checked against RK4 at T/64, an independent method; the difference is printed).
    Two times per run, both medians over ``--repeats`` runs taken round-robin in the same process:
    - **whole loop**: the wall time of ``loop.run(x0, 0.5)`` (sensors, QP, controllers, integration,
      guards, recording; a warm-up run first loads the compiled kernel, a one-time cost per process);
-   - **integration only**: solve_ivp's calls (the Python tick, timed around each call); for the
+   - **integration only**: solve_ivp's calls (timed around each call); for the
      compiled loop, the same zero-order-hold integration replayed in a numba loop on the run's
      recorded torques with the plant's allocation-free right-hand side (the kernel's arithmetic: the
      replayed states are checked to equal the run's, and the difference is printed).
@@ -232,7 +234,7 @@ class LoopRun:
 
     @property
     def label(self) -> str:
-        return self.name + (" (compiled)" if self.compiled else " (Python tick)")
+        return self.name + (" (compiled)" if self.compiled else " (plant in Python)")
 
 
 class LoopProblem:
@@ -370,7 +372,7 @@ def profile_loop(problem, fixed_run, ivp_run, w_f, i_f, w_i, i_i, ticks):
           "controllers, guards, recording)")
     ev_i = ivp_run.evals / ticks
     print(f"    {ivp_run.label:28s} whole {w_i * us:8.1f} = solve_ivp {i_i * us:7.1f} ({ev_i:.1f} rhs x {rhs_py * 1e6:.1f} "
-          f"us from Python = {ev_i * rhs_py * 1e6:.0f}, solver {(i_i / ticks - ev_i * rhs_py) * 1e6:.0f}) + the Python "
+          f"us from Python = {ev_i * rhs_py * 1e6:.0f}, solver {(i_i / ticks - ev_i * rhs_py) * 1e6:.0f}) + the rest of the "
           f"tick {(w_i - i_i) * us:7.1f}")
     print(f"    {TARGET_LOOP:g}x needs the fixed-step loop at <= {w_i * us / TARGET_LOOP:.1f} us per tick "
           f"({w_f * us / (w_i * us / TARGET_LOOP):.1f}x faster than now); its integration alone takes {i_f * us:.1f}")

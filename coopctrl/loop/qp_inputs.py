@@ -1,4 +1,4 @@
-"""The load-distribution QP's contact-dependent inputs as the Python tick and the loaded start give them.
+"""The load-distribution QP's contact-dependent inputs in numpy, for the loaded start (before the first tick).
 
 - :func:`contact_normals`: each contact node's inward normal (its frame's approach axis), for the
   ``min_grip`` and ``friction`` families;
