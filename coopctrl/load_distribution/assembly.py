@@ -50,18 +50,10 @@ def fill_grasp_rows(M, r, r0, spatial):
 
 
 @njit(cache=True)
-def pseudo_inverse_external(M, k, W_inv_diag, w, external, A, y):
-    """``external = W^-1 G^T (G W^-1 G^T)^-1 w`` with ``G = M[:k]``; ``A`` (k, k) and ``y`` (k) are
-    scratch. Returns False if ``G W^-1 G^T`` is not positive definite."""
-    n = W_inv_diag.shape[0]
-    for a in range(k):
-        for b in range(a, k):
-            s = 0.0
-            for c in range(n):
-                s += M[a, c] * W_inv_diag[c] * M[b, c]
-            A[a, b] = s
-            A[b, a] = s
-    # Cholesky A = L L^T in place (lower triangle)
+def cholesky_solve_into(A, w, y, k):
+    """``y = A^-1 w`` for the symmetric positive definite leading ``k x k`` block of ``A``, factored in
+    place (``A = L L^T``, its lower triangle overwritten by ``L``). Returns False, with ``y`` undefined,
+    when ``A`` is not positive definite (a pivot ``<= 0`` or NaN)."""
     for j in range(k):
         s = A[j, j]
         for c in range(j):
@@ -84,6 +76,23 @@ def pseudo_inverse_external(M, k, W_inv_diag, w, external, A, y):
         for c in range(i + 1, k):
             s -= A[c, i] * y[c]
         y[i] = s / A[i, i]
+    return True
+
+
+@njit(cache=True)
+def pseudo_inverse_external(M, k, W_inv_diag, w, external, A, y):
+    """``external = W^-1 G^T (G W^-1 G^T)^-1 w`` with ``G = M[:k]``; ``A`` (k, k) and ``y`` (k) are
+    scratch. Returns False if ``G W^-1 G^T`` is not positive definite."""
+    n = W_inv_diag.shape[0]
+    for a in range(k):
+        for b in range(a, k):
+            s = 0.0
+            for c in range(n):
+                s += M[a, c] * W_inv_diag[c] * M[b, c]
+            A[a, b] = s
+            A[b, a] = s
+    if not cholesky_solve_into(A, w, y, k):
+        return False
     for c in range(n):
         s = 0.0
         for a in range(k):

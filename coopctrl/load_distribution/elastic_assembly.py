@@ -21,6 +21,7 @@ import math
 
 from numba import njit
 
+from coopctrl.load_distribution.assembly import cholesky_solve_into
 from plants.frames import rotation_zyx_into
 
 
@@ -144,29 +145,8 @@ def fill_elastic_split(M, k, K_obj, Y0, spatial, K, P, w, external, KGt, A, y, R
             v = 0.5 * (A[a, b] + A[b, a])
             A[a, b] = v
             A[b, a] = v
-    # Cholesky A = L L^T (lower triangle), then A y = w
-    for j in range(k):
-        s = A[j, j]
-        for c in range(j):
-            s -= A[j, c] * A[j, c]
-        if not s > 0.0:
-            return -1, changed
-        A[j, j] = math.sqrt(s)
-        for i in range(j + 1, k):
-            s = A[i, j]
-            for c in range(j):
-                s -= A[i, c] * A[j, c]
-            A[i, j] = s / A[j, j]
-    for i in range(k):
-        s = w[i]
-        for c in range(i):
-            s -= A[i, c] * y[c]
-        y[i] = s / A[i, i]
-    for i in range(k - 1, -1, -1):
-        s = y[i]
-        for c in range(i + 1, k):
-            s -= A[c, i] * y[c]
-        y[i] = s / A[i, i]
+    if not cholesky_solve_into(A, w, y, k):  # A = L L^T (lower triangle), then A y = w
+        return -1, changed
     for c in range(n):
         s = 0.0
         for a in range(k):

@@ -19,30 +19,10 @@ from __future__ import annotations
 from numba import njit
 from numba.extending import overload
 
-from plants.arms._chain_kernels import COL_MASS, COL_RC, _link_frame, _O, _R
+from plants.arms._chain_kernels import chain_arm_potential_into
 from plants.arms._planar_kernels import planar_arm_potential
 from plants.elastic import _planar_kernels as _pe
 from plants.elastic import _spatial_kernels as _se
-
-
-@njit(cache=True)
-def _chain_potential(q, table, base, gravity, wk):
-    """``U = -sum_k m_k g . p_com_k`` [J] of a spatial chain (``chain_arm_potential`` on the work rows ``wk``)."""
-    n = q.shape[0]
-    for i in range(3):
-        for j in range(3):
-            wk[0, _R + 3 * i + j] = base[i, j]
-        wk[0, _O + i] = base[i, 3]
-    U = 0.0
-    for k in range(1, n + 1):
-        row = table[k - 1]
-        c = wk[k]
-        _link_frame(wk[k - 1], row, q[k - 1], c)
-        mk = row[COL_MASS]
-        for i in range(3):
-            pc = c[_O + i] + c[_R + 3 * i] * row[COL_RC] + c[_R + 3 * i + 1] * row[COL_RC + 1] + c[_R + 3 * i + 2] * row[COL_RC + 2]
-            U -= mk * gravity[i] * pc
-    return U
 
 
 @njit(cache=True)
@@ -95,7 +75,7 @@ def _spatial_energy(x, P, cws, F, dY0):
     for i in range(arm_kind.shape[0]):
         if arm_kind[i] == 0:
             n = arm_dof[i]
-            U += _chain_potential(x[q_off[i]:q_off[i] + n], tables[table_off[i]:table_off[i] + n], bases[i], gravity,
+            U += chain_arm_potential_into(x[q_off[i]:q_off[i] + n], tables[table_off[i]:table_off[i] + n], bases[i], gravity,
                                   ws.chain)
     return T + Pi + _gravity_potential(ws.Y, node_params, gravity) + U, T, status
 

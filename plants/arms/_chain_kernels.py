@@ -438,8 +438,14 @@ def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
 @njit(cache=True)
 def chain_arm_potential(q, table, base, gravity):
     """Gravitational potential energy of the links ``U = -sum_k m_k g . p_com_k`` [J]."""
+    return chain_arm_potential_into(q, table, base, gravity, np.empty((q.shape[0] + 1, _WORK)))
+
+
+@njit(cache=True)
+def chain_arm_potential_into(q, table, base, gravity, wk):
+    """:func:`chain_arm_potential` on the caller's work rows ``wk`` (at least ``(n + 1, CHAIN_WORK_WIDTH)``):
+    allocates nothing."""
     n = q.shape[0]
-    wk = np.empty((n + 1, _WORK))
     for i in range(3):
         for j in range(3):
             wk[0, _R + 3 * i + j] = base[i, j]

@@ -63,7 +63,7 @@ ARM_CONTACT_POINT = 1
 
 #: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
 #: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 8
+CALLEE_REVISION = 9
 
 
 #: Fields of :class:`SpatialWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(6, largest arm dof)).
