@@ -80,7 +80,7 @@ from plants.frames import rotation_zyx_into
 #: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
 #: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
 #: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
-CALLEE_REVISION = 5
+CALLEE_REVISION = 6
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran
@@ -226,7 +226,7 @@ def _guards(spatial, x, Y, rho, band, max_deformation, R3, d):
     return DONE, 0, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3):
     """Stage of a tick: the QP of the split (equality rows, ``P``, ``g``, the grip, friction and torque rows)
     into ``qp_arrays``; ``(code, P changed)``, ``code`` 0 or the failure detail of :data:`QP_FAILED`."""
@@ -360,7 +360,7 @@ def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind
     return 0, P_changed
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric):
     """Stage of a tick: the warm-started solve, its answer check and the binding families;
     ``(status, iterations, ok, families)``."""
@@ -417,7 +417,7 @@ def _qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, 
     return code, qit, True, qb
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti):
     """Stage of a tick: the leader's and the followers' controllers into ``tau`` (before saturation);
     ``(code, arm)``, ``code`` :data:`DONE` or the event."""
