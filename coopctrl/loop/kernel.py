@@ -80,7 +80,7 @@ from plants.frames import rotation_zyx_into
 #: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
 #: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
 #: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
-CALLEE_REVISION = 5
+CALLEE_REVISION = 7
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran
@@ -173,6 +173,318 @@ def _pose_increment(spatial, C, F, Y0, Yi, R, v, out):
         return pose_increment_spatial_into(C, F, Y0[3:6], Yi[3:6], R, v, out)
     pose_increment_planar_into(C, F, Y0[2], out)
     return True
+
+
+@njit(cache=True, _nrt=False)
+def _guards(spatial, x, Y, rho, band, max_deformation, R3, d):
+    """Stage of a tick: the guards on the state (non-finite, Euler band, deformation); ``(code, contact, deformation)``."""
+    m = rho.shape[0]
+    Nn = m + 1
+    nx = x.shape[0]
+    npos = 3 if spatial else 2
+    finite = True
+    for c in range(nx):
+        if not math.isfinite(x[c]):
+            finite = False
+            break
+    if not finite:
+        return NONFINITE, 0, 0.0
+    if spatial:
+        cmin = 2.0
+        for j in range(Nn):
+            c = abs(math.cos(Y[j, 4]))
+            if c < cmin:
+                cmin = c
+        if cmin < band:
+            return NEAR_SINGULARITY, 0, 0.0
+    worst = 0.0
+    which = 0
+    R0 = R3[0]
+    if spatial:
+        rotation_zyx_into(Y[0, 3:6], R0)
+    for i in range(m):
+        if spatial:
+            for a in range(3):
+                s = 0.0
+                for b in range(3):
+                    s += R0[b, a] * (Y[i + 1, b] - Y[0, b])
+                d[a] = s - rho[i, a]
+        else:
+            c0, s0 = math.cos(Y[0, 2]), math.sin(Y[0, 2])
+            e0, e1 = Y[i + 1, 0] - Y[0, 0], Y[i + 1, 1] - Y[0, 1]
+            d[0] = c0 * e0 + s0 * e1 - rho[i, 0]
+            d[1] = -s0 * e0 + c0 * e1 - rho[i, 1]
+        s = 0.0
+        for a in range(npos):
+            s += d[a] * d[a]
+        v = math.sqrt(s)
+        if not v <= worst:
+            worst = v
+            which = i
+    if worst > max_deformation:
+        return DEFORMATION, which, worst
+    return DONE, 0, 0.0
+
+
+@njit(cache=True, _nrt=False)
+def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3):
+    """Stage of a tick: the QP of the split (equality rows, ``P``, ``g``, the grip, friction and torque rows)
+    into ``qp_arrays``; ``(code, P changed)``, ``code`` 0 or the failure detail of :data:`QP_FAILED`."""
+    m = arm_kind.shape[0]
+    p = 6 if spatial else 3
+    npos = 3 if spatial else 2
+    (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
+    mu_c = qp_num[1]
+    has_squeeze = qp_int[0] != 0
+    row_grip, row_fric, row_tau, n_fric = qp_int[1], qp_int[2], qp_int[3], qp_int[4]
+    torque_limits = row_tau >= 0
+    need_normals = row_grip >= 0 or row_fric >= 0
+    (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
+    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d) = opts
+    elastic = switches[OPT_ELASTIC] != 0
+    for a in range(p):
+        lo[a] = wN[a]
+        hi[a] = wN[a]
+    for i in range(m):
+        for a in range(npos):
+            rc[i, a] = Ym[i + 1, a]
+    for a in range(npos):
+        r0[a] = Ym[0, a]
+    fill_grasp_rows(Mq, rc, r0, spatial)
+    P_changed = False
+    if elastic:
+        ecode, P_changed = fill_elastic_split(Mq, p, K_obj, Y0N, spatial, Kw, Hq, wN, external, KGt, Ak, yk,
+                                              Rb, ework)
+        if ecode != 0:
+            return ecode, False  # -1 degenerate grasp, -3 singular grasp stiffness
+    elif not pseudo_inverse_external(Mq, p, W_inv_diag, wN, external, Ak, yk):
+        return -1, False  # degenerate grasp (ScenarioError in the Python problem)
+    n = W_diag.shape[0]
+    if has_squeeze:
+        if not fill_squeeze_basis(Ework, rc, p):
+            return -2, False
+        for c in range(n):
+            s = 0.0
+            for e in range(s_des.shape[0]):
+                s += Ework[c, e] * s_des[e]
+            Fpref[c] = external[c] + s
+    else:
+        for c in range(n):
+            Fpref[c] = external[c]
+    if elastic:  # g = -P F_pref
+        for c in range(n):
+            s = 0.0
+            for e in range(n):
+                s += Hq[c, e] * Fpref[e]
+            gq[c] = -s
+    else:
+        for c in range(n):
+            gq[c] = -W_diag[c] * Fpref[c]
+    if need_normals:
+        for i in range(m):
+            if spatial:
+                Ri = R3[0]
+                rotation_zyx_into(Ym[i + 1, 3:6], Ri)
+                for a in range(3):
+                    nrm[i, a] = Ri[a, 0]
+            else:
+                nrm[i, 0] = math.cos(Ym[i + 1, 2])
+                nrm[i, 1] = math.sin(Ym[i + 1, 2])
+            s = 0.0
+            for a in range(npos):
+                s += nrm[i, a] * nrm[i, a]
+            length = math.sqrt(s)
+            for a in range(npos):
+                nrm[i, a] = nrm[i, a] / length
+        if row_grip >= 0:
+            fill_grip_rows(Mq, p + row_grip, nrm, p)
+        if row_fric >= 0:
+            fill_friction_rows(Mq, p + row_fric, nrm, p, n_fric, mu_c, cos_phi, sin_phi, spatial)
+    if torque_limits:
+        j0 = 0
+        for i in range(m):
+            ni = arm_dof[i]
+            kk = i + 1
+            # W_k ddYn_k + w_free_k
+            for a in range(p):
+                s = wm_free[kk, a]
+                for b in range(p):
+                    s += Wm[kk, a, b] * ddYn[kk, b]
+                Wa[a] = s
+            if arm_kind[i] != 0:  # contact point: tau = F + W a + w
+                for a in range(p):
+                    for b in range(p):
+                        Jg[i, a, b] = 1.0 if a == b else 0.0
+                    bias[j0 + a] = Wa[a]
+                j0 += ni
+                continue
+            Ji = Jm[i]  # (p, nmax): columns :ni are the arm's
+            for a in range(p):
+                rhs_t[a] = ddYn[kk, a] - Jdqm[i, a]
+            if ni == p:
+                okq = lu_solve_into(Ji, rhs_t, p, wm[0], piv, qdd)
+            else:
+                okq = consistent_acceleration_into(Wm[kk], Hm[i], Ji, rhs_t, ni, wv, wm, piv, qdd)
+            if not okq:
+                for c in range(ni):
+                    qdd[c] = 0.0
+            for r in range(ni):
+                s = hm[i, r]
+                for c in range(ni):
+                    s += Hm[i, r, c] * qdd[c]
+                for a in range(p):
+                    s += Ji[a, r] * Wa[a]
+                bias[j0 + r] = s
+            if spatial:
+                # R(A) L(A): the analytic Jacobian's angular rows to world angular velocity
+                RA, LA, RL = R3[0], R3[1], R3[2]
+                A = Ym[kk, 3:6]
+                rotation_zyx_into(A, RA)
+                body_rate_map_into(A, LA)
+                for a in range(3):
+                    for b in range(3):
+                        RL[a, b] = RA[a, 0] * LA[0, b] + RA[a, 1] * LA[1, b] + RA[a, 2] * LA[2, b]
+                for r in range(ni):
+                    for a in range(3):
+                        Jg[i, a, r] = Ji[a, r]
+                        s = 0.0
+                        for b in range(3):
+                            s += RL[a, b] * Ji[3 + b, r]
+                        Jg[i, 3 + a, r] = s
+            else:
+                for r in range(ni):
+                    for a in range(p):
+                        Jg[i, a, r] = Ji[a, r]
+            j0 += ni
+        fill_torque_rows(Mq, lo, hi, p + row_tau, Jg, arm_dof, p, tau_qp, bias)
+    return 0, P_changed
+
+
+@njit(cache=True, _nrt=False)
+def _qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric):
+    """Stage of a tick: the warm-started solve, its answer check and the binding families;
+    ``(status, iterations, ok, families)``."""
+    first = flags[3] == 0
+    code, qit = gi_solve(Hq, gq, Mq, lo, hi, p, xq, zq, ws, first or P_changed, eps_abs, max_iter)
+    flags[3] += 1
+    qs = code
+    okqp = code == 0
+    for c in range(n):
+        if not math.isfinite(xq[c]):
+            okqp = False
+    viol_mask = 0
+    if code != 3 and okqp:
+        viol = -np.inf
+        scale = 0.0
+        for r in range(Mq.shape[0]):
+            s = 0.0
+            for c in range(n):
+                s += Mq[r, c] * xq[c]
+            v = max(lo[r] - s, s - hi[r])
+            if v > viol:
+                viol = v
+            if abs(s) > scale:
+                scale = abs(s)
+        tol = 100.0 * eps_abs * (1.0 + scale)
+        if not viol <= min(tol, answer_rho):  # LoadDistribution.answer_tolerance: capped by the load
+            load = 1.0
+            for r in range(Mq.shape[0]):
+                if r < p or math.isfinite(lo[r]):
+                    load = max(load, abs(lo[r]))
+                if r >= p and math.isfinite(hi[r]):
+                    load = max(load, abs(hi[r]))
+            tol = min(tol, answer_rho * load)
+        if not viol <= tol:
+            okqp = False
+    if not okqp:
+        return code, qit, False, 0
+    flags[1] = 0
+    qb = 0
+    if n_in > 0:
+        gmax = 0.0
+        for c in range(n):
+            if abs(gq[c]) > gmax:
+                gmax = abs(gq[c])
+        thr = 1e-7 * (1.0 + gmax)
+        for r in range(n_in):
+            if abs(zq[p + r]) > thr:
+                if row_grip >= 0 and row_grip <= r < row_grip + m:
+                    qb |= FAMILY_MIN_GRIP
+                elif row_fric >= 0 and row_fric <= r < row_fric + m * n_fric:
+                    qb |= FAMILY_FRICTION
+                elif row_tau >= 0 and r >= row_tau:
+                    qb |= FAMILY_TORQUE
+    return code, qit, True, qb
+
+
+@njit(cache=True, _nrt=False)
+def _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti):
+    """Stage of a tick: the leader's and the followers' controllers into ``tau`` (before saturation);
+    ``(code, arm)``, ``code`` :data:`DONE` or the event."""
+    m = arm_kind.shape[0]
+    p = 6 if spatial else 3
+    npos = 3 if spatial else 2
+    nz = zx.shape[0] // 2
+    post_gain, q_rest = posture
+    leader = int(ctrl[0])
+    Kp_l, Kd_l = ctrl[1], ctrl[2]
+    kp_f, ki_f, Kp_f, Kd_f = ctrl[3], ctrl[4], ctrl[5], ctrl[6]
+    force_loop = ctrl[7] != 0.0
+    integral_limit = ctrl[8]
+    kl = leader + 1
+    okp = _pose_increment(spatial, C_comp[leader], F_set[leader], Y0N, Yn[kl], R3, pv, inc)
+    if not okp:
+        return POSE_INCREMENT_SINGULAR, leader
+    for i in range(0 if passive else m):  # a passive run keeps tau = 0
+        ki = i + 1
+        ni = arm_dof[i]
+        o = q_off[i]
+        if i == leader:
+            for a in range(p):
+                Yv[a] = Yn[kl, a] + inc[a] + lead_off[a]
+            _pose_error(Yv, Ym[kl], npos, err)
+            for a in range(p):
+                a_cmd[a] = ddYn[kl, a] + Kd_l * (dYn[kl, a] - dYm[kl, a]) + Kp_l * err[a]
+        else:
+            for a in range(p):
+                corr[a] = F_cmd[i, a]
+            if force_loop:
+                for a in range(p):
+                    e = F_cmd[i, a] - F_seen[i, a]
+                    v = integ[i, a] + e * T
+                    if v < -integral_limit:
+                        v = -integral_limit
+                    elif v > integral_limit:
+                        v = integral_limit
+                    integ[i, a] = v
+                    corr[a] = F_cmd[i, a] + kp_f * e + ki_f * v
+            okp = _pose_increment(spatial, C_comp[i], corr, Y0N, Yn[ki], R3, pv, Yv)
+            if not okp:
+                return POSE_INCREMENT_SINGULAR, i
+            for a in range(p):
+                Yv[a] += Yn[ki, a]
+            _pose_error(Yv, Ym[ki], npos, err)
+            for a in range(p):
+                a_cmd[a] = ddYn[ki, a] + Kd_f * (dYn[ki, a] - dYm[ki, a]) + Kp_f * err[a]
+        contact = arm_kind[i] != 0
+        if not contact and ni > p:
+            # null-space posture task toward q_rest (PostureTask)
+            tr = 0.0
+            for c in range(ni):
+                tr += Hm[i, c, c]
+            m_bar = tr / ni
+            for c in range(ni):
+                tp[c] = m_bar * (post_gain[0] * (q_rest[i, c] - zx[o + c]) - post_gain[1] * zx[nz + o + c])
+            okt = node_torque_redundant_into(Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd, tp, ni,
+                                             wv, wm, piv, ti)
+        else:
+            okt = node_torque_into(Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd, contact, ni,
+                                   wv, wm, piv, ti)
+        if not okt:
+            return SINGULAR_JACOBIAN, i
+        for c in range(ni):
+            tau[o + c] = ti[c]
+    return DONE, 0
 
 
 @njit(cache=True)
@@ -338,52 +650,14 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                     v = np.rint(v / q_force) * q_force
                 Fm[i, a] = v
         # ---- guards on the state we are at
-        finite = True
-        for c in range(nx):
-            if not math.isfinite(x[c]):
-                finite = False
-                break
-        if not finite:
-            out_int[0] = NONFINITE
-            return
-        if spatial:
-            cmin = 2.0
-            for j in range(Nn):
-                c = abs(math.cos(Y[j, 4]))
-                if c < cmin:
-                    cmin = c
-            if cmin < band:
-                out_int[0] = NEAR_SINGULARITY
+        gcode, which, worst = _guards(spatial, x, Y, rho, band, max_deformation, R3, d)
+        if gcode != DONE:
+            out_int[0] = gcode
+            if gcode == NEAR_SINGULARITY:
                 x_fail[:] = x
-                return
-        worst = 0.0
-        which = 0
-        R0 = R3[0]
-        if spatial:
-            rotation_zyx_into(Y[0, 3:6], R0)
-        for i in range(m):
-            if spatial:
-                for a in range(3):
-                    s = 0.0
-                    for b in range(3):
-                        s += R0[b, a] * (Y[i + 1, b] - Y[0, b])
-                    d[a] = s - rho[i, a]
-            else:
-                c0, s0 = math.cos(Y[0, 2]), math.sin(Y[0, 2])
-                e0, e1 = Y[i + 1, 0] - Y[0, 0], Y[i + 1, 1] - Y[0, 1]
-                d[0] = c0 * e0 + s0 * e1 - rho[i, 0]
-                d[1] = -s0 * e0 + c0 * e1 - rho[i, 1]
-            s = 0.0
-            for a in range(npos):
-                s += d[a] * d[a]
-            v = math.sqrt(s)
-            if not v <= worst:
-                worst = v
-                which = i
-        if worst > max_deformation:
-            out_int[0] = DEFORMATION
-            out_int[2] = which
-            out_float[0] = worst
+            elif gcode == DEFORMATION:
+                out_int[2] = which
+                out_float[0] = worst
             return
         if energy_on:  # the energy guard; a passive run records the energy
             E, KE, est = plant_energy(x, P, cws_true, eF, eDY0)
@@ -434,127 +708,12 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             qit = hold_status[2]
             qb = 0
         else:
-            for a in range(p):
-                lo[a] = wN[a]
-                hi[a] = wN[a]
-            for i in range(m):
-                for a in range(npos):
-                    rc[i, a] = Ym[i + 1, a]
-            for a in range(npos):
-                r0[a] = Ym[0, a]
-            fill_grasp_rows(Mq, rc, r0, spatial)
-            P_changed = False
-            if elastic:
-                ecode, P_changed = fill_elastic_split(Mq, p, K_obj, Y0N, spatial, Kw, Hq, wN, external, KGt, Ak, yk,
-                                                      Rb, ework)
-                if ecode != 0:
-                    out_int[0] = QP_FAILED
-                    out_int[2] = ecode  # -1 degenerate grasp, -3 singular grasp stiffness
-                    return
-            elif not pseudo_inverse_external(Mq, p, W_inv_diag, wN, external, Ak, yk):
+            qcode, P_changed = _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3)
+            if qcode != 0:
                 out_int[0] = QP_FAILED
-                out_int[2] = -1  # degenerate grasp (ScenarioError in the Python problem)
+                out_int[2] = qcode
                 return
             n = W_diag.shape[0]
-            if has_squeeze:
-                if not fill_squeeze_basis(Ework, rc, p):
-                    out_int[0] = QP_FAILED
-                    out_int[2] = -2
-                    return
-                for c in range(n):
-                    s = 0.0
-                    for e in range(s_des.shape[0]):
-                        s += Ework[c, e] * s_des[e]
-                    Fpref[c] = external[c] + s
-            else:
-                for c in range(n):
-                    Fpref[c] = external[c]
-            if elastic:  # g = -P F_pref
-                for c in range(n):
-                    s = 0.0
-                    for e in range(n):
-                        s += Hq[c, e] * Fpref[e]
-                    gq[c] = -s
-            else:
-                for c in range(n):
-                    gq[c] = -W_diag[c] * Fpref[c]
-            if need_normals:
-                for i in range(m):
-                    if spatial:
-                        Ri = R3[0]
-                        rotation_zyx_into(Ym[i + 1, 3:6], Ri)
-                        for a in range(3):
-                            nrm[i, a] = Ri[a, 0]
-                    else:
-                        nrm[i, 0] = math.cos(Ym[i + 1, 2])
-                        nrm[i, 1] = math.sin(Ym[i + 1, 2])
-                    s = 0.0
-                    for a in range(npos):
-                        s += nrm[i, a] * nrm[i, a]
-                    length = math.sqrt(s)
-                    for a in range(npos):
-                        nrm[i, a] = nrm[i, a] / length
-                if row_grip >= 0:
-                    fill_grip_rows(Mq, p + row_grip, nrm, p)
-                if row_fric >= 0:
-                    fill_friction_rows(Mq, p + row_fric, nrm, p, n_fric, mu_c, cos_phi, sin_phi, spatial)
-            if torque_limits:
-                j0 = 0
-                for i in range(m):
-                    ni = arm_dof[i]
-                    kk = i + 1
-                    # W_k ddYn_k + w_free_k
-                    for a in range(p):
-                        s = wm_free[kk, a]
-                        for b in range(p):
-                            s += Wm[kk, a, b] * ddYn[kk, b]
-                        Wa[a] = s
-                    if arm_kind[i] != 0:  # contact point: tau = F + W a + w
-                        for a in range(p):
-                            for b in range(p):
-                                Jg[i, a, b] = 1.0 if a == b else 0.0
-                            bias[j0 + a] = Wa[a]
-                        j0 += ni
-                        continue
-                    Ji = Jm[i]  # (p, nmax): columns :ni are the arm's
-                    for a in range(p):
-                        rhs_t[a] = ddYn[kk, a] - Jdqm[i, a]
-                    if ni == p:
-                        okq = lu_solve_into(Ji, rhs_t, p, wm[0], piv, qdd)
-                    else:
-                        okq = consistent_acceleration_into(Wm[kk], Hm[i], Ji, rhs_t, ni, wv, wm, piv, qdd)
-                    if not okq:
-                        for c in range(ni):
-                            qdd[c] = 0.0
-                    for r in range(ni):
-                        s = hm[i, r]
-                        for c in range(ni):
-                            s += Hm[i, r, c] * qdd[c]
-                        for a in range(p):
-                            s += Ji[a, r] * Wa[a]
-                        bias[j0 + r] = s
-                    if spatial:
-                        # R(A) L(A): the analytic Jacobian's angular rows to world angular velocity
-                        RA, LA, RL = R3[0], R3[1], R3[2]
-                        A = Ym[kk, 3:6]
-                        rotation_zyx_into(A, RA)
-                        body_rate_map_into(A, LA)
-                        for a in range(3):
-                            for b in range(3):
-                                RL[a, b] = RA[a, 0] * LA[0, b] + RA[a, 1] * LA[1, b] + RA[a, 2] * LA[2, b]
-                        for r in range(ni):
-                            for a in range(3):
-                                Jg[i, a, r] = Ji[a, r]
-                                s = 0.0
-                                for b in range(3):
-                                    s += RL[a, b] * Ji[3 + b, r]
-                                Jg[i, 3 + a, r] = s
-                    else:
-                        for r in range(ni):
-                            for a in range(p):
-                                Jg[i, a, r] = Ji[a, r]
-                    j0 += ni
-                fill_torque_rows(Mq, lo, hi, p + row_tau, Jg, arm_dof, p, tau_qp, bias)
             if external_qp and not supplied:  # the caller solves it and resumes this tick
                 out_int[0] = QP_EXTERNAL
                 out_int[4] = 1 if P_changed else 0
@@ -565,59 +724,12 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 qit = hold_status[2]
                 qb = hold_status[3]
             else:
-                first = flags[3] == 0
-                code, qit = gi_solve(Hq, gq, Mq, lo, hi, p, xq, zq, ws, first or P_changed, eps_abs, max_iter)
-                flags[3] += 1
-                qs = code
-                okqp = code == 0
-                for c in range(n):
-                    if not math.isfinite(xq[c]):
-                        okqp = False
-                viol_mask = 0
-                if code != 3 and okqp:
-                    viol = -np.inf
-                    scale = 0.0
-                    for r in range(Mq.shape[0]):
-                        s = 0.0
-                        for c in range(n):
-                            s += Mq[r, c] * xq[c]
-                        v = max(lo[r] - s, s - hi[r])
-                        if v > viol:
-                            viol = v
-                        if abs(s) > scale:
-                            scale = abs(s)
-                    tol = 100.0 * eps_abs * (1.0 + scale)
-                    if not viol <= min(tol, answer_rho):  # LoadDistribution.answer_tolerance: capped by the load
-                        load = 1.0
-                        for r in range(Mq.shape[0]):
-                            if r < p or math.isfinite(lo[r]):
-                                load = max(load, abs(lo[r]))
-                            if r >= p and math.isfinite(hi[r]):
-                                load = max(load, abs(hi[r]))
-                        tol = min(tol, answer_rho * load)
-                    if not viol <= tol:
-                        okqp = False
+                qs, qit, okqp, qb = _qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric)
                 if not okqp:
                     out_int[0] = QP_FAILED
-                    out_int[2] = code
+                    out_int[2] = qs
                     out_int[3] = qit
                     return
-                flags[1] = 0
-                qb = 0
-                if n_in > 0:
-                    gmax = 0.0
-                    for c in range(n):
-                        if abs(gq[c]) > gmax:
-                            gmax = abs(gq[c])
-                    thr = 1e-7 * (1.0 + gmax)
-                    for r in range(n_in):
-                        if abs(zq[p + r]) > thr:
-                            if row_grip >= 0 and row_grip <= r < row_grip + m:
-                                qb |= FAMILY_MIN_GRIP
-                            elif row_fric >= 0 and row_fric <= r < row_fric + m * n_fric:
-                                qb |= FAMILY_FRICTION
-                            elif row_tau >= 0 and r >= row_tau:
-                                qb |= FAMILY_TORQUE
             for i in range(m):
                 for a in range(p):
                     F_set[i, a] = xq[i * p + a]
@@ -638,65 +750,11 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                     F_cmd[i, a] = F_set[i, a]
                     F_seen[i, a] = Fm[i, a]
         # ---- controllers: the leader on its nominal deformed node
-        kl = leader + 1
-        okp = _pose_increment(spatial, C_comp[leader], F_set[leader], Y0N, Yn[kl], R3, pv, inc)
-        if not okp:
-            out_int[0] = POSE_INCREMENT_SINGULAR
-            out_int[2] = leader
+        ccode, carm = _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti)
+        if ccode != DONE:
+            out_int[0] = ccode
+            out_int[2] = carm
             return
-        for i in range(0 if passive else m):  # a passive run keeps tau = 0
-            ki = i + 1
-            ni = arm_dof[i]
-            o = q_off[i]
-            if i == leader:
-                for a in range(p):
-                    Yv[a] = Yn[kl, a] + inc[a] + lead_off[a]
-                _pose_error(Yv, Ym[kl], npos, err)
-                for a in range(p):
-                    a_cmd[a] = ddYn[kl, a] + Kd_l * (dYn[kl, a] - dYm[kl, a]) + Kp_l * err[a]
-            else:
-                for a in range(p):
-                    corr[a] = F_cmd[i, a]
-                if force_loop:
-                    for a in range(p):
-                        e = F_cmd[i, a] - F_seen[i, a]
-                        v = integ[i, a] + e * T
-                        if v < -integral_limit:
-                            v = -integral_limit
-                        elif v > integral_limit:
-                            v = integral_limit
-                        integ[i, a] = v
-                        corr[a] = F_cmd[i, a] + kp_f * e + ki_f * v
-                okp = _pose_increment(spatial, C_comp[i], corr, Y0N, Yn[ki], R3, pv, Yv)
-                if not okp:
-                    out_int[0] = POSE_INCREMENT_SINGULAR
-                    out_int[2] = i
-                    return
-                for a in range(p):
-                    Yv[a] += Yn[ki, a]
-                _pose_error(Yv, Ym[ki], npos, err)
-                for a in range(p):
-                    a_cmd[a] = ddYn[ki, a] + Kd_f * (dYn[ki, a] - dYm[ki, a]) + Kp_f * err[a]
-            contact = arm_kind[i] != 0
-            if not contact and ni > p:
-                # null-space posture task toward q_rest (PostureTask)
-                tr = 0.0
-                for c in range(ni):
-                    tr += Hm[i, c, c]
-                m_bar = tr / ni
-                for c in range(ni):
-                    tp[c] = m_bar * (post_gain[0] * (q_rest[i, c] - zx[o + c]) - post_gain[1] * zx[nz + o + c])
-                okt = node_torque_redundant_into(Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd, tp, ni,
-                                                 wv, wm, piv, ti)
-            else:
-                okt = node_torque_into(Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd, contact, ni,
-                                       wv, wm, piv, ti)
-            if not okt:
-                out_int[0] = SINGULAR_JACOBIAN
-                out_int[2] = i
-                return
-            for c in range(ni):
-                tau[o + c] = ti[c]
         # ---- actuator saturation
         sat = False
         for c in range(nu):
