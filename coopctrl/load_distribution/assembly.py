@@ -26,6 +26,8 @@ import math
 import numpy as np
 from numba import njit
 
+from plants.cooperative._linalg import cholesky_solve_n
+
 
 @njit(cache=True)
 def fill_grasp_rows(M, r, r0, spatial):
@@ -50,36 +52,6 @@ def fill_grasp_rows(M, r, r0, spatial):
 
 
 @njit(cache=True)
-def cholesky_solve_into(A, w, y, k):
-    """``y = A^-1 w`` for the symmetric positive definite leading ``k x k`` block of ``A``, factored in
-    place (``A = L L^T``, its lower triangle overwritten by ``L``). Returns False, with ``y`` undefined,
-    when ``A`` is not positive definite (a pivot ``<= 0`` or NaN)."""
-    for j in range(k):
-        s = A[j, j]
-        for c in range(j):
-            s -= A[j, c] * A[j, c]
-        if not s > 0.0:
-            return False
-        A[j, j] = math.sqrt(s)
-        for i in range(j + 1, k):
-            s = A[i, j]
-            for c in range(j):
-                s -= A[i, c] * A[j, c]
-            A[i, j] = s / A[j, j]
-    for i in range(k):
-        s = w[i]
-        for c in range(i):
-            s -= A[i, c] * y[c]
-        y[i] = s / A[i, i]
-    for i in range(k - 1, -1, -1):
-        s = y[i]
-        for c in range(i + 1, k):
-            s -= A[c, i] * y[c]
-        y[i] = s / A[i, i]
-    return True
-
-
-@njit(cache=True)
 def pseudo_inverse_external(M, k, W_inv_diag, w, external, A, y):
     """``external = W^-1 G^T (G W^-1 G^T)^-1 w`` with ``G = M[:k]``; ``A`` (k, k) and ``y`` (k) are
     scratch. Returns False if ``G W^-1 G^T`` is not positive definite."""
@@ -91,7 +63,7 @@ def pseudo_inverse_external(M, k, W_inv_diag, w, external, A, y):
                 s += M[a, c] * W_inv_diag[c] * M[b, c]
             A[a, b] = s
             A[b, a] = s
-    if not cholesky_solve_into(A, w, y, k):
+    if not cholesky_solve_n(A, w, y, k):  # A = L L^T in place (lower triangle), then A y = w
         return False
     for c in range(n):
         s = 0.0

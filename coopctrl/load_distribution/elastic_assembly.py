@@ -21,7 +21,7 @@ import math
 
 from numba import njit
 
-from coopctrl.load_distribution.assembly import cholesky_solve_into
+from plants.cooperative._linalg import cholesky_solve_n
 from plants.frames import rotation_zyx_into
 
 
@@ -145,7 +145,7 @@ def fill_elastic_split(M, k, K_obj, Y0, spatial, K, P, w, external, KGt, A, y, R
             v = 0.5 * (A[a, b] + A[b, a])
             A[a, b] = v
             A[b, a] = v
-    if not cholesky_solve_into(A, w, y, k):  # A = L L^T (lower triangle), then A y = w
+    if not cholesky_solve_n(A, w, y, k):  # A = L L^T (lower triangle), then A y = w
         return -1, changed
     for c in range(n):
         s = 0.0

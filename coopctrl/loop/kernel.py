@@ -80,7 +80,7 @@ from plants.frames import rotation_zyx_into
 #: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
 #: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
 #: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
-CALLEE_REVISION = 7
+CALLEE_REVISION = 8
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran
