@@ -15,6 +15,16 @@ def descendants(pid: int) -> list[psutil.Process]:
         return []
 
 
+def command_line(process: psutil.Process) -> str:
+    """``process``'s command line, or "" once it has exited: a child that has just ended is a zombie
+    until its parent reaps it, and psutil then raises ZombieProcess (a NoSuchProcess) for its command
+    line. A process tree sampled while it changes meets such children."""
+    try:
+        return " ".join(process.cmdline())
+    except (psutil.NoSuchProcess, psutil.AccessDenied):
+        return ""
+
+
 def still_alive(processes, patience_s: float = 30.0) -> list[int]:
     """Those of ``processes`` still running (not zombies) after up to ``patience_s`` [s]."""
     deadline = time.monotonic() + patience_s

@@ -23,7 +23,7 @@ import numpy as np
 import psutil
 import pytest
 
-from _processes import descendants, still_alive
+from _processes import command_line, descendants, still_alive
 
 from coopctrl import cli
 
@@ -105,7 +105,7 @@ def test_sweep_workers_die_with_the_sweep(sig, tmp_path):
         deadline = time.monotonic() + BOUND_S
         workers = []
         while len(workers) < 2 and time.monotonic() < deadline and proc.poll() is None:  # both workers started
-            workers = [p for p in descendants(proc.pid) if "multiprocessing" in " ".join(p.cmdline())]
+            workers = [p for p in descendants(proc.pid) if "multiprocessing" in command_line(p)]
             time.sleep(0.1)
         assert len(workers) >= 2, "the sweep did not start its workers"
         family = descendants(proc.pid)  # workers and the resource tracker
@@ -416,7 +416,7 @@ def test_run_deaf_to_its_timeout_is_stopped_from_outside(monkeypatch):
     assert [r["status"] for r in result.rows] == ["ok", "timeout", "ok", "ok"]
     assert "did not answer its run timeout" in result.rows[1]["reason"]
     left = [p for p in psutil.Process().children(recursive=True) if p.pid not in before
-            and "resource_tracker" not in " ".join(p.cmdline())]  # multiprocessing's, lives as long as pytest
+            and "resource_tracker" not in command_line(p)]  # multiprocessing's, lives as long as pytest
     assert still_alive(left) == []
 
 
