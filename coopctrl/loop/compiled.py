@@ -379,8 +379,11 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
         bar = tqdm(total=N - 1, unit="tick", desc=loop.name, leave=False, mininterval=0.2)
     # every argument bound once (the reference path enters the kernel twice per tick)
     head = (cl.spatial,)
-    args = (N, loop.T, cl.steps, plan, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
-            cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
+    tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
+    advance_plant = I.advance_stage(plan, state.x, state.tau, cl.P, plant_ws[0], plant_ws[1], cl.steps, x_fail,
+                                    out_int, out_float)
+    args = (N, loop.T, cl.steps, plan, advance_plant, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
+            cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
             state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
             rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
             rec["r_contacts"], qs, qb, rec["qp_iterations"], x_good, x_fail, out_int, out_float)

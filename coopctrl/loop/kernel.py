@@ -69,7 +69,7 @@ from coopctrl.load_distribution.assembly import (
 )
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_solve
-from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
+from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK
 from coopctrl.loop.energy import plant_energy
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
@@ -487,9 +487,32 @@ def _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, 
     return DONE, 0
 
 
-@njit(cache=True)
-def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
-              ctrl, posture, C_comp, qp, qp_arrays, opts, ws, noise_q, noise_o, noise_f, noise_cfg,
+@njit(inline="always", _nrt=False)
+def _copy(dst, src):
+    """``dst[:] = src`` as a loop (the slice assignment needs numba's reference counting)."""
+    for c in range(src.shape[0]):
+        dst[c] = src[c]
+
+
+def tick_workspace(spatial: bool, m: int, nx: int, nu: int, arm_dof) -> tuple:
+    """Every work array of :func:`run_ticks`'s tick, made once per run (``tw``): the kernel itself
+    allocates nothing, so it runs without numba's reference counting (``_nrt=False``: no atomic count
+    per array use, and a smaller function for LLVM to optimize). ``m`` arms, ``nx`` states, ``nu``
+    joints, ``arm_dof`` the joints per arm. Entries that must start at zero are zeros; the others are
+    written before they are read in every tick."""
+    p, npos = (6, 3) if spatial else (3, 2)
+    nmax = max(p, *(int(n) for n in arm_dof))
+    e = np.empty
+    return (e((m, p)), e((m, p)), np.zeros(2, np.int64), e(nx), e((m, p)), e((m, p)), e(p), e((m, npos)),
+            np.zeros((m, p, nmax)), np.zeros(nu), e(p), e(p), e(npos), e((m + 1, p)), e((m + 1, p)), e((m + 1, p)),
+            e((4, 3, 3)), e((8, 3)), e((3, 6)), e((m, npos)), e(npos), e(p), e(p), e(nmax), e(nmax, np.int64),
+            e((WORK_VECTORS, nmax)), e((WORK_MATRICES, nmax, nmax)), e(p), e(p), e(p), e(nmax), e(nmax),
+            e(3 if spatial else 1))
+
+
+@njit(cache=True, _nrt=False)
+def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
+              ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, noise_q, noise_o, noise_f, noise_cfg,
               x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
               rec_r, rec_qs, rec_qb, rec_qit, x_good, x_fail, out_int, out_float):
     """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
@@ -498,7 +521,9 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     gravity, node_params, edge_index, edge_params, Y_ref, immobile)`` (``CooperativePlant.kernel``
     without the status); ``plant_ws`` = ``(rhs workspace, true control workspace, measured control
     workspace)``: the plant kernels' preallocated work arrays. ``steps`` [s]: the plant steps of one
-    period; ``method``: the run's integration plan (:func:`coopctrl.loop.integrate.make_plan`; an
+    period; ``advance``: the plant's advance over one period for the run's types, a function pointer
+    (:func:`coopctrl.loop.integrate.advance_stage`); ``method``: the run's integration plan
+    (:func:`coopctrl.loop.integrate.make_plan`; an
     implicit plan carries the Newton state from step to step).
 
     State arrays (updated in place; together with ``ws`` they are the loop state): ``x`` (nx) the
@@ -521,6 +546,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     setpoint offset ``r`` and PI output ``v`` [N, N m], error gain ``g`` [-] and measurement delay
     ``d`` (int64, ticks) (:class:`~coopctrl.tuning.loop_probes.FollowerProbe`).
 
+    ``tw``: the tick's work arrays (:func:`tick_workspace`).
+
     Returns nothing; ``out_int = (code, tick, detail, detail, -, ticks recorded, last tick that passed
     the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
     """
@@ -539,7 +566,6 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     force_loop = ctrl[7] != 0.0
     integral_limit = ctrl[8]
     obj_mass = obj[0]
-    obj_inertia = obj[1:4].copy() if spatial else obj[1:2].copy()
     (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
     eps_abs, mu_c, max_iter_f, min_grip, answer_rho = qp_num[0], qp_num[1], qp_num[2], qp_num[3], qp_num[4]
     max_iter = int(max_iter_f)
@@ -558,47 +584,15 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
     external_qp = switches[OPT_EXTERNAL_QP] != 0
     probes = switches[OPT_PROBES] != 0
     plant_outside = switches[OPT_EXTERNAL_PLANT] != 0
-    F_cmd = np.empty((m, p))
-    F_seen = np.empty((m, p))
     n_in = Mq.shape[0] - p
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
-    status = np.zeros(2, np.int64)
     pws, cws_true, cws_meas = plant_ws
-    xm = np.empty(nx)
-    Fm = np.empty((m, p))
-    F_set = np.empty((m, p))
-    wN = np.empty(p)
-    nrm = np.empty((m, npos))
-    nmax = p
-    for i in range(m):
-        if arm_dof[i] > nmax:
-            nmax = arm_dof[i]
-    Jg = np.zeros((m, p, nmax))
-    bias = np.zeros(nu)
-    a_cmd = np.empty(p)
-    err = np.empty(p)
-    d = np.empty(npos)
-    # every work array of a tick, made once per call (a tick allocates nothing)
-    Yn = np.empty((Nn, p))
-    dYn = np.empty((Nn, p))
-    ddYn = np.empty((Nn, p))
-    R3 = np.empty((4, 3, 3))
-    v3 = np.empty((8, 3))
-    pv = np.empty((3, 6))
-    rc = np.empty((m, npos))
-    r0 = np.empty(npos)
-    Wa = np.empty(p)
-    rhs_t = np.empty(p)
-    qdd = np.empty(nmax)
-    piv = np.empty(nmax, np.int64)
-    wv = np.empty((WORK_VECTORS, nmax))
-    wm = np.empty((WORK_MATRICES, nmax, nmax))
-    inc = np.empty(p)
-    corr = np.empty(p)
-    Yv = np.empty(p)
-    tp = np.empty(nmax)
-    ti = np.empty(nmax)
+    # every work array of a tick, made once per run by tick_workspace (the kernel allocates nothing)
+    (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
+     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw
+    for a in range(obj_inertia.shape[0]):
+        obj_inertia[a] = obj[1 + a]
     k = k0
     out_int[0] = DONE
     while k < N:
@@ -617,7 +611,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             out_int[0] = PLANT_ERROR
             out_int[2] = status[0]
             out_int[3] = status[1]
-            x_fail[:] = x
+            _copy(x_fail, x)
             return
         if noisy_state:
             for c in range(nz - p):
@@ -637,7 +631,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 out_int[0] = PLANT_ERROR
                 out_int[2] = status[0]
                 out_int[3] = status[1]
-                x_fail[:] = xm
+                _copy(x_fail, xm)
                 return
             zx = xm
         else:
@@ -654,7 +648,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
         if gcode != DONE:
             out_int[0] = gcode
             if gcode == NEAR_SINGULARITY:
-                x_fail[:] = x
+                _copy(x_fail, x)
             elif gcode == DEFORMATION:
                 out_int[2] = which
                 out_float[0] = worst
@@ -665,7 +659,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                 out_int[0] = PLANT_ERROR
                 out_int[2] = est
                 out_int[3] = 0
-                x_fail[:] = x
+                _copy(x_fail, x)
                 return
             if energy_guard and not abs(E) <= max_energy:
                 out_int[0] = ENERGY
@@ -674,7 +668,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             if passive:
                 rec_E[k] = E
                 rec_KE[k] = KE
-        x_good[:] = x
+        _copy(x_good, x)
         out_int[6] = k  # the last tick whose state passed the guards
         # ---- nominal motion and load
         Y0N = traj[0, k]
@@ -775,9 +769,9 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
                     tau[c] = tau_max[c]
         # ---- record
         rec_t[k] = t
-        rec_x[k] = x
-        rec_tau[k] = tau
-        rec_Y0N[k] = Y0N
+        _copy(rec_x[k], x)
+        _copy(rec_tau[k], tau)
+        _copy(rec_Y0N[k], Y0N)
         for i in range(m):
             for a in range(p):
                 rec_Fm[k, i, a] = Fm[i, a]
@@ -797,10 +791,10 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, P, plant_ws, grasps, tra
             out_int[1] = k + 1
             return
         # ---- plant, zero-order hold over the period (coopctrl.loop.integrate: the Python integrators' arithmetic)
-        step_code = zoh_advance(method, x, tau, P, status, pws, cws_true, t, steps, x_fail, out_int, out_float)
+        step_code = advance(method, x, tau, P, status, pws, cws_true, t, steps, x_fail, out_int, out_float)
         if step_code != STEP_OK:
             # the Python loop keeps the state of the tick (the exception leaves ``advance``)
-            x[:] = rec_x[k]
+            _copy(x, rec_x[k])
             if step_code == STEP_NEWTON_FAILED:
                 out_int[0] = NEWTON_FAILED
             else:
