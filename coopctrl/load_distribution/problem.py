@@ -256,8 +256,8 @@ class LoadDistributionProblem:
             for i, J in enumerate(jacobians):
                 Jg[i, :, :counts[i]] = J
             tau = self._tau
-            if np.ndim(tau_max) == 0:
-                tau[:] = tau_max
+            if isinstance(tau_max, (int, float, np.number)) or (isinstance(tau_max, np.ndarray) and tau_max.ndim == 0):
+                tau[:] = tau_max  # (np.ndim of a list of arms with different joint counts raises)
             else:
                 if len(tau_max) != m:
                     raise ScenarioError("tau_max", tau_max, f"one number, or {m} per-arm limits [N m]")
