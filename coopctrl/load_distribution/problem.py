@@ -25,6 +25,14 @@ def _spd_solve(M: np.ndarray, b: np.ndarray) -> np.ndarray:
     return y
 
 
+def _stack(out: np.ndarray, per_arm, counts: tuple[int, ...]) -> None:
+    """Write each arm's values (one number, or ``counts[i]`` numbers) one after the other into ``out``."""
+    row = 0
+    for c, v in zip(counts, per_arm):
+        out[row:row + c] = v
+        row += c
+
+
 class LoadDistributionProblem:
     """The QP over the stacked contact wrenches ``F`` (n = 6m spatial, 3m planar):
 
@@ -261,20 +269,14 @@ class LoadDistributionProblem:
             else:
                 if len(tau_max) != m:
                     raise ScenarioError("tau_max", tau_max, f"one number, or {m} per-arm limits [N m]")
-                row = 0
-                for i, t in enumerate(tau_max):
-                    tau[row:row + counts[i]] = t
-                    row += counts[i]
+                _stack(tau, tau_max, counts)
             bias = self._bias
             if biases is None:
                 bias[:] = 0.0
             else:
                 if len(biases) != m or any(np.shape(b) != (counts[i],) for i, b in enumerate(biases)):
                     raise ScenarioError("biases", biases, f"None or {m} per-arm bias torques of {counts} joints [N m]")
-                row = 0
-                for i, b in enumerate(biases):
-                    bias[row:row + counts[i]] = b
-                    row += counts[i]
+                _stack(bias, biases, counts)
             asm.fill_torque_rows(self.M, self.lo, self.hi, k + rows["torque_limits"].start, Jg, self._dofs, k, tau, bias)
 
     # ------------------------------------------------------------------ checks
