@@ -1,7 +1,8 @@
 """Load distribution: contact wrenches that carry the object's nominal load (MODEL.md section 6).
 
 One concept per module: :mod:`.grasp_matrix` (``G`` and the virtual-linkage basis ``E``),
-:mod:`.config` (:class:`LoadDistributionConfig`), :mod:`.problem` (the QP arrays),
+:mod:`.config` (:class:`LoadDistributionConfig`), :mod:`.assembly` (the QP's rows, in numba: written
+once, called by :mod:`.problem` and by the compiled tick), :mod:`.problem` (the QP arrays),
 :mod:`.solvers` (backends and :class:`QPStats`), :mod:`.load_split` (:class:`LoadSplit`) and
 :mod:`.load_distribution` (:class:`LoadDistribution`, with the failure policy).
 """

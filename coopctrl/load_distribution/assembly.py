@@ -1,22 +1,29 @@
-"""The load-distribution QP's arrays, filled in place by numba functions (the compiled tick's QP inputs).
+"""The load-distribution QP's rows, filled in place by numba functions: the one definition of each family.
 
-These are the compiled form of :meth:`LoadDistributionProblem.update
-<coopctrl.load_distribution.problem.LoadDistributionProblem.update>` for the pseudo-inverse split,
-on the same stacked arrays ``M = [G; C]`` (rows ``0..k-1`` the wrench balance, then the
-inequality families), ``lo = [w_N; l]``, ``hi = [w_N; u]``:
+:meth:`LoadDistributionProblem.update <coopctrl.load_distribution.problem.LoadDistributionProblem.update>`
+(the public ``LoadDistribution.solve``, the pre-flight and the loaded start), the public helpers
+:func:`~coopctrl.load_distribution.grasp_matrix.grasp_matrix` and
+:func:`~coopctrl.load_distribution.grasp_matrix.internal_force_basis`, and the compiled tick
+(:mod:`coopctrl.loop.kernel`) all call these functions; the Python side only checks its inputs. They
+work on the stacked arrays ``M = [G; C]`` (rows ``0..k-1`` the wrench balance, then the inequality
+families), ``lo = [w_N; l]``, ``hi = [w_N; u]``:
 
 - :func:`fill_grasp_rows`: the moment arms of ``G`` (``S(r_i - r_0)`` spatial, ``(-d_z, d_x)``
-  planar); the identity blocks are set once by the caller;
-- :func:`pseudo_inverse_external`: ``A w_N = W^-1 G^T (G W^-1 G^T)^-1 w_N`` by a Cholesky solve of
-  the k x k matrix;
+  planar, ``d = r_i - r_0``); the identity blocks are set once by the caller;
+- :func:`pseudo_inverse_external`: ``A w_N = W^-1 G^T (G W^-1 G^T)^-1 w_N`` (the pseudo-inverse split)
+  by a Cholesky solve of the k x k matrix (the elastic split's ``K G^T (G K G^T)^-1 w_N`` is in
+  :mod:`.elastic_assembly` for the compiled tick; the Python problem, which takes any ``K``, solves it
+  with numpy);
 - :func:`fill_squeeze_basis`: the virtual-linkage columns ``e_ij`` (``t_ij = (r_j - r_i) / |r_j - r_i|``);
 - :func:`fill_grip_rows`, :func:`fill_friction_rows`, :func:`fill_torque_rows`: the ``min_grip``
   (``n_i^T f_i >= f_min``), ``friction`` (the inscribed pyramid) and ``torque_limits``
   (``-tau_max - bias <= J_i^T F_i <= tau_max - bias``) families, as documented on
   :class:`~coopctrl.load_distribution.problem.LoadDistributionProblem`.
 
-Each returns ``False`` (and writes nothing meaningful) where the Python form raises: a singular
-``G W^-1 G^T`` or coincident contacts.
+Each returns ``False`` (and writes nothing meaningful) where the Python side raises ``ScenarioError``:
+a singular ``G W^-1 G^T`` or coincident contacts. Callers pass C-contiguous float64 arrays, int64
+integers and a bool ``spatial``, the compiled tick's argument types, so that one compiled (and cached)
+specialisation serves both (``tests/test_load_distribution_assembly.py``).
 """
 
 from __future__ import annotations

@@ -13,6 +13,9 @@ With the grasp stiffness in the world frame (:meth:`GraspCompliance.stiffness_wo
 ``R_0`` the nominal object rotation, ``K_i`` the object-frame grasp stiffness and
 ``sym(X) = (X + X^T) / 2``, the external part is ``A_K w_N = K G^T (G K G^T)^{-1} w_N`` and the
 cost's Hessian ``P = sym(K^{-1})`` (block by block: ``K`` is block diagonal).
+
+The Python problem takes any ``K`` (n x n) and computes these two with numpy: the one QP input that is
+still written twice (its rows are those of :mod:`.assembly`).
 """
 
 from __future__ import annotations

@@ -74,29 +74,21 @@ def _positions(r_contacts, r_object, space: str) -> tuple[np.ndarray, np.ndarray
 
 
 def fill_grasp_matrix(G: np.ndarray, r: np.ndarray, r0: np.ndarray, space: str) -> None:
-    """Write the moment-arm entries of ``G`` in place (the identity blocks must already be set).
+    """Write the moment-arm entries of ``G`` in place (the identity blocks must already be set): the
+    formula of :func:`coopctrl.load_distribution.assembly.fill_grasp_rows`, called with numpy arrays.
 
     Args:
-        G: Preallocated grasp matrix (6 × 6m or 3 × 3m) whose identity blocks are set.
+        G: Preallocated grasp matrix (6 × 6m or 3 × 3m), C-contiguous float64, whose identity blocks are set.
         r: Contact points (m × 3 or m × 2) [m].
         r0: Object mass centre [m].
         space: ``"spatial"`` or ``"planar"``.
     """
-    d = r - r0
-    m = d.shape[0]
-    if space == "spatial":
-        V = G[3:6].reshape(3, m, 6)  # view: V[row, arm, column in the arm's block]
-        # S(d) written out (np.cross is slow for 3-vectors)
-        np.negative(d[:, 2], out=V[0, :, 1])
-        V[0, :, 2] = d[:, 1]
-        V[1, :, 0] = d[:, 2]
-        np.negative(d[:, 0], out=V[1, :, 2])
-        np.negative(d[:, 1], out=V[2, :, 0])
-        V[2, :, 1] = d[:, 0]
-    else:
-        V = G[2].reshape(m, 3)
-        np.negative(d[:, 1], out=V[:, 0])
-        V[:, 1] = d[:, 0]
+    from .assembly import fill_grasp_rows  # here: importing the package (scenario validation) loads no numba
+
+    k, m = WRENCH_DIM[space], r.shape[0]
+    if G.shape != (k, k * m) or G.dtype != np.float64:
+        raise ValueError(f"G: shape {G.shape}, dtype {G.dtype}; expected float64 of shape ({k}, {k * m})")
+    fill_grasp_rows(G, np.array(r, dtype=float, order="C"), np.array(r0, dtype=float, order="C"), space == "spatial")
 
 
 def identity_grasp_matrix(m: int, space: str) -> np.ndarray:
@@ -126,25 +118,28 @@ def grasp_matrix(r_contacts, r_object, space: str) -> np.ndarray:
 
 
 def fill_internal_force_basis(E: np.ndarray, r: np.ndarray, space: str) -> None:
-    """Write the virtual-linkage squeeze columns into a preallocated zero ``E`` (n × pairs).
+    """Write the virtual-linkage squeeze columns into a preallocated zero ``E`` (n × pairs, C-contiguous
+    float64): the formula of :func:`coopctrl.load_distribution.assembly.fill_squeeze_basis`.
 
     Only the force entries are written; the moment entries stay zero. Raises
     ``ScenarioError`` if two contacts coincide (the squeeze direction is undefined).
     """
-    k = WRENCH_DIM[space]
-    p = POSITION_DIM[space]
-    m = r.shape[0]
-    col = 0
-    for i in range(m):
-        for j in range(i + 1, m):
-            t = r[j] - r[i]
-            length = float(np.sqrt(t @ t))
-            if length < 1e-12:
-                raise ScenarioError("r_contacts", (i, j), "distinct contact points (pair coincides)")
-            t = t / length
-            E[k * i:k * i + p, col] = t
-            E[k * j:k * j + p, col] = -t
-            col += 1
+    from .assembly import fill_squeeze_basis  # here: importing the package (scenario validation) loads no numba
+
+    r = np.array(r, dtype=float, order="C")
+    k, m = WRENCH_DIM[space], r.shape[0]
+    if E.shape != (k * m, m * (m - 1) // 2) or E.dtype != np.float64:
+        raise ValueError(f"E: shape {E.shape}, dtype {E.dtype}; expected float64 of shape ({k * m}, {m * (m - 1) // 2})")
+    if not fill_squeeze_basis(E, r, k):
+        raise ScenarioError("r_contacts", closest_pair(r), "distinct contact points (pair coincides)")
+
+
+def closest_pair(r: np.ndarray) -> tuple[int, int]:
+    """The pair ``(i, j)``, ``i < j``, of the closest contacts ``r`` (m >= 2): the one to name when the
+    squeeze basis finds coincident contacts."""
+    pairs = contact_pairs(r.shape[0])
+    d = [float(np.sum((r[j] - r[i]) ** 2)) for i, j in pairs]
+    return pairs[int(np.argmin(d))]
 
 
 def internal_force_basis(r_contacts, space: str) -> np.ndarray:

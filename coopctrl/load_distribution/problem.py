@@ -9,14 +9,11 @@ from scipy.linalg.lapack import dposv
 
 from ..errors import ScenarioError
 from .config import LoadDistributionConfig
-from .grasp_matrix import (
-    POSITION_DIM,
-    contact_pairs,
-    fill_grasp_matrix,
-    fill_internal_force_basis,
-    identity_grasp_matrix,
-    wrench_dim,
-)
+from .grasp_matrix import POSITION_DIM, closest_pair, contact_pairs, identity_grasp_matrix, wrench_dim
+
+
+def _degenerate_grasp() -> ScenarioError:
+    return ScenarioError("r_contacts", "degenerate grasp", "contacts that span every object wrench (G G^T invertible)")
 
 
 def _spd_solve(M: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -24,8 +21,16 @@ def _spd_solve(M: np.ndarray, b: np.ndarray) -> np.ndarray:
     1 us; ``np.linalg.solve`` costs 4 to 11 us). Raises ``ScenarioError`` if ``M`` is singular."""
     _, y, info = dposv(M, b)
     if info != 0:
-        raise ScenarioError("r_contacts", "degenerate grasp", "contacts that span every object wrench (G G^T invertible)")
+        raise _degenerate_grasp()
     return y
+
+
+def _stack(out: np.ndarray, per_arm, counts: tuple[int, ...]) -> None:
+    """Write each arm's values (one number, or ``counts[i]`` numbers) one after the other into ``out``."""
+    row = 0
+    for c, v in zip(counts, per_arm):
+        out[row:row + c] = v
+        row += c
 
 
 class LoadDistributionProblem:
@@ -57,7 +62,9 @@ class LoadDistributionProblem:
       [N m], with ``tau_i = J_i^T F_i + bias_i`` the joint torques arm i needs.
 
     All arrays are allocated once (the torque rows once the joint counts are known) and filled in
-    place by :meth:`update`, so that a solver can take them without copies.
+    place by :meth:`update`, so that a solver can take them without copies. The rows are written by
+    the numba functions of :mod:`coopctrl.load_distribution.assembly`, the one definition of each
+    family, which the compiled tick calls too: ``update`` checks its inputs and calls them.
     """
 
     def __init__(self, config: LoadDistributionConfig, space: str, m: int):
@@ -104,13 +111,19 @@ class LoadDistributionProblem:
         if space == "spatial":
             nf = config.friction_facets
             phi = 2.0 * math.pi * np.arange(nf) / nf
-            self._cos_phi = np.cos(phi)[:, None]
-            self._sin_phi = np.sin(phi)[:, None]
-            self._mu_c = (self.mu or 0.0) * math.cos(math.pi / nf)
-            self.n_facets = nf
+            self._cos_phi = np.cos(phi)
+            self._sin_phi = np.sin(phi)
+            self._mu_c = float(self.mu or 0.0) * math.cos(math.pi / nf)
+            self.n_facets = int(nf)
         else:
             self.n_facets = 2
-            self._mu_c = self.mu or 0.0
+            self._cos_phi = self._sin_phi = np.zeros(1)  # unused (planar), as in the compiled tick
+            self._mu_c = float(self.mu or 0.0)
+        # scratch and inputs of the assembly functions (C-contiguous float64, as the compiled tick's)
+        self._r = np.zeros((m, p))
+        self._r0 = np.zeros(p)
+        self._A = np.zeros((k, k))
+        self._y = np.zeros(k)
         self.joint_counts: tuple[int, ...] | None = None
         self.rows: dict[str, slice] = {}
         self._allocate(())
@@ -147,7 +160,11 @@ class LoadDistributionProblem:
         if "friction" in rows:
             self.u[rows["friction"]] = 0.0
         self.joint_counts = joint_counts
-        self._tau = np.zeros(sum(joint_counts))
+        total = sum(joint_counts)
+        self._tau = np.zeros(total)  # tau_max stacked over the arms' joints [N m]
+        self._bias = np.zeros(total)  # the biases stacked [N m]
+        self._Jg = np.zeros((m, self.k, max(joint_counts, default=1)))  # Jg[i, :, :n_i] = J_i
+        self._dofs = np.array(joint_counts, dtype=np.int64)
         self.structure_changed = True
 
     @property
@@ -158,6 +175,8 @@ class LoadDistributionProblem:
     # ------------------------------------------------------------------ per step
     def update(self, r_contacts, r_object, w_N, normals=None, jacobians=None, biases=None, tau_max=None, K=None):
         """Fill every array of the QP for one step (arguments as in ``LoadDistribution.solve``)."""
+        from . import assembly as asm  # here: importing the package (scenario validation) loads no numba
+
         k, p, m, n = self.k, self.p, self.m, self.n
         r = np.asarray(r_contacts, dtype=float)
         r0 = np.asarray(r_object, dtype=float)
@@ -165,11 +184,15 @@ class LoadDistributionProblem:
             raise ScenarioError("r_contacts", r.shape, f"an array of shape ({m}, {p}) [m]")
         if r0.shape != (p,):
             raise ScenarioError("r_object", r0.shape, f"an array of shape ({p},) [m]")
+        self._r[:] = r
+        self._r0[:] = r0
+        r, r0 = self._r, self._r0
+        spatial = self.space == "spatial"
         w = self.w
         w[:] = w_N  # raises on a wrong shape
         self.hi[:k] = w
+        asm.fill_grasp_rows(self.M, r, r0, spatial)
         G = self.G
-        fill_grasp_matrix(G, r, r0, self.space)
         # external part A w_N
         if self.elastic:
             if K is None:
@@ -177,6 +200,8 @@ class LoadDistributionProblem:
             K = np.asarray(K, dtype=float)
             if K.shape != (n, n):
                 raise ScenarioError("K", K.shape, f"an array of shape ({n}, {n})")
+            # any K here; the compiled tick's elastic_assembly.fill_elastic_split builds a block-diagonal
+            # K from the object-frame stiffnesses and exploits its blocks
             KGt = K @ G.T
             y = _spd_solve(G @ KGt, w)
             np.matmul(KGt, y, out=self.external)
@@ -185,12 +210,11 @@ class LoadDistributionProblem:
                 self.P = np.linalg.inv(K)
                 self.P = 0.5 * (self.P + self.P.T)
                 self.P_changed = True
-        else:
-            GWi = G * self.W_inv_diag
-            y = _spd_solve(GWi @ G.T, w)
-            np.multiply(self.W_inv_diag, G.T @ y, out=self.external)
+        elif not asm.pseudo_inverse_external(self.M, k, self.W_inv_diag, w, self.external, self._A, self._y):
+            raise _degenerate_grasp()
         if self.has_squeeze:
-            fill_internal_force_basis(self.E, r, self.space)
+            if not asm.fill_squeeze_basis(self.E, r, k):
+                raise ScenarioError("r_contacts", closest_pair(r), "distinct contact points (pair coincides)")
             np.add(self.external, self.E @ self.s_des, out=self.F_pref)
         else:
             self.F_pref[:] = self.external
@@ -211,36 +235,12 @@ class LoadDistributionProblem:
             length = np.sqrt(np.einsum("ij,ij->i", nrm, nrm))
             if np.any(length < 1e-12):
                 raise ScenarioError("normals", normals, "non-zero contact normals")
-            nrm = nrm / length[:, None]
-        C = self.C
+            nrm = nrm / length[:, None]  # a new C-contiguous array
         if "min_grip" in rows:
-            r0_ = rows["min_grip"].start
-            for i in range(m):
-                C[r0_ + i, k * i:k * i + p] = nrm[i]
+            asm.fill_grip_rows(self.M, k + rows["min_grip"].start, nrm, k)
         if "friction" in rows:
-            start, nf, mu_c = rows["friction"].start, self.n_facets, self._mu_c
-            if self.space == "spatial":
-                for i in range(m):
-                    nx, ny, nz = nrm[i]
-                    # tangent t1: the axis least aligned with n, orthogonalised
-                    if abs(nx) < 0.9:
-                        ax, ay, az = 1.0 - nx * nx, -nx * ny, -nx * nz
-                    else:
-                        ax, ay, az = -ny * nx, 1.0 - ny * ny, -ny * nz
-                    s = 1.0 / math.sqrt(ax * ax + ay * ay + az * az)
-                    t1 = np.array((ax * s, ay * s, az * s))
-                    t2 = np.array((ny * t1[2] - nz * t1[1], nz * t1[0] - nx * t1[2], nx * t1[1] - ny * t1[0]))
-                    C[start + nf * i:start + nf * (i + 1), k * i:k * i + 3] = (
-                        self._cos_phi * t1 + self._sin_phi * t2 - mu_c * nrm[i]
-                    )
-            else:
-                for i in range(m):
-                    nx, nz = nrm[i]
-                    row = start + 2 * i
-                    C[row, k * i] = -nz - mu_c * nx
-                    C[row, k * i + 1] = nx - mu_c * nz
-                    C[row + 1, k * i] = nz - mu_c * nx
-                    C[row + 1, k * i + 1] = -nx - mu_c * nz
+            asm.fill_friction_rows(self.M, k + rows["friction"].start, nrm, k, self.n_facets, self._mu_c,
+                                   self._cos_phi, self._sin_phi, spatial)
         if "torque_limits" in rows:
             if jacobians is None or tau_max is None:
                 raise ScenarioError("jacobians", jacobians, "per-arm J_i and tau_max when torque_limits=True")
@@ -260,34 +260,24 @@ class LoadDistributionProblem:
             if counts != self.joint_counts:
                 self._allocate(counts)
                 return self.update(r, r0, w_N, normals, jacobians, biases, tau_max, K)
-            C = self.C
-            sl = rows["torque_limits"]
-            row = sl.start
+            Jg = self._Jg
             for i, J in enumerate(jacobians):
-                ni = counts[i]
-                C[row:row + ni, k * i:k * (i + 1)] = J.T
-                row += ni
-            if np.ndim(tau_max) == 0:
-                tau = tau_max
+                Jg[i, :, :counts[i]] = J
+            tau = self._tau
+            if isinstance(tau_max, (int, float, np.number)) or (isinstance(tau_max, np.ndarray) and tau_max.ndim == 0):
+                tau[:] = tau_max  # (np.ndim of a list of arms with different joint counts raises)
             else:
                 if len(tau_max) != m:
                     raise ScenarioError("tau_max", tau_max, f"one number, or {m} per-arm limits [N m]")
-                tau = self._tau
-                row = 0
-                for i, t in enumerate(tau_max):
-                    tau[row:row + counts[i]] = t
-                    row += counts[i]
-            u, l = self.u[sl], self.l[sl]
+                _stack(tau, tau_max, counts)
+            bias = self._bias
             if biases is None:
-                u[:] = tau
-                np.negative(u, out=l)
+                bias[:] = 0.0
             else:
-                if len(biases) != m:
-                    raise ScenarioError("biases", biases, f"None or {m} per-arm bias torques [N m]")
-                bias = np.concatenate(biases)
-                np.subtract(tau, bias, out=u)
-                np.negative(tau, out=l)
-                np.subtract(l, bias, out=l)
+                if len(biases) != m or any(np.shape(b) != (counts[i],) for i, b in enumerate(biases)):
+                    raise ScenarioError("biases", biases, f"None or {m} per-arm bias torques of {counts} joints [N m]")
+                _stack(bias, biases, counts)
+            asm.fill_torque_rows(self.M, self.lo, self.hi, k + rows["torque_limits"].start, Jg, self._dofs, k, tau, bias)
 
     # ------------------------------------------------------------------ checks
     def violations(self, F: np.ndarray) -> dict[str, float]:
