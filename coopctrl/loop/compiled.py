@@ -329,6 +329,22 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
     return PlantError(f"compiled tick stopped with code {code} at tick {k}")
 
 
+def _entry_point(dispatcher, args: tuple):
+    """The compiled entry point of the numba ``dispatcher`` for the types of ``args``, once compiled.
+
+    Calling it skips numba's typing of every argument on every call (several microseconds for the
+    kernel's ~50 arguments, most of it for the function pointer of the plant's advance): the reference
+    path enters the kernel twice per tick. The arguments of later calls must have the same types (the
+    run's arrays are fixed; only the tick bounds change). Anything else than a dispatcher compiled for
+    these types is returned as it is."""
+    overloads = getattr(dispatcher, "overloads", None)
+    if overloads is None:
+        return dispatcher
+    signature = tuple(dispatcher.typeof_pyval(a) for a in args)
+    compiled = overloads.get(signature)
+    return dispatcher if compiled is None else compiled.entry_point
+
+
 def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``."""
     plant = loop.plant
@@ -410,6 +426,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     t_load = _time.perf_counter()
     advance(0, 0)
     out_int[0] = out_int[1] = 0
+    run_ticks = _entry_point(run_ticks, (*head, 0, 0, *args))
     startup = _time.perf_counter() - t_load
     status, reason = "ok", ""
     k = 0
