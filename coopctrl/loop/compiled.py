@@ -32,6 +32,7 @@ from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 from coopctrl.loop import integrate as I
 from coopctrl.loop import kernel as K
+from coopctrl.loop.stages import pointers_in_use
 from coopctrl.loop.state import LoopState
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
 
@@ -396,9 +397,11 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     # every argument bound once (the reference path enters the kernel twice per tick)
     head = (cl.spatial,)
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
-    advance_plant = I.advance_stage(plan, state.x, state.tau, cl.P, plant_ws[0], plant_ws[1], cl.steps, x_fail,
-                                    out_int, out_float)
-    args = (N, loop.T, cl.steps, plan, advance_plant, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
+    with pointers_in_use():
+        stages = K.tick_stages(cl.spatial, plan, cl.P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
+                               cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int,
+                               out_float)
+    args = (N, loop.T, cl.steps, plan, stages, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
             cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
             state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
             rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
@@ -424,9 +427,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     # a call that runs no tick: numba resolves the argument types and loads the compiled kernel from its
     # cache here (about 0.1 s once per process), start-up that is not the loop's wall time
     t_load = _time.perf_counter()
-    advance(0, 0)
+    with pointers_in_use():
+        advance(0, 0)
+        run_ticks = _entry_point(run_ticks, (*head, 0, 0, *args))
     out_int[0] = out_int[1] = 0
-    run_ticks = _entry_point(run_ticks, (*head, 0, 0, *args))
     startup = _time.perf_counter() - t_load
     status, reason = "ok", ""
     k = 0

@@ -39,7 +39,7 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import cfunc, njit, typeof, types
+from numba import njit, types
 from numba.extending import overload
 
 from plants.cooperative import _planar_kernel as _pk
@@ -214,31 +214,6 @@ def _zoh_advance_typed(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out
 def advance_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
     """:func:`zoh_advance` callable from Python (tests, one-step checks against the Python integrators)."""
     return zoh_advance(plan, x, tau, P, status, ws, None, t, steps, x_fail, out_int, out_float)
-
-
-def _advance_stage(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
-    return zoh_advance(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
-
-
-#: The compiled :func:`zoh_advance` stages of this process, by signature.
-_STAGES: dict = {}
-
-
-def advance_stage(plan, x, tau, P, ws, terms, steps, x_fail, out_int, out_float):
-    """:func:`zoh_advance` for these argument types, compiled on its own (a numba ``cfunc``, cached
-    on disk) and passed to :func:`coopctrl.loop.kernel.run_ticks` as a function pointer.
-
-    Why a pointer and not a call: numba links a callee's code into its caller and optimizes the whole
-    again, so the integrator (RK4's right-hand sides, or the Newton iteration) would be optimized and
-    emitted once more inside the tick on an empty cache. Called through its address, it is compiled
-    once; the call costs a few nanoseconds per tick and the arithmetic is the same. The arguments are
-    those of the kernel's call (``status`` int64 ``(2,)``, ``t`` float64 [s])."""
-    sig = types.int64(typeof(plan), typeof(x), typeof(tau), typeof(P), types.int64[::1], typeof(ws), typeof(terms),
-                      types.float64, typeof(steps), typeof(x_fail), typeof(out_int), typeof(out_float))
-    stage = _STAGES.get(sig)
-    if stage is None:
-        stage = _STAGES[sig] = cfunc(sig, cache=True)(_advance_stage)
-    return stage
 
 
 # ---------------------------------------------------------------------------------------------- explicit

@@ -46,7 +46,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 from numba.extending import overload
 
 from coopctrl.controllers._kernels import (
@@ -69,7 +69,8 @@ from coopctrl.load_distribution.assembly import (
 )
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_solve
-from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK
+from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
+from coopctrl.loop.stages import compile_stage
 from coopctrl.loop.energy import plant_energy
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
@@ -80,7 +81,8 @@ from plants.frames import rotation_zyx_into
 #: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
 #: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
 #: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
-CALLEE_REVISION = 8
+#: The stages of :func:`tick_stages` are defined here so that this number refreshes them too.
+CALLEE_REVISION = 9
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran
@@ -116,9 +118,9 @@ FAMILY_TORQUE = 4
 
 
 def _terms(x, P, status, cws):
-    """``(Y, dY, H, h, J, Jdq, W, w_free, S, Fw)`` at ``x``: the kernel form of
-    ``CooperativePlant.control_terms`` (``control_terms_into``) in the control workspace ``cws``;
-    ``status[0]`` nonzero at a singularity. Compiled per kind (spatial or planar) by the type of ``P``'s
+    """Fill the control workspace ``cws`` with the terms at ``x`` (:func:`_term_arrays`: ``(Y, dY, H, h,
+    J, Jdq, W, w_free, S, Fw)``): the kernel form of ``CooperativePlant.control_terms``
+    (``control_terms_into``); returns ``status[0]``, nonzero at a singularity. Compiled per kind (spatial or planar) by the type of ``P``'s
     bases, as :func:`coopctrl.loop.integrate.rhs_into`."""
     raise NotImplementedError("called from numba only")
 
@@ -131,8 +133,31 @@ def _terms_typed(x, P, status, cws):
     def impl(x, P, status, cws):
         status[0] = 0
         terms_into(x, P, status, cws)
-        return cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free, cws.S, cws.Fw
+        return status[0]
     return impl
+
+
+def _terms_stage(x, P, status, cws):
+    return _terms(x, P, status, cws)
+
+
+@njit(inline="always", _nrt=False)
+def _term_arrays(cws):
+    """The arrays of the control workspace ``cws`` that :func:`_terms` fills: ``(Y, dY, H, h, J, Jdq, W,
+    w_free, S, Fw)``."""
+    return cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free, cws.S, cws.Fw
+
+
+def _advance_stage(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
+    return zoh_advance(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+
+
+def _energy_stage(x, P, cws, F, dY0):
+    return plant_energy(x, P, cws, F, dY0)
+
+
+def _no_energy_stage(x, P, cws, F, dY0):
+    return 0.0, 0.0, 0
 
 
 @njit(cache=True)
@@ -226,7 +251,6 @@ def _guards(spatial, x, Y, rho, band, max_deformation, R3, d):
     return DONE, 0, 0.0
 
 
-@njit(cache=True, _nrt=False)
 def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3):
     """Stage of a tick: the QP of the split (equality rows, ``P``, ``g``, the grip, friction and torque rows)
     into ``qp_arrays``; ``(code, P changed)``, ``code`` 0 or the failure detail of :data:`QP_FAILED`."""
@@ -360,7 +384,6 @@ def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind
     return 0, P_changed
 
 
-@njit(cache=True, _nrt=False)
 def _qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric):
     """Stage of a tick: the warm-started solve, its answer check and the binding families;
     ``(status, iterations, ok, families)``."""
@@ -417,7 +440,6 @@ def _qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, 
     return code, qit, True, qb
 
 
-@njit(cache=True, _nrt=False)
 def _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti):
     """Stage of a tick: the leader's and the followers' controllers into ``tau`` (before saturation);
     ``(code, arm)``, ``code`` :data:`DONE` or the event."""
@@ -510,8 +532,44 @@ def tick_workspace(spatial: bool, m: int, nx: int, nu: int, arm_dof) -> tuple:
             e(3 if spatial else 1))
 
 
+def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, opts, ws, tw, ctrl, posture, C_comp, x,
+                tau, integ, flags, x_fail, out_int, out_float) -> tuple:
+    """The stages :func:`run_ticks` calls through their addresses (its ``stages``), compiled for the
+    types of the run's arrays (the arguments of :func:`run_ticks` of the same names) by
+    :func:`coopctrl.loop.stages.compile_stage`: ``(advance, terms, qp_rows, qp_answer, control,
+    energy)``, the plant's period advance (:func:`coopctrl.loop.integrate.zoh_advance`),
+    :func:`_terms`, :func:`_qp_rows`, :func:`_qp_answer`, :func:`_control` and the plant's energy
+    (:func:`coopctrl.loop.energy.plant_energy`; a stage returning zeros when the run evaluates no
+    energy, so that the energy is compiled only for the runs that use it)."""
+    i64, f64, b1 = types.int64, types.float64, types.boolean
+    pws, cws, _ = plant_ws
+    (F_cmd, F_seen, status, _, _, F_set, wN, nrm, Jg, bias, a_cmd, err, _, Yn, dYn, ddYn, R3, _, pv, rc, r0, Wa,
+     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, _) = tw
+    Y, dY, H, h, J, Jdq, W, w_free, S = (cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free,
+                                         cws.S)
+    arm_kind, arm_dof, q_off = P[0], P[1], P[2]
+    Y0N = traj[0, 0]
+    Mq, lo, hi, Hq, gq, xq, zq = qp_arrays[:7]
+    switches, _, eF, eDY0 = opts[:4]
+    lead_off = opts[11]
+    # the plant's period advance with numba's runtime (the implicit schemes' pinv fallback allocates)
+    advance = compile_stage(_advance_stage, i64, plan, x, tau, P, status, pws, cws, f64, steps, x_fail, out_int,
+                            out_float, runtime=True)
+    terms = compile_stage(_terms_stage, i64, x, P, status, cws)
+    qp_rows = compile_stage(_qp_rows, types.Tuple((i64, b1)), b1, Y, Y0N, wN, ddYn, W, w_free, H, h, J, Jdq, arm_kind,
+                            arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3)
+    qp_answer = compile_stage(_qp_answer, types.Tuple((i64, i64, b1, i64)), Hq, gq, Mq, lo, hi, xq, zq, ws, b1, flags,
+                              i64, i64, i64, i64, f64, i64, f64, i64, i64, i64, i64)
+    control = compile_stage(_control, types.UniTuple(i64, 2), b1, b1, ctrl, posture, C_comp, arm_kind, arm_dof, q_off,
+                            f64, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Y, dY, H, h, J, Jdq, W, w_free, S, x, lead_off,
+                            integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti)
+    energy = compile_stage(_energy_stage if switches[OPT_ENERGY] != 0 else _no_energy_stage, types.Tuple((f64, f64, i64)),
+                           x, P, cws, eF, eDY0)
+    return advance, terms, qp_rows, qp_answer, control, energy
+
+
 @njit(cache=True, _nrt=False)
-def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
+def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
               ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, noise_q, noise_o, noise_f, noise_cfg,
               x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
               rec_r, rec_qs, rec_qb, rec_qit, x_good, x_fail, out_int, out_float):
@@ -521,8 +579,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, gr
     gravity, node_params, edge_index, edge_params, Y_ref, immobile)`` (``CooperativePlant.kernel``
     without the status); ``plant_ws`` = ``(rhs workspace, true control workspace, measured control
     workspace)``: the plant kernels' preallocated work arrays. ``steps`` [s]: the plant steps of one
-    period; ``advance``: the plant's advance over one period for the run's types, a function pointer
-    (:func:`coopctrl.loop.integrate.advance_stage`); ``method``: the run's integration plan
+    period; ``stages``: the tick's large stages as function pointers (:func:`tick_stages`); ``method``: the run's integration plan
     (:func:`coopctrl.loop.integrate.make_plan`; an
     implicit plan carries the Newton state from step to step).
 
@@ -588,6 +645,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, gr
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
     pws, cws_true, cws_meas = plant_ws
+    advance, terms, qp_rows, qp_answer, control, energy = stages
     # every work array of a tick, made once per run by tick_workspace (the kernel allocates nothing)
     (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
      rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw
@@ -606,7 +664,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, gr
         ko = k if noise_o.shape[0] > 1 else 0
         kf = k if noise_f.shape[0] > 1 else 0
         # ---- sensors (true terms: forces, guards)
-        Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _terms(x, P, status, cws_true)
+        terms(x, P, status, cws_true)
+        Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _term_arrays(cws_true)
         if status[0] != 0:
             out_int[0] = PLANT_ERROR
             out_int[2] = status[0]
@@ -626,7 +685,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, gr
                 if q_obj != 0.0:
                     xm[nz - p + c] = np.rint(xm[nz - p + c] / q_obj) * q_obj
                     xm[nx - p + c] = np.rint(xm[nx - p + c] / q_obj) * q_obj
-            Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _terms(xm, P, status, cws_meas)
+            terms(xm, P, status, cws_meas)
+            Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _term_arrays(cws_meas)
             if status[0] != 0:
                 out_int[0] = PLANT_ERROR
                 out_int[2] = status[0]
@@ -654,7 +714,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, gr
                 out_float[0] = worst
             return
         if energy_on:  # the energy guard; a passive run records the energy
-            E, KE, est = plant_energy(x, P, cws_true, eF, eDY0)
+            E, KE, est = energy(x, P, cws_true, eF, eDY0)
             if est != 0:
                 out_int[0] = PLANT_ERROR
                 out_int[2] = est
@@ -702,7 +762,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, gr
             qit = hold_status[2]
             qb = 0
         else:
-            qcode, P_changed = _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3)
+            qcode, P_changed = qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3)
             if qcode != 0:
                 out_int[0] = QP_FAILED
                 out_int[2] = qcode
@@ -718,7 +778,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, gr
                 qit = hold_status[2]
                 qb = hold_status[3]
             else:
-                qs, qit, okqp, qb = _qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric)
+                qs, qit, okqp, qb = qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric)
                 if not okqp:
                     out_int[0] = QP_FAILED
                     out_int[2] = qs
@@ -744,7 +804,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, advance, P, plant_ws, gr
                     F_cmd[i, a] = F_set[i, a]
                     F_seen[i, a] = Fm[i, a]
         # ---- controllers: the leader on its nominal deformed node
-        ccode, carm = _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti)
+        ccode, carm = control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti)
         if ccode != DONE:
             out_int[0] = ccode
             out_int[2] = carm
