@@ -51,11 +51,12 @@ def test_pointers_in_use_silences_only_numbas_first_class_function_notice():
     assert [str(w.message) for w in seen] == ["another notice", "First-class function type feature is experimental"]
 
 
-@pytest.mark.parametrize("passive", [False, True])
-def test_the_energy_is_compiled_only_for_runs_that_evaluate_it(passive, monkeypatch):
+@pytest.mark.parametrize("passive, elastic", [(False, False), (True, False), (False, True)])
+def test_energy_and_elastic_split_are_compiled_only_for_runs_that_use_them(passive, elastic, monkeypatch):
     """A run without an energy guard gets the stage that returns zeros (the plant's energy is never
-    compiled for it); a passive run, whose energy is recorded, gets the plant's energy
-    (``tests/test_loop.py`` checks its values against ``CooperativePlant.energy``)."""
+    compiled for it), a pseudo-inverse split the elastic stage that does nothing; a passive run, whose
+    energy is recorded, gets the plant's energy and an elastic split its inputs (``tests/test_loop.py``
+    checks both against the Python plant and problem)."""
     compiled = []
     real = K.compile_stage
 
@@ -67,11 +68,14 @@ def test_the_energy_is_compiled_only_for_runs_that_evaluate_it(passive, monkeypa
     overrides = {"simulation.duration": "0.02"}
     if passive:
         overrides["controllers.enabled"] = "false"
+    if elastic:
+        overrides["load_distribution.split"] = "elastic"
     scenario = coopctrl.load_scenario(ROOT / "scenarios" / "planar_two_arm_lift.toml", overrides)
     rec = closed_loop(scenario).run(build.initial_state(scenario), 0.02)
     assert rec["status"] == "ok"
     assert set(compiled) == {K._advance_stage, K._terms_stage, K._qp_rows, K._qp_answer, K._control,
-                             K._energy_stage if passive else K._no_energy_stage}
+                             K._energy_stage if passive else K._no_energy_stage,
+                             K._elastic_stage if elastic else K._no_elastic_stage}
     assert np.all(np.isfinite(rec["energy"])) == passive  # recorded only by the passive run (NaN otherwise)
 
 

@@ -152,6 +152,14 @@ def _advance_stage(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int
     return zoh_advance(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
 
 
+def _elastic_stage(M, k, K_obj, Y0, spatial, K, P, w, external, KGt, A, y, Rb, work):
+    return fill_elastic_split(M, k, K_obj, Y0, spatial, K, P, w, external, KGt, A, y, Rb, work)
+
+
+def _no_elastic_stage(M, k, K_obj, Y0, spatial, K, P, w, external, KGt, A, y, Rb, work):
+    return 0, False
+
+
 def _energy_stage(x, P, cws, F, dY0):
     return plant_energy(x, P, cws, F, dY0)
 
@@ -251,9 +259,10 @@ def _guards(spatial, x, Y, rho, band, max_deformation, R3, d):
     return DONE, 0, 0.0
 
 
-def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3):
+def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic_split):
     """Stage of a tick: the QP of the split (equality rows, ``P``, ``g``, the grip, friction and torque rows)
-    into ``qp_arrays``; ``(code, P changed)``, ``code`` 0 or the failure detail of :data:`QP_FAILED`."""
+    into ``qp_arrays``; ``(code, P changed)``, ``code`` 0 or the failure detail of :data:`QP_FAILED`.
+    ``elastic_split``: the elastic split's stage (:func:`tick_stages`), called when ``opts`` select it."""
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
     npos = 3 if spatial else 2
@@ -277,8 +286,7 @@ def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind
     fill_grasp_rows(Mq, rc, r0, spatial)
     P_changed = False
     if elastic:
-        ecode, P_changed = fill_elastic_split(Mq, p, K_obj, Y0N, spatial, Kw, Hq, wN, external, KGt, Ak, yk,
-                                              Rb, ework)
+        ecode, P_changed = elastic_split(Mq, p, K_obj, Y0N, spatial, Kw, Hq, wN, external, KGt, Ak, yk, Rb, ework)
         if ecode != 0:
             return ecode, False  # -1 degenerate grasp, -3 singular grasp stiffness
     elif not pseudo_inverse_external(Mq, p, W_inv_diag, wN, external, Ak, yk):
@@ -537,10 +545,13 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     """The stages :func:`run_ticks` calls through their addresses (its ``stages``), compiled for the
     types of the run's arrays (the arguments of :func:`run_ticks` of the same names) by
     :func:`coopctrl.loop.stages.compile_stage`: ``(advance, terms, qp_rows, qp_answer, control,
-    energy)``, the plant's period advance (:func:`coopctrl.loop.integrate.zoh_advance`),
-    :func:`_terms`, :func:`_qp_rows`, :func:`_qp_answer`, :func:`_control` and the plant's energy
-    (:func:`coopctrl.loop.energy.plant_energy`; a stage returning zeros when the run evaluates no
-    energy, so that the energy is compiled only for the runs that use it)."""
+    energy, elastic)``, the plant's period advance (:func:`coopctrl.loop.integrate.zoh_advance`),
+    :func:`_terms`, :func:`_qp_rows`, :func:`_qp_answer`, :func:`_control`, the plant's energy
+    (:func:`coopctrl.loop.energy.plant_energy`) and the elastic split's inputs
+    (:func:`coopctrl.load_distribution.elastic_assembly.fill_elastic_split`, which ``_qp_rows`` calls
+    through the pointer it is given). A run that evaluates no energy, or splits the load by the
+    pseudo-inverse, gets a stage with the same signature that does nothing: those are compiled only
+    for the runs that use them."""
     i64, f64, b1 = types.int64, types.float64, types.boolean
     pws, cws, _ = plant_ws
     (F_cmd, F_seen, status, _, _, F_set, wN, nrm, Jg, bias, a_cmd, err, _, Yn, dYn, ddYn, R3, _, pv, rc, r0, Wa,
@@ -556,8 +567,12 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     advance = compile_stage(_advance_stage, i64, plan, x, tau, P, status, pws, cws, f64, steps, x_fail, out_int,
                             out_float, runtime=True)
     terms = compile_stage(_terms_stage, i64, x, P, status, cws)
+    K_obj, Kw, KGt, Rb, ework = opts[6:11]
+    external, Ak, yk = qp_arrays[7], qp_arrays[10], qp_arrays[11]
+    elastic = compile_stage(_elastic_stage if switches[OPT_ELASTIC] != 0 else _no_elastic_stage, types.Tuple((i64, b1)),
+                            Mq, i64, K_obj, Y0N, b1, Kw, Hq, wN, external, KGt, Ak, yk, Rb, ework)
     qp_rows = compile_stage(_qp_rows, types.Tuple((i64, b1)), b1, Y, Y0N, wN, ddYn, W, w_free, H, h, J, Jdq, arm_kind,
-                            arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3)
+                            arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic)
     qp_answer = compile_stage(_qp_answer, types.Tuple((i64, i64, b1, i64)), Hq, gq, Mq, lo, hi, xq, zq, ws, b1, flags,
                               i64, i64, i64, i64, f64, i64, f64, i64, i64, i64, i64)
     control = compile_stage(_control, types.UniTuple(i64, 2), b1, b1, ctrl, posture, C_comp, arm_kind, arm_dof, q_off,
@@ -565,7 +580,7 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
                             integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti)
     energy = compile_stage(_energy_stage if switches[OPT_ENERGY] != 0 else _no_energy_stage, types.Tuple((f64, f64, i64)),
                            x, P, cws, eF, eDY0)
-    return advance, terms, qp_rows, qp_answer, control, energy
+    return advance, terms, qp_rows, qp_answer, control, energy, elastic
 
 
 @njit(cache=True, _nrt=False)
@@ -645,7 +660,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
     pws, cws_true, cws_meas = plant_ws
-    advance, terms, qp_rows, qp_answer, control, energy = stages
+    advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
     # every work array of a tick, made once per run by tick_workspace (the kernel allocates nothing)
     (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
      rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw
@@ -762,7 +777,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
             qit = hold_status[2]
             qb = 0
         else:
-            qcode, P_changed = qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3)
+            qcode, P_changed = qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic_split)
             if qcode != 0:
                 out_int[0] = QP_FAILED
                 out_int[2] = qcode
