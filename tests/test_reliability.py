@@ -421,10 +421,12 @@ def test_run_deaf_to_its_timeout_is_stopped_from_outside(monkeypatch):
 
 
 def test_run_timeout_stops_a_real_simulation(capsys):
-    """600 s of the lift (6e4 control ticks, 6e5 plant steps: about 40 s of wall time, 19 times the
-    limit) stopped after 2 s: the alarm lands inside the compiled kernels of the closed loop."""
+    """600 s of the lift at 200 plant steps per 10 ms period (6e4 control ticks, 1.2e7 RK4 steps: about
+    30 s of wall time for the compiled loop, 15 times the limit) stopped after 2 s: the alarm lands
+    inside the compiled kernels of the closed loop. (At 10 substeps the compiled loop now finishes
+    the 600 s in about 2.5 s, too close to the limit for the outcome not to depend on the machine.)"""
     code, out, err = run_cli(["sweep", LIFT, "--grid", "simulation.duration=600", "--set", "simulation.control_period=0.01",
-                              "--set", "simulation.substeps=10", "--jobs", "1", "--run-timeout", "2", "--json"], capsys)
+                              "--set", "simulation.substeps=200", "--jobs", "1", "--run-timeout", "2", "--json"], capsys)
     assert code == 0, err
     assert [r["status"] for r in json.loads(out)["rows"]] == ["timeout"]
 
