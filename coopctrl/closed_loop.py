@@ -242,9 +242,9 @@ class ClosedLoop:
         check_record_fits(N, sum(v[:1].size for v in self.empty_record(1).values() if isinstance(v, np.ndarray)),
                           duration, self.T)  # before allocating: refuse, with the size, what cannot fit
         rec = self.empty_record(N)
-        self._initial_integrals = {} if integrals is None else {int(i): np.asarray(v, dtype=float).copy()
-                                                               for i, v in integrals.items()}
-        return self._run(rec, x0, N, progress)
+        start_integrals = {} if integrals is None else {int(i): np.asarray(v, dtype=float).copy()
+                                                        for i, v in integrals.items()}
+        return self._run(rec, x0, N, progress, start_integrals)
 
     def empty_record(self, N: int = 0):
         """The :class:`~coopctrl.loop.record.LoopRecord` of ``N`` ticks (NaN-filled; a run truncates it)."""
@@ -259,16 +259,16 @@ class ClosedLoop:
 
         return LoadDistribution(self.ld.config, self.space, self.plant.arm_count)
 
-    def _run(self, rec, x0, N, progress):
+    def _run(self, rec, x0, N, progress, integrals):
         """Run ``N`` ticks from ``x0`` into ``rec``: the one tick of :mod:`coopctrl.loop.kernel`, driven by
         :func:`coopctrl.loop.compiled.run_compiled` for every configuration. The reference path
         (``load_distribution.solver`` other than ``"compiled"``) runs the same kernel, which hands each QP
         it assembles to the chosen backend; an integrator the kernel lacks steps the plant in Python
         between kernel calls; passive runs, ``max_energy``, the elastic split and the tuning probes are
-        kernel inputs."""
+        kernel inputs. ``integrals``: the followers' starting integrals (arm index -> (p,))."""
         from coopctrl.loop.compiled import run_compiled
 
-        return run_compiled(self, rec, x0, N, progress)
+        return run_compiled(self, rec, x0, N, progress, integrals)
 
     def _stop_reason(self, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
                      saturation: dict) -> tuple[str, str]:

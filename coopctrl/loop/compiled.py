@@ -346,8 +346,10 @@ def _entry_point(dispatcher, args: tuple):
     return dispatcher if compiled is None else compiled.entry_point
 
 
-def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
-    """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``."""
+def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None) -> dict:
+    """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``.
+    ``integrals``: the followers' force-error integrals to start from (arm index -> (p,) [N s, N m s]);
+    zero otherwise."""
     plant = loop.plant
     why = _unsupported_parts(loop)
     if why is not None:
@@ -360,7 +362,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False) -> dict:
     x0 = np.array(x0, dtype=float)
     loop._x_ref = x0.copy()
     state = LoopState.start(x0, plant.input_size, m, p, cl.n, p + cl.n_in)
-    for i, value in getattr(loop, "_initial_integrals", {}).items():
+    for i, value in (integrals or {}).items():
         state.integrals[i] = value
     passive = not loop.enabled
     ld = None
