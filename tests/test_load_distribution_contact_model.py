@@ -136,7 +136,7 @@ def test_torque_model_is_the_arms_inverse_dynamics(name):
             # angular rows [-]: central differences with h = 1e-6 rad, truncation ~h^2 and rounding ~1e-16 / h
             np.testing.assert_allclose(jac[i], Jg_ref, rtol=0, atol=1e-8)
             # bias [N m]: the same formula at qdd from two backward-stable solves of systems with
-            # cond < 1e6 (checked above; ~1e2 in these draws): ~1e-10 relative at worst
+            # cond < 1e6 (checked above; J J^T ~50 to 400, N ~2e3 in these draws): ~1e-10 relative at worst
             np.testing.assert_allclose(bias[i], bias_ref, rtol=0, atol=1e-9 * (1.0 + np.abs(bias_ref).max()))
             tau_ref = bias_ref + Jg_ref.T @ F
             # torques [N m]: |F| ~ 50 N times the angular rows' 1e-8 above, against torques of ~10 to 100 N m
