@@ -28,7 +28,8 @@ an Euler-angle singularity (and a nominal path that does is refused when the loo
 
 The loop's other concepts have files of their own in :mod:`coopctrl.loop`: the failure diagnosis
 (:mod:`~coopctrl.loop.diagnosis`), the loaded start (:mod:`~coopctrl.loop.loaded_start`), the Euler-angle
-band (:mod:`~coopctrl.loop.euler_band`) and the QP's contact inputs (:mod:`~coopctrl.loop.qp_inputs`);
+band (:mod:`~coopctrl.loop.euler_band`) and the QP's contact inputs (:mod:`~coopctrl.loop.qp_inputs`, defined in
+:mod:`~coopctrl.load_distribution.contact_model`);
 the methods below that name them delegate. The loop imports nothing of ``coopctrl.analysis``.
 """
 
@@ -44,7 +45,7 @@ from coopctrl.loop import diagnosis, loaded_start
 from coopctrl.loop.diagnosis import DIAGNOSIS_TICKS_BACK
 from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
 from coopctrl.loop.euler_band import check_nominal_path, closest_to_singularity, margin_cos
-from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, contact_normals, qp_torque_limits, torque_model
+from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, qp_torque_limits
 from coopctrl.record_memory import check_record_fits
 from plants.cooperative import nominal_node_motion
 from plants.errors import PlantError
@@ -214,14 +215,6 @@ class ClosedLoop:
         """Why a run at state ``x`` (the loaded start) cannot stay bounded, if the physics says so
         (:func:`coopctrl.loop.diagnosis.static_instability`); else ``""``."""
         return diagnosis.static_instability(self, x)
-
-    def _torque_model(self, terms, ddYn):
-        """QP torque-limit rows (:func:`coopctrl.loop.qp_inputs.torque_model`)."""
-        return torque_model(self.plant, terms, ddYn)
-
-    def _normals(self, terms):
-        """Inward contact normals (:func:`coopctrl.loop.qp_inputs.contact_normals`)."""
-        return contact_normals(self.plant, terms)
 
     def loaded_state(self, x_unloaded) -> np.ndarray:
         """The loaded state at rest at t = 0, as the controllers plan it, from this loop's parts

@@ -62,17 +62,6 @@ class PostureTask:
         return m_bar * (self.Kp * (self.q_rest - q) - self.Kd * dq)
 
 
-def task_acceleration(terms, i: int, n: int, rhs) -> np.ndarray:
-    """Joint accelerations [rad/s^2] of arm ``i`` giving ``J qdd = rhs`` as the redundant computed
-    torque resolves them: ``qdd = J^# rhs``, ``J^# = N^-1 J^T (J N^-1 J^T)^-1``,
-    ``N = H + J^T W_i J`` (for a square arm ``J^-1 rhs``). Used by the QP's torque model."""
-    H, J, W = terms.H[i, :n, :n], terms.J[i, :, :n], terms.W[i + 1]
-    if J.shape[0] == n:
-        return np.linalg.solve(J, rhs)
-    X = np.linalg.solve(H + J.T @ W @ J, J.T)
-    return X @ np.linalg.solve(J @ X, rhs)
-
-
 def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.ndarray:
     """Joint torques that give node ``i + 1`` the acceleration ``a_cmd`` on the full model.
 

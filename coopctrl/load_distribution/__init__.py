@@ -2,7 +2,9 @@
 
 One concept per module: :mod:`.grasp_matrix` (``G`` and the virtual-linkage basis ``E``),
 :mod:`.config` (:class:`LoadDistributionConfig`), :mod:`.assembly` (the QP's rows, in numba: written
-once, called by :mod:`.problem` and by the compiled tick), :mod:`.problem` (the QP arrays),
+once, called by :mod:`.problem` and by the compiled tick), :mod:`.contact_model` (the rows' inputs from
+the plant's terms, the contact normals and the torque-limit model, in numba: written once, called by the
+compiled tick and :mod:`coopctrl.loop.qp_inputs`), :mod:`.problem` (the QP arrays),
 :mod:`.solvers` (backends and :class:`QPStats`), :mod:`.load_split` (:class:`LoadSplit`) and
 :mod:`.load_distribution` (:class:`LoadDistribution`, with the failure policy).
 """

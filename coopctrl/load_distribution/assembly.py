@@ -20,6 +20,10 @@ families), ``lo = [w_N; l]``, ``hi = [w_N; u]``:
   (``-tau_max - bias <= J_i^T F_i <= tau_max - bias``) families, as documented on
   :class:`~coopctrl.load_distribution.problem.LoadDistributionProblem`.
 
+The inputs of the last three from the plant's state, the unit normals ``n_i`` and the torque model
+``(J_i, bias_i)``, are defined once too, in :mod:`.contact_model` (the compiled tick, the loaded start and
+the pre-flight call it; ``LoadDistributionProblem.update`` takes them as arguments).
+
 Each returns ``False`` (and writes nothing meaningful) where the Python side raises ``ScenarioError``:
 a singular ``G W^-1 G^T`` or coincident contacts. Callers pass C-contiguous float64 arrays, int64
 integers and a bool ``spatial``, the compiled tick's argument types, so that one compiled (and cached)

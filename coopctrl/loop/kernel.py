@@ -11,9 +11,10 @@ arrays of a :class:`~coopctrl.loop.state.LoopState` and writes the record rows i
    deformation beyond ``max_deformation``;
 3. **nominal motion and load**: the trajectory sample (``traj``), the nodes carried rigidly by the
    object (148) and the external load ``w_N``;
-4. **QP**: the rows of :mod:`coopctrl.load_distribution.assembly` and the compiled
-   Goldfarb-Idnani solve, warm started; the answer check of
-   :class:`~coopctrl.load_distribution.LoadDistribution`;
+4. **QP**: its inputs from the measured terms (the contact normals and the torque-limit model of
+   :mod:`coopctrl.load_distribution.contact_model`), the rows of
+   :mod:`coopctrl.load_distribution.assembly` and the compiled Goldfarb-Idnani solve, warm started;
+   the answer check of :class:`~coopctrl.load_distribution.LoadDistribution`;
 5. **controllers**: the leader's computed torque on its nominal deformed node, the followers'
    force PI (integral clipped at ``integral_limit``), the null-space posture torque of a
    redundant arm;
@@ -50,8 +51,6 @@ from numba import njit, types
 from numba.extending import overload
 
 from coopctrl.controllers._kernels import (
-    consistent_acceleration_into,
-    lu_solve_into,
     node_torque_into,
     node_torque_redundant_into,
     pose_increment_planar_into,
@@ -67,6 +66,7 @@ from coopctrl.load_distribution.assembly import (
     fill_torque_rows,
     pseudo_inverse_external,
 )
+from coopctrl.load_distribution.contact_model import contact_normals_into, torque_model_into
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_solve
 from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
@@ -74,15 +74,16 @@ from coopctrl.loop.stages import compile_stage
 from coopctrl.loop.energy import plant_energy
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
-from plants.cooperative.loaded_state import body_rate_map_into, body_rates_into, planar_motion_into, spatial_motion_into
+from plants.cooperative.loaded_state import body_rates_into, planar_motion_into, spatial_motion_into
 from plants.frames import rotation_zyx_into
 
 #: numba's on-disk cache of this file is keyed on this file's source alone: after a change to a kernel it
 #: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
 #: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
 #: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
+#: 10: the QP's contact normals and torque model moved to :mod:`coopctrl.load_distribution.contact_model`.
 #: The stages of :func:`tick_stages` are defined here so that this number refreshes them too.
-CALLEE_REVISION = 9
+CALLEE_REVISION = 10
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran
@@ -261,8 +262,11 @@ def _guards(spatial, x, Y, rho, band, max_deformation, R3, d):
 
 def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic_split):
     """Stage of a tick: the QP of the split (equality rows, ``P``, ``g``, the grip, friction and torque rows)
-    into ``qp_arrays``; ``(code, P changed)``, ``code`` 0 or the failure detail of :data:`QP_FAILED`.
-    ``elastic_split``: the elastic split's stage (:func:`tick_stages`), called when ``opts`` select it."""
+    into ``qp_arrays``, from the measured terms (``Ym`` .. ``Jdqm``) and the nominal node accelerations
+    ``ddYn``: the normals ``nrm`` and the torque model ``(Jg, bias)`` of
+    :mod:`coopctrl.load_distribution.contact_model`, the rows of :mod:`coopctrl.load_distribution.assembly`;
+    ``(code, P changed)``, ``code`` 0 or the failure detail of :data:`QP_FAILED`. ``elastic_split``: the
+    elastic split's stage (:func:`tick_stages`), called when ``opts`` select it."""
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
     npos = 3 if spatial else 2
@@ -313,81 +317,14 @@ def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind
         for c in range(n):
             gq[c] = -W_diag[c] * Fpref[c]
     if need_normals:
-        for i in range(m):
-            if spatial:
-                Ri = R3[0]
-                rotation_zyx_into(Ym[i + 1, 3:6], Ri)
-                for a in range(3):
-                    nrm[i, a] = Ri[a, 0]
-            else:
-                nrm[i, 0] = math.cos(Ym[i + 1, 2])
-                nrm[i, 1] = math.sin(Ym[i + 1, 2])
-            s = 0.0
-            for a in range(npos):
-                s += nrm[i, a] * nrm[i, a]
-            length = math.sqrt(s)
-            for a in range(npos):
-                nrm[i, a] = nrm[i, a] / length
+        contact_normals_into(Ym, spatial, nrm, R3[0])
         if row_grip >= 0:
             fill_grip_rows(Mq, p + row_grip, nrm, p)
         if row_fric >= 0:
             fill_friction_rows(Mq, p + row_fric, nrm, p, n_fric, mu_c, cos_phi, sin_phi, spatial)
     if torque_limits:
-        j0 = 0
-        for i in range(m):
-            ni = arm_dof[i]
-            kk = i + 1
-            # W_k ddYn_k + w_free_k
-            for a in range(p):
-                s = wm_free[kk, a]
-                for b in range(p):
-                    s += Wm[kk, a, b] * ddYn[kk, b]
-                Wa[a] = s
-            if arm_kind[i] != 0:  # contact point: tau = F + W a + w
-                for a in range(p):
-                    for b in range(p):
-                        Jg[i, a, b] = 1.0 if a == b else 0.0
-                    bias[j0 + a] = Wa[a]
-                j0 += ni
-                continue
-            Ji = Jm[i]  # (p, nmax): columns :ni are the arm's
-            for a in range(p):
-                rhs_t[a] = ddYn[kk, a] - Jdqm[i, a]
-            if ni == p:
-                okq = lu_solve_into(Ji, rhs_t, p, wm[0], piv, qdd)
-            else:
-                okq = consistent_acceleration_into(Wm[kk], Hm[i], Ji, rhs_t, ni, wv, wm, piv, qdd)
-            if not okq:
-                for c in range(ni):
-                    qdd[c] = 0.0
-            for r in range(ni):
-                s = hm[i, r]
-                for c in range(ni):
-                    s += Hm[i, r, c] * qdd[c]
-                for a in range(p):
-                    s += Ji[a, r] * Wa[a]
-                bias[j0 + r] = s
-            if spatial:
-                # R(A) L(A): the analytic Jacobian's angular rows to world angular velocity
-                RA, LA, RL = R3[0], R3[1], R3[2]
-                A = Ym[kk, 3:6]
-                rotation_zyx_into(A, RA)
-                body_rate_map_into(A, LA)
-                for a in range(3):
-                    for b in range(3):
-                        RL[a, b] = RA[a, 0] * LA[0, b] + RA[a, 1] * LA[1, b] + RA[a, 2] * LA[2, b]
-                for r in range(ni):
-                    for a in range(3):
-                        Jg[i, a, r] = Ji[a, r]
-                        s = 0.0
-                        for b in range(3):
-                            s += RL[a, b] * Ji[3 + b, r]
-                        Jg[i, 3 + a, r] = s
-            else:
-                for r in range(ni):
-                    for a in range(p):
-                        Jg[i, a, r] = Ji[a, r]
-            j0 += ni
+        torque_model_into(spatial, Ym, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, Jg, bias, Wa, rhs_t, qdd, piv,
+                          wv, wm, R3)
         fill_torque_rows(Mq, lo, hi, p + row_tau, Jg, arm_dof, p, tau_qp, bias)
     return 0, P_changed
 

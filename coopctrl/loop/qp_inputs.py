@@ -1,22 +1,22 @@
-"""The load-distribution QP's contact-dependent inputs in numpy, for the loaded start (before the first tick).
+"""The load-distribution QP's contact inputs for the loaded start and the pre-flight (before or outside the tick).
 
 - :func:`contact_normals`: each contact node's inward normal (its frame's approach axis), for the
   ``min_grip`` and ``friction`` families;
 - :func:`torque_model`: the ``torque_limits`` family's rows ``tau_i = Jg_i^T F_i + bias_i`` at the
   nominal node accelerations, planned within :data:`TORQUE_HEADROOM` of each joint's limit.
 
-(The compiled tick fills the same rows in :mod:`coopctrl.load_distribution.assembly`.)
+Both are defined once, by the numba functions of :mod:`coopctrl.load_distribution.contact_model`
+(which the compiled tick calls on its measured terms): the functions here only give them the arrays of a
+:class:`~plants.cooperative.control_terms.ControlTerms` and return the Python structures
+:class:`~coopctrl.load_distribution.LoadDistribution` takes.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from coopctrl.controllers.computed_torque import task_acceleration
-from plants.cooperative import ContactPoint
-from plants.frames import body_rate_map, rotation_zyx
+from coopctrl.controllers._kernels import control_work
+from coopctrl.load_distribution.contact_model import contact_normals_into, torque_model_into
 
 #: Fraction of each joint torque limit the load-distribution QP may plan with [-].
 TORQUE_HEADROOM = 0.9
@@ -28,45 +28,37 @@ def qp_torque_limits(plant) -> list[np.ndarray]:
     return [TORQUE_HEADROOM * np.asarray(a.tau_max, dtype=float) for a in plant.arms]
 
 
+def _f64(a) -> np.ndarray:
+    """``a`` as a C-contiguous float64 array (the compiled tick's argument type; no copy if it is one)."""
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
 def contact_normals(plant, terms) -> np.ndarray:
-    """Inward contact normals (m, npos): each node's approach axis (its frame's x axis), from the
-    node poses ``terms.Y`` [m, rad]."""
-    Y = terms.Y
+    """Inward unit contact normals (m, npos): each node's approach axis (its frame's x axis), from the
+    node poses ``terms.Y`` [m, rad] (:func:`~coopctrl.load_distribution.contact_model.contact_normals_into`)."""
     spatial = plant.space == "spatial"
     out = np.empty((plant.arm_count, 3 if spatial else 2))
-    for i in range(plant.arm_count):
-        if spatial:
-            out[i] = rotation_zyx(Y[i + 1, 3:6])[:, 0]
-        else:
-            out[i] = (math.cos(Y[i + 1, 2]), math.sin(Y[i + 1, 2]))
+    contact_normals_into(_f64(terms.Y), spatial, out, np.empty((3, 3)))
     return out
 
 
 def torque_model(plant, terms, ddYn) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """QP torque-limit rows ``(jacobians, biases)``: ``tau_i = Jg_i^T F_i + bias_i`` [N m] with the nominal
-    node accelerations ``ddYn`` ((m+1, p) [m/s^2, rad/s^2]); ``Jg_i`` maps the joint rates to the node's
-    world twist, ``bias_i = H_i qdd_i + h_i + J_i^T (W_i ddYn_i + w_free_i)`` with ``qdd_i`` the joint
-    acceleration that tracks ``ddYn_i``."""
-    jac, bias = [], []
-    spatial = plant.space == "spatial"
-    for i, arm in enumerate(plant.arms):
-        k = i + 1
-        n = arm.dof
-        if isinstance(arm, ContactPoint):
-            jac.append(np.eye(plant.p))
-            bias.append(terms.W[k] @ ddYn[k] + terms.w_free[k])
-            continue
-        J = terms.J[i, :, :n]
-        if spatial:
-            Ai = terms.Y[k, 3:6]
-            Jg = J.copy()
-            Jg[3:] = rotation_zyx(Ai) @ body_rate_map(Ai) @ J[3:]
-        else:
-            Jg = J
-        try:
-            qdd = task_acceleration(terms, i, n, ddYn[k] - terms.Jdq[i])  # J^-1, or J^# if redundant
-        except np.linalg.LinAlgError:
-            qdd = np.zeros(n)
-        jac.append(Jg)
-        bias.append(terms.H[i, :n, :n] @ qdd + terms.h[i, :n] + J.T @ (terms.W[k] @ ddYn[k] + terms.w_free[k]))
-    return jac, bias
+    node accelerations ``ddYn`` ((m+1, p) [m/s^2, rad/s^2]); ``Jg_i`` (p, n_i) maps the joint rates to the
+    node's world twist, ``bias_i = H_i qdd_i + h_i + J_i^T (W_i ddYn_i + w_free_i)`` (n_i,) with ``qdd_i``
+    the joint acceleration that tracks ``ddYn_i`` (zero where the arm is singular)
+    (:func:`~coopctrl.load_distribution.contact_model.torque_model_into`)."""
+    _, args = plant.kernel
+    arm_kind, arm_dof = args[0], args[1]
+    p = plant.p
+    dofs = [int(n) for n in arm_dof]
+    nmax = max(p, *dofs)
+    Jg = np.zeros((plant.arm_count, p, nmax))
+    bias = np.zeros(sum(dofs))
+    wv, wm = control_work(nmax)
+    torque_model_into(plant.space == "spatial", _f64(terms.Y), _f64(ddYn), _f64(terms.W), _f64(terms.w_free),
+                      _f64(terms.H), _f64(terms.h), _f64(terms.J), _f64(terms.Jdq), arm_kind, arm_dof, Jg, bias,
+                      np.empty(p), np.empty(p), np.empty(nmax), np.empty(nmax, np.int64), wv, wm, np.empty((3, 3, 3)))
+    offsets = np.concatenate(([0], np.cumsum(dofs)))
+    return ([Jg[i, :, :n].copy() for i, n in enumerate(dofs)],
+            [bias[offsets[i]:offsets[i + 1]].copy() for i in range(len(dofs))])

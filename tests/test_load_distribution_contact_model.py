@@ -1,0 +1,161 @@
+"""The QP's contact inputs are written once (issue 10, Layout): :mod:`coopctrl.load_distribution.contact_model`
+defines the contact normals and the torque-limit model; the compiled tick (``_qp_rows``) and the loaded start's
+wrappers (:mod:`coopctrl.loop.qp_inputs`) call it. Here each is checked against an independent computation:
+the normals against the frame's rotation, the torque model against each arm's own inverse dynamics with
+the world angular-velocity Jacobian taken by finite differences of its forward kinematics. Every random
+draw is seeded."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from numba import types
+
+from coopctrl.load_distribution import contact_model
+from coopctrl.loop.qp_inputs import contact_normals, torque_model
+from coopctrl.scenario import build, load_scenario
+from plants.cooperative import ContactPoint
+from plants.frames import rotation_zyx
+from test_cli import REPO
+
+_F1, _F2, _F3 = types.float64[::1], types.float64[:, ::1], types.float64[:, :, ::1]
+_I1, _B = types.int64[::1], types.boolean
+#: The argument types the compiled tick (``coopctrl/loop/kernel.py``, ``_qp_rows``) passes: the wrappers pass
+#: the same, so that one compiled (and cached) specialisation of each function serves both.
+KERNEL_SIGNATURES = {
+    "contact_normals_into": (_F2, _B, _F2, _F2),
+    "torque_model_into": (_B, _F2, _F2, _F3, _F2, _F3, _F2, _F3, _F2, _I1, _I1, _F3, _F1, _F1, _F1, _F1, _I1, _F2,
+                          _F3, _F3),
+}
+
+
+def _normals(Y, spatial):
+    m = Y.shape[0] - 1
+    nrm = np.empty((m, 3 if spatial else 2))
+    contact_model.contact_normals_into(Y, spatial, nrm, np.empty((3, 3)))
+    return nrm
+
+
+@pytest.mark.parametrize("space", ["spatial", "planar"])
+def test_normals_are_the_node_frames_approach_axis(space):
+    """``n_i`` is the first column of ``R(A_{i+1})`` (spatial) or ``(cos th, sin th)`` (planar) on seeded random
+    poses, angles over whole turns (the ZYX pitch too: the rotation is defined everywhere)."""
+    rng = np.random.default_rng(1001 if space == "spatial" else 1002)
+    spatial = space == "spatial"
+    p = 6 if spatial else 3
+    for m in (1, 2, 4):
+        Y = np.ascontiguousarray(rng.uniform(-4.0, 4.0, size=(m + 1, p)))
+        nrm = _normals(Y, spatial)
+        if spatial:
+            want = np.array([rotation_zyx(Y[i + 1, 3:6])[:, 0] for i in range(m)])
+        else:
+            want = np.column_stack((np.cos(Y[1:, 2]), np.sin(Y[1:, 2])))
+        # the same rotation entries, then divided by a length within a few ulps of 1: a few ulps apart
+        np.testing.assert_allclose(nrm, want, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(np.linalg.norm(nrm, axis=1), 1.0, rtol=0, atol=1e-15)
+
+
+def _scene(name):
+    scenario = load_scenario(REPO / "scenarios" / f"{name}.toml")
+    plant = build.build_plant(scenario)
+    return scenario, plant
+
+
+def _random_state(scenario, plant, rng):
+    """The unloaded state with every joint moved by ~0.05 rad and seeded joint and object rates."""
+    x = np.array(build.unloaded_state(scenario), dtype=float)
+    nz, p = plant.nz, plant.p
+    x[:nz - p] += rng.normal(scale=0.05, size=nz - p)
+    x[nz:] = rng.normal(scale=0.3, size=nz)
+    return x
+
+
+def _world_angular_jacobian(arm, q, h=1e-6):
+    """``d omega_world / d dq`` by central differences of the node rotation: column c is the axial vector of
+    ``dR/dq_c R^T``."""
+    R = rotation_zyx(arm.pose(q)[3:6])
+    out = np.empty((3, q.shape[0]))
+    for c in range(q.shape[0]):
+        e = np.zeros_like(q)
+        e[c] = h
+        dR = (rotation_zyx(arm.pose(q + e)[3:6]) - rotation_zyx(arm.pose(q - e)[3:6])) / (2.0 * h)
+        Om = dR @ R.T
+        out[:, c] = (Om[2, 1], Om[0, 2], Om[1, 0])
+    return out
+
+
+@pytest.mark.parametrize("name", ["heavy_payload_torque_limits", "spatial_three_arm_carry", "three_iiwa_tray",
+                                  "contact_points_only"])
+def test_torque_model_is_the_arms_inverse_dynamics(name):
+    """``Jg_i^T F_i + bias_i`` equals arm i's joint torques from its own model (``arm.terms``: ``H``, ``h``,
+    ``J``, ``dJ/dt dq``) for the joint acceleration that tracks the nominal node acceleration (``J^-1`` for
+    the square planar 3R and Puma arms, the inertia-weighted ``J^#`` for the 7-joint iiwa), plus the node's
+    own ``W a + w_free``, with the contact wrench mapped through the world twist Jacobian (its angular rows
+    by finite differences of the forward kinematics); a contact point carries ``F + W a + w_free``. Seeded
+    random states and accelerations."""
+    scenario, plant = _scene(name)
+    rng = np.random.default_rng(sum(map(ord, name)))
+    spatial = plant.space == "spatial"
+    p, nz = plant.p, plant.nz
+    for _ in range(2):
+        x = _random_state(scenario, plant, rng)
+        terms = plant.control_terms(x)
+        ddYn = rng.normal(scale=1.0, size=(plant.arm_count + 1, p))
+        jac, bias = torque_model(plant, terms, ddYn)
+        for i, arm in enumerate(plant.arms):
+            k = i + 1
+            F = rng.normal(scale=50.0, size=p)
+            node = terms.W[k] @ ddYn[k] + terms.w_free[k]
+            if isinstance(arm, ContactPoint):
+                assert np.array_equal(jac[i], np.eye(p))
+                np.testing.assert_allclose(bias[i], node, rtol=1e-14, atol=1e-14 * np.abs(node).max())
+                continue
+            sl = plant.q_slice(i)
+            q, dq = x[sl], x[nz:][sl]
+            at = arm.terms(q, dq)
+            H, h, J, Jdq = at.H, at.h, at.J, at.Jdq
+            n = arm.dof
+            rhs = ddYn[k] - Jdq
+            if n == p:
+                qdd = np.linalg.solve(J, rhs)
+            else:
+                N = H + J.T @ terms.W[k] @ J
+                X = np.linalg.solve(N, J.T)
+                qdd = X @ np.linalg.solve(J @ X, rhs)
+                assert np.linalg.cond(N) < 1e6
+            # well-conditioned draws, so LAPACK's and the kernel's LU agree to ~cond * 1e-16
+            assert np.linalg.cond(J @ J.T) < 1e6
+            np.testing.assert_allclose(J @ qdd, rhs, rtol=0, atol=1e-9 * (1.0 + np.abs(rhs).max()))
+            bias_ref = H @ qdd + h + J.T @ node
+            Jg_ref = J.copy()
+            if spatial:
+                Jg_ref[3:] = _world_angular_jacobian(arm, q)
+            assert jac[i].shape == (p, n) and bias[i].shape == (n,)
+            # linear rows: the plant's Jacobian and the arm's, the same kinematics (rounding apart)
+            np.testing.assert_allclose(jac[i][:3 if spatial else p], Jg_ref[:3 if spatial else p], rtol=0, atol=1e-12)
+            # angular rows [-]: central differences with h = 1e-6 rad, truncation ~h^2 and rounding ~1e-16 / h
+            np.testing.assert_allclose(jac[i], Jg_ref, rtol=0, atol=1e-8)
+            # bias [N m]: the same formula at qdd from two backward-stable solves of systems with
+            # cond < 1e6 (checked above; J J^T ~50 to 400, N ~2e3 in these draws): ~1e-10 relative at worst
+            np.testing.assert_allclose(bias[i], bias_ref, rtol=0, atol=1e-9 * (1.0 + np.abs(bias_ref).max()))
+            tau_ref = bias_ref + Jg_ref.T @ F
+            # torques [N m]: |F| ~ 50 N times the angular rows' 1e-8 above, against torques of ~10 to 100 N m
+            np.testing.assert_allclose(jac[i].T @ F + bias[i], tau_ref, rtol=0,
+                                       atol=1e-7 * (1.0 + np.abs(tau_ref).max()))
+
+
+def test_the_wrappers_use_the_kernels_specialisation():
+    """``qp_inputs.contact_normals`` and ``torque_model`` call the numba functions with the compiled tick's
+    argument types (C-contiguous float64, int64, bool), from plant terms and from a non-contiguous
+    ``ddYn``: no specialisation of their own."""
+    for name in ("heavy_payload_torque_limits", "contact_points_only"):
+        scenario, plant = _scene(name)
+        terms = plant.control_terms(build.unloaded_state(scenario))
+        contact_normals(plant, terms)
+        ddYn = np.asfortranarray(np.zeros((plant.arm_count + 1, plant.p)) + 1.0)
+        torque_model(plant, terms, ddYn)
+    for fname, want in KERNEL_SIGNATURES.items():
+        sigs = getattr(contact_model, fname).signatures
+        assert sigs, fname
+        for sig in sigs:
+            assert tuple(sig) == want, (fname, sig)
