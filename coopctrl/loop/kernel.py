@@ -45,6 +45,7 @@ kernel lacks stops after each tick's record (:data:`PLANT_EXTERNAL`) for the cal
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit, types
@@ -461,7 +462,11 @@ def _copy(dst, src):
         dst[c] = src[c]
 
 
-def tick_workspace(spatial: bool, m: int, nx: int, nu: int, arm_dof) -> tuple:
+#: The tick's work arrays (:func:`tick_workspace`), by the names :func:`run_ticks` and its stages use.
+TickWorkspace = namedtuple("TickWorkspace", "F_cmd F_seen status xm Fm F_set wN nrm Jg bias a_cmd err d Yn dYn ddYn R3 v3 pv rc r0 Wa rhs_t qdd piv wv wm inc corr Yv tp ti obj_inertia")
+
+
+def tick_workspace(spatial: bool, m: int, nx: int, nu: int, arm_dof) -> TickWorkspace:
     """Every work array of :func:`run_ticks`'s tick, made once per run (``tw``): the kernel itself
     allocates nothing, so it runs without numba's reference counting (``_nrt=False``: no atomic count
     per array use, and a smaller function for LLVM to optimize). ``m`` arms, ``nx`` states, ``nu``
@@ -470,11 +475,13 @@ def tick_workspace(spatial: bool, m: int, nx: int, nu: int, arm_dof) -> tuple:
     p, npos = (6, 3) if spatial else (3, 2)
     nmax = max(p, *(int(n) for n in arm_dof))
     e = np.empty
-    return (e((m, p)), e((m, p)), np.zeros(2, np.int64), e(nx), e((m, p)), e((m, p)), e(p), e((m, npos)),
-            np.zeros((m, p, nmax)), np.zeros(nu), e(p), e(p), e(npos), e((m + 1, p)), e((m + 1, p)), e((m + 1, p)),
-            e((4, 3, 3)), e((8, 3)), e((3, 6)), e((m, npos)), e(npos), e(p), e(p), e(nmax), e(nmax, np.int64),
-            e((WORK_VECTORS, nmax)), e((WORK_MATRICES, nmax, nmax)), e(p), e(p), e(p), e(nmax), e(nmax),
-            e(3 if spatial else 1))
+    return TickWorkspace(
+        F_cmd=e((m, p)), F_seen=e((m, p)), status=np.zeros(2, np.int64), xm=e(nx), Fm=e((m, p)), F_set=e((m, p)),
+        wN=e(p), nrm=e((m, npos)), Jg=np.zeros((m, p, nmax)), bias=np.zeros(nu), a_cmd=e(p), err=e(p), d=e(npos),
+        Yn=e((m + 1, p)), dYn=e((m + 1, p)), ddYn=e((m + 1, p)), R3=e((4, 3, 3)), v3=e((8, 3)), pv=e((3, 6)),
+        rc=e((m, npos)), r0=e(npos), Wa=e(p), rhs_t=e(p), qdd=e(nmax), piv=e(nmax, np.int64),
+        wv=e((WORK_VECTORS, nmax)), wm=e((WORK_MATRICES, nmax, nmax)), inc=e(p), corr=e(p), Yv=e(p), tp=e(nmax),
+        ti=e(nmax), obj_inertia=e(3 if spatial else 1))
 
 
 def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, opts, ws, tw, ctrl, posture, C_comp, x,
@@ -491,8 +498,6 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     for the runs that use them."""
     i64, f64, b1 = types.int64, types.float64, types.boolean
     pws, cws, _ = plant_ws
-    (F_cmd, F_seen, status, _, _, F_set, wN, nrm, Jg, bias, a_cmd, err, _, Yn, dYn, ddYn, R3, _, pv, rc, r0, Wa,
-     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, _) = tw
     Y, dY, H, h, J, Jdq, W, w_free, S = (cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free,
                                          cws.S)
     arm_kind, arm_dof, q_off = P[0], P[1], P[2]
@@ -501,20 +506,22 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     switches, _, eF, eDY0 = opts[:4]
     lead_off = opts[11]
     # the plant's period advance with numba's runtime (the implicit schemes' pinv fallback allocates)
-    advance = compile_stage(_advance_stage, i64, plan, x, tau, P, status, pws, cws, f64, steps, x_fail, out_int,
+    advance = compile_stage(_advance_stage, i64, plan, x, tau, P, tw.status, pws, cws, f64, steps, x_fail, out_int,
                             out_float, runtime=True)
-    terms = compile_stage(_terms_stage, i64, x, P, status, cws)
+    terms = compile_stage(_terms_stage, i64, x, P, tw.status, cws)
     K_obj, Kw, KGt, Rb, ework = opts[6:11]
     external, Ak, yk = qp_arrays[7], qp_arrays[10], qp_arrays[11]
     elastic = compile_stage(_elastic_stage if switches[OPT_ELASTIC] != 0 else _no_elastic_stage, types.Tuple((i64, b1)),
-                            Mq, i64, K_obj, Y0N, b1, Kw, Hq, wN, external, KGt, Ak, yk, Rb, ework)
-    qp_rows = compile_stage(_qp_rows, types.Tuple((i64, b1)), b1, Y, Y0N, wN, ddYn, W, w_free, H, h, J, Jdq, arm_kind,
-                            arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic)
+                            Mq, i64, K_obj, Y0N, b1, Kw, Hq, tw.wN, external, KGt, Ak, yk, Rb, ework)
+    qp_rows = compile_stage(_qp_rows, types.Tuple((i64, b1)), b1, Y, Y0N, tw.wN, tw.ddYn, W, w_free, H, h, J, Jdq,
+                            arm_kind, arm_dof, qp, qp_arrays, opts, tw.rc, tw.r0, tw.nrm, tw.Jg, tw.bias, tw.Wa, tw.rhs_t,
+                            tw.qdd, tw.piv, tw.wv, tw.wm, tw.R3, elastic)
     qp_answer = compile_stage(_qp_answer, types.Tuple((i64, i64, b1, i64)), Hq, gq, Mq, lo, hi, xq, zq, ws, b1, flags,
                               i64, i64, i64, i64, f64, i64, f64, i64, i64, i64, i64)
     control = compile_stage(_control, types.UniTuple(i64, 2), b1, b1, ctrl, posture, C_comp, arm_kind, arm_dof, q_off,
-                            f64, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Y, dY, H, h, J, Jdq, W, w_free, S, x, lead_off,
-                            integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti)
+                            f64, tw.F_set, tw.F_cmd, tw.F_seen, Y0N, tw.Yn, tw.dYn, tw.ddYn, Y, dY, H, h, J, Jdq, W, w_free,
+                            S, x, lead_off, integ, tau, tw.R3, tw.pv, tw.inc, tw.Yv, tw.err, tw.a_cmd, tw.corr, tw.tp, tw.wv,
+                            tw.wm, tw.piv, tw.ti)
     energy = compile_stage(_energy_stage if switches[OPT_ENERGY] != 0 else _no_energy_stage, types.Tuple((f64, f64, i64)),
                            x, P, cws, eF, eDY0)
     return advance, terms, qp_rows, qp_answer, control, energy, elastic
@@ -600,7 +607,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
     advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
     # every work array of a tick, made once per run by tick_workspace (the kernel allocates nothing)
     (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
-     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw
+     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw  # TickWorkspace, in its field order
     for a in range(obj_inertia.shape[0]):
         obj_inertia[a] = obj[1 + a]
     k = k0
