@@ -31,7 +31,7 @@ class ParameterError(PlantError, ValueError):
 class EulerSingularityError(PlantError, ArithmeticError):
     """A ZYX Euler-angle map was evaluated where ``cos(theta)`` is (almost) zero.
 
-    The body-rate map ``L(A)`` of MODEL.md section 2 is singular at ``theta = +-pi/2``; the
+    The body-rate map ``L(A)`` of docs/model.md section 2 is singular at ``theta = +-pi/2``; the
     Euler-angle coordinates cannot represent angular velocity there.
 
     Attributes:

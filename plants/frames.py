@@ -1,6 +1,6 @@
-"""Frames: ZYX Euler angles, the body-rate map ``L(A)`` and its time derivative (MODEL.md s.2).
+"""Frames: ZYX Euler angles, the body-rate map ``L(A)`` and its time derivative (docs/model.md s.2).
 
-Convention (ours, MODEL.md s.2): a node pose is ``Y = (r, A)`` with ``r`` in [m] and
+Convention (ours, docs/model.md s.2): a node pose is ``Y = (r, A)`` with ``r`` in [m] and
 ``A = (psi, theta, phi)`` in [rad], and
 
 .. math::

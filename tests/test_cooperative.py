@@ -1,4 +1,4 @@
-"""The cooperative plant (MODEL.md s.5, 177, 183): mass matrix, an independent re-assembly of the
+"""The cooperative plant (docs/model.md s.5, 177, 183): mass matrix, an independent re-assembly of the
 arm and object equations, contact points against the elastic system, static deflections
 against analytic spring solutions, the immobile linearization, contact wrenches, the nominal
 motion (148), the Euler singularity, size reports and the leader/follower regrouping."""

@@ -1,4 +1,4 @@
-"""The elastic system (MODEL.md s.3): forces are exact gradients, the invariances of 4.7,
+"""The elastic system (docs/model.md s.3): forces are exact gradients, the invariances of 4.7,
 inertia and the immobile stiffness matrix, parameter validation, and conservation of momentum
 by the free system (an independent check of the gyroscopic terms)."""
 
@@ -94,7 +94,7 @@ def test_central_spring_with_explicit_rest_length_and_anisotropic_stiffness(spac
     Y = deformed(es, rng)
     F = es.elastic_force(Y)
     assert rel(F, fd_gradient(es.elastic_potential, Y)) <= FD_RTOL
-    # the isotropic form: Pi = 1/2 c (|d| - l)^2 (MODEL.md s.3)
+    # the isotropic form: Pi = 1/2 c (|d| - l)^2 (docs/model.md s.3)
     es_iso = ElasticSystem(space, nodes, [Interconnection((0, 1), 1e4, rest_length=0.15)], Yr)
     Yp = Y.reshape(3, p)
     npos = 3 if space == "spatial" else 2
@@ -175,7 +175,7 @@ def rigid_velocities(es, Y, rng):
 
 @pytest.mark.parametrize("space,element,m", CASES)
 def test_frame_invariant_dampers_do_no_work_under_rigid_motion(space, element, m):
-    """MODEL.md s.3 [ours]: zero dissipation and zero damping force for any rigid translation plus
+    """docs/model.md s.3 [ours]: zero dissipation and zero damping force for any rigid translation plus
     rotation of a deformed (loaded) state, to rounding; the book's form does dissipate under a spin."""
     es = elastic(space, m, element, damping=60.0, torsion_damping=0.5, node_springs=True)
     rng = np.random.default_rng(40 + m)
@@ -305,7 +305,7 @@ TORSION_CASES = [
 def test_offset_element_small_angle_torsion_stiffness(space, torsion):
     """Near the reference (theta = phi = 0 for the contact nodes of the scene) the offset
     element's orientation spring must have stiffness cA per Euler axis, like the central
-    element and the immobile K of 4.5 (its linearization, MODEL.md s.3)."""
+    element and the immobile K of 4.5 (its linearization, docs/model.md s.3)."""
     es = elastic(space, 2, "offset", stiffness=0.0, torsion=torsion)
     es_c = elastic(space, 2, "central", stiffness=0.0, torsion=torsion)
     expected = np.diag(np.atleast_1d(torsion) * np.ones(es.p // 2 if space == "spatial" else 1))

@@ -1,4 +1,4 @@
-"""Energy conservation of the whole cooperative plant (MODEL.md s.3: without damping and input,
+"""Energy conservation of the whole cooperative plant (docs/model.md s.3: without damping and input,
 T + Pi + gravity is conserved), integrated with scipy's DOP853 as the reference integrator.
 
 What is checked: ``plant.energy`` (arm and node kinetic energy through Gamma, elastic energy,

@@ -1,4 +1,4 @@
-"""The ZYX Euler-angle singularity (MODEL.md s.2, issue 5): detected on the nominal path before a run
+"""The ZYX Euler-angle singularity (docs/model.md s.2, issue 5): detected on the nominal path before a run
 (bad input, exit 2) and in the running state (status "diverged" with the singularity as the reason)."""
 
 from __future__ import annotations

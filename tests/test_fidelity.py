@@ -80,7 +80,7 @@ def test_plane_mapping_against_the_planar_grasp_matrix():
         theta = rng.uniform(-1.0, 1.0)
         assert planar_angle(np.array([0.0, theta, 0.0])) == pytest.approx(-theta, abs=1e-12)
         assert pose_in_plane([d[0], 0.0, d[1], 0.0, theta, 0.0], "spatial") == pytest.approx([d[0], d[1], -theta])
-        # any orientation: the written-out entries against the plant's R(A) (MODEL.md s.2)
+        # any orientation: the written-out entries against the plant's R(A) (docs/model.md s.2)
         A = rng.uniform(-1.2, 1.2, size=3)
         R = rotation_zyx(A)
         assert planar_angle(A) == pytest.approx(math.atan2(R[2, 0], R[0, 0]), abs=1e-12)
@@ -120,7 +120,7 @@ def test_outcomes_agree(report):
     the plant's own model (computed torque): the arm dynamics act only through the torque held
     over one control period T = 1 ms, where the cancellation is not exact. That is also what is
     left of the closed loop's own tracking error once the dampers do no work under the rigid motion
-    of the carried grasp (frame-invariant dampers, MODEL.md s.3): the book's dampers dragged against
+    of the carried grasp (frame-invariant dampers, docs/model.md s.3): the book's dampers dragged against
     it and made errors 40 times larger, common to all three models (8.7 um instead of 374 um on the
     position: ``coopctrl fidelity`` with and without ``--set 'springs[0].damping_form="book"' --set
     'springs[1].damping_form="book"'``). A bound relative to the loop's own error is therefore no

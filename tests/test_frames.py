@@ -1,4 +1,4 @@
-"""ZYX Euler angles and the body-rate map (MODEL.md s.2): against scipy's Rotation and
+"""ZYX Euler angles and the body-rate map (docs/model.md s.2): against scipy's Rotation and
 finite differences, and the singularity at theta = +-pi/2."""
 
 from __future__ import annotations

@@ -174,7 +174,7 @@ def test_omega_max_matches_the_three_mass_chain(k, node_mass):
 
 
 def test_squeezed_central_springs_show_static_instability():
-    """Squeeze on central springs gives negative lateral stiffness (MODEL.md s.3): counted, not a limit."""
+    """Squeeze on central springs gives negative lateral stiffness (docs/model.md s.3): counted, not a limit."""
     modes = linear_modes(planar_contact_points().plant(), build.initial_state(planar_contact_points()))
     assert modes.unstable_stiffness_modes >= 1
     assert modes.stiffness_asymmetry < 1e-6

@@ -1,7 +1,7 @@
 """Arms from URDF against Pinocchio (the oracle), built from the same file.
 
 ``H``, ``h`` (gravity and joint damping included), the tip pose, the Jacobian into the
-project's pose coordinates ``(r, A)`` (ZYX Euler, MODEL.md s.2) and ``dJ dq`` agree within
+project's pose coordinates ``(r, A)`` (ZYX Euler, docs/model.md s.2) and ``dJ dq`` agree within
 1e-9 relative at seeded random configurations: both sides are exact rigid-body algorithms in
 double precision, so they differ only by rounding (observed ~1e-14).
 """

@@ -1,4 +1,4 @@
-"""The ZYX Euler-angle singularity along a nominal path and in a running state (MODEL.md s.2).
+"""The ZYX Euler-angle singularity along a nominal path and in a running state (docs/model.md s.2).
 
 The band, its checks and the chart's stiffening are defined beside the loop that stops in them,
 :mod:`coopctrl.loop.euler_band` (the loop imports nothing of ``coopctrl.analysis``); this module keeps

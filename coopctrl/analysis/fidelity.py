@@ -17,7 +17,7 @@ each closed loop and reports, per model,
 The common plane
 ----------------
 A faithful comparison needs a task that lives in the vertical x-z plane of the world (gravity
-along -z; MODEL.md §2, planar reduction). Spatial results are mapped into it explicitly by
+along -z; docs/model.md §2, planar reduction). Spatial results are mapped into it explicitly by
 :func:`plane_trace`, and nothing out of the plane is dropped silently:
 
 * position ``(x, y, z) -> (x, z)``; the out-of-plane offset ``y - y(0)`` is reported;
@@ -69,7 +69,7 @@ def _angles(A) -> tuple[np.ndarray, ...]:
 def planar_angle(A) -> np.ndarray:
     """Planar angle ``theta_p = atan2(R[2, 0], R[0, 0])`` [rad] of ZYX angles ``A`` (N, 3) or (3,).
 
-    ``R = Rz(psi) Ry(theta) Rx(phi)`` (MODEL.md §2) has ``R[0, 0] = cos(psi) cos(theta)`` and
+    ``R = Rz(psi) Ry(theta) Rx(phi)`` (docs/model.md §2) has ``R[0, 0] = cos(psi) cos(theta)`` and
     ``R[2, 0] = -sin(theta)``: the direction of the body x axis in the x-z plane, from +x toward
     +z; ``-theta`` for a pure pitch ``A = (0, theta, 0)``.
     """

@@ -15,7 +15,7 @@ gives every contact node's nominal motion (148) and the external load ``w_N``; t
    joint's ``tau_max``.
 4. **Static stability** (at the start and at every via point): the object's translational
    stiffness with the contact nodes held must be positive definite (a squeezed central-spring grasp
-   buckles, MODEL.md s.3).
+   buckles, docs/model.md s.3).
 
 The Euler band (a nominal path within 5 deg of pitch +-90 deg) is refused earlier, as bad input
 (exit 2), when the loop is built. The first failure is reported with its time and what binds, e.g.

@@ -18,7 +18,7 @@ own (:mod:`coopctrl.analysis.closed_loop_stability`), is the closed-loop predict
 is run from the same state over a short horizon with a free plant step ``h``
 (:meth:`ClosedLoop.set_step`), the controller still at its period ``T``. A trial step is *stable*
 when the run ends with status ``"ok"`` and the elastic energy of the interconnections (every
-spring, translational and torsional: ``Pi(Y)`` of MODEL.md s.3) stays within
+spring, translational and torsional: ``Pi(Y)`` of docs/model.md s.3) stays within
 ``(1 + GROWTH_BOUND)^2`` of the largest one of a reference run over the same time (RK4 at a quarter
 of its predicted limit, at most ``T``), i.e. the deformation amplitude within ``1 + GROWTH_BOUND``::
 

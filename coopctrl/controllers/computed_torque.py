@@ -1,4 +1,4 @@
-"""Computed torque on the full cooperative model, in node coordinates (MODEL.md s.4-6)."""
+"""Computed torque on the full cooperative model, in node coordinates (docs/model.md s.4-6)."""
 
 from __future__ import annotations
 

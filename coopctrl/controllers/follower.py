@@ -1,4 +1,4 @@
-"""A follower arm: elastic-force regulation around a computed-torque motion loop (MODEL.md s.6)."""
+"""A follower arm: elastic-force regulation around a computed-torque motion loop (docs/model.md s.6)."""
 
 from __future__ import annotations
 

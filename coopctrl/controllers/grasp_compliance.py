@@ -31,7 +31,7 @@ class GraspCompliance:
     pseudo-inverse).
 
     :meth:`deformation` maps a desired wrench to the node pose that produces it (the nominal
-    deformation of MODEL.md s.6, feedforward for the leader and the followers).
+    deformation of docs/model.md s.6, feedforward for the leader and the followers).
     """
 
     def __init__(self, plant, step: float = 1e-6):

@@ -1,4 +1,4 @@
-"""The leader arm: computed torque tracking its nominal node trajectory (MODEL.md s.6)."""
+"""The leader arm: computed torque tracking its nominal node trajectory (docs/model.md s.6)."""
 
 from __future__ import annotations
 

@@ -8,7 +8,7 @@ from plants.frames import body_rate_map, body_rate_map_dot, rotation_zyx
 
 
 def required_object_wrench(space: str, mass: float, inertia, gravity, Y0, dY0, ddY0) -> np.ndarray:
-    """``w_N`` (MODEL.md s.6): the total contact wrench about the object's MC, world frame.
+    """``w_N`` (docs/model.md s.6): the total contact wrench about the object's MC, world frame.
 
     .. math::
         w_N = \\begin{bmatrix} m_0 (\\ddot r_0 - g) \\\\

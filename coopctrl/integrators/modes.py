@@ -2,7 +2,7 @@
 
 About a state ``x`` (with the input ``tau_eq`` that holds the arms still, see :func:`linear_modes`)
 the plant is linearized by central differences, ``A = df/dx`` (:meth:`CooperativePlant.jacobians`),
-in the state order ``x = (z, dz)``, ``z = (q, Y_0)`` (MODEL.md s.5). Its acceleration rows give the
+in the state order ``x = (z, dz)``, ``z = (q, Y_0)`` (docs/model.md s.5). Its acceleration rows give the
 generalized stiffness and damping [#]_:
 
 .. math::

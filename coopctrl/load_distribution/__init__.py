@@ -1,4 +1,4 @@
-"""Load distribution: contact wrenches that carry the object's nominal load (MODEL.md section 6).
+"""Load distribution: contact wrenches that carry the object's nominal load (docs/model.md section 6).
 
 One concept per module: :mod:`.grasp_matrix` (``G`` and the virtual-linkage basis ``E``),
 :mod:`.config` (:class:`LoadDistributionConfig`), :mod:`.assembly` (the QP's rows, in numba: written

@@ -1,4 +1,4 @@
-"""Configuration of the load-distribution QP (MODEL.md section 6)."""
+"""Configuration of the load-distribution QP (docs/model.md section 6)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Grasp matrix and virtual-linkage internal-force basis (MODEL.md section 6).
+"""Grasp matrix and virtual-linkage internal-force basis (docs/model.md section 6).
 
 A contact wrench ``F_i`` [N, N m] is applied by arm i to the object at the contact point
 ``r_i`` [m], in world coordinates. The object mass centre is ``r_0`` [m].

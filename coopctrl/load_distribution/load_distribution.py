@@ -1,4 +1,4 @@
-"""Load distribution: the contact wrenches that carry the nominal object load (MODEL.md section 6)."""
+"""Load distribution: the contact wrenches that carry the nominal object load (docs/model.md section 6)."""
 
 from __future__ import annotations
 

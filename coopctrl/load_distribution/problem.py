@@ -1,4 +1,4 @@
-"""The load-distribution QP, assembled in preallocated arrays (MODEL.md section 6)."""
+"""The load-distribution QP, assembled in preallocated arrays (docs/model.md section 6)."""
 
 from __future__ import annotations
 

@@ -97,7 +97,7 @@ def static_instability(loop, x) -> str:
         return (f"the grasp is statically unstable: the object's translational stiffness has a negative "
                 f"eigenvalue {ev[0]:.4g} N/m along ({direction}); central springs carry lateral load only "
                 "through tension and squeeze makes their lateral stiffness negative, so the object buckles out "
-                "of the grasp line (MODEL.md s.3). Use element = \"offset\" (shear stiffness) or less squeeze")
+                "of the grasp line (docs/model.md s.3). Use element = \"offset\" (shear stiffness) or less squeeze")
     return ""
 
 
@@ -150,7 +150,7 @@ def chart_stiffening(loop, x_back, t_back: float, x0) -> str:
     start state ``x0``), the step is beyond the integrator's predicted limit and the mode that sets
     that limit lives mostly (share > 1/2, :func:`~coopctrl.loop.euler_band.chart_mode_share`) on the
     Euler angles of nodes pitched beyond 45 deg: rotational stiffness and damping written in Euler-angle
-    coordinates act on the inertia ``L^T I L``, which loses rank like ``cos^2(theta)`` (MODEL.md s.2),
+    coordinates act on the inertia ``L^T I L``, which loses rank like ``cos^2(theta)`` (docs/model.md s.2),
     so such a mode stiffens like ``1 / cos^2(theta)`` on the way to the singularity.
     """
     for x, t in ((x_back, t_back), (x0, 0.0)):

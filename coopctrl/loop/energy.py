@@ -1,7 +1,7 @@
 """The plant's energy inside the compiled tick, from the control terms the tick already has.
 
 :func:`plant_energy` is the kernel form of ``CooperativePlant.energy`` / ``kinetic_energy``
-(MODEL.md s.3), allocation free:
+(docs/model.md s.3), allocation free:
 
 .. math::
     T = \\tfrac12 \\sum_i \\dot q_i^T H_i \\dot q_i + \\tfrac12 \\sum_{k=0}^{m} \\dot Y_k^T W_k \\dot Y_k,

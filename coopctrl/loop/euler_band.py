@@ -1,4 +1,4 @@
-"""The ZYX Euler-angle band: where the closed loop stops before the singularity (MODEL.md s.2).
+"""The ZYX Euler-angle band: where the closed loop stops before the singularity (docs/model.md s.2).
 
 A node pose carries ZYX angles ``A = (psi, theta, phi)``; the body-rate map ``L(A)`` is singular
 at ``cos(theta) = 0`` (pitch +-90 deg). Near it the Euler coordinates are a bad chart: ``L^-1``
@@ -73,7 +73,7 @@ class SingularityHit:
         away = math.degrees(math.asin(min(self.cos_theta, 1.0)))
         return (f"{self.what} reaches pitch theta = {self.pitch_deg:.2f} deg{when} (cos(theta) = {self.cos_theta:.3g}), "
                 f"{away:.2f} deg from the ZYX Euler-angle singularity at +-90 deg where the body-rate map L(A) is "
-                "not invertible (MODEL.md s.2)")
+                "not invertible (docs/model.md s.2)")
 
 
 def margin_cos(margin_deg: float = EULER_PITCH_MARGIN_DEG) -> float:

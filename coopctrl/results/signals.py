@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
 
 def pose_names(p: int) -> list[str]:
-    """Coordinate names of a pose (MODEL.md §2)."""
+    """Coordinate names of a pose (docs/model.md §2)."""
     return ["x", "z", "theta"] if p == 3 else ["x", "y", "z", "psi", "theta", "phi"]
 
 

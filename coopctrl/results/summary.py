@@ -47,7 +47,7 @@ def _max(values: np.ndarray) -> float | None:
 
 
 def _rotation(A: np.ndarray) -> np.ndarray:
-    """R = Rz(psi) Ry(theta) Rx(phi) for rows A = (psi, theta, phi) (MODEL.md §2): (N, 3, 3)."""
+    """R = Rz(psi) Ry(theta) Rx(phi) for rows A = (psi, theta, phi) (docs/model.md §2): (N, 3, 3)."""
     cps, sps = np.cos(A[:, 0]), np.sin(A[:, 0])
     cth, sth = np.cos(A[:, 1]), np.sin(A[:, 1])
     cph, sph = np.cos(A[:, 2]), np.sin(A[:, 2])

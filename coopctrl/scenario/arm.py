@@ -48,7 +48,7 @@ class ArmConfig:
             ``"panda"`` (Franka Panda, 7 joints), ``"ur5e"`` (6), ``"iiwa14"`` (KUKA iiwa 14, 7)
             (URDF files shipped with the package), ``"urdf"`` (your own URDF file: keys
             ``urdf``, ``base_link``, ``tip_link``) or ``"dh"`` (a standard-DH table, key ``dh``).
-        role: ``"leader"`` or ``"follower"``; a scenario has exactly one leader (MODEL.md §1).
+        role: ``"leader"`` or ``"follower"``; a scenario has exactly one leader (docs/model.md §1).
         base: Pose of the arm base in the world, same shape as a pose [m, rad].
         grasp: Pose of the contact node relative to the object frame [m, rad].
         node_mass: Mass of the contact node (gripper tip and pad) in [kg].

@@ -1,4 +1,4 @@
-"""``[controllers]``: gains of the leader and of the followers (MODEL.md §6)."""
+"""``[controllers]``: gains of the leader and of the followers (docs/model.md §6)."""
 
 from __future__ import annotations
 

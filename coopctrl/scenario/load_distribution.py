@@ -1,4 +1,4 @@
-"""``[load_distribution]``: the options of the load-distribution QP (MODEL.md s.6).
+"""``[load_distribution]``: the options of the load-distribution QP (docs/model.md s.6).
 
 The section *is* the QP's own configuration (:class:`coopctrl.load_distribution.LoadDistributionConfig`,
 validated there); a scene only changes the default squeeze to a light 5 N grip.

@@ -44,9 +44,9 @@ def default_trajectory(pose: tuple[float, ...], space: str) -> TrajectoryConfig:
 
 
 def _check_euler(path: str, pose: tuple[float, ...]) -> None:
-    """Reject a spatial pose at the Euler-angle singularity cos(theta) = 0 (MODEL.md §2)."""
+    """Reject a spatial pose at the Euler-angle singularity cos(theta) = 0 (docs/model.md §2)."""
     if len(pose) == 6 and abs(math.cos(pose[4])) < 1e-6:
-        raise ScenarioError(path, list(pose), "an orientation with cos(theta) != 0 (Euler singularity, MODEL.md §2)")
+        raise ScenarioError(path, list(pose), "an orientation with cos(theta) != 0 (Euler singularity, docs/model.md §2)")
 
 
 @dataclass(frozen=True)
@@ -250,7 +250,7 @@ class Scenario:
 
     @property
     def state_size(self) -> int:
-        """Size of the state ``(z, z')`` with ``z = col(q, Y_0)`` (MODEL.md §5): 2 (sum n_i + p)."""
+        """Size of the state ``(z, z')`` with ``z = col(q, Y_0)`` (docs/model.md §5): 2 (sum n_i + p)."""
         return 2 * (sum(self.dof_per_arm) + self.pose_size)
 
     # ------------------------------------------------------------------ build

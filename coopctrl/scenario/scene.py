@@ -17,8 +17,8 @@ class SceneConfig:
 
     Attributes:
         space: ``"planar"`` (bodies move in the vertical x-z plane, poses ``[x, z, theta]``) or
-            ``"spatial"`` (poses ``[x, y, z, psi, theta, phi]``). MODEL.md §2.
-        unloaded_state: ``"mobile"`` (general model, MODEL.md §3, (113)) or ``"immobile"``
+            ``"spatial"`` (poses ``[x, y, z, psi, theta, phi]``). docs/model.md §2.
+        unloaded_state: ``"mobile"`` (general model, docs/model.md §3, (113)) or ``"immobile"``
             (linear plant about a fixed unloaded state, (95-102)).
         gravity: Magnitude of gravity along -z in [m/s^2].
     """

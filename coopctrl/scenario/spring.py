@@ -1,4 +1,4 @@
-"""``[[springs]]``: one elastic interconnection between two nodes (MODEL.md §3, (106-111))."""
+"""``[[springs]]``: one elastic interconnection between two nodes (docs/model.md §3, (106-111))."""
 
 from __future__ import annotations
 
@@ -26,10 +26,10 @@ class SpringConfig:
         torsion_damping: Rotational damping ``dA_ij`` in [N m s/rad], >= 0.
         element: ``"central"`` (the book's spring with rest length plus Euler-difference torsion
             springs; no lateral stiffness without pre-tension) or ``"offset"`` (rest offset fixed in
-            the object frame, so it also has shear stiffness; MODEL.md §3, known limit).
+            the object frame, so it also has shear stiffness; docs/model.md §3, known limit).
         damping_form: ``"frame_invariant"`` (default: the dampers act on the rate of the deformation,
             the elongation in the element's frame and the relative angular velocity, so they do no
-            work under a rigid motion; MODEL.md §3 [ours]) or ``"book"`` (110-111: world velocity
+            work under a rigid motion; docs/model.md §3 [ours]) or ``"book"`` (110-111: world velocity
             differences and Euler-rate differences, as in the book).
     """
 

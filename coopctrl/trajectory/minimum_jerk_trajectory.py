@@ -30,7 +30,7 @@ class MinimumJerkTrajectory:
 
     so velocity and acceleration are zero at every via point, and the peak velocity of a
     segment is ``1.875 |Y_{i+1} - Y_i| / T_i`` at its middle. Each coordinate (positions in
-    [m], Euler angles ZYX ``(psi, theta, phi)`` in [rad], MODEL.md s.2) is interpolated
+    [m], Euler angles ZYX ``(psi, theta, phi)`` in [rad], docs/model.md s.2) is interpolated
     separately; the angles are not wrapped (the path follows the numerical difference of the
     given angles). Before ``t = 0`` the first pose is held, after :attr:`duration` the last one,
     both with zero velocity and acceleration.

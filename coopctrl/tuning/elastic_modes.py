@@ -3,7 +3,7 @@
 The leader's and the followers' computed-torque loops move the contact nodes as commanded,
 cancelling the arms' dynamics and the interconnection forces at the nodes, so the elastic
 dynamics that remain are those of the object on its interconnections with the contact nodes
-held (MODEL.md s.3, linearized about ``Y``):
+held (docs/model.md s.3, linearized about ``Y``):
 
 .. math::
     W_0\\, \\ddot y_0 + D_{00}\\, \\dot y_0 + K_{00}\\, y_0 = 0

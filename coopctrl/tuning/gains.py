@@ -32,7 +32,7 @@ _NONNEGATIVE = {"follower_force_kp", "follower_force_ki"}
 
 @dataclass(frozen=True)
 class Gains:
-    """Controller gains (MODEL.md s.6); ``None`` = unchanged.
+    """Controller gains (docs/model.md s.6); ``None`` = unchanged.
 
     Attributes:
         leader_natural_frequency: Leader tracking ``omega_n`` in [rad/s] (``K_p = omega_n^2``).

@@ -3,7 +3,7 @@
 With an exact model, the computed torque of :class:`~coopctrl.controllers.LeaderController`
 gives the leader node the commanded acceleration, so each pose coordinate of the tracking
 error ``e = Y_v - Y_v^N`` is a double integrator driven by the feedback part ``a`` of the
-command (MODEL.md s.6):
+command (docs/model.md s.6):
 
 .. math::
     \\ddot e = a, \\qquad a_k = -K_p e_k - K_d \\dot e_k, \\quad K_p = \\omega_n^2,\\; K_d = 2 \\zeta \\omega_n

@@ -39,7 +39,7 @@ class OperatingPoint:
     """An equilibrium of the held closed loop.
 
     Attributes:
-        x: Plant state ``(z, z')`` (MODEL.md s.5).
+        x: Plant state ``(z, z')`` (docs/model.md s.5).
         tau: Joint torques there [N m].
         pi_output: Stacked PI outputs ``v`` of the followers [N, N m] (``k_p e + k_i I``).
         integrals: Follower arm index -> error integral ``I`` [N s] (the follower's state).

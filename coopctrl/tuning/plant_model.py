@@ -55,7 +55,7 @@ class PlantModel:
 
 def nominal_state(scenario) -> np.ndarray:
     """The state the linear plant is taken about: the scene's loaded initial state, or the
-    unloaded state for an immobile scene (MODEL.md s.3, 4.5) or ``simulation.start = "unloaded"``."""
+    unloaded state for an immobile scene (docs/model.md s.3, 4.5) or ``simulation.start = "unloaded"``."""
     from coopctrl.scenario import build
 
     if scenario.scene.unloaded_state == "immobile":

@@ -1,7 +1,7 @@
 """Names of the signals of the linear models (states, inputs, outputs), one convention for all.
 
 Arms are numbered from 1 in signal names (``arm1`` is ``arms[0]``), as in
-:meth:`CooperativePlant.state_names`. Poses follow MODEL.md s.2; wrenches are world-frame
+:meth:`CooperativePlant.state_names`. Poses follow docs/model.md s.2; wrenches are world-frame
 ``(F, M)`` as a wrist sensor reads them (:meth:`CooperativePlant.contact_wrenches`).
 
 =============================  ==================================  =========
@@ -23,7 +23,7 @@ in the sense of ``theta``.
 
 from __future__ import annotations
 
-#: Pose coordinates per space (MODEL.md s.2).
+#: Pose coordinates per space (docs/model.md s.2).
 POSE = {"spatial": ("x", "y", "z", "psi", "theta", "phi"), "planar": ("x", "z", "theta")}
 
 #: Wrench components per space (world frame).

@@ -1,4 +1,4 @@
-"""Robot arms (MODEL.md s.4): ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)``, ``J``, ``dJ dq``.
+"""Robot arms (docs/model.md s.4): ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)``, ``J``, ``dJ dq``.
 
 The hot path is the numba kernels :func:`chain_arm_terms` (general joints: URDF arms and DH
 arms alike, ``plants.arms._chain_kernels``), :func:`spatial_arm_terms` (DH only,

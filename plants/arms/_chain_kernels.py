@@ -1,4 +1,4 @@
-"""Numba kernels of a spatial serial chain with general joints (URDF-style; MODEL.md s.4).
+"""Numba kernels of a spatial serial chain with general joints (URDF-style; docs/model.md s.4).
 
 The same outputs as the DH kernel :func:`plants.arms._spatial_kernels.spatial_arm_terms`, for a
 chain whose joint ``k`` sits at a fixed transform ``origin_k`` in the frame of link ``k - 1`` and
@@ -9,7 +9,7 @@ moves about (revolute) or along (prismatic) a unit ``axis_k`` of that joint fram
     {}^0T_k = {}^0T_{k-1} \\; \\mathrm{origin}_k \\; M_k(q_k), \\qquad
     M_k = \\mathrm{Rot}(\\mathrm{axis}_k, q_k) \\;\\text{or}\\; \\mathrm{Trans}(\\mathrm{axis}_k\\, q_k)
 
-and then ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)`` (ZYX Euler, MODEL.md s.2),
+and then ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)`` (ZYX Euler, docs/model.md s.2),
 ``J = dY/dq`` (analytic: ``dA = L(A)^-1 R^T omega_world``) and ``dJ dq``.
 
 Algorithm (all quantities in world coordinates, reference point of body ``k`` = the origin

@@ -1,4 +1,4 @@
-"""Numba kernels of a planar serial arm in the vertical x-z plane (MODEL.md s.2 and s.4).
+"""Numba kernels of a planar serial arm in the vertical x-z plane (docs/model.md s.2 and s.4).
 
 Planar reduction: node pose ``Y = (x, z, theta)``, ``theta`` [rad] from +x towards +z, all
 joints revolute about the axis normal to the x-z plane, gravity ``(gx, gz)`` [m/s^2]. Same

@@ -1,4 +1,4 @@
-"""Numba kernels of a spatial serial arm with revolute standard-DH joints (MODEL.md s.4).
+"""Numba kernels of a spatial serial arm with revolute standard-DH joints (docs/model.md s.4).
 
 The hot path of the cooperative right-hand side: :func:`spatial_arm_terms` evaluates, in one
 pass over the chain, everything (166)-(172) need for arm i:

@@ -8,7 +8,7 @@ import numpy as np
 class ArmQueries:
     """Mixin: ``inertia``, ``bias``, ``pose``, ``jacobian``, ``jacobian_dot_qd`` and ``kinetic``
     read from ``self.terms(q, dq)`` (``H q'' + h = tau``, ``Y = Phi(q)``, ``J``, ``dJ/dt dq``;
-    MODEL.md s.4, 166-172). A class using it provides ``dof``, ``terms`` and ``_joint_vector``."""
+    docs/model.md s.4, 166-172). A class using it provides ``dof``, ``terms`` and ``_joint_vector``."""
 
     def inertia(self, q) -> np.ndarray:
         """Joint-space inertia ``H(q)`` [kg m^2]."""

@@ -1,4 +1,4 @@
-"""The result of one arm evaluation: everything (166)-(172) need (MODEL.md s.4)."""
+"""The result of one arm evaluation: everything (166)-(172) need (docs/model.md s.4)."""
 
 from __future__ import annotations
 

@@ -21,7 +21,7 @@ class ChainArm(ArmQueries, SpatialInverseKinematics):
 
     Link frame ``k`` is ``T_{k-1} origin_k M_k(q_k)`` (:class:`ChainJoint`). The node pose
     ``Y = (r, A)``: ``r`` [m] world position of the node frame (``tool`` in the last link
-    frame), ``A`` its ZYX Euler angles [rad] (MODEL.md s.2). ``J`` is the analytic Jacobian
+    frame), ``A`` its ZYX Euler angles [rad] (docs/model.md s.2). ``J`` is the analytic Jacobian
     into these coordinates (rows 3-5: ``dA/dt = L(A)^-1 R^T omega_world``). Gravity acts along
     ``gravity`` in the world, (0, 0, -9.81) by default: along -z of the base frame when
     ``base`` is not rotated.

@@ -1,4 +1,4 @@
-"""One moving joint of a general serial chain and the rigid link it carries (MODEL.md s.4)."""
+"""One moving joint of a general serial chain and the rigid link it carries (docs/model.md s.4)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""One link of a spatial serial arm, standard Denavit-Hartenberg (MODEL.md s.4)."""
+"""One link of a spatial serial arm, standard Denavit-Hartenberg (docs/model.md s.4)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""A planar serial arm in the vertical x-z plane (MODEL.md s.2 planar scenes, s.4)."""
+"""A planar serial arm in the vertical x-z plane (docs/model.md s.2 planar scenes, s.4)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""One link of a planar serial arm in the vertical x-z plane (MODEL.md s.2 and s.4)."""
+"""One link of a planar serial arm in the vertical x-z plane (docs/model.md s.2 and s.4)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""A spatial serial arm with revolute standard-DH joints (MODEL.md s.4, (166)-(172))."""
+"""A spatial serial arm with revolute standard-DH joints (docs/model.md s.4, (166)-(172))."""
 
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
     """A spatial serial arm: ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)`` (166, 169).
 
     The node pose ``Y = (r, A)``: ``r`` [m] world position of the tool frame origin, ``A``
-    its ZYX Euler angles [rad] (MODEL.md s.2). ``J`` is the analytic Jacobian into these
+    its ZYX Euler angles [rad] (docs/model.md s.2). ``J`` is the analytic Jacobian into these
     coordinates (rows 3-5: ``dA/dt = L(A)^-1 R^T omega_world``).
 
     Attributes:

@@ -1,4 +1,4 @@
-"""Arms from URDF files: :func:`from_urdf` (MODEL.md s.4).
+"""Arms from URDF files: :func:`from_urdf` (docs/model.md s.4).
 
 Parser. The URDF is read with the standard library's ``xml.etree.ElementTree``: the subset the
 dynamics needs (``<link>/<inertial>``, ``<joint>`` with ``<origin>``, ``<axis>``, ``<limit>``,

@@ -1,4 +1,4 @@
-"""The cooperative system of MODEL.md section 5: arms rigidly holding the elastic system's contact nodes."""
+"""The cooperative system of docs/model.md section 5: arms rigidly holding the elastic system's contact nodes."""
 
 from plants.cooperative.assembly import assemble_plant
 from plants.cooperative.contact_point import ContactPoint

@@ -1,4 +1,4 @@
-"""The fused right-hand side of the planar cooperative system (MODEL.md s.5, planar reduction).
+"""The fused right-hand side of the planar cooperative system (docs/model.md s.5, planar reduction).
 
 Same structure as :mod:`plants.cooperative._spatial_kernel` with poses ``(x, z, theta)``,
 constant node inertia ``W_i = diag(m_i, m_i, I_i)`` and no gyroscopic terms:
@@ -7,7 +7,7 @@ constant node inertia ``W_i = diag(m_i, m_i, I_i)`` and no gyroscopic terms:
     N_i = H_i + J_i^T W_i J_i, \\quad n_i = h_i + J_i^T (W_i \\dot J_i \\dot q_i + w_i), \\quad
     W_0 \\ddot Y_0 = -w_0
 
-The interconnections' forces, dampers included (frame invariant by default, MODEL.md s.3), come from
+The interconnections' forces, dampers included (frame invariant by default, docs/model.md s.3), come from
 the kernels of :mod:`plants.elastic`. numba's on-disk cache of this file is keyed on this file alone:
 after a change to the kernels it calls (:mod:`plants.elastic`, :mod:`plants.arms` ``_chain_kernels`` /
 ``_planar_kernels``, :mod:`plants.frames`, :mod:`plants.cooperative._linalg`), change this file too

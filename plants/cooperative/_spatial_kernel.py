@@ -1,4 +1,4 @@
-"""The fused right-hand side of the spatial cooperative system (MODEL.md s.5, 177, 183).
+"""The fused right-hand side of the spatial cooperative system (docs/model.md s.5, 177, 183).
 
 One numba call evaluates ``x' = f(t, x, tau)`` for ``x = (z, z')``, ``z = (q_1..q_m, Y_0)``:
 
@@ -13,7 +13,7 @@ object's block ``W_0 = blockdiag(m_0 I, L^T I L)`` is inverted in closed form: t
 linear in m. An arm of kind ``ARM_CONTACT_POINT`` is an actuated node without arm dynamics:
 its coordinates are the node pose itself (``J = I``, ``H = h = 0``).
 
-The interconnections' forces, dampers included (frame invariant by default, MODEL.md s.3), come from
+The interconnections' forces, dampers included (frame invariant by default, docs/model.md s.3), come from
 the kernels of :mod:`plants.elastic`. numba's on-disk cache of this file is keyed on this file alone:
 after a change to the kernels it calls (:mod:`plants.elastic`, :mod:`plants.arms` ``_chain_kernels`` /
 ``_planar_kernels``, :mod:`plants.frames`, :mod:`plants.cooperative._linalg`), change this file too

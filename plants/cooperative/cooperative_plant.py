@@ -1,4 +1,4 @@
-"""The cooperative system: m arms rigidly holding the contact nodes of the elastic system (MODEL.md s.5)."""
+"""The cooperative system: m arms rigidly holding the contact nodes of the elastic system (docs/model.md s.5)."""
 
 from __future__ import annotations
 
@@ -291,7 +291,7 @@ class CooperativePlant:
     def energy(self, x) -> float:
         """Total energy [J]: kinetic (arms and nodes), elastic, and gravitational (nodes and links).
 
-        Conserved by :meth:`rhs` without damping and input (MODEL.md s.3)."""
+        Conserved by :meth:`rhs` without damping and input (docs/model.md s.3)."""
         x = np.ascontiguousarray(x, dtype=float)
         T = self.kinetic_energy(x)
         Y = self.node_poses(x)

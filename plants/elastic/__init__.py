@@ -1,4 +1,4 @@
-"""The elastic system of MODEL.md section 3: nodes, interconnections, and their equations."""
+"""The elastic system of docs/model.md section 3: nodes, interconnections, and their equations."""
 
 from plants.elastic.elastic_system import ElasticSystem, pose_size
 from plants.elastic.interconnection import Interconnection

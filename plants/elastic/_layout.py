@@ -3,7 +3,7 @@
 The kernels take plain float64/int64 arrays (no Python objects), so the meaning of each column
 is fixed here, in one place, and used by both the packers and the kernels.
 
-Edge rows (one per interconnection, MODEL.md s.3):
+Edge rows (one per interconnection, docs/model.md s.3):
 
 spatial (``EDGE_WIDTH_SPATIAL`` columns)
     ``c[0:3]`` translational stiffness per axis [N/m]; ``cA[3:6]`` torsion stiffness per

@@ -1,4 +1,4 @@
-"""numba kernels of the planar elastic system (MODEL.md s.2-3, planar reduction).
+"""numba kernels of the planar elastic system (docs/model.md s.2-3, planar reduction).
 
 ``Y`` and ``dY`` are (N, 3) node poses ``(x, z, theta)`` in the vertical x-z plane and their
 rates; ``node_params`` is (N, 2) ``(mass, I)``; ``edge_index`` (E, 3) and ``edge_params``
@@ -84,7 +84,7 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
     """Add ``dD/d(dY)`` (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
 
     Central element: along the line, ``D = 1/2 d (u^T (dr_i - dr_j))^2``, ``u = (r_i - r_j)/|r_i - r_j|``
-    (frame invariant). Offset element, frame-invariant form (MODEL.md s.3 [ours]): the rate of the
+    (frame invariant). Offset element, frame-invariant form (docs/model.md s.3 [ours]): the rate of the
     elongation vector in node i's frame,
 
     .. math::

@@ -1,4 +1,4 @@
-"""numba kernels of the spatial elastic system (MODEL.md s.3, eqs. 104-121).
+"""numba kernels of the spatial elastic system (docs/model.md s.3, eqs. 104-121).
 
 Arrays: ``Y`` and ``dY`` are (N, 6) node poses ``(r, A)`` and their rates; ``node_params`` is
 (N, 4) ``(mass, I1, I2, I3)``; ``edge_index`` (E, 3) and ``edge_params`` (E, 27) follow
@@ -222,7 +222,7 @@ def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
 
     Central element, translation: ``D = 1/2 d (u^T (dr_i - dr_j))^2``, ``u = (r_i - r_j)/|r_i - r_j|``
     (the book's, frame invariant). Frame-invariant form (damping form ``DAMPING_FRAME_INVARIANT``,
-    MODEL.md s.3 [ours]), with ``omega_k = L(A_k) dA_k`` in node k's frame:
+    docs/model.md s.3 [ours]), with ``omega_k = L(A_k) dA_k`` in node k's frame:
 
     .. math::
         \\dot e = R_i^T (\\dot r_j - \\dot r_i) + \\rho \\times \\omega_i, \\quad

@@ -1,4 +1,4 @@
-"""The elastic system: m + 1 nodes joined by springs and dampers (MODEL.md s.3, 104-121, 4.5-4.6)."""
+"""The elastic system: m + 1 nodes joined by springs and dampers (docs/model.md s.3, 104-121, 4.5-4.6)."""
 
 from __future__ import annotations
 
@@ -300,7 +300,7 @@ class ElasticSystem:
     def node_stiffness(self, Y, k: int = 0, step: float = 1e-7) -> np.ndarray:
         """``d F_e,k / d Y_k`` (p x p): the stiffness node k feels with every other node held,
         by central differences of the exact elastic force. A negative eigenvalue means node k
-        is statically unstable there (e.g. the squeezed central springs of MODEL.md s.3)."""
+        is statically unstable there (e.g. the squeezed central springs of docs/model.md s.3)."""
         Y = self._Y(Y).copy()
         p = self.p
         Kk = np.empty((p, p))

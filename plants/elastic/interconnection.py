@@ -1,4 +1,4 @@
-"""An elastic interconnection between two nodes: springs and dampers (MODEL.md s.3, 106-111)."""
+"""An elastic interconnection between two nodes: springs and dampers (docs/model.md s.3, 106-111)."""
 
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ class Interconnection:
         The book's element (106-107, 119): a spring with rest length ``l`` and per-axis
         stiffness ``c^k`` weighted by ``beta = (1 - l/|r_i - r_j|)^2``, plus torsion springs
         ``cA^k`` on the Euler-angle difference ``A_i - A_j - A0``. It has no lateral stiffness
-        except through pre-tension (the buckling limit of MODEL.md s.3).
+        except through pre-tension (the buckling limit of docs/model.md s.3).
     ``"offset"``
         Ours: the rest offset ``rho`` of node j is fixed in node i's frame, so the spring
         resists shear as well as stretch, and the orientation spring acts on the exact relative
@@ -37,7 +37,7 @@ class Interconnection:
         damping: Translational damping [N s/m] (along the line for "central", isotropic for
             "offset").
         torsion_damping: Rotational damping [N m s/rad] (see ``damping_form``).
-        damping_form: ``"frame_invariant"`` (default, MODEL.md s.3 [ours]): the dampers act on the
+        damping_form: ``"frame_invariant"`` (default, docs/model.md s.3 [ours]): the dampers act on the
             rate of the deformation only, so they do no work when the whole system moves rigidly.
             The offset element damps the rate of its elongation vector in node i's frame,
             ``e_dot = R_i^T (dr_j - dr_i) + rho x omega_i`` (``rho = R_i^T (r_j - r_i)``, ``omega_i``

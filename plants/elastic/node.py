@@ -1,4 +1,4 @@
-"""A node of the elastic system: a lumped rigid body (MODEL.md s.1, 104-105)."""
+"""A node of the elastic system: a lumped rigid body (docs/model.md s.1, 104-105)."""
 
 from __future__ import annotations
 
