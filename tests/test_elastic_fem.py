@@ -176,3 +176,17 @@ def test_free_free_beam_frequencies_converge_at_second_order_with_lumped_masses(
 def test_bad_elements_are_refused_naming_the_field(make, match):
     with pytest.raises(ValueError, match=match):
         make()
+
+
+@pytest.mark.parametrize("scene", ["planar_two_arm_lift", "spatial_three_arm_carry", "gripping_immobile_object"])
+def test_a_scenes_springs_assembled_as_the_book_writes_it_give_its_stiffness_matrix(scene):
+    from pathlib import Path
+
+    from coopctrl.scenario import load_scenario
+
+    path = Path(__file__).resolve().parents[1] / "scenarios" / f"{scene}.toml"
+    elastic = load_scenario(path).plant().elastic
+    assembly = elastic.stiffness_assembly()
+    np.testing.assert_array_equal(assembly.a, assembly.a_0)  # pairwise springs: statically determinate (49)
+    np.testing.assert_allclose(assembly.K, elastic.stiffness_matrix(), rtol=0,
+                               atol=1e-12 * np.max(np.abs(elastic.stiffness_matrix())))

@@ -327,9 +327,27 @@ class ElasticSystem:
         ``K_ij = diag(c^x, c^y, c^z, cA^psi, cA^theta, cA^phi)`` assembled like a graph Laplacian.
         Rank ``p m`` for a connected edge set with positive stiffnesses; ``p`` zero modes (the
         common translation of every coordinate)."""
-        if self.space == "spatial":
-            return self._laplacian(lambda r: np.r_[r[0:3], r[3:6]])
-        return self._laplacian(lambda r: np.r_[r[0:2], r[2]])
+        return self._laplacian(self._stiffness_diagonal)
+
+    def _stiffness_diagonal(self, r) -> np.ndarray:
+        """``diag(K_ij)`` of one interconnection from its packed parameters ``r``."""
+        return np.r_[r[0:3], r[3:6]] if self.space == "spatial" else np.r_[r[0:2], r[2]]
+
+    def stiffness_assembly(self):
+        """The book's finite-element assembly (47)-(59) of this system's springs
+        (:func:`plants.elastic.fem.stiffness_assembly`): interconnection ``(i, j)`` is an element
+        with the world-frame stiffness ``[[K_ij, -K_ij], [-K_ij, K_ij]]`` on ``(y_i, y_j)``, ``K_ij``
+        as in :meth:`stiffness_matrix`; the connection is statically determinate (``a = a_0``,
+        (49)), and ``K = a^T K_e a`` equals :meth:`stiffness_matrix`."""
+        from plants.elastic.fem import MatrixElement, stiffness_assembly
+
+        p, d = self.p, 3 if self.space == "spatial" else 2
+        elements = []
+        for e in range(len(self.interconnections)):
+            kd = np.diag(self._stiffness_diagonal(self.edge_params[e]))
+            elements.append(MatrixElement((int(self.edge_index[e, 0]), int(self.edge_index[e, 1])),
+                                          np.block([[kd, -kd], [-kd, kd]]), frame_rotation=np.eye(d)))
+        return stiffness_assembly(elements, self.Y_ref[:, :d])
 
     def damping_matrix(self) -> np.ndarray:
         """Constant ``D`` of the immobile model: ``diag(d I, dA I)`` per edge, Laplacian-assembled (the
