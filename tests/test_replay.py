@@ -357,3 +357,25 @@ def test_browser_time_in_the_url_opens_the_nearest_frame(tmp_path):
     assert [f["t"] for f in data["frames"][142:144]] == [0.994, 1.001]
     dom = _chromium(_page(tmp_path, data).as_uri() + "#t=1.0", "--dump-dom").stdout
     assert 'data-frame="143"' in dom and ">t = 1.001 s (nearest frame to 1 s)<" in dom
+
+
+@needs_chromium
+def test_browser_hostile_strings_stay_text(panda_still, tmp_path):
+    """A name that closes the script, opens a comment and names the page's markers: the page
+    still runs (html.parser cannot model the browsers' script-escape states; chromium does) and
+    shows the name as text. An STL-like mesh visual is drawn with the other shapes."""
+    import copy
+
+    _, data = panda_still
+    data = copy.deepcopy(data)
+    name = "</script><!--<script>__DATA__ __THREE__ \u2028</title><b>"
+    data["scenario"] = name
+    data["arm_labels"][0] = "<img src=x onerror=document.body.setAttribute('data-pwned','1')>"
+    tetra = {"body": 7, "link": "extra", "shape": "mesh", "size": [], "dark": False,
+             "pose": [0, 0, 0.1, 1, 0, 0, 0, 1, 0, 0, 0, 1],
+             "vertices": [0, 0, 0, 0.05, 0, 0, 0, 0.05, 0, 0, 0, 0.05], "triangles": [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]}
+    data["arm_visuals"][0].append(tetra)
+    dom = _chromium(_page(tmp_path, data).as_uri() + "#frame=0", "--dump-dom").stdout
+    assert 'data-ready="1"' in dom and 'data-pwned="1"' not in dom  # the label is text, not an element
+    assert "&lt;/script&gt;&lt;!--&lt;script&gt;__DATA__ __THREE__" in dom  # the title div, as text
+    assert f'data-arm-shapes="{len(data["arm_visuals"][0])},{len(data["arm_visuals"][1])}"' in dom
