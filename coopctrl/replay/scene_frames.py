@@ -96,7 +96,17 @@ def _r(values, digits: int = 5) -> list:
 
 
 def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
-    """The dict embedded in ``replay.html`` (see the module docstring)."""
+    """The dict embedded in ``replay.html`` (see the module docstring).
+
+    Per arm: ``arm_labels`` (``"arms[k] MODEL (ROLE)"``, with the file of a ``"urdf"`` arm),
+    ``arm_links`` (the URDF link of each body of a URDF arm: ``base_link`` and the child of each
+    moving joint, so ``dof + 1`` names; empty for other arms), ``arm_visuals`` (each shape in its
+    body frame: ``body``, ``link``, ``shape``, ``size`` [m], ``pose`` 12 numbers: position [m] and
+    rotation row by row; meshes with ``vertices`` [m] and ``triangles``); ``bar_arms`` lists the
+    arms drawn as one bar (no joint frames known) and ``notes`` what was left out of the drawing.
+    Per frame: ``arms`` the polylines through the joint frames (a URDF arm: base, each body
+    origin, node: one segment per body) and ``bodies`` the 12-number pose of each body.
+    Frames are every :func:`frame_step` samples (and the last finite one)."""
     from coopctrl.scenario import build
 
     plant = scenario.plant()
