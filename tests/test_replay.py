@@ -175,3 +175,207 @@ def test_every_shipped_scene_gives_frames(path):
         assert (len(points) == 0) == (arm.model == "contact_point")
         if scenario.space == "planar":
             assert np.all(points[:, 1] == 0.0)
+
+
+# ---------------------------------------------------------------------- URDF arms (issue 21)
+@pytest.fixture(scope="module")
+def panda_still():
+    """Replay data of the two Pandas at rest over 2.5 s of 1 ms samples (no simulation)."""
+    from _replay_data import still_result
+
+    scenario = coopctrl.load_scenario(REPO / "scenarios" / "two_panda_carry.toml")
+    return scenario, replay_data(still_result(scenario, np.arange(2501) * 1e-3), scenario)
+
+
+def _moving_links(urdf: Path, base: str, tip: str) -> list[str]:
+    """The child links of the moving joints from ``base`` to ``tip``, read here with the
+    standard library's parser: the oracle of the page's ``arm_links``."""
+    import xml.etree.ElementTree as ET
+
+    joints = {j.find("child").get("link"): j for j in ET.parse(urdf).getroot().findall("joint")}
+    out, link = [], tip
+    while link != base:
+        j = joints[link]
+        if j.get("type") != "fixed":
+            out.append(link)
+        link = j.find("parent").get("link")
+    return out[::-1]
+
+
+def test_urdf_arm_is_drawn_through_its_joint_frames(panda_still):
+    from plants.arms.named_robots import urdf_path
+
+    scenario, data = panda_still
+    plant = scenario.plant()
+    moving = _moving_links(Path(urdf_path("panda")), "panda_link0", "panda_hand_tcp")
+    assert len(moving) == 7
+    f = data["frames"][0]
+    x0 = coopctrl.scenario.build.unloaded_state(scenario)
+    for i, arm in enumerate(plant.arms):
+        # one segment per body: the fixed base link, then each moving link (7 for a Panda)
+        assert data["arm_links"][i] == ["panda_link0", *moving]
+        points = np.reshape(f["arms"][i], (-1, 3))
+        assert len(points) - 1 == arm.dof + 1 == len(data["arm_links"][i])
+        T, _ = arm.tip_transform(x0[plant.q_slice(i)])  # the compiled kinematics
+        np.testing.assert_allclose(points[-1], T[:3, 3], atol=1e-5)  # page rounding: 1e-5 m
+        np.testing.assert_allclose(points[0], arm.base[:3, 3], atol=1e-5)
+        # the last body's pose (12 numbers: position, rotation rows) times the tool is the node frame
+        pose = np.reshape(f["bodies"][i], (-1, 12))[-1]
+        last = np.eye(4)
+        last[:3, 3], last[:3, :3] = pose[:3], pose[3:].reshape(3, 3)
+        np.testing.assert_allclose((last @ arm.tool)[:3, :4], T[:3, :4], atol=3e-5)
+        # every link of the shipped Panda has a shape; the hand and fingers ride on link 7
+        bodies = {v["body"] for v in data["arm_visuals"][i]}
+        assert bodies == set(range(8)), bodies
+        hand = [v for v in data["arm_visuals"][i] if v["link"] in ("panda_hand", "panda_leftfinger")]
+        assert hand and all(v["body"] == 7 for v in hand)
+    assert data["bar_arms"] == [] and data["notes"] == []
+
+
+def test_frames_fall_on_round_times(panda_still):
+    _, data = panda_still
+    times = [f["t"] for f in data["frames"]]
+    # 2501 samples of 1 ms, at most 400 frames: every 10 ms (7 ms would do, but 1.0 s would be missed)
+    assert len(times) == 251 and times[100] == 1.0 and times[-1] == 2.5
+    from coopctrl.replay.scene_frames import frame_step
+
+    assert frame_step(np.arange(2501) * 1e-3, 2501) == 10
+    assert frame_step(np.arange(301) * 7e-3, 301) == 1  # few samples: all kept
+    assert frame_step(np.cumsum(np.r_[0.0, np.full(999, 1e-3), 0.5e-3]), 1001) == 3  # uneven: the smallest
+
+
+def test_user_urdf_visuals_boxes_spheres_and_meshes(tmp_path):
+    """A user's URDF: primitives, an STL (binary) and an OBJ mesh at hand, one missing and one in
+    a format that is not read: drawn or said why."""
+    from coopctrl.replay.urdf_visuals import read_stl, urdf_arm_visuals
+
+    meshes = tmp_path / "my_robot" / "meshes"
+    meshes.mkdir(parents=True)
+    tri = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 0], [0, 1, 0], [0, 0, 1]], dtype="<f4").reshape(2, 3, 3)
+    record = np.zeros(2, dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    record["v"] = tri
+    (meshes / "part.stl").write_bytes(b"\0" * 80 + np.uint32(2).tobytes() + record.tobytes())
+    (meshes / "part.obj").write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2/2 3/3 4/4\n")
+    urdf = tmp_path / "my_robot" / "urdf" / "arm.urdf"
+    urdf.parent.mkdir()
+    urdf.write_text("""<robot name="r">
+      <link name="base"><visual><geometry><box size="0.2 0.2 0.1"/></geometry></visual></link>
+      <link name="l1"><visual><origin xyz="0 0 0.1"/><geometry><cylinder radius="0.05" length="0.2"/></geometry></visual>
+        <visual><geometry><mesh filename="package://my_robot/meshes/part.stl" scale="2 2 2"/></geometry></visual></link>
+      <link name="l2"><visual><geometry><sphere radius="0.04"/></geometry></visual>
+        <visual><geometry><mesh filename="../meshes/part.obj"/></geometry></visual>
+        <visual><geometry><mesh filename="../meshes/absent.stl"/></geometry></visual>
+        <visual><geometry><mesh filename="../meshes/part.dae"/></geometry></visual></link>
+      <link name="tip"><visual><origin xyz="0 0 0.05"/><geometry><box size="0.01 0.01 0.01"/></geometry></visual></link>
+      <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1"/>
+        <limit lower="-1" upper="1" effort="10"/></joint>
+      <joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.3"/>
+        <limit lower="-1" upper="1" effort="10"/></joint>
+      <joint name="jt" type="fixed"><parent link="l2"/><child link="tip"/><origin xyz="0.1 0 0"/></joint>
+    </robot>""")
+    shapes = urdf_arm_visuals(urdf, "base", "tip")
+    assert shapes.links == ("base", "l1", "l2")
+    kinds = [(v.link, v.body, v.shape) for v in shapes.visuals]
+    assert sorted(kinds) == sorted([("base", 0, "box"), ("l1", 1, "cylinder"), ("l1", 1, "mesh"), ("l2", 2, "sphere"),
+                                    ("l2", 2, "mesh"), ("tip", 2, "box")])
+    stl = next(v for v in shapes.visuals if v.shape == "mesh" and v.link == "l1")
+    assert len(stl.vertices) == 4 and stl.triangles.shape == (2, 3)  # shared corners merged, scale 2 applied
+    assert stl.vertices.max() == 2.0
+    obj = next(v for v in shapes.visuals if v.shape == "mesh" and v.link == "l2")
+    # the quad fanned into two triangles (vertices are merged and sorted: compare the corners)
+    assert obj.vertices[obj.triangles].tolist() == [[[0, 0, 0], [1, 0, 0], [1, 1, 0]], [[0, 0, 0], [1, 1, 0], [0, 1, 0]]]
+    tip = next(v for v in shapes.visuals if v.link == "tip")
+    np.testing.assert_allclose(tip.transform[:3, 3], [0.1, 0.0, 0.05])  # fixed joint folded into body 2
+    assert len(shapes.notes) == 2 and any("absent.stl" in n for n in shapes.notes) and any("part.dae" in n for n in shapes.notes)
+    ascii_stl = b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1e-1 0\nendloop\nendfacet\nendsolid"
+    v, t = read_stl(ascii_stl)
+    assert v.shape == (3, 3) and v[2, 1] == 0.1 and t.tolist() == [[0, 1, 2]]
+
+
+def test_urdf_visuals_refuse_entities(tmp_path):
+    """defusedxml: an entity declaration is refused (no billion laughs), the arm drawn without shapes."""
+    from coopctrl.replay.urdf_visuals import urdf_arm_visuals
+
+    bomb = tmp_path / "bomb.urdf"
+    bomb.write_text('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;">]>'
+                    '<robot name="&b;"><link name="base"/></robot>')
+    shapes = urdf_arm_visuals(bomb, "base", "tip")
+    assert shapes.links == () and shapes.visuals == () and "not read" in shapes.notes[0]
+
+
+def test_user_urdf_scene_is_drawn_joint_by_joint(tmp_path):
+    """A scene with ``model = "urdf"`` (the Puma written as a user's URDF file, no visuals): one
+    segment per moving link plus the base."""
+    from _replay_data import still_result
+    from coopctrl.io import dumps_toml
+    from test_urdf_scenario import _dh_as_urdf, _dh_rows, _scene_data
+
+    (tmp_path / "robots").mkdir()
+    (tmp_path / "robots" / "my_arm.urdf").write_text(_dh_as_urdf(_dh_rows()))
+    scene = tmp_path / "user.toml"
+    scene.write_text(dumps_toml(_scene_data(model="urdf", urdf="robots/my_arm.urdf", base_link="base", tip_link="tip")))
+    scenario = coopctrl.load_scenario(scene)
+    data = replay_data(still_result(scenario, [0.0, 0.01]), scenario)
+    assert data["arm_links"][0] == ["base", "l1", "l2", "l3", "l4", "l5", "l6"]
+    assert len(np.reshape(data["frames"][0]["arms"][0], (-1, 3))) == 8  # base, 6 link frames, node
+    assert data["arm_visuals"][0] == [] and data["arm_labels"][0] == "arms[0] urdf robots/my_arm.urdf (leader)"
+    assert data["arm_links"][1] == []  # the Puma (DH) is drawn by its DH frames
+
+
+def _page(tmp_path: Path, data: dict) -> Path:
+    from coopctrl.replay import replay_html
+
+    page = tmp_path / "replay.html"
+    page.write_text(replay_html(data), encoding="utf-8")
+    return page
+
+
+@needs_chromium
+def test_browser_urdf_arm_draws_a_segment_per_moving_link(panda_still, tmp_path):
+    _, data = panda_still
+    page = _page(tmp_path, data)
+    dom = _chromium(page.as_uri() + "#t=1.0", "--dump-dom").stdout
+    assert 'data-ready="1"' in dom, "the page's script did not finish"
+    # per arm: the base link and the 7 moving links, and every visual shape of the data drawn
+    assert 'data-arm-segments="8,8"' in dom
+    shapes = ",".join(str(len(v)) for v in data["arm_visuals"])
+    assert f'data-arm-shapes="{shapes}"' in dom and min(len(v) for v in data["arm_visuals"]) >= 8
+    # "#t=1.0" opens on the frame at 1 s (frames every 10 ms) and says so exactly
+    assert 'data-frame="100"' in dom and ">t = 1.000 s<" in dom
+    image = _screenshot(page, 100, tmp_path / "panda.png")
+    blue, orange = _coloured(image)
+    assert blue > 500 and orange > 500, (blue, orange)  # both Pandas' links in their role colours
+
+
+@needs_chromium
+def test_browser_time_in_the_url_opens_the_nearest_frame(tmp_path):
+    from _replay_data import still_result
+
+    scenario = coopctrl.load_scenario(REPO / "scenarios" / "planar_two_arm_lift.toml")
+    # frames every 7 ms: 0.994 s and 1.001 s are the neighbours of 1.0 s, the second the nearer
+    data = replay_data(still_result(scenario, np.arange(301) * 7e-3), scenario)
+    assert [f["t"] for f in data["frames"][142:144]] == [0.994, 1.001]
+    dom = _chromium(_page(tmp_path, data).as_uri() + "#t=1.0", "--dump-dom").stdout
+    assert 'data-frame="143"' in dom and ">t = 1.001 s (nearest frame to 1 s)<" in dom
+
+
+@needs_chromium
+def test_browser_hostile_strings_stay_text(panda_still, tmp_path):
+    """A name that closes the script, opens a comment and names the page's markers: the page
+    still runs (html.parser cannot model the browsers' script-escape states; chromium does) and
+    shows the name as text. An STL-like mesh visual is drawn with the other shapes."""
+    import copy
+
+    _, data = panda_still
+    data = copy.deepcopy(data)
+    name = "</script><!--<script>__DATA__ __THREE__ \u2028</title><b>"
+    data["scenario"] = name
+    data["arm_labels"][0] = "<img src=x onerror=document.body.setAttribute('data-pwned','1')>"
+    tetra = {"body": 7, "link": "extra", "shape": "mesh", "size": [], "dark": False,
+             "pose": [0, 0, 0.1, 1, 0, 0, 0, 1, 0, 0, 0, 1],
+             "vertices": [0, 0, 0, 0.05, 0, 0, 0, 0.05, 0, 0, 0, 0.05], "triangles": [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]}
+    data["arm_visuals"][0].append(tetra)
+    dom = _chromium(_page(tmp_path, data).as_uri() + "#frame=0", "--dump-dom").stdout
+    assert 'data-ready="1"' in dom and 'data-pwned="1"' not in dom  # the label is text, not an element
+    assert "&lt;/script&gt;&lt;!--&lt;script&gt;__DATA__ __THREE__" in dom  # the title div, as text
+    assert f'data-arm-shapes="{len(data["arm_visuals"][0])},{len(data["arm_visuals"][1])}"' in dom

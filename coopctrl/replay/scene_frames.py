@@ -1,8 +1,11 @@
 """The geometry of a run, frame by frame, for the 3-D replay.
 
 :func:`replay_data` turns a :class:`~coopctrl.results.SimulationResult` and the scenario it ran
-into a JSON-ready dict: per frame the arms' link polylines (from their joint frames,
-:func:`plants.arms.joint_frames.arm_polyline`), the contact nodes, the object's position and
+into a JSON-ready dict: per frame the arms' link polylines (from their joint frames:
+:func:`plants.arms.joint_frames.arm_polyline` for DH, Puma and planar arms,
+:func:`coopctrl.replay.chain_frames.chain_polyline` for URDF arms, whose body frames are also
+stored per frame to pose their ``<visual>`` shapes, :mod:`coopctrl.replay.urdf_visuals`), the
+contact nodes, the object's position and
 rotation, each interconnection's two attachment points (it is drawn as a spring between them, so
 it stretches) and the contact forces (world frame, on the object, at the contact nodes). Planar
 scenes are mapped to the world x-z plane (y = 0). Positions in [m], forces in [N].
@@ -14,11 +17,38 @@ import math
 
 import numpy as np
 
+from coopctrl.replay.chain_frames import chain_body_frames, chain_polyline
+from coopctrl.replay.urdf_visuals import ArmVisuals, urdf_arm_visuals
+from plants.arms.chain_arm import ChainArm
 from plants.arms.joint_frames import arm_polyline
 from plants.frames import rotation_zyx
 
 #: At most this many frames are stored in the page (the run is subsampled evenly).
 MAX_FRAMES = 400
+
+#: Frame spacings preferred by the subsampling, times a power of ten [s]: frames then fall on
+#: round times (``#t=1.0`` opens on the sample at 1 s, not at 0.994 s).
+ROUND_STEPS = (1.0, 2.0, 2.5, 5.0)
+
+
+def frame_step(t: np.ndarray, count: int, max_frames: int = MAX_FRAMES) -> int:
+    """Samples between stored frames: the smallest ``s >= ceil(count / max_frames)`` whose
+    spacing ``s dt`` is a round time (1, 2, 2.5 or 5 times a power of ten, to 1e-9 relative),
+    searched up to twice the smallest; else the smallest. ``dt`` is the first sample spacing,
+    used only when the samples are evenly spaced."""
+    smallest = max(1, math.ceil(count / max_frames)) if count else 1
+    if count < 3:
+        return smallest
+    dt = float(t[1] - t[0])
+    spacing = np.diff(np.asarray(t[:count], float))
+    if not dt > 0.0 or np.abs(spacing - dt).max() > 1e-9 * max(1.0, abs(float(t[count - 1]))):
+        return smallest
+    for s in range(smallest, 2 * smallest + 1):
+        h = s * dt
+        decade = 10.0 ** math.floor(math.log10(h))
+        if any(abs(h - r * decade) <= 1e-9 * h for r in (*ROUND_STEPS, 10.0)):
+            return s
+    return smallest
 
 
 def _rotation(pose: np.ndarray, space: str) -> np.ndarray:
@@ -66,7 +96,17 @@ def _r(values, digits: int = 5) -> list:
 
 
 def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
-    """The dict embedded in ``replay.html`` (see the module docstring)."""
+    """The dict embedded in ``replay.html`` (see the module docstring).
+
+    Per arm: ``arm_labels`` (``"arms[k] MODEL (ROLE)"``, with the file of a ``"urdf"`` arm),
+    ``arm_links`` (the URDF link of each body of a URDF arm: ``base_link`` and the child of each
+    moving joint, so ``dof + 1`` names; empty for other arms), ``arm_visuals`` (each shape in its
+    body frame: ``body``, ``link``, ``shape``, ``size`` [m], ``pose`` 12 numbers: position [m] and
+    rotation row by row; meshes with ``vertices`` [m] and ``triangles``); ``bar_arms`` lists the
+    arms drawn as one bar (no joint frames known) and ``notes`` what was left out of the drawing.
+    Per frame: ``arms`` the polylines through the joint frames (a URDF arm: base, each body
+    origin, node: one segment per body) and ``bodies`` the 12-number pose of each body.
+    Frames are every :func:`frame_step` samples (and the last finite one)."""
     from coopctrl.scenario import build
 
     plant = scenario.plant()
@@ -77,21 +117,24 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
     finite = np.isfinite(result.x).all(axis=1) if n_samples else np.zeros(0, bool)
     last = int(np.nonzero(finite)[0][-1]) if finite.any() else -1
     count = last + 1
-    step = max(1, math.ceil(count / max_frames)) if count else 1
+    step = frame_step(result.t, count, max_frames)
     picks = list(range(0, count, step))
     if count and picks[-1] != last:
         picks.append(last)  # always show the last finite state (where a failed run stopped)
 
     p = plant.p
+    shapes = [_arm_shapes(scenario, i, arm) for i, arm in enumerate(plant.arms)]
     frames = []
     for k in picks:
         x = result.x[k]
         Y = plant.node_poses(x).reshape(m + 1, p)
         obj_pos, obj_R = _position(Y[0], space), _rotation(Y[0], space)
         nodes = [_position(Y[i], space) for i in range(1, m + 1)]
-        arms = []
+        arms, bodies = [], []
         for i, arm in enumerate(plant.arms):
-            pts = arm_polyline(arm, x[plant.q_slice(i)])
+            q = x[plant.q_slice(i)]
+            bodies.append([] if shapes[i] is None else _r(_pose12(chain_body_frames(arm, q))))
+            pts = chain_polyline(arm, q) if isinstance(arm, ChainArm) else arm_polyline(arm, q)
             if pts is None and scenario.arms[i].model != "contact_point":
                 # an arm without joint frames here: one segment from its base to its node
                 pts = np.array([_position(np.asarray(scenario.arms[i].base, float), space), nodes[i]])
@@ -113,6 +156,7 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
         frames.append({
             "t": round(float(result.t[k]), 6),
             "arms": arms,
+            "bodies": bodies,
             "nodes": _r(np.array(nodes)),
             "object": _r(np.concatenate([obj_pos, obj_R.reshape(-1)]), 6),
             "springs": springs,
@@ -140,7 +184,64 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
         "force_scale_m_per_N": (0.2 * span / fmax) if fmax > 0 else 0.0,
         "force_max_N": fmax,
         "arm_models": [a.model for a in scenario.arms],
+        "arm_labels": [_label(scenario, i) for i in range(m)],
+        "arm_links": [[] if s is None else list(s.links) for s in shapes],
+        "arm_visuals": [[] if s is None else [_visual_json(v) for v in s.visuals] for s in shapes],
+        "bar_arms": [i for i, a in enumerate(plant.arms) if _drawn_as_bar(scenario, i, a)],
+        "notes": [f"arms[{i}]: {n}" for i, s in enumerate(shapes) if s is not None for n in s.notes],
         "leader": int(scenario.leader),
         "springs_pairs": [list(s.pair) for s in scenario.springs],
         "frames": frames,
     }
+
+
+def _urdf_of(scenario, k: int):
+    """``(path, base_link, tip_link)`` of a URDF arm (named robot or ``model = "urdf"``), or ``None``."""
+    from plants.arms.named_robots import NAMED_ROBOTS, urdf_path
+
+    cfg = scenario.arms[k]
+    if cfg.model in NAMED_ROBOTS:
+        _, base_link, tip_link = NAMED_ROBOTS[cfg.model]
+        return urdf_path(cfg.model), base_link, tip_link
+    if cfg.model == "urdf":
+        return cfg.urdf_path(scenario.source), cfg.base_link, cfg.tip_link
+    return None
+
+
+def _arm_shapes(scenario, k: int, arm):
+    """The bodies and visuals of a chain (URDF) arm, or ``None`` for any other arm."""
+    if not isinstance(arm, ChainArm):
+        return None
+    urdf = _urdf_of(scenario, k)
+    if urdf is None:
+        return None
+    shapes = urdf_arm_visuals(*urdf)
+    if len(shapes.links) != arm.dof + 1:  # not the chain the arm was built from: no visuals
+        names = tuple(f"link {j}" for j in range(arm.dof + 1))
+        return ArmVisuals(links=names, notes=shapes.notes or ("its URDF's chain no longer matches the arm: no visuals",))
+    return shapes
+
+
+def _drawn_as_bar(scenario, k: int, arm) -> bool:
+    return (scenario.arms[k].model != "contact_point" and not isinstance(arm, ChainArm)
+            and arm_polyline(arm, np.zeros(arm.dof)) is None)
+
+
+def _label(scenario, k: int) -> str:
+    cfg = scenario.arms[k]
+    what = f"{cfg.model} {cfg.urdf}" if cfg.model == "urdf" else cfg.model
+    return f"arms[{k}] {what} ({cfg.role})"
+
+
+def _pose12(frames: np.ndarray) -> np.ndarray:
+    """Per 4x4 frame its 12 numbers: position [m], then the rotation row by row."""
+    return np.concatenate([frames[:, :3, 3], frames[:, :3, :3].reshape(-1, 9)], axis=1)
+
+
+def _visual_json(v) -> dict:
+    out = {"body": v.body, "link": v.link, "shape": v.shape, "size": [float(s) for s in v.size],
+           "pose": _r(_pose12(v.transform[None]), 6), "dark": bool(v.dark)}
+    if v.shape == "mesh":
+        out["vertices"] = _r(v.vertices, 4)
+        out["triangles"] = [int(i) for i in v.triangles.reshape(-1)]
+    return out
