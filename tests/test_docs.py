@@ -72,7 +72,7 @@ def test_no_file_names_a_path_outside_the_project(files):
 
 def test_the_patterns_catch_what_they_are_for():
     # each pattern against a line it must catch and one it must let through
-    caught = ["see ../share" "d/MODEL.md", "/wor" "k/shared/x", "written to /tm" "p/out", "/hom" "e/user",
+    caught = ["see ../share" "d/MODE" "L.md", "/wor" "k/shared/x", "written to /tm" "p/out", "/hom" "e/user",
               "(MODE" "L.md s.2)", "PERFORMANC" "E.md: runs agree"]
     passed = ["docs/model.md s.2", "docs/performance.md", "a tmp_path fixture", "#!/usr/bin/env bash"]
     for text in caught:
