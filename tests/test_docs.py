@@ -27,7 +27,10 @@ OUTSIDE = {
 
 #: A reference to a section of docs/model.md: ``s.3``, ``§3``, ``section 3``, ``s.4-6``,
 #: ``s.2 and s.4``, ``s.2-3``.
-REFERENCE = re.compile(r"docs/model\.md`?,?\s*(?:s\.|§|section\s+)\s*(\d+)(?:\s*-\s*(\d+))?(?:\s+and\s+(?:s\.|§)?\s*(\d+))?")
+REFERENCE = re.compile(r"docs/model\.md`?,?\s*(?:#\s*)?(?:s\.|§|section\s+)\s*(\d+)(?:\s*-\s*(\d+))?"
+                       r"(?:\s+and\s+(?:s\.|§)?\s*(\d+))?")
+#: The same, written the other way round: ``section 5 of docs/model.md``.
+REFERENCE_BEFORE = re.compile(r"section\s+(\d+)\s+of\s+`?docs/model\.md")
 #: After a reference, the book's numbers it cites with it: equations 95..183, sections 4.N.
 BOOK_NUMBER = re.compile(r"(?<![\d.])(4\.\d{1,2}|\d{2,3})(?![\d.]\d)")
 
@@ -102,6 +105,9 @@ def _references(files):
             rest = re.split(r"[);\n]", text[match.end():match.end() + 80], maxsplit=1)[0]
             line = text.count("\n", 0, match.start()) + 1
             yield f"{path.relative_to(REPO)}:{line}", cited, rest
+        for match in REFERENCE_BEFORE.finditer(text):
+            line = text.count("\n", 0, match.start()) + 1
+            yield f"{path.relative_to(REPO)}:{line}", {int(match.group(1))}, ""
 
 
 def test_every_model_reference_names_a_section_that_holds_what_it_cites(files):
