@@ -9,7 +9,7 @@ inside numba (loop amortised, what the fused right-hand side pays), the same two
 the general-chain kernel ``chain_arm_terms`` (the Puma converted from DH, and the Panda, UR5e
 and iiwa 14 from their URDF files), and Pinocchio's
 ``crba + nonLinearEffects + computeFrameJacobian`` (+ the frame placement) for the same
-configuration, with their ratio. Medians over repeated batches (PERFORMANCE.md: runs agree only
+configuration, with their ratio. Medians over repeated batches (docs/performance.md: runs agree only
 to ~1.5x, compare ratios from one run).
 """
 

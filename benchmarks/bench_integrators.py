@@ -13,7 +13,7 @@ Two sets of runs of the whole closed loop (plant, QP, leader, followers at 1 kHz
 
 The runs are interleaved (round-robin over the integrators, ``--repeats`` rounds after one
 warm-up run each) and the medians are reported with their ratios to RK4, measured in the same
-process (PERFORMANCE.md: two runs agree only to ~1.5x, so compare ratios). Also shown: the
+process (docs/performance.md: two runs agree only to ~1.5x, so compare ratios). Also shown: the
 cost of one integration step of the plant alone (no controller; the loaded initial state and
 zero torque, median of individually timed calls), the predicted stability limit
 ``predicted_max_step(omega_max)`` at the loaded state, and the object's tracking error, so

@@ -26,7 +26,7 @@ events left are what is compiled anew in every process (functions without ``cach
 
 Targets (issue 10): the first run on an empty cache takes at most 60 s; a warm ``coopctrl run``
 reaches its first tick within 2 s. The machine is shared: the load average is printed, and the
-figures are medians over the repeats (PERFORMANCE.md: runs agree only to ~1.5x).
+figures are medians over the repeats (docs/performance.md: runs agree only to ~1.5x).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Small dense linear algebra written as loops for the numba right-hand sides.
 
-PERFORMANCE.md: ``np.linalg.solve`` inside numba costs ~7 us with its checks and allocations;
+docs/performance.md: ``np.linalg.solve`` inside numba costs ~7 us with its checks and allocations;
 a 6x6 Cholesky written out costs well under 1 us.
 """
 
