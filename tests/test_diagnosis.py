@@ -59,6 +59,9 @@ def test_unreachable_pose_is_named():
     assert unreachable_cause(loop, 0.0) == ""
     why = unreachable_cause(loop, 2.0)
     assert why.startswith("unreachable pose: at t = 2 s arm ") and "joint limits" in why
+    # the node pose is computed (its theta is -1 * 0.0 here): printed without a "-0"
+    pose = why.split("node pose (")[1].split(")")[0].split(", ")
+    assert len(pose) == 6 and "-0" not in pose
 
 
 def test_out_of_reach_waypoint_run_warns_of_the_saturation():

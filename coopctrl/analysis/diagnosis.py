@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from coopctrl.io.number_text import numbers_text
 from coopctrl.loop.diagnosis import Diagnosis, held_split_cause, static_instability
 
 __all__ = ["SATURATION_SHARE", "Diagnosis", "closed_loop_limit", "diagnose_failure", "held_split_cause",
@@ -88,7 +89,7 @@ def unreachable_cause(loop, t: float) -> str:
         try:
             arm.inverse_kinematics(Yn[i + 1], seeds=5)
         except UnreachablePoseError as exc:
-            pose = ", ".join(f"{v:.4g}" for v in Yn[i + 1])
+            pose = numbers_text(Yn[i + 1])
             return (f"unreachable pose: at t = {t:.4g} s arm {i + 1} (arms[{i}]) cannot reach its nominal node pose "
                     f"({pose}) within its joint limits (best residual {exc.residual:.3g}); move the waypoint, the "
                     "grasp or the arm base")
