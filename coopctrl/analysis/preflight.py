@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
+from coopctrl.io.number_text import numbers_text
 from coopctrl.loop.diagnosis import static_instability
 
 #: Largest spacing [s] of the samples between via points (also at most 1/100 of the duration).
@@ -231,7 +232,7 @@ def _unreachable(t, i, name, target, exc, via_times) -> PreflightIssue:
     """The issue of arm ``i`` not reaching ``target`` at ``t``, naming the via point if ``t`` is one."""
     at_via = [k for k, tv in enumerate(via_times) if abs(tv - t) <= 1e-9]
     where = f" (waypoint trajectory.via[{at_via[0]}])" if at_via else ""
-    pose = ", ".join(f"{v:.4g}" for v in np.asarray(target, dtype=float))
+    pose = numbers_text(np.asarray(target, dtype=float))
     return PreflightIssue(t, "unreachable", (
         f"at t = {t:.4g} s{where} arm {i + 1} ({name}) cannot reach its node pose ({pose}) within its joint "
         f"limits (best inverse-kinematics residual {exc.residual:.3g}); move the waypoint, the grasp "
