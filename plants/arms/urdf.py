@@ -1,8 +1,14 @@
 """Arms from URDF files: :func:`from_urdf` (docs/model.md s.4).
 
-Parser. The URDF is read with the standard library's ``xml.etree.ElementTree``: the subset the
-dynamics needs (``<link>/<inertial>``, ``<joint>`` with ``<origin>``, ``<axis>``, ``<limit>``,
-``<dynamics>``) is small and fully specified. The PyPI parsers were checked and not used:
+Parser. The URDF is read with ``defusedxml.ElementTree`` (``forbid_dtd=True``): a file with a
+document type declaration -- entity definitions (the "billion laughs" expansion bomb) or external
+entities (a file or URL pulled into the document) -- is refused before anything is expanded or
+fetched. The file must be a regular file of at most :data:`MAX_URDF_BYTES`; the links must form a
+tree (each link the child of at most one joint, no cycle); at most :data:`MAX_CHAIN_JOINTS` joints
+may lie between ``base_link`` and ``tip_link``; every number is finite and of magnitude at most
+:data:`MAX_URDF_NUMBER`. The subset the dynamics needs (``<link>/<inertial>``, ``<joint>`` with
+``<origin>``, ``<axis>``, ``<limit>``, ``<dynamics>``) is small and fully specified, so the
+element tree is walked here. The PyPI URDF parsers were checked and not used:
 ``urdf-parser-py`` (0.0.4, last release 2021, needs ``lxml`` and ``pyyaml``) is not kept on
 PyPI; ``yourdfpy`` and ``urchin`` pull ``trimesh``, ``lxml`` (and ``networkx``, ``pycollada``)
 for meshes this project never loads -- too heavy for the user install. Pinocchio
@@ -16,8 +22,8 @@ What is read, from ``base_link`` down to ``tip_link``:
 * each moving link's mass properties from its ``<inertial>`` (origin and ``rpy`` in any frame),
   with every link rigidly attached to it folded in; links hanging beyond the tip (a hand and its
   fingers) are folded into the last moving link as a rigid payload, their joints held at zero;
-* ``<limit effort>`` -> ``tau_max`` (absent: unlimited), ``<limit lower upper>`` ->
-  ``q_limits``; ``<dynamics damping>`` -> viscous friction [N m s/rad],
+* ``<limit effort>`` -> ``tau_max`` (absent: unlimited; present on a moving joint, it must be
+  > 0), ``<limit lower upper>`` -> ``q_limits``; ``<dynamics damping>`` -> viscous friction [N m s/rad],
   ``<dynamics friction>`` -> Coulomb friction [N m] (smoothed, :data:`COULOMB_SMOOTHING`).
   URDF has no rotor-inertia field: pass ``motor_inertia`` to add reflected rotor inertias.
 
@@ -28,18 +34,30 @@ The node pose is the ``tip_link`` frame (times ``tool``), expressed in the world
 from __future__ import annotations
 
 import os
+import stat
 import xml.etree.ElementTree as ET
 from dataclasses import replace
 
+import defusedxml
+import defusedxml.ElementTree as DET
 import numpy as np
 
 from plants.arms._chain_kernels import COULOMB_SMOOTHING  # noqa: F401 (documented here)
+from plants.arms._validation import MAX_CHAIN_JOINTS as _MAX_CHAIN_JOINTS
+from plants.arms._validation import MAX_MAGNITUDE, check_pose4
 from plants.arms.chain_arm import ChainArm
 from plants.arms.chain_joint import ChainJoint
 from plants.errors import ParameterError
 from plants.frames import rotation_zyx
 
 SUPPORTED_JOINTS = ("revolute", "continuous", "prismatic", "fixed")
+#: Largest URDF file read [bytes] (the shipped ones are under 20 kB; meshes are separate files).
+MAX_URDF_BYTES = 16 * 1024 * 1024
+#: Most joints (fixed ones included) between ``base_link`` and ``tip_link``
+#: (:data:`plants.arms._validation.MAX_CHAIN_JOINTS`).
+MAX_CHAIN_JOINTS = _MAX_CHAIN_JOINTS
+#: Largest magnitude of a number in a URDF, SI units (:data:`plants.arms._validation.MAX_MAGNITUDE`).
+MAX_URDF_NUMBER = MAX_MAGNITUDE
 
 
 def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name: str | None = None,
@@ -50,32 +68,32 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
         path: URDF file.
         base_link: Link whose frame is the arm base (fixed in the world at ``base``).
         tip_link: Link whose frame is the node frame (with ``tool=None``).
-        tool: Node frame in the ``tip_link`` frame, 4x4 [m], or ``None`` (identity).
-        base: World pose of the ``base_link`` frame, 4x4 [m] (default identity).
+        tool: Node frame in the ``tip_link`` frame: a 4x4 homogeneous transform [m], a pose of 6
+            finite numbers (x, y, z [m], ZYX Euler angles psi, theta, phi [rad]), or ``None`` (identity).
+        base: World pose of the ``base_link`` frame, 4x4 homogeneous transform [m] (default identity).
         name: Name used in error messages (default: the robot's name).
         gravity: Gravity acceleration in the world [m/s^2].
         motor_inertia: Reflected rotor inertias added to ``H``'s diagonal, (n,), or ``None``.
         q_rest: Rest posture for IK and the null-space posture task, or ``None``.
 
     Raises:
-        ParameterError: naming ``urdf``, ``base_link``, ``tip_link`` or the offending joint or
-            link, with what is allowed.
+        ParameterError: (a ``ValueError``) naming ``urdf``, ``base_link``, ``tip_link``, ``tool``,
+            ``base`` or the offending joint or link, with what is allowed: a file that is not a
+            regular file of at most :data:`MAX_URDF_BYTES`, has a DTD or entities, whose links do
+            not form a tree, whose chain has more than :data:`MAX_CHAIN_JOINTS` joints, or whose
+            numbers are not finite, out of range (:data:`MAX_URDF_NUMBER`) or unphysical (an
+            effort limit <= 0).
     """
+    tool_T = None if tool is None else _check_tool(tool)
+    if base is not None:
+        try:
+            base = check_pose4("base", base)
+        except (TypeError, ValueError) as exc:
+            allowed = exc.allowed if isinstance(exc, ParameterError) else "a 4x4 homogeneous transform [m]"
+            raise ParameterError("base", f"an array of shape {np.shape(base)}", allowed) from None
     robot = _read(path)
     links, joints = _index(robot, path)
-    for field_name, link in (("base_link", base_link), ("tip_link", tip_link)):
-        if link not in links:
-            raise ParameterError(field_name, link, f"a link of {os.fspath(path)} (e.g. {', '.join(sorted(links)[:6])})")
-    by_child = {j["child"]: j for j in joints.values()}
-    chain = []
-    link = tip_link
-    while link != base_link:
-        if link not in by_child or len(chain) > len(joints):  # not below base_link, or a cycle
-            raise ParameterError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree")
-        j = by_child[link]
-        chain.append(j)
-        link = j["parent"]
-    chain.reverse()
+    chain = _chain(links, joints, base_link, tip_link, path)
     for j in chain:
         if j["type"] not in SUPPORTED_JOINTS:
             raise ParameterError(f"joint '{j['name']}'.type", j["type"],
@@ -114,13 +132,16 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
     n = len(out)
     joints_list = [o["joint"] for o in out]
     if motor_inertia is not None:
-        motor = np.array(motor_inertia, dtype=float).reshape(-1)
-        if motor.shape != (n,):
-            raise ParameterError("motor_inertia", motor_inertia, f"{n} rotor inertias [kg m^2]")
+        try:
+            motor = np.array(motor_inertia, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise ParameterError("motor_inertia", motor_inertia, f"{n} finite rotor inertias >= 0 [kg m^2]") from None
+        if motor.shape != (n,) or not np.all(np.isfinite(motor)) or np.any(motor < 0.0):
+            raise ParameterError("motor_inertia", motor_inertia, f"{n} finite rotor inertias >= 0 [kg m^2]")
         joints_list = [replace(jt, motor_inertia=float(mi)) for jt, mi in zip(joints_list, motor)]
     tau_max = np.array([o["effort"] for o in out], dtype=float)
     q_limits = np.array([o["limits"] for o in out], dtype=float)
-    tool_T = np.eye(4) if tool is None else np.asarray(tool, dtype=float)
+    tool_T = np.eye(4) if tool_T is None else tool_T
     return ChainArm(name=name or robot.get("name", "urdf"), joints=tuple(joints_list),
                     base=np.eye(4) if base is None else base, tool=tip_T @ tool_T, gravity=np.asarray(gravity, float),
                     tau_max=tau_max, q_limits=q_limits, q_rest=q_rest)
@@ -134,16 +155,82 @@ def pose_transform(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)) -> np.ndarray:
     return T
 
 
+def chain_dof(path, base_link: str, tip_link: str) -> int:
+    """Moving joints between ``base_link`` and ``tip_link`` of the URDF file ``path``, read with
+    the checks of :func:`from_urdf` (safe parser, size, tree, chain length) but without building
+    the arm. Raises ``ParameterError`` as :func:`from_urdf`."""
+    links, joints = _index(_read(path), path)
+    return sum(j["type"] != "fixed" for j in _chain(links, joints, base_link, tip_link, path))
+
+
+def _check_tool(tool) -> np.ndarray:
+    """The tool frame as a 4x4 transform: a pose of 6 finite numbers (x, y, z [m], ZYX Euler
+    psi, theta, phi [rad]) or a 4x4 homogeneous transform; ``ParameterError`` naming ``tool`` otherwise."""
+    try:
+        arr = np.array(tool, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError("tool", repr(tool)[:80], "a pose of 6 finite numbers [m, rad] or a 4x4 homogeneous transform") from None
+    if arr.shape == (6,):
+        if not np.all(np.isfinite(arr)):
+            raise ParameterError("tool", arr.tolist(), "a pose of 6 finite numbers [m, rad]")
+        return pose_transform(arr[:3], arr[5:2:-1])  # ZYX Euler (psi, theta, phi) = rpy reversed
+    if arr.shape == (4, 4):
+        try:
+            return check_pose4("tool", arr)
+        except ParameterError as exc:
+            raise ParameterError("tool", arr.tolist(), exc.allowed) from None
+    raise ParameterError("tool", f"an array of shape {arr.shape}",
+                         "a pose of 6 finite numbers [m, rad] or a 4x4 homogeneous transform")
+
+
+def _chain(links, joints, base_link, tip_link, path) -> list:
+    """The joints from ``base_link`` down to ``tip_link`` (at most :data:`MAX_CHAIN_JOINTS`)."""
+    for field_name, link in (("base_link", base_link), ("tip_link", tip_link)):
+        if link not in links:
+            raise ParameterError(field_name, link, f"a link of {os.fspath(path)} (e.g. {', '.join(sorted(links)[:6])})")
+    by_child = {j["child"]: j for j in joints.values()}
+    chain = []
+    link = tip_link
+    while link != base_link:
+        if link not in by_child:  # not below base_link (_index has refused cycles)
+            raise ParameterError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree")
+        if len(chain) >= MAX_CHAIN_JOINTS:
+            raise ParameterError("tip_link", tip_link, f"a link at most {MAX_CHAIN_JOINTS} joints below base_link "
+                                 f"'{base_link}' (a serial arm, not a chain of more than {MAX_CHAIN_JOINTS} joints)")
+        j = by_child[link]
+        chain.append(j)
+        link = j["parent"]
+    chain.reverse()
+    return chain
+
+
 # ---- parsing -----------------------------------------------------------------------------
 def _read(path):
-    if not os.path.isfile(path):
-        raise ParameterError("urdf", os.fspath(path), "an existing URDF file")
+    where = os.fspath(path)
     try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise ParameterError("urdf", os.fspath(path), f"a well-formed URDF (XML error: {exc})") from None
+        info = os.stat(path)
+    except (OSError, ValueError):
+        raise ParameterError("urdf", where, "an existing URDF file") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise ParameterError("urdf", where, "a regular URDF file (not a directory, device or pipe)")
+    if info.st_size > MAX_URDF_BYTES:
+        raise ParameterError("urdf", where, f"a URDF file of at most {MAX_URDF_BYTES} bytes (it has {info.st_size})")
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_URDF_BYTES + 1)
+    except OSError as exc:
+        raise ParameterError("urdf", where, f"a readable URDF file ({exc.strerror})") from None
+    if len(data) > MAX_URDF_BYTES:
+        raise ParameterError("urdf", where, f"a URDF file of at most {MAX_URDF_BYTES} bytes")
+    try:
+        root = DET.fromstring(data, forbid_dtd=True, forbid_entities=True, forbid_external=True)
+    except defusedxml.DefusedXmlException as exc:
+        raise ParameterError("urdf", where, "a URDF without a document type declaration, entities or external "
+                             f"references (refused for safety: {type(exc).__name__})") from None
+    except (ET.ParseError, ValueError) as exc:
+        raise ParameterError("urdf", where, f"a well-formed URDF (XML error: {exc})") from None
     if root.tag != "robot":
-        raise ParameterError("urdf", os.fspath(path), f"a URDF whose root element is <robot> (got <{root.tag}>)")
+        raise ParameterError("urdf", where, f"a URDF whose root element is <robot> (got <{root.tag}>)")
     return root
 
 
@@ -154,6 +241,8 @@ def _floats(text, count, where):
         raise ParameterError(where, text, f"{count} numbers") from None
     if len(vals) != count or not np.all(np.isfinite(vals)):
         raise ParameterError(where, text, f"{count} finite numbers")
+    if max(abs(v) for v in vals) > MAX_URDF_NUMBER:
+        raise ParameterError(where, text, f"{count} numbers of magnitude <= {MAX_URDF_NUMBER:g} (SI units)")
     return vals
 
 
@@ -177,6 +266,8 @@ def _index(robot, path):
     for el in robot.findall("link"):
         name = el.get("name")
         where = f"link '{name}'"
+        if name is None or name in links:
+            raise ParameterError(f"{where}.name", name, "a unique link name")
         inert = el.find("inertial")
         if inert is None:
             links[name] = None
@@ -193,9 +284,12 @@ def _index(robot, path):
         I = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
         links[name] = (m, _origin(inert, f"{where}.inertial"), I)
     joints = {}
+    parent_joint = {}
     for el in robot.findall("joint"):
         name = el.get("name")
         where = f"joint '{name}'"
+        if name is None or name in joints:
+            raise ParameterError(f"{where}.name", name, "a unique joint name")
         parent, child = el.find("parent"), el.find("child")
         if parent is None or child is None:
             raise ParameterError(where, None, "<parent link> and <child link>")
@@ -204,6 +298,8 @@ def _index(robot, path):
         lim = el.find("limit")
         jtype = el.get("type")
         effort = _attr(lim, "effort", np.inf, f"{where}.limit")
+        if jtype != "fixed" and not effort > 0.0:  # a fixed joint's limits are never read
+            raise ParameterError(f"{where}.limit.effort", effort, "an effort limit > 0 [N m or N] (omit it for unlimited)")
         lower = _attr(lim, "lower", 0.0, f"{where}.limit")
         upper = _attr(lim, "upper", 0.0, f"{where}.limit")
         if jtype in ("revolute", "prismatic") and not lower < upper:
@@ -212,14 +308,38 @@ def _index(robot, path):
         joints[name] = dict(
             name=name, type=jtype, parent=parent.get("link"), child=child.get("link"),
             origin=_origin(el, where), axis=axis,
-            limit=dict(effort=effort if effort > 0.0 else np.inf, lower=lower, upper=upper),
+            limit=dict(effort=effort, lower=lower, upper=upper),
             damping=_attr(dyn, "damping", 0.0, f"{where}.dynamics"),
             friction=_attr(dyn, "friction", 0.0, f"{where}.dynamics"),
         )
         for key in ("parent", "child"):
             if joints[name][key] not in links:
                 raise ParameterError(f"{where}.{key}", joints[name][key], f"a link of {os.fspath(path)}")
+        child_link = joints[name]["child"]
+        if child_link in parent_joint:
+            raise ParameterError(f"{where}.child", child_link, f"a link that no other joint moves (a tree: joint "
+                                 f"'{parent_joint[child_link]}' already has it as its child)")
+        parent_joint[child_link] = name
+    _check_acyclic(joints, parent_joint)
     return links, joints
+
+
+def _check_acyclic(joints, parent_joint) -> None:
+    """Refuse links that are their own ancestors (each link has at most one parent joint, so a walk
+    up from any link either ends at a root or comes back: linear time with the finished marks)."""
+    done: set = set()
+    for start in parent_joint:
+        path, on_path, link = [], set(), start
+        while link in parent_joint and link not in done:
+            if link in on_path:
+                cycle = path[path.index(link):]
+                names = [parent_joint[c] for c in cycle]
+                raise ParameterError(f"joint '{names[0]}'.parent", joints[names[0]]["parent"],
+                                     f"a link tree without cycles (the joints {names} form a cycle)")
+            on_path.add(link)
+            path.append(link)
+            link = joints[parent_joint[link]]["parent"]
+        done.update(path)
 
 
 def _composite(root, links, children, stop):
