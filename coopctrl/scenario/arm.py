@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import choice, number, optional_vector, string, vector
 from coopctrl.scenario.schema import key, limits
+from plants.urdf_reader import MAX_CHAIN_JOINTS
 
 #: Robots shipped with the package as URDF files (plants.arms.panda / ur5e / iiwa14).
 NAMED_ROBOTS = ("panda", "ur5e", "iiwa14")
@@ -142,9 +143,8 @@ class ArmConfig:
         return os.path.normpath(os.path.join(folder, self.urdf))
 
 
-#: Most rows of a DH table: ``plants.arms._validation.MAX_CHAIN_JOINTS`` (not imported here: scene
-#: validation loads no numba; tests/test_fuzz_urdf.py checks that the two agree).
-MAX_DH_ROWS = 64
+#: Most rows of a DH table: the joint bound of a serial arm (``plants.urdf_reader``, which loads no numba).
+MAX_DH_ROWS = MAX_CHAIN_JOINTS
 
 
 def _dh_table(value) -> tuple[tuple[float, ...], ...]:
@@ -165,10 +165,11 @@ def _dh_table(value) -> tuple[tuple[float, ...], ...]:
 
 def urdf_chain_dof(path: str, base_link: str, tip_link: str) -> int:
     """Moving joints between ``base_link`` and ``tip_link`` of a URDF file, read by
-    :func:`plants.arms.urdf.chain_dof` (the safe parser and the tree, size and chain-length checks
-    of ``plants.arms.from_urdf``, without building the arm)."""
-    from plants.arms.urdf import chain_dof
+    :func:`plants.urdf_reader.chain_dof` (the safe parser and the tree, size and chain-length checks
+    of ``plants.arms.from_urdf``, without the numbers or numba: the full checks are made when the
+    arm is built)."""
     from plants.errors import ParameterError
+    from plants.urdf_reader import chain_dof
 
     try:
         return chain_dof(path, base_link, tip_link)

@@ -12,10 +12,6 @@ from plants.errors import ParameterError
 #: Largest magnitude of an arm parameter in SI units (1000 km, 1e6 kg, 1e6 kg m^2, 1e6 N m): beyond it
 #: the kinematics and dynamics overflow or lose all precision. URDF numbers and DH rows are checked.
 MAX_MAGNITUDE = 1e6
-#: Most joints of a serial arm (a URDF chain between base_link and tip_link, fixed joints included, or
-#: a DH table): real arms have a dozen; the bound keeps a hostile 1000-joint chain from building (and
-#: compiling) for minutes.
-MAX_CHAIN_JOINTS = 64
 
 
 def check_magnitude(where: str, value, bound: float = MAX_MAGNITUDE) -> None:

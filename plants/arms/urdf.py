@@ -1,14 +1,11 @@
 """Arms from URDF files: :func:`from_urdf` (docs/model.md s.4).
 
-Parser. The URDF is read with ``defusedxml.ElementTree`` (``forbid_dtd=True``): a file with a
-document type declaration -- entity definitions (the "billion laughs" expansion bomb) or external
-entities (a file or URL pulled into the document) -- is refused before anything is expanded or
-fetched. The file must be a regular file of at most :data:`MAX_URDF_BYTES`; the links must form a
-tree (each link the child of at most one joint, no cycle); at most :data:`MAX_CHAIN_JOINTS` joints
-may lie between ``base_link`` and ``tip_link``; every number is finite and of magnitude at most
-:data:`MAX_URDF_NUMBER`. The subset the dynamics needs (``<link>/<inertial>``, ``<joint>`` with
-``<origin>``, ``<axis>``, ``<limit>``, ``<dynamics>``) is small and fully specified, so the
-element tree is walked here. The PyPI URDF parsers were checked and not used:
+Parser. The document and its link tree are read by :mod:`plants.urdf_reader` (``defusedxml``, no
+DTD or entities, a regular file of at most ``MAX_URDF_BYTES``, a link tree without cycles, at most
+:data:`MAX_CHAIN_JOINTS` joints between ``base_link`` and ``tip_link``); this module reads the
+numbers on it, each finite and of magnitude at most :data:`MAX_URDF_NUMBER`. The subset the dynamics
+needs (``<link>/<inertial>``, ``<joint>`` with ``<origin>``, ``<axis>``, ``<limit>``,
+``<dynamics>``) is small and fully specified, so the element tree is walked here. The PyPI URDF parsers were checked and not used:
 ``urdf-parser-py`` (0.0.4, last release 2021, needs ``lxml`` and ``pyyaml``) is not kept on
 PyPI; ``yourdfpy`` and ``urchin`` pull ``trimesh``, ``lxml`` (and ``networkx``, ``pycollada``)
 for meshes this project never loads -- too heavy for the user install. Pinocchio
@@ -33,29 +30,20 @@ The node pose is the ``tip_link`` frame (times ``tool``), expressed in the world
 
 from __future__ import annotations
 
-import os
-import stat
-import xml.etree.ElementTree as ET
 from dataclasses import replace
 
-import defusedxml
-import defusedxml.ElementTree as DET
 import numpy as np
 
 from plants.arms._chain_kernels import COULOMB_SMOOTHING  # noqa: F401 (documented here)
-from plants.arms._validation import MAX_CHAIN_JOINTS as _MAX_CHAIN_JOINTS
 from plants.arms._validation import MAX_MAGNITUDE, check_pose4
 from plants.arms.chain_arm import ChainArm
 from plants.arms.chain_joint import ChainJoint
 from plants.errors import ParameterError
 from plants.frames import rotation_zyx
+from plants.urdf_reader import MAX_CHAIN_JOINTS, MAX_URDF_BYTES, kinematic_chain, link_tree, read_urdf
 
 SUPPORTED_JOINTS = ("revolute", "continuous", "prismatic", "fixed")
-#: Largest URDF file read [bytes] (the shipped ones are under 20 kB; meshes are separate files).
-MAX_URDF_BYTES = 16 * 1024 * 1024
-#: Most joints (fixed ones included) between ``base_link`` and ``tip_link``
-#: (:data:`plants.arms._validation.MAX_CHAIN_JOINTS`).
-MAX_CHAIN_JOINTS = _MAX_CHAIN_JOINTS
+__all__ = ["MAX_CHAIN_JOINTS", "MAX_URDF_BYTES", "MAX_URDF_NUMBER", "from_urdf", "pose_transform"]
 #: Largest magnitude of a number in a URDF, SI units (:data:`plants.arms._validation.MAX_MAGNITUDE`).
 MAX_URDF_NUMBER = MAX_MAGNITUDE
 
@@ -91,9 +79,9 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
         except (TypeError, ValueError) as exc:
             allowed = exc.allowed if isinstance(exc, ParameterError) else "a 4x4 homogeneous transform [m]"
             raise ParameterError("base", f"an array of shape {np.shape(base)}", allowed) from None
-    robot = _read(path)
+    robot = read_urdf(path)
     links, joints = _index(robot, path)
-    chain = _chain(links, joints, base_link, tip_link, path)
+    chain = kinematic_chain(links, joints, base_link, tip_link, path)
     for j in chain:
         if j["type"] not in SUPPORTED_JOINTS:
             raise ParameterError(f"joint '{j['name']}'.type", j["type"],
@@ -155,14 +143,6 @@ def pose_transform(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)) -> np.ndarray:
     return T
 
 
-def chain_dof(path, base_link: str, tip_link: str) -> int:
-    """Moving joints between ``base_link`` and ``tip_link`` of the URDF file ``path``, read with
-    the checks of :func:`from_urdf` (safe parser, size, tree, chain length) but without building
-    the arm. Raises ``ParameterError`` as :func:`from_urdf`."""
-    links, joints = _index(_read(path), path)
-    return sum(j["type"] != "fixed" for j in _chain(links, joints, base_link, tip_link, path))
-
-
 def _check_tool(tool) -> np.ndarray:
     """The tool frame as a 4x4 transform: a pose of 6 finite numbers (x, y, z [m], ZYX Euler
     psi, theta, phi [rad]) or a 4x4 homogeneous transform; ``ParameterError`` naming ``tool`` otherwise."""
@@ -183,57 +163,7 @@ def _check_tool(tool) -> np.ndarray:
                          "a pose of 6 finite numbers [m, rad] or a 4x4 homogeneous transform")
 
 
-def _chain(links, joints, base_link, tip_link, path) -> list:
-    """The joints from ``base_link`` down to ``tip_link`` (at most :data:`MAX_CHAIN_JOINTS`)."""
-    for field_name, link in (("base_link", base_link), ("tip_link", tip_link)):
-        if link not in links:
-            raise ParameterError(field_name, link, f"a link of {os.fspath(path)} (e.g. {', '.join(sorted(links)[:6])})")
-    by_child = {j["child"]: j for j in joints.values()}
-    chain = []
-    link = tip_link
-    while link != base_link:
-        if link not in by_child:  # not below base_link (_index has refused cycles)
-            raise ParameterError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree")
-        if len(chain) >= MAX_CHAIN_JOINTS:
-            raise ParameterError("tip_link", tip_link, f"a link at most {MAX_CHAIN_JOINTS} joints below base_link "
-                                 f"'{base_link}' (a serial arm, not a chain of more than {MAX_CHAIN_JOINTS} joints)")
-        j = by_child[link]
-        chain.append(j)
-        link = j["parent"]
-    chain.reverse()
-    return chain
-
-
 # ---- parsing -----------------------------------------------------------------------------
-def _read(path):
-    where = os.fspath(path)
-    try:
-        info = os.stat(path)
-    except (OSError, ValueError):
-        raise ParameterError("urdf", where, "an existing URDF file") from None
-    if not stat.S_ISREG(info.st_mode):
-        raise ParameterError("urdf", where, "a regular URDF file (not a directory, device or pipe)")
-    if info.st_size > MAX_URDF_BYTES:
-        raise ParameterError("urdf", where, f"a URDF file of at most {MAX_URDF_BYTES} bytes (it has {info.st_size})")
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_URDF_BYTES + 1)
-    except OSError as exc:
-        raise ParameterError("urdf", where, f"a readable URDF file ({exc.strerror})") from None
-    if len(data) > MAX_URDF_BYTES:
-        raise ParameterError("urdf", where, f"a URDF file of at most {MAX_URDF_BYTES} bytes")
-    try:
-        root = DET.fromstring(data, forbid_dtd=True, forbid_entities=True, forbid_external=True)
-    except defusedxml.DefusedXmlException as exc:
-        raise ParameterError("urdf", where, "a URDF without a document type declaration, entities or external "
-                             f"references (refused for safety: {type(exc).__name__})") from None
-    except (ET.ParseError, ValueError) as exc:
-        raise ParameterError("urdf", where, f"a well-formed URDF (XML error: {exc})") from None
-    if root.tag != "robot":
-        raise ParameterError("urdf", where, f"a URDF whose root element is <robot> (got <{root.tag}>)")
-    return root
-
-
 def _floats(text, count, where):
     try:
         vals = [float(v) for v in text.split()]
@@ -262,12 +192,13 @@ def _attr(el, key, default, where):
 
 
 def _index(robot, path):
+    """``(links, joints)`` of the link tree (:func:`plants.urdf_reader.link_tree`) with their numbers:
+    ``links[name] = (mass, inertial origin, inertia)`` or ``None``; ``joints[name]`` with ``origin``,
+    ``axis``, ``limit``, ``damping`` and ``friction`` added."""
+    tree_links, joints = link_tree(robot, path)
     links = {}
-    for el in robot.findall("link"):
-        name = el.get("name")
+    for name, el in tree_links.items():
         where = f"link '{name}'"
-        if name is None or name in links:
-            raise ParameterError(f"{where}.name", name, "a unique link name")
         inert = el.find("inertial")
         if inert is None:
             links[name] = None
@@ -283,20 +214,13 @@ def _index(robot, path):
         v = {k: _attr(I_el, k, 0.0, f"{where}.inertial.inertia") for k in keys}
         I = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
         links[name] = (m, _origin(inert, f"{where}.inertial"), I)
-    joints = {}
-    parent_joint = {}
-    for el in robot.findall("joint"):
-        name = el.get("name")
+    for name, joint in joints.items():
+        el = joint["element"]
         where = f"joint '{name}'"
-        if name is None or name in joints:
-            raise ParameterError(f"{where}.name", name, "a unique joint name")
-        parent, child = el.find("parent"), el.find("child")
-        if parent is None or child is None:
-            raise ParameterError(where, None, "<parent link> and <child link>")
         axis_el = el.find("axis")
         axis = _floats(axis_el.get("xyz", "1 0 0"), 3, f"{where}.axis") if axis_el is not None else [1.0, 0.0, 0.0]
         lim = el.find("limit")
-        jtype = el.get("type")
+        jtype = joint["type"]
         effort = _attr(lim, "effort", np.inf, f"{where}.limit")
         if jtype != "fixed" and not effort > 0.0:  # a fixed joint's limits are never read
             raise ParameterError(f"{where}.limit.effort", effort, "an effort limit > 0 [N m or N] (omit it for unlimited)")
@@ -305,41 +229,13 @@ def _index(robot, path):
         if jtype in ("revolute", "prismatic") and not lower < upper:
             raise ParameterError(f"{where}.limit", [lower, upper], "lower < upper (a revolute or prismatic joint needs <limit lower upper>)")
         dyn = el.find("dynamics")
-        joints[name] = dict(
-            name=name, type=jtype, parent=parent.get("link"), child=child.get("link"),
+        joint.update(
             origin=_origin(el, where), axis=axis,
             limit=dict(effort=effort, lower=lower, upper=upper),
             damping=_attr(dyn, "damping", 0.0, f"{where}.dynamics"),
             friction=_attr(dyn, "friction", 0.0, f"{where}.dynamics"),
         )
-        for key in ("parent", "child"):
-            if joints[name][key] not in links:
-                raise ParameterError(f"{where}.{key}", joints[name][key], f"a link of {os.fspath(path)}")
-        child_link = joints[name]["child"]
-        if child_link in parent_joint:
-            raise ParameterError(f"{where}.child", child_link, f"a link that no other joint moves (a tree: joint "
-                                 f"'{parent_joint[child_link]}' already has it as its child)")
-        parent_joint[child_link] = name
-    _check_acyclic(joints, parent_joint)
     return links, joints
-
-
-def _check_acyclic(joints, parent_joint) -> None:
-    """Refuse links that are their own ancestors (each link has at most one parent joint, so a walk
-    up from any link either ends at a root or comes back: linear time with the finished marks)."""
-    done: set = set()
-    for start in parent_joint:
-        path, on_path, link = [], set(), start
-        while link in parent_joint and link not in done:
-            if link in on_path:
-                cycle = path[path.index(link):]
-                names = [parent_joint[c] for c in cycle]
-                raise ParameterError(f"joint '{names[0]}'.parent", joints[names[0]]["parent"],
-                                     f"a link tree without cycles (the joints {names} form a cycle)")
-            on_path.add(link)
-            path.append(link)
-            link = joints[parent_joint[link]]["parent"]
-        done.update(path)
 
 
 def _composite(root, links, children, stop):
