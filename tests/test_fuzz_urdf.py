@@ -216,3 +216,11 @@ def test_hostile_dh_rows_are_refused_or_valid(tmp_path):
     scene = _scene(tmp_path, model="dh", dh=_dh_rows() * 20)  # 120 joints
     with pytest.raises(ScenarioError, match=rf"arms\[0\]\.dh.*at most {MAX_DH_ROWS} rows"):
         load_scenario(scene)
+
+
+@pytest.mark.parametrize("path", ["/dev/zero", "."], ids=["device", "directory"])
+def test_a_urdf_that_is_not_a_regular_file_is_refused(tmp_path, path):
+    """/dev/zero would be read without end; a directory cannot be parsed: both refused before reading."""
+    scene = _scene(tmp_path, model="urdf", urdf=path, base_link="base", tip_link="tip")
+    with pytest.raises(ScenarioError, match=r"arms\[0\]\.urdf.*a regular URDF file"):
+        load_scenario(scene).dof_per_arm  # noqa: B018
