@@ -59,7 +59,7 @@ def _billion_laughs() -> str:
     return f'<?xml version="1.0"?>\n<!DOCTYPE robot [{"".join(ents)}]>\n<robot name="x">&lol9;</robot>\n'
 
 
-_EXTERNAL = ('<?xml version="1.0"?>\n<!DOCTYPE robot [<!ENTITY ext SYSTEM "file:///etc/hostname">]>\n'
+_EXTERNAL = ('<?xml version="1.0"?>\n<!DOCTYPE robot [<!ENTITY ext SYSTEM "secret.txt">]>\n'
              '<robot name="x"><link name="base"/>&ext;</robot>\n')
 
 _HOSTILE_NUMBERS = ("-150", "0", "-0", "nan", "inf", "-inf", "1e300", "-1e300", "", "abc", "1 2", "1e6", "-1")
