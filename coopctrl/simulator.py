@@ -80,7 +80,7 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]
-    squeeze = squeeze_series(rec["F_measured"], rec["r_contacts"], Y0[:, :loop.npos], plant.space)
+    squeeze = squeeze_series(rec["F_measured"], rec["r_contacts"], Y0[:, :loop.npos], plant.space, loop.squeeze_desired)
     report = plant.size_report()
     model = {"arms": report["arms"], "dof_per_arm": report["dof_per_arm"], "space": plant.space,
              "unloaded_state": plant.unloaded_state, "state_size": plant.state_size,
