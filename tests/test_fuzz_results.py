@@ -39,11 +39,30 @@ def one_line(err: str) -> str:
     return lines[0]
 
 
+def _stub_plots(result, directory):
+    """A stand-in for :func:`coopctrl.results.plots.plot_result` (tested in tests/test_plots.py): one tiny
+    PNG, so that the folder holds what a run writes without 1-2 s of matplotlib per figure here."""
+    path = Path(directory) / "object_pose.png"
+    path.write_bytes(b"\x89PNG\r\n\x1a\n")
+    return [path]
+
+
+@pytest.fixture(autouse=True)
+def quick_plots(monkeypatch):
+    import coopctrl.results.plots as plots
+
+    monkeypatch.setattr(plots, "plot_result", _stub_plots)
+
+
 @pytest.fixture(scope="module")
 def result_dir(tmp_path_factory):
     """One short result folder, written by ``coopctrl run --out``."""
+    import coopctrl.results.plots as plots
+
     out = tmp_path_factory.mktemp("base") / "r"
-    assert cli.main(["run", "planar_two_arm_lift", *SHORT, "-q", "--out", str(out)]) == 0
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(plots, "plot_result", _stub_plots)
+        assert cli.main(["run", "planar_two_arm_lift", *SHORT, "-q", "--out", str(out)]) == 0
     return out
 
 

@@ -23,6 +23,21 @@ LIFT = "planar_two_arm_lift"
 TIMING = ("wall_time_s", "realtime_factor", "qp_solve_time_median_us", "qp_time_share")
 
 
+def _stub_plots(result, directory):
+    """A stand-in for :func:`coopctrl.results.plots.plot_result` (tested in tests/test_plots.py): one tiny
+    PNG, so that the folder holds what a run writes without 1-2 s of matplotlib per figure here."""
+    path = Path(directory) / "object_pose.png"
+    path.write_bytes(b"\x89PNG\r\n\x1a\n")
+    return [path]
+
+
+@pytest.fixture(autouse=True)
+def quick_plots(monkeypatch):
+    import coopctrl.results.plots as plots
+
+    monkeypatch.setattr(plots, "plot_result", _stub_plots)
+
+
 def run_cli(args, capsys):
     code = cli.main([str(a) for a in args])
     out, err = capsys.readouterr()
