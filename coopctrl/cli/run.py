@@ -8,7 +8,7 @@ import sys
 from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, stdout_to_stderr,
                                 subcommand)
 from coopctrl.errors import DivergenceError, InfeasibleLoad
-from coopctrl.io.console import OutputWriteError, escaped, say
+from coopctrl.io.console import OutputWriteError, say
 
 
 def result_directory(text: str):

@@ -15,7 +15,6 @@ import os
 import struct
 import zipfile
 import zlib
-from pathlib import Path
 from typing import Iterable
 
 import numpy as np
@@ -140,10 +139,3 @@ def _read_entry(archive: zipfile.ZipFile, info: zipfile.ZipInfo, damaged) -> np.
     array = np.frombuffer(bytearray(data), dtype=dtype, count=count)
     return array.reshape(shape[::-1]).T if fortran else array.reshape(shape)
 
-
-def is_readable_file(path: Path) -> bool:
-    """True for an existing regular file (not a directory, device or fifo)."""
-    try:
-        return path.is_file()
-    except OSError:
-        return False
