@@ -45,9 +45,12 @@ def run_cli(args, capsys):
 
 
 def _with_meshes(urdf: str, absolute_mesh: Path) -> str:
-    """The URDF with a visual mesh on two links: one named relative to the URDF, one by absolute path."""
+    """The URDF with a visual mesh on three links: named relative to the URDF, as a ROS package (the
+    URDF's folder is ``robots``) and by absolute path."""
     urdf = urdf.replace('<link name="l1">', '<link name="l1"><visual><geometry><mesh filename="meshes/l1.stl"/>'
                         '</geometry></visual>', 1)
+    urdf = urdf.replace('<link name="l3">', '<link name="l3"><visual><geometry><mesh '
+                        'filename="package://robots/meshes/l3.stl"/></geometry></visual>', 1)
     return urdf.replace('<link name="l2">', f'<link name="l2"><visual><geometry><mesh filename="{absolute_mesh}"/>'
                         '</geometry></visual>', 1)
 
@@ -57,6 +60,7 @@ def test_a_user_urdf_result_reopens_and_reruns_after_its_scene_is_gone(tmp_path,
     (scene_dir / "robots" / "meshes").mkdir(parents=True)
     elsewhere.mkdir()
     (scene_dir / "robots" / "meshes" / "l1.stl").write_bytes(b"solid l1\nendsolid l1\n")
+    (scene_dir / "robots" / "meshes" / "l3.stl").write_bytes(b"solid l3\nendsolid l3\n")
     (elsewhere / "l2.obj").write_text("v 0 0 0\n")
     (scene_dir / "robots" / "my_arm.urdf").write_text(_with_meshes(_dh_as_urdf(_dh_rows()), elsewhere / "l2.obj"))
     data = _scene_data(model="urdf", urdf="robots/my_arm.urdf", base_link="base", tip_link="tip",
@@ -75,6 +79,8 @@ def test_a_user_urdf_result_reopens_and_reruns_after_its_scene_is_gone(tmp_path,
     assert (out / "robots" / "arm1" / "meshes" / "l1.stl").read_bytes() == b"solid l1\nendsolid l1\n"
     assert 'filename="meshes/l1.stl"' in copied and 'filename="meshes/1_l2.obj"' in copied
     assert (out / "robots" / "arm1" / "meshes" / "1_l2.obj").read_text() == "v 0 0 0\n"
+    renamed = [line for line in copied.split('"') if line.endswith("_l3.stl")]
+    assert renamed and (out / "robots" / "arm1" / renamed[0]).read_bytes() == b"solid l3\nendsolid l3\n"
 
     (out / "replay.html").unlink()
     code, _, err = run_cli(["view", out], capsys)

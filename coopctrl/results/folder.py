@@ -51,9 +51,25 @@ def sha256_of(path: Path) -> str:
 
 
 # ---------------------------------------------------------------------- writing
+def _mesh_file(name: str, urdf: Path) -> Path:
+    """The file a ``<mesh filename>`` names, as the replay reads it: relative to the URDF's folder,
+    ``file://`` absolute, ``package://PKG/REST`` as ``D/REST`` for the nearest folder ``D`` named ``PKG``
+    above the URDF (else ``REST`` beside it)."""
+    folder = urdf.resolve().parent
+    if name.startswith("file://"):
+        return Path(name[len("file://"):])
+    if name.startswith("package://"):
+        package, _, rest = name[len("package://"):].partition("/")
+        for parent in (folder, *folder.parents):
+            if parent.name == package:
+                return parent / rest
+        return folder / rest
+    return folder / name
+
+
 def _mesh_files(urdf: Path) -> list[tuple[str, Path]]:
     """``(filename attribute, file)`` of the ``<mesh>`` elements of ``urdf`` whose files exist here
-    (``package://`` names and missing files are left as they are)."""
+    (other URI schemes and missing files are left as they are)."""
     from defusedxml import ElementTree
 
     try:
@@ -63,10 +79,9 @@ def _mesh_files(urdf: Path) -> list[tuple[str, Path]]:
     found = []
     for mesh in tree.getroot().iter("mesh"):
         name = mesh.get("filename") or ""
-        if "://" in name and not name.startswith("file://"):
+        if "://" in name and not name.startswith(("file://", "package://")):
             continue
-        path = Path(name[len("file://"):] if name.startswith("file://") else name)
-        path = path if path.is_absolute() else urdf.parent / path
+        path = _mesh_file(name, urdf)
         if path.is_file():
             found.append((name, path))
     return found
@@ -75,7 +90,7 @@ def _mesh_files(urdf: Path) -> list[tuple[str, Path]]:
 def _copy_urdf(source: Path, into: Path) -> Path:
     """Copy ``source`` and its mesh files into the folder ``into``; returns the copied URDF. Mesh names
     relative to the URDF and inside its folder keep their place; others (absolute, ``file://``, or
-    reaching above the URDF's folder) are copied to ``meshes/`` and renamed in the copy."""
+    reaching above the URDF's folder, ``package://``) are copied to ``meshes/`` and renamed in the copy."""
     into.mkdir(parents=True, exist_ok=True)
     target = into / source.name
     renamed = {}

@@ -11,7 +11,7 @@ with ``r = simulation.record_every``. Events are kept whole. The node (end-effec
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import fields, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -19,9 +19,9 @@ import numpy as np
 if TYPE_CHECKING:
     from coopctrl.results.simulation_result import SimulationResult
 
-#: Per-sample array fields of a result (first axis: the samples).
-SAMPLE_ARRAYS = ("t", "x", "tau", "Y0", "Y0_nominal", "F_measured", "F_commanded", "F_external", "F_internal",
-                 "squeeze", "qp_iterations", "qp_solve_time_s", "energy", "kinetic_energy", "Y_nodes")
+#: Array fields of a result that are not per sample (every other array whose first axis has N entries
+#: is: t, x, tau, Y0, the wrenches, squeeze, the QP's figures, the energies, Y_nodes).
+NOT_PER_SAMPLE = ("squeeze_desired", "tau_max")
 #: Per-sample lists of a result.
 SAMPLE_LISTS = ("qp_status", "qp_binding")
 
@@ -46,10 +46,10 @@ def thin(result: "SimulationResult", record_every: int) -> "SimulationResult":
         return result
     changes = {"record_every": int(record_every) * result.record_every,
                "tick_summary": result.summary()}
-    for name in SAMPLE_ARRAYS:
-        value = getattr(result, name)
-        if value is not None and value.shape[:1] == (n,):
-            changes[name] = value[index].copy()
+    for item in fields(result):
+        value = getattr(result, item.name)
+        if item.name not in NOT_PER_SAMPLE and isinstance(value, np.ndarray) and value.shape[:1] == (n,):
+            changes[item.name] = value[index].copy()
     for name in SAMPLE_LISTS:
         value = getattr(result, name)
         if len(value) == n:
