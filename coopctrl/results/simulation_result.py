@@ -86,13 +86,13 @@ class SimulationResult:
     energy_conserving: bool = False
     leader: int = 0
     followers: list[int] = field(default_factory=list)
-    qp_active_constraints: dict[str, int] = field(default_factory=dict)
-    qp_time_s: float = float("nan")
-    torque_saturated_ticks: int = 0
     Y_nodes: np.ndarray | None = None
     record_every: int = 1
     tick_summary: dict[str, Any] | None = None
     scenario_sha256: str = ""
+    qp_active_constraints: dict[str, int] = field(default_factory=dict)
+    qp_time_s: float = float("nan")
+    torque_saturated_ticks: int = 0
 
     def __post_init__(self) -> None:
         if self.space not in ("planar", "spatial"):

@@ -18,18 +18,19 @@ if TYPE_CHECKING:
 ARRAY_FIELDS = (
     "t", "x", "tau", "Y0", "Y0_nominal", "F_measured", "F_commanded", "F_external", "F_internal",
     "squeeze", "squeeze_desired", "tau_max", "qp_iterations", "qp_solve_time_s", "energy", "kinetic_energy",
-    "Y_nodes",
 )
-#: Array fields that every ``result.npz`` holds (the others are optional).
-REQUIRED_ARRAYS = ARRAY_FIELDS[:11]
-#: Entries of ``result.npz`` besides the array fields (the events, the QP's strings, the ``meta`` JSON).
-TEXT_ENTRIES = ("qp_status", "events_t", "events_kind", "events_message", "meta")
 #: Scalar and dict fields stored as JSON in the ``meta`` entry of ``result.npz``.
 META_FIELDS = (
     "scenario", "space", "status", "reason", "model", "integrator", "step_s", "control_period_s",
     "duration_s", "wall_time_s", "energy_conserving", "leader", "followers", "qp_active_constraints",
     "qp_time_s", "torque_saturated_ticks", "record_every", "tick_summary", "scenario_sha256",
 )
+#: The node (end-effector) poses are stored too (optional on reading: older results have none).
+ARRAY_FIELDS = ARRAY_FIELDS + ("Y_nodes",)
+#: Array fields that every ``result.npz`` holds (the others are optional).
+REQUIRED_ARRAYS = ARRAY_FIELDS[:11]
+#: Entries of ``result.npz`` besides the array fields (the events, the QP's strings, the ``meta`` JSON).
+TEXT_ENTRIES = ("qp_status", "events_t", "events_kind", "events_message", "meta")
 #: The type each ``meta`` field must have when read back (``float`` fields may be ``None`` for NaN).
 _META_TYPES = {
     "scenario": str, "space": str, "status": str, "reason": str, "model": dict, "integrator": str,
