@@ -14,6 +14,7 @@ from coopctrl.closed_loop import ClosedLoop
 from coopctrl.errors import InfeasibleLoad
 from coopctrl.loop.squeeze import squeeze_series
 from coopctrl.results import SimulationResult
+from coopctrl.results.thinning import finish_record
 from coopctrl.scenario import build
 
 
@@ -85,7 +86,7 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     model = {"arms": report["arms"], "dof_per_arm": report["dof_per_arm"], "space": plant.space,
              "unloaded_state": plant.unloaded_state, "state_size": plant.state_size,
              "arm_models": [a.model for a in scenario.arms]}
-    return SimulationResult(
+    result = SimulationResult(
         scenario=scenario.name, space=plant.space, t=rec["t"], x=x, tau=rec["tau"], Y0=Y0,
         Y0_nominal=rec["Y0_nominal"], F_measured=rec["F_measured"], F_commanded=rec["F_commanded"],
         F_external=rec["F_external"], F_internal=rec["F_internal"], squeeze=squeeze,
@@ -100,3 +101,4 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
         kinetic_energy=None if scenario.controllers.enabled else rec["kinetic_energy"],
         energy_conserving=(not scenario.controllers.enabled and all(
             sp.damping == 0 and sp.torsion_damping == 0 for sp in scenario.springs)))
+    return finish_record(result, plant, sim.record_every)  # metrics of every tick, then the kept samples

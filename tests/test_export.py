@@ -18,8 +18,9 @@ def test_to_pandas_names_units_and_values(space, m):
     dof, p = (3, 3) if space == "planar" else (6, 6)
     joints = m * dof
     pairs = m * (m - 1) // 2
-    # pose + nominal, q, qd, tau, four wrench families, squeeze + desired, qp iterations/time, energy
-    expected_columns = 2 * p + 3 * joints + 4 * m * p + 2 * pairs + 3
+    # pose + nominal + velocity, q, qd, tau, four wrench families, squeeze + desired, qp iterations/time,
+    # energy (no node poses: the synthetic result has none)
+    expected_columns = 3 * p + 3 * joints + 4 * m * p + 2 * pairs + 3
     assert df.shape == (r.t.size, expected_columns)
     np.testing.assert_array_equal(df.index.to_numpy(), r.t)
     units = df.attrs["units"]
@@ -27,6 +28,8 @@ def test_to_pandas_names_units_and_values(space, m):
     last = f"arm{m}_j{dof}"
     assert units[f"tau_{last}"] == "N m" and units[f"q_{last}"] == "rad" and units[f"qd_{last}"] == "rad/s"
     assert units["Y0_x"] == "m" and units["Y0_theta"] == "rad" and units["squeeze_1_2"] == "N"
+    assert units["Y0d_x"] == "m/s" and units["Y0d_theta"] == "rad/s"
+    np.testing.assert_array_equal(df["Y0d_x"], r.x[:, 2 * joints + p])  # x = col(q, Y0, q', Y0')
     moment = "my" if space == "planar" else "mz"
     assert units[f"F_measured_arm{m}_fx"] == "N" and units[f"F_measured_arm{m}_{moment}"] == "N m"
     # values are the result's, in the documented numbering (arm k = contact k, 1-based)

@@ -2,11 +2,35 @@
 
 from __future__ import annotations
 
+import argparse
 import sys
 
 from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, stdout_to_stderr,
                                 subcommand)
 from coopctrl.errors import DivergenceError, InfeasibleLoad
+from coopctrl.io.console import OutputWriteError, say
+
+
+def result_directory(text: str):
+    """``--out DIR`` of ``run``: writable (:func:`output_directory`), and a folder that may be replaced as
+    a whole (:func:`coopctrl.io.output_folder.check_output_folder`: new, empty, or an earlier result)."""
+    from coopctrl.io.output_folder import RESULT_FOLDER, check_output_folder
+
+    path = output_directory(text)
+    try:
+        return check_output_folder(path, RESULT_FOLDER)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _record_every(text: str) -> int:
+    """``--record-every N``: an integer (its range is the scenario's, ``simulation.record_every``)."""
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected an integer N >= 1 "
+                                         "(keep every N-th control tick)") from None
+
 
 def _simulate_function():
     """The simulator (imported lazily: it pulls in numpy, numba and the solvers)."""
@@ -21,6 +45,8 @@ def cmd_run(args) -> int:
 
     import numpy as np
 
+    if args.record_every is not None:  # checked against the schema's range with the scenario
+        args.sets = [*args.sets, f"simulation.record_every={args.record_every}"]
     scenario = _load(args)
     if not args.no_preflight:  # an impossible task is refused before the first tick (exit 1)
         from coopctrl.analysis.preflight import preflight
@@ -37,31 +63,36 @@ def cmd_run(args) -> int:
             result = simulate(scenario, progress=progress)
             with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so
                 summary = result.summary()
-            if args.out is not None:
-                result.save(args.out)
-                result.plot(args.out)
-                from coopctrl.replay import write_replay
+            if args.out is not None:  # the whole folder as one unit (an earlier result stays whole until then)
+                from coopctrl.results.folder import write_result_folder
 
-                write_replay(result, scenario, args.out)  # replay.html and scenario.toml (for `coopctrl view`)
+                write_result_folder(result, scenario, args.out)
     except (DivergenceError, InfeasibleLoad) as err:
         kind = "diverged" if isinstance(err, DivergenceError) else "qp_failed"
         print(f"{PROG}: {kind}: {_one_line(err)}", file=sys.stderr)
         return 1
+    except OutputWriteError as err:
+        print(f"{PROG}: failed: {err}; {args.out} was left as it was", file=sys.stderr)
+        return 1
     from coopctrl.results import summary_table
 
-    if args.json:
-        print(json.dumps(summary, indent=2, allow_nan=False))
-    elif not args.quiet:
-        print(summary_table(summary))
-        ticks = len(result.t)
-        print(f"{'torque-saturated ticks'.ljust(28)}  {summary.get('torque_saturated_ticks', 0)} of {ticks}")
-        if args.out is not None:
-            print(f"outputs written to {args.out}")
+    ticks = summary.get("samples", len(result.t))
+    try:
+        if args.json:
+            say(json.dumps(summary, indent=2, allow_nan=False))
+        elif not args.quiet:
+            say(summary_table(summary))
+            say(f"{'torque-saturated ticks'.ljust(28)}  {summary.get('torque_saturated_ticks', 0)} of {ticks}")
+            if args.out is not None:
+                say(f"outputs written to {args.out}")
+    except OutputWriteError as err:
+        print(f"{PROG}: failed: {err} (the run itself finished; its files, if any, are whole)", file=sys.stderr)
+        return 1
     saturated = int(summary.get("torque_saturated_ticks", 0) or 0)
     if saturated and result.status == "ok":  # a failed run's one-line reason names the saturation when it is a cause
         ratio = summary.get("max_torque_ratio")
         shown = "-" if ratio is None else f"{ratio:.3g}"
-        print(f"{PROG}: warning: the torques saturated at tau_max on {saturated} of {len(result.t)} ticks "
+        print(f"{PROG}: warning: the torques saturated at tau_max on {saturated} of {ticks} ticks "
               f"(max |tau| / tau_max = {shown})", file=sys.stderr)
     if result.status != "ok":
         print(f"{PROG}: {result.status}: {_one_line(result.reason) or 'no reason given'}", file=sys.stderr)
@@ -80,7 +111,13 @@ def _run_parser(sub) -> None:
     )
     parser.add_argument("scenario", nargs="?", help="scenario .toml file, or the name of one in scenarios/ (default: built-in default scene)")
     _add_set_option(parser)
-    parser.add_argument("--out", type=output_directory, metavar="DIR", help="write result.npz, result.csv, summary.json, PNG plots, replay.html (3-D replay) and scenario.toml into DIR")
+    parser.add_argument("--out", type=result_directory, metavar="DIR",
+                        help="write result.npz, result.csv, summary.json, PNG plots, replay.html (3-D replay), "
+                        "scenario.toml and copies of the scene's own URDF files (robots/) into DIR, as one unit: DIR "
+                        "must be new, empty or an earlier result, which stays whole until the new one replaces it")
+    parser.add_argument("--record-every", type=_record_every, metavar="N",
+                        help="keep every N-th control tick (and the last) in the result and its files "
+                        "(simulation.record_every); the summary is computed on every tick")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON on stdout (nothing else on stdout)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary table")
     parser.add_argument("--no-preflight", action="store_true",

@@ -36,6 +36,17 @@ def _seconds(text: str) -> float:
     return value
 
 
+def _sweep_directory(text: str):
+    """``--out DIR`` of ``sweep``: writable, and new, empty or an earlier sweep's folder (it is replaced
+    as one unit at each save, :meth:`coopctrl.sweep.SweepResult.save`)."""
+    from coopctrl.io.output_folder import SWEEP_FOLDER, check_output_folder
+
+    try:
+        return check_output_folder(output_directory(text), SWEEP_FOLDER)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def _emit(result, args) -> None:
     if args.json:
         print(result.to_json())
@@ -94,7 +105,7 @@ def _sweep_parser(sub) -> None:
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on the Dask cluster of this scheduler, e.g. tcp://scheduler.example:8786 "
                        "(pip install 'coopctrl[distributed]')")
-    parser.add_argument("--out", type=output_directory, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
+    parser.add_argument("--out", type=_sweep_directory, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
     parser.add_argument("--run-timeout", type=_seconds, metavar="SECONDS",
                         help="stop a run after this wall time; it becomes a row with status 'timeout' "
                         "(local workers and --jobs 1; default: no limit)")

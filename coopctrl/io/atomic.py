@@ -10,23 +10,32 @@ from pathlib import Path
 from typing import IO, Iterator
 
 
-#: The temporary files being written, removed by :func:`remove_pending` when the process is stopped
-#: by a signal in a place where ``atomic_write``'s own clean-up cannot run.
+#: The temporary files (and folders, :mod:`coopctrl.io.atomic_dir`) being written, removed by
+#: :func:`remove_pending` when the process is stopped by a signal in a place where their own clean-up
+#: cannot run.
 _PENDING: set[str] = set()
 #: Signals held back between creating a temporary file and registering it (a few microseconds).
 _HELD = {signal.SIGINT, signal.SIGTERM}
 
 
 def remove_pending() -> list[str]:
-    """Remove the temporary files of writes still in progress (the command line calls it on SIGINT and
-    SIGTERM); returns their names. Targets are untouched: they stay as they were before the write."""
+    """Remove the temporary files and folders of writes still in progress (the command line calls it on
+    SIGINT and SIGTERM); returns their names. Targets are untouched: they stay as they were before the
+    write."""
+    import shutil
+
     removed = []
     for name in list(_PENDING):
         try:
-            os.unlink(name)
+            if os.path.isdir(name) and not os.path.islink(name):
+                shutil.rmtree(name)
+            else:
+                os.unlink(name)
             removed.append(name)
         except FileNotFoundError:
             pass
+        except OSError:
+            shutil.rmtree(name, ignore_errors=True)
         _PENDING.discard(name)
     return removed
 

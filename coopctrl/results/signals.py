@@ -10,6 +10,8 @@ poses and ``(fx, fz, my)`` wrenches in the x-z plane.
 Signals, per sample (N at the control rate):
 
 - ``Y0_<c>`` / ``Y0_nominal_<c>``: object pose and its nominal trajectory [m] or [rad];
+- ``Y0d_<c>``: object velocity, the rate of its pose coordinates [m/s] or [rad/s];
+- ``node_arm<i>_<c>``: the node (end-effector) pose of arm i [m] or [rad];
 - ``q_arm<i>_j<k>`` [rad], ``qd_arm<i>_j<k>`` [rad/s]: joint angles and rates;
 - ``tau_arm<i>_j<k>`` [N m]: joint torques;
 - ``F_measured_arm<i>_<c>``, ``F_commanded_...``, ``F_external_...``, ``F_internal_...``
@@ -73,7 +75,13 @@ def signals(result: "SimulationResult") -> list[tuple[str, str, np.ndarray]]:
         out += [(f"{prefix}_{c}", pose_unit(c), Y[:, k]) for k, c in enumerate(pose_names(p))]
     joints = joint_labels(r)
     nq = len(joints)
-    if r.x.shape[1] >= 2 * nq + 2 * p:  # x = col(q, Y0, q', Y0')
+    if r.x.shape[1] == 2 * nq + 2 * p:  # x = col(q, Y0, q', Y0')
+        half = r.x.shape[1] // 2
+        out += [(f"Y0d_{c}", pose_unit(c) + "/s", r.x[:, half + nq + k]) for k, c in enumerate(pose_names(p))]
+    if r.Y_nodes is not None:
+        out += [(f"node_arm{i + 1}_{c}", pose_unit(c), r.Y_nodes[:, i, k])
+                for i in range(m) for k, c in enumerate(pose_names(p))]
+    if r.x.shape[1] >= 2 * nq + 2 * p:
         half = r.x.shape[1] // 2
         out += [(f"q_{lab}", "rad", r.x[:, j]) for j, lab in enumerate(joints)]
         out += [(f"qd_{lab}", "rad/s", r.x[:, half + j]) for j, lab in enumerate(joints)]

@@ -48,6 +48,12 @@ class SimulationResult:
         kinetic_energy: Kinetic energy T (N,) [J], or ``None`` (scales the energy drift).
         energy_conserving: True when the run had no control and no damping.
         leader: Index of the leader arm (0-based); ``followers`` the followers' indices.
+        Y_nodes: Node (end-effector) poses (N, m, p) [m, rad], or ``None``.
+        record_every: Every how many control ticks a sample was kept (``simulation.record_every``);
+            ``t`` and every per-sample array hold the kept samples only.
+        tick_summary: The :meth:`summary` computed on every tick before the record was thinned, or
+            ``None`` (``record_every = 1``: the summary is computed from the record itself).
+        scenario_sha256: SHA-256 (hex) of the ``scenario.toml`` saved with the result, or ``""``.
     """
 
     scenario: str
@@ -82,6 +88,10 @@ class SimulationResult:
     energy_conserving: bool = False
     leader: int = 0
     followers: list[int] = field(default_factory=list)
+    Y_nodes: np.ndarray | None = None
+    record_every: int = 1
+    tick_summary: dict[str, Any] | None = None
+    scenario_sha256: str = ""
     qp_active_constraints: dict[str, int] = field(default_factory=dict)
     qp_time_s: float = float("nan")
     torque_saturated_ticks: int = 0
@@ -134,6 +144,13 @@ class SimulationResult:
             value = getattr(self, name)
             if value is not None:
                 arr(name, 1)
+        if self.Y_nodes is not None:
+            arr("Y_nodes", 3, (m, p))
+        if isinstance(self.record_every, bool) or int(self.record_every) != self.record_every or self.record_every < 1:
+            raise ValueError(f"SimulationResult: record_every = {self.record_every!r} is invalid: expected an integer >= 1")
+        self.record_every = int(self.record_every)
+        if self.tick_summary is not None and not isinstance(self.tick_summary, dict):
+            raise ValueError(f"SimulationResult: tick_summary is a {type(self.tick_summary).__name__}, expected a dict or None")
         self.events = [(float(e[0]), str(e[1]), str(e[2])) for e in self.events]
         self.followers = [int(k) for k in self.followers]
         self.leader = int(self.leader)
@@ -151,9 +168,12 @@ class SimulationResult:
 
     # ------------------------------------------------------------------ outputs
     def summary(self) -> dict[str, Any]:
-        """Key figures as a JSON-serialisable dict (no NaN or inf: those are ``None``)."""
+        """Key figures as a JSON-serialisable dict (no NaN or inf: those are ``None``), computed on
+        every control tick even when the record was thinned (``record_every > 1``)."""
         from coopctrl.results.summary import summarize
 
+        if self.tick_summary is not None:
+            return dict(self.tick_summary)
         return summarize(self)
 
     def save(self, directory: str | Path) -> list[Path]:

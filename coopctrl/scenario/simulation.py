@@ -30,6 +30,10 @@ class SimulationConfig:
             interconnections deformed to carry the QP split of t = 0, arms placed by inverse
             kinematics); ``"unloaded"`` starts with every interconnection at rest length (the
             gripping phase: forces build up from zero).
+        record_every: Keep every how many control ticks in the record (>= 1; the last tick is always
+            kept): the returned result and its files (``--out``) hold about
+            ``duration / (control_period * record_every)`` samples. The summary's metrics are
+            computed on every tick whatever its value.
     """
 
     duration: float = key(1.5, unit="s", gt=0, le=1e4,
@@ -44,6 +48,8 @@ class SimulationConfig:
     max_deformation: float = key(0.05, unit="m", gt=0, le=10.0, why="no grasp deforms by metres")
     max_energy: float | None = key(None, unit="J", gt=0, le=1e12, why="absent = no energy bound")
     start: str = key("loaded", allowed=STARTS)
+    record_every: int = key(1, ge=1, le=1_000_000,
+                            why="a sample at least every 1e6 control periods (1000 s at the default period)")
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -57,6 +63,7 @@ class SimulationConfig:
         s(self, "max_deformation", number("max_deformation", self.max_deformation, **limits(self, "max_deformation")))
         s(self, "max_energy", optional_number("max_energy", self.max_energy, **limits(self, "max_energy")))
         s(self, "start", choice("start", self.start, STARTS))
+        s(self, "record_every", integer("record_every", self.record_every, minimum=1, maximum=1_000_000))
 
     @property
     def step(self) -> float:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
@@ -194,15 +195,27 @@ class SweepResult:
         return "\n".join(lines)
 
     def save(self, directory: str | Path) -> list[Path]:
-        """Write ``sweep.csv`` and ``sweep.json`` atomically into ``directory`` (created if needed).
-        Returns the paths written."""
-        from coopctrl.io.atomic import atomic_write
+        """Write ``sweep.csv`` and ``sweep.json`` into ``directory`` as one unit: both are written into a
+        sibling temporary folder that then replaces ``directory`` in one step
+        (:mod:`coopctrl.io.atomic_dir`), so a reader always finds the two files of the same save.
+        ``directory`` must be new, empty or an earlier sweep's folder
+        (:func:`coopctrl.io.output_folder.check_output_folder`). Returns the paths written.
+
+        Raises:
+            ValueError: ``directory`` holds files that a sweep does not write.
+            OutputWriteError: the system refused a write (a full disk); ``directory`` is as it was.
+        """
+        from coopctrl.io.atomic_dir import atomic_directory
+        from coopctrl.io.console import writing
+        from coopctrl.io.output_folder import SWEEP_FOLDER, check_output_folder
 
         directory = Path(directory)
-        directory.mkdir(parents=True, exist_ok=True)
-        paths = []
-        for name, text in ((CSV_NAME, self.to_csv()), (JSON_NAME, self.to_json() + "\n")):
-            with atomic_write(directory / name) as handle:
-                handle.write(text)
-            paths.append(directory / name)
-        return paths
+        check_output_folder(directory, SWEEP_FOLDER)
+        texts = ((CSV_NAME, self.to_csv()), (JSON_NAME, self.to_json() + "\n"))
+        with writing(str(directory)), atomic_directory(directory) as folder:
+            for name, text in texts:
+                with writing(str(directory / name)), open(folder / name, "w", encoding="utf-8", newline="") as handle:
+                    handle.write(text)
+                    handle.flush()
+                    os.fsync(handle.fileno())
+        return [directory / name for name, _ in texts]
