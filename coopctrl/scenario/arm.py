@@ -35,6 +35,9 @@ MODEL_SPACES: dict[str, tuple[str, ...]] = {
 DH_COLUMNS = ("a", "alpha", "d", "offset", "mass", "rcx", "rcy", "rcz", "Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz")
 DH_UNITS = "a [m], alpha [rad], d [m], offset [rad], mass [kg], rc [m] (3), I about the COM [kg m^2] (Ixx Iyy Izz Ixy Iyz Ixz)"
 
+#: Most joints of a DH arm (and of a URDF arm's chain counted here): far more than any manipulator.
+MAX_DH_JOINTS = 32
+
 _UNRESOLVED = object()
 
 
@@ -144,9 +147,11 @@ class ArmConfig:
 
 def _dh_table(value) -> tuple[tuple[float, ...], ...]:
     """A DH table: a non-empty list of rows of :data:`DH_COLUMNS` numbers."""
-    what = f"a list of rows of {len(DH_COLUMNS)} numbers, one row per joint: {DH_UNITS}"
+    what = f"a list of 1 to {MAX_DH_JOINTS} rows of {len(DH_COLUMNS)} numbers, one row per joint: {DH_UNITS}"
     if not isinstance(value, (list, tuple)) or not value:
         raise ScenarioError("dh", value, what)
+    if len(value) > MAX_DH_JOINTS:
+        raise ScenarioError("dh", f"{len(value)} rows", what)
     rows = []
     for i, row in enumerate(value):
         if not isinstance(row, (list, tuple)) or len(row) != len(DH_COLUMNS):
@@ -158,25 +163,39 @@ def _dh_table(value) -> tuple[tuple[float, ...], ...]:
 
 def urdf_chain_dof(path: str, base_link: str, tip_link: str) -> int:
     """Moving joints between ``base_link`` and ``tip_link`` of a URDF file (pure Python; the
-    full checks are made when the arm is built, ``plants.arms.from_urdf``)."""
-    import xml.etree.ElementTree as ET
+    full checks are made when the arm is built, ``plants.arms.from_urdf``). The file is parsed by
+    ``defusedxml`` (no entity expansion, no external entity); a chain longer than
+    :data:`MAX_DH_JOINTS` moving joints or a cycle of links is refused."""
+    from xml.etree.ElementTree import ParseError
+
+    import defusedxml.ElementTree as ET
+    from defusedxml import DefusedXmlException
 
     if not os.path.isfile(path):
         raise ScenarioError("urdf", path, "an existing URDF file (a path relative to the scene file)")
     try:
         root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
+    except ParseError as exc:
         raise ScenarioError("urdf", path, f"a well-formed URDF file (XML error: {exc})") from None
+    except DefusedXmlException as exc:
+        raise ScenarioError("urdf", path, f"a URDF file without entity declarations or external references ({exc})") from None
+    except OSError as exc:
+        raise ScenarioError("urdf", path, f"a readable URDF file ({exc.strerror or type(exc).__name__})") from None
     links = {el.get("name") for el in root.findall("link")}
     for key, link in (("base_link", base_link), ("tip_link", tip_link)):
         if link not in links:
-            raise ScenarioError(key, link, f"a link of {path} (it has {', '.join(sorted(links)[:8])}{', ...' if len(links) > 8 else ''})")
+            raise ScenarioError(key, link, f"a link of {path} (it has {', '.join(sorted(map(str, links))[:8])}{', ...' if len(links) > 8 else ''})")
     parent_joint = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
-    n, link = 0, tip_link
+    n, link, seen = 0, tip_link, {tip_link}
     while link != base_link:
         joint = parent_joint.get(link)
         if joint is None or joint.find("parent") is None:
             raise ScenarioError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree of {path}")
         n += joint.get("type") != "fixed"
         link = joint.find("parent").get("link")
+        if link in seen:
+            raise ScenarioError("urdf", path, f"a tree of links; link '{link}' is its own ancestor (a cycle of joints)")
+        if n > MAX_DH_JOINTS:
+            raise ScenarioError("tip_link", tip_link, f"a chain of at most {MAX_DH_JOINTS} moving joints from base_link")
+        seen.add(link)
     return n
