@@ -113,7 +113,7 @@ def test_bad_set(scene, setting, field):
     assert_user_error(coopctrl("check", scene, "--set", setting), field)
 
 
-@pytest.mark.parametrize("args", [[], ["frobnicate"], ["check"], ["run", "--bogus"]])
+@pytest.mark.parametrize("args", [[], ["frobnicate"], ["check", "--bogus"], ["run", "--bogus"]])
 def test_usage_errors_are_one_line(args):
     assert_user_error(coopctrl(*args))
 

@@ -134,7 +134,7 @@ def test_every_combination_is_validated_before_any_run(grid, needles, monkeypatc
 
 
 def test_jobs_and_scheduler_are_exclusive():
-    assert_user_error(coopctrl("sweep", LIFT, "--grid", "simulation.duration=0.1", "--jobs", "0"), "--jobs", "integer >= 1")
+    assert_user_error(coopctrl("sweep", LIFT, "--grid", "simulation.duration=0.1", "--jobs", "0"), "--jobs", "integer in 1..256")
     both = coopctrl("sweep", LIFT, "--grid", "simulation.duration=0.1", "--jobs", "2", "--scheduler", "tcp://127.0.0.1:1")
     assert_user_error(both, "not allowed with argument")
 
