@@ -75,7 +75,7 @@ def parse_sets(items: Sequence[str] | None) -> dict[str, str]:
     for item in items or ():
         bad = bad_character(item)
         if bad is not None:
-            raise UsageError(f"--set {printable(item)!r} is invalid: expected {ALLOWED}; found {bad}")
+            raise UsageError(f"--set '{printable(item)}' is invalid: expected {ALLOWED}; found {bad}")
         path, sep, value = item.partition("=")
         if not sep or not path.strip():
             raise UsageError(f"--set {item!r} is invalid: expected PATH=VALUE, e.g. --set simulation.integrator=rk4")

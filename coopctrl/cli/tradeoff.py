@@ -85,7 +85,7 @@ def _tradeoff_parser(sub) -> None:
                         "implicit_euler); repeatable")
     parser.add_argument("--steps", action="append", metavar="STEPS",
                         help="comma-separated steps, each in seconds (2.5e-4) or as T/n (T/4), dividing the control "
-                        "period T (default: T/1,T/2,T/4,T/8,T/16; n in T/n at most 10000, at most 64 steps); repeatable")
+                        "period T (default: T/1,T/2,T/4,T/8,T/16; n in T/n at most 4096, at most 64 steps); repeatable")
     parser.add_argument("--reference-method", choices=_METHODS, default="DOP853",
                         help="solve_ivp method of the reference (default DOP853; Radau for very stiff scenes)")
     parser.add_argument("--reference-rtol", type=float, default=1e-11, metavar="RTOL",
