@@ -60,7 +60,8 @@ def _sweep_parser(sub) -> None:
         "sweep",
         help="run a scenario over a grid of overrides and tabulate one row per run",
         description="Run the Cartesian product of the --grid values (last --grid varying fastest) and print one summary "
-        "row per run. Every combination is validated before any run starts. A failed run (diverged, QP failed, error) "
+        "row per run. A grid has at most 10000 runs (the product of the axis lengths, counted before anything is expanded); "
+        "every combination is validated before any run starts. A failed run (diverged, QP failed, error) "
         "is a row with its reason. Rows do not depend on --jobs except the timing columns (realtime_factor, wall_time_s). "
         "Exit 0 when the sweep completes (even with failed runs), 2 for bad input, 130 when interrupted "
         "(the finished rows are kept in --out).",
