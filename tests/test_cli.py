@@ -113,7 +113,7 @@ def test_bad_set(scene, setting, field):
     assert_user_error(coopctrl("check", scene, "--set", setting), field)
 
 
-@pytest.mark.parametrize("args", [[], ["frobnicate"], ["check"], ["run", "--bogus"]])
+@pytest.mark.parametrize("args", [[], ["frobnicate"], ["check", "--bogus"], ["run", "--bogus"]])
 def test_usage_errors_are_one_line(args):
     assert_user_error(coopctrl(*args))
 
@@ -241,3 +241,46 @@ def test_run_default_scene_table():
     proc = coopctrl("run", "--set", "simulation.duration=0.05")
     assert proc.returncode in (0, 1), proc.stderr
     assert "status" in proc.stdout and "Traceback" not in proc.stderr
+
+
+# ---------------------------------------------------------------------- bounds and fall-backs (issues 21, 22)
+def _refused_in_process(capsys, args, *needles):
+    assert cli.main([str(a) for a in args]) == 2, args
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.splitlines()) == 1 and err.startswith("coopctrl: error: "), err
+    for needle in needles:
+        assert needle in err, err
+
+
+@pytest.mark.parametrize("args, needles", [
+    (["fidelity", "--calls", "1e12"], ["--calls", "'1e12' is invalid: expected an integer in 1..1000000"]),
+    (["fidelity", "--calls", "1000001"], ["--calls", "1..1000000"]),
+    (["fidelity", "--repeats", "101"], ["--repeats", "1..100"]),
+    (["tradeoff", "--repeat", "0"], ["--repeat", "1..100"]),
+    (["tradeoff", "--repeat", "1e9"], ["--repeat", "1..100"]),
+    (["tradeoff", "--steps", ",".join(f"T/{n}" for n in range(1, 66))], ["--steps has 65 entries", "at most 64"]),
+    (["tradeoff", "--steps", "T/4097"], ["--steps", "1..4096"]),
+    (["sweep", "--jobs", "257", "--grid", "simulation.seed=0"], ["--jobs", "1..256"]),
+    (["sweep", "--run-timeout", "1e9", "--grid", "simulation.seed=0"], ["--run-timeout", "<= 604800 s"]),
+    (["sweep", "--run-timeout", "nan", "--grid", "simulation.seed=0"], ["--run-timeout"]),
+    (["check", "--set", "simulation.substeps=1e9"], ["simulation.substeps"]),
+])
+def test_counts_and_sizes_of_options_have_ranges(capsys, args, needles):
+    """Issue 22: `fidelity --calls 1e12` ran on without end; every count an option takes has a range."""
+    _refused_in_process(capsys, args, *needles)
+
+
+def test_every_command_falls_back_to_the_builtin_scene():
+    """Issue 21 item 7: check, stability, tradeoff (and sweep) take no scenario as run and show do."""
+    parser = cli.build_parser()
+    for command in ("run", "show", "check", "stability", "tradeoff", "sweep"):
+        assert parser.parse_args([command]).scenario is None, command
+
+
+def test_check_without_a_scenario_checks_the_builtin_scene(capsys):
+    assert cli.main(["check"]) == 0
+    assert capsys.readouterr().out.startswith("ok: default (planar, 2 arms")
+
+
+def test_list_refuses_a_missing_directory(tmp_path, capsys):
+    _refused_in_process(capsys, ["list", "--dir", tmp_path / "missing"], "--dir", "an existing directory")

@@ -74,7 +74,7 @@ BAD_ARGUMENTS = (
     ["tradeoff", "planar_two_arm_lift", "--reference-rtol", "-1"],
     ["fidelity", "planar_two_arm_lift"],
     ["fidelity", "--repeats", "0"],
-    ["check"],
+    ["check", "no_such_scene"],
     ["stability", "planar_two_arm_lift", "--integrators", "rk5"],
     ["nonsense"],
 )

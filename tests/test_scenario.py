@@ -367,3 +367,76 @@ def test_override_can_fix_a_bad_file(tmp_path):
 )
 def test_parse_override_value(text, value):
     assert parse_override_value(text) == value
+
+
+# ---------------------------------------------------------------------- ranges of counts and sizes (issue 22)
+def test_grasps_at_one_point_name_the_arm(tmp_path, capsys):
+    """Issue 22: grasps at the object's centre were reported as "r_contacts = (0, 1)"."""
+    from coopctrl import cli
+
+    data = Scenario().to_dict()
+    data["arms"][0]["grasp"] = [0.0, 0.0, 0.0]
+    data["arms"][1]["grasp"] = [0.0, 0.0, math.pi]
+    assert cli.main(["check", str(write(tmp_path, data))]) == 2
+    err = capsys.readouterr().err
+    assert "arms[1].grasp = [0.0, 0.0, 3.14159" in err and "arms[0].grasp" in err and "r_contacts" not in err
+
+
+def test_object_pose_noise_has_a_physical_range(capsys):
+    """Issue 22: an object-pose noise of 1e6 m was reported as an infeasible load distribution."""
+    from coopctrl import cli
+
+    assert cli.main(["check", "--set", "sensors.object.noise_std=1e6"]) == 2
+    err = capsys.readouterr().err
+    assert "sensors.object.noise_std = 1000000.0 is invalid" in err and "<= 0.1 [m or rad]" in err
+    assert scenario_from_dict({"sensors": {"object": {"noise_std": 0.1}, "forces": {"noise_std": 1e3}}})
+    for channel, value in (("joints", 0.11), ("forces", 1001.0), ("object", 0.2)):
+        with pytest.raises(ScenarioError, match=rf"sensors\.{channel}\.noise_std"):
+            scenario_from_dict({"sensors": {channel: {"noise_std": value}}})
+
+
+@pytest.mark.parametrize("path, value, message", [
+    ("load_distribution.friction_facets", 10**9, "<= 64"),
+    ("load_distribution.friction_facets", 2, ">= 3"),
+    ("load_distribution.max_iter", 10**7, "<= 100000"),
+    ("load_distribution.max_consecutive_failures", 0, ">= 1"),
+    ("simulation.seed", 2**63, "<= 9223372036854775807"),
+    ("simulation.substeps", 10001, "<= 10000"),
+])
+def test_counts_have_ranges(path, value, message):
+    with pytest.raises(ScenarioError, match=path.replace(".", r"\.")) as err:
+        load_scenario(None, {path: str(value)})
+    assert message in str(err.value)
+
+
+def test_arm_count_via_count_and_dh_rows_are_bounded():
+    from coopctrl.scenario.scenario import MAX_ARMS, MAX_VIA_POINTS
+
+    arms = [{"model": "planar3r", "role": "leader" if k == 0 else "follower", "base": [k, 0, 0],
+             "grasp": [0.01 * k, 0, 0]} for k in range(MAX_ARMS + 1)]
+    with pytest.raises(ScenarioError, match=rf"arms = '17 tables' is invalid: expected a list of 2 to {MAX_ARMS}"):
+        scenario_from_dict({"arms": arms})
+    via = [{"time": 0.001 * k, "pose": [0.0, 0.5, 0.0]} for k in range(MAX_VIA_POINTS + 1)]
+    with pytest.raises(ScenarioError, match=r"trajectory\.via = '10001 points'"):
+        scenario_from_dict({"trajectory": {"via": via}})
+    row = [0.1, 0, 0, 0, 1, 0, 0, 0, 0.01, 0.01, 0.01, 0, 0, 0]
+    with pytest.raises(ScenarioError, match=r"dh = '33 rows' is invalid: expected a list of 1 to 32 rows"):
+        ArmConfig(model="dh", role="leader", base=[0] * 6, grasp=[0] * 6, dh=[row] * 33)
+
+
+def test_urdf_chain_count_refuses_cycles_and_entities(tmp_path):
+    """The joint count read at load (scenario/arm.py) stops on a cycle of links and refuses entity
+    declarations (defusedxml) instead of looping or expanding them."""
+    from coopctrl.scenario.arm import urdf_chain_dof
+
+    cycle = tmp_path / "cycle.urdf"
+    cycle.write_text('<robot name="c"><link name="base"/><link name="a"/><link name="b"/>'
+                     '<joint name="j1" type="revolute"><parent link="a"/><child link="b"/></joint>'
+                     '<joint name="j2" type="revolute"><parent link="b"/><child link="a"/></joint></robot>')
+    with pytest.raises(ScenarioError, match="its own ancestor"):
+        urdf_chain_dof(str(cycle), "base", "b")
+    laughs = tmp_path / "laughs.urdf"
+    laughs.write_text('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;">'
+                      ']><robot name="&b;"><link name="base"/></robot>')
+    with pytest.raises(ScenarioError, match="without entity declarations"):
+        urdf_chain_dof(str(laughs), "base", "base")

@@ -134,7 +134,7 @@ def test_every_combination_is_validated_before_any_run(grid, needles, monkeypatc
 
 
 def test_jobs_and_scheduler_are_exclusive():
-    assert_user_error(coopctrl("sweep", LIFT, "--grid", "simulation.duration=0.1", "--jobs", "0"), "--jobs", "integer >= 1")
+    assert_user_error(coopctrl("sweep", LIFT, "--grid", "simulation.duration=0.1", "--jobs", "0"), "--jobs", "integer in 1..256")
     both = coopctrl("sweep", LIFT, "--grid", "simulation.duration=0.1", "--jobs", "2", "--scheduler", "tcp://127.0.0.1:1")
     assert_user_error(both, "not allowed with argument")
 
@@ -352,3 +352,27 @@ def test_progress_bar_counts_finished_runs(capsys):
     run_sweep(LIFT, SweepGrid.parse(["simulation.seed=0,1,2"]), jobs=1, run_function=raise_on_run_1, progress=True)
     err = capsys.readouterr().err
     assert "3/3" in err and "failed=1" in err
+
+
+# ---------------------------------------------------------------------- size of a grid (issue 22)
+def test_a_huge_grid_is_counted_and_refused_before_expansion(monkeypatch, capsys):
+    """Issue 22: a sweep of 1e8 grid points expanded and validated every combination (2.5 GiB after
+    12 s). The count is the product of the axis lengths, checked when the grid is built."""
+    from coopctrl.sweep.grid import MAX_RUNS
+
+    def never(self):
+        raise AssertionError("the grid was expanded")
+
+    monkeypatch.setattr(SweepGrid, "combinations", never)
+    axes = [f"controllers.followers.force_ki={','.join(str(k) for k in range(100))}",
+            f"simulation.seed={','.join(str(k) for k in range(100))}",
+            f"load_distribution.squeeze={','.join(str(k) for k in range(100))}",
+            f"controllers.followers.force_kp={','.join(str(k / 100) for k in range(100))}"]
+    args = ["sweep", str(LIFT)] + [a for axis in axes for a in ("--grid", axis)]
+    assert cli.main(args) == 2
+    err = capsys.readouterr().err
+    assert f"at most {MAX_RUNS} runs in one sweep; this grid has 100 x 100 x 100 x 100 = 100000000 runs" in err
+    assert len(err.splitlines()) == 1
+    with pytest.raises(GridError, match="at most 10000 values on one axis"):
+        SweepGrid.from_mapping({"simulation.seed": range(MAX_RUNS + 1)})
+    assert len(SweepGrid.from_mapping({"simulation.seed": range(100), "simulation.substeps": range(1, 101)})) == MAX_RUNS

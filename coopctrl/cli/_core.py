@@ -47,33 +47,73 @@ def subcommand(configure: Callable[[argparse._SubParsersAction], None]):
 
 
 def scenarios_dir() -> Path:
-    """The directory of the built-in scenarios, ``scenarios/`` at the repository root."""
-    import coopctrl
+    """The folder of the built-in scenarios: ``scenarios/`` of a checkout, or the installed package data
+    (:func:`coopctrl.scenario.library.builtin_dir`)."""
+    from coopctrl.scenario.library import builtin_dir
 
-    return Path(coopctrl.__file__).resolve().parent.parent / "scenarios"
+    return builtin_dir()
 
 
 def resolve_scenario(argument: str) -> Path:
     """A path as given if it exists, else a built-in scenario by file name or stem
     (``coopctrl run two_arm_lift``), else the path as given (load reports it missing)."""
-    path = Path(argument)
-    if path.exists():
-        return path
-    for candidate in (scenarios_dir() / argument, scenarios_dir() / f"{argument}.toml"):
-        if candidate.is_file():
-            return candidate
-    return path
+    from coopctrl.scenario.library import resolve
+
+    return resolve(argument)
 
 
 def parse_sets(items: Sequence[str] | None) -> dict[str, str]:
-    """``["simulation.integrator=rk4", ...]`` to ``{"simulation.integrator": "rk4", ...}``."""
+    """``["simulation.integrator=rk4", ...]`` to ``{"simulation.integrator": "rk4", ...}``.
+
+    Raises:
+        UsageError: an item without ``=``, or with a control character or a lone surrogate (text that
+            is not UTF-8) in its path or value (:mod:`coopctrl.scenario.text`).
+    """
+    from coopctrl.scenario.text import ALLOWED, bad_character, printable
+
     overrides: dict[str, str] = {}
     for item in items or ():
+        bad = bad_character(item)
+        if bad is not None:
+            raise UsageError(f"--set '{printable(item)}' is invalid: expected {ALLOWED}; found {bad}")
         path, sep, value = item.partition("=")
         if not sep or not path.strip():
             raise UsageError(f"--set {item!r} is invalid: expected PATH=VALUE, e.g. --set simulation.integrator=rk4")
         overrides[path.strip()] = value.strip()
     return overrides
+
+
+def int_range(low: int, high: int, meaning: str = ""):
+    """An ``argparse`` type: an integer in ``low..high`` (documented in the option's help), else a usage
+    error naming the value and the range (exit 2). Every count an option takes has such a range, so that
+    no option can ask for endless work (``--calls 1e12``)."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text, 10)
+        except (TypeError, ValueError):
+            value = None
+        if value is None or not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected an integer in {low}..{high}{meaning}")
+        return value
+
+    parse.__name__ = "integer"
+    return parse
+
+
+def float_range(low: float, high: float, unit: str = "", meaning: str = ""):
+    """An ``argparse`` type: a finite number ``low < x <= high`` [``unit``], else a usage error (exit 2)."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except (TypeError, ValueError):
+            value = float("nan")
+        if not low < value <= high:  # NaN fails both comparisons
+            raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected a number > {low:g} and <= {high:g}"
+                                             f"{' ' + unit if unit else ''}{meaning}")
+        return value
+
+    parse.__name__ = "number"
+    return parse
 
 
 def _add_set_option(parser: argparse.ArgumentParser) -> None:
@@ -102,8 +142,12 @@ def _load(args):
     return scenario
 
 
-def _one_line(text: str) -> str:
-    return " ".join(str(text).splitlines()).strip()
+def _one_line(text) -> str:
+    """``text`` on one line, with any remaining control character or lone surrogate escaped (a message
+    quoting user input must not drive the terminal)."""
+    from coopctrl.scenario.text import printable
+
+    return printable(" ".join(str(text).splitlines()).strip())
 
 
 def output_directory(text: str) -> Path:

@@ -45,6 +45,6 @@ def _check_parser(sub) -> None:
         "the task impossible (one line on stderr with the first time and what binds, e.g. 'at t = 0.42 s arm 2 "
         "joint 3 needs 187 N m > tau_max 97.6 N m'); 2 for bad input (one line naming the field).",
     )
-    parser.add_argument("scenario", help="scenario .toml file, or the name of one in scenarios/")
+    parser.add_argument("scenario", nargs="?", help="scenario .toml file or a name in scenarios/ (default: the built-in scene)")
     _add_set_option(parser)
     parser.set_defaults(handler=cmd_check)

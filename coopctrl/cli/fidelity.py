@@ -4,8 +4,15 @@ from __future__ import annotations
 
 import sys
 
-from coopctrl.cli._core import (PROG, UsageError, _add_set_option, _one_line, output_directory, parse_sets,
+from coopctrl.cli._core import (PROG, UsageError, _add_set_option, _one_line, int_range, output_directory, parse_sets,
                                 resolve_scenario, stdout_to_stderr, subcommand)
+
+#: Largest ``--repeats`` (closed-loop runs per model) and ``--calls`` (timed right-hand-side calls per
+#: model, 200 times the default): bounds so that no option asks for endless work.
+MAX_REPEATS = 100
+MAX_CALLS = 1_000_000
+#: Most scenes compared in one call.
+MAX_SCENES = 16
 
 #: The scenes compared by default: one task as a planar scene, spatial contact points, spatial arms.
 DEFAULT_SCENARIOS = ("fidelity_planar", "fidelity_contact_points", "fidelity_spatial_arms")
@@ -17,11 +24,9 @@ def cmd_fidelity(args) -> int:
 
     from coopctrl.scenario import load_scenario
 
-    if args.repeats < 1:
-        raise UsageError(f"--repeats {args.repeats} is invalid: expected an integer >= 1")
-    if args.calls < 1:
-        raise UsageError(f"--calls {args.calls} is invalid: expected an integer >= 1")
     names = args.scenarios or list(DEFAULT_SCENARIOS)
+    if len(names) > MAX_SCENES:
+        raise UsageError(f"fidelity compares at most {MAX_SCENES} scenes (got {len(names)})")
     if len(names) < 2:
         raise UsageError(f"fidelity needs at least two scenes of one task (got {len(names)}: {', '.join(names)}); "
                          f"default: {' '.join(DEFAULT_SCENARIOS)}")
@@ -68,8 +73,8 @@ def _fidelity_parser(sub) -> None:
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress lines on stderr")
     parser.add_argument("--out", type=output_directory, metavar="DIR",
                         help="write fidelity.json and fidelity_traces.npz (the runs mapped into the plane) into DIR")
-    parser.add_argument("--repeats", type=int, default=1, metavar="N",
-                        help="closed-loop runs per model; the wall time is their median (default 1)")
-    parser.add_argument("--calls", type=int, default=5000, metavar="N",
-                        help="timed right-hand-side calls per model (default 5000)")
+    parser.add_argument("--repeats", type=int_range(1, MAX_REPEATS), default=1, metavar="N",
+                        help=f"closed-loop runs per model, 1..{MAX_REPEATS}; the wall time is their median (default 1)")
+    parser.add_argument("--calls", type=int_range(1, MAX_CALLS), default=5000, metavar="N",
+                        help=f"timed right-hand-side calls per model, 1..{MAX_CALLS} (default 5000)")
     parser.set_defaults(handler=cmd_fidelity)

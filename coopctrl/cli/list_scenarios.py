@@ -5,28 +5,24 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from coopctrl.cli._core import _one_line, scenarios_dir, subcommand
+from coopctrl.cli._core import UsageError, _one_line, scenarios_dir, subcommand
 
 def cmd_list(args) -> int:
-    """Print the scenarios of the directory with their descriptions."""
-    import tomllib
+    """Print the scenarios of the directory with their descriptions (each file read as ``load_scenario``
+    reads it: regular files of at most 1 MiB, so a FIFO or a device named ``x.toml`` cannot block it)."""
+    from coopctrl.scenario.scene_file import scene_description
 
     directory = Path(args.dir) if args.dir else scenarios_dir()
+    if args.dir and not directory.is_dir():
+        raise UsageError(f"--dir {args.dir!r} is invalid: expected an existing directory of scenario .toml files")
     files = sorted(directory.glob("*.toml"))
     if not files:
         print(f"no scenarios in {directory}", file=sys.stderr)
         return 0
-    rows = []
-    for path in files:
-        try:
-            description = tomllib.loads(path.read_text(encoding="utf-8")).get("description", "")
-            description = _one_line(description) if isinstance(description, str) else ""
-        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
-            description = f"(unreadable: {_one_line(err)})"
-        rows.append((path.stem, description))
+    rows = [(path.stem, _one_line(scene_description(path))) for path in files]
     width = max(len(name) for name, _ in rows)
     for name, description in rows:
-        print(f"{name.ljust(width)}  {description}".rstrip())
+        print(f"{_one_line(name).ljust(width)}  {description}".rstrip())
     return 0
 
 

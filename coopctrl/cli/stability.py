@@ -58,7 +58,7 @@ def _stability_parser(sub) -> None:
         "actual closed loop (controllers on), capped at the control period, with the ratios. Progress goes to "
         "stderr. Exit 0 on success, 1 if the reference run of the measurement failed, 2 for bad input.",
     )
-    parser.add_argument("scenario", help="scenario .toml file, or the name of one in scenarios/")
+    parser.add_argument("scenario", nargs="?", help="scenario .toml file or a name in scenarios/ (default: the built-in scene)")
     _add_set_option(parser)
     parser.add_argument("--integrators", metavar="NAMES",
                         help=f"comma-separated integrators (default: {','.join(_INTEGRATORS)})")

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import argparse
 import sys
 
-from coopctrl.cli._core import (PROG, _add_set_option, output_directory, parse_sets, resolve_scenario,
-                                stdout_to_stderr, subcommand)
+from coopctrl.cli._core import (PROG, _add_set_option, float_range, int_range, output_directory, parse_sets,
+                                resolve_scenario, stdout_to_stderr, subcommand)
 
 
 def _run_function():
@@ -16,24 +15,9 @@ def _run_function():
     return simulate_run
 
 
-def _jobs(text: str) -> int:
-    try:
-        jobs = int(text)
-    except ValueError:
-        jobs = 0
-    if jobs < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected an integer >= 1 (1 runs in this process)")
-    return jobs
-
-
-def _seconds(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not (0.0 < value < float("inf")):
-        raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected a finite number of seconds > 0")
-    return value
+#: Most local worker processes (``--jobs``) and the longest ``--run-timeout`` [s] (one week).
+MAX_JOBS = 256
+MAX_RUN_TIMEOUT_S = 604800.0
 
 
 def _sweep_directory(text: str):
@@ -66,7 +50,7 @@ def cmd_sweep(args) -> int:
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     try:
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library or worker prints
-            result = run_sweep(resolve_scenario(args.scenario), grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
+            result = run_sweep(resolve_scenario(args.scenario) if args.scenario else None, grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
                                progress=progress, out=args.out, run_function=_run_function(),
                                run_timeout_s=args.run_timeout)
     except SweepInterrupted as stop:
@@ -87,12 +71,13 @@ def _sweep_parser(sub) -> None:
         "sweep",
         help="run a scenario over a grid of overrides and tabulate one row per run",
         description="Run the Cartesian product of the --grid values (last --grid varying fastest) and print one summary "
-        "row per run. Every combination is validated before any run starts. A failed run (diverged, QP failed, error) "
+        "row per run. A grid has at most 10000 runs (the product of the axis lengths, counted before anything is expanded); "
+        "every combination is validated before any run starts. A failed run (diverged, QP failed, error) "
         "is a row with its reason. Rows do not depend on --jobs except the timing columns (realtime_factor, wall_time_s). "
         "Exit 0 when the sweep completes (even with failed runs), 2 for bad input, 130 when interrupted "
         "(the finished rows are kept in --out).",
     )
-    parser.add_argument("scenario", help="scenario .toml file, or the name of one in scenarios/")
+    parser.add_argument("scenario", nargs="?", help="scenario .toml file or a name in scenarios/ (default: the built-in scene)")
     parser.add_argument(
         "--grid", action="append", default=[], metavar="PATH=V1,V2,...",
         help="sweep a field over values in TOML syntax; values split on commas outside brackets and quotes "
@@ -100,14 +85,15 @@ def _sweep_parser(sub) -> None:
     )
     _add_set_option(parser)
     where = parser.add_mutually_exclusive_group()
-    where.add_argument("--jobs", "-j", type=_jobs, metavar="N",
-                       help="local worker processes (default: CPU count; 1 runs in this process)")
+    where.add_argument("--jobs", "-j", type=int_range(1, MAX_JOBS, " (1 runs in this process)"), metavar="N",
+                       help=f"local worker processes, 1..{MAX_JOBS} (default: CPU count; 1 runs in this process)")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on the Dask cluster of this scheduler, e.g. tcp://scheduler.example:8786 "
                        "(pip install 'coopctrl[distributed]')")
     parser.add_argument("--out", type=_sweep_directory, metavar="DIR", help="write sweep.csv and sweep.json into DIR, updated as runs finish")
-    parser.add_argument("--run-timeout", type=_seconds, metavar="SECONDS",
-                        help="stop a run after this wall time; it becomes a row with status 'timeout' "
+    parser.add_argument("--run-timeout", type=float_range(0.0, MAX_RUN_TIMEOUT_S, "s"), metavar="SECONDS",
+                        help="stop a run after this wall time (> 0 and <= 604800 s, one week); it becomes a row with "
+                        "status 'timeout' "
                         "(local workers and --jobs 1; default: no limit)")
     parser.add_argument("--json", action="store_true", help="print one JSON document {scenario, grid, set, ..., rows} on stdout")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no table")

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import argparse
 import sys
 
-from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, stdout_to_stderr,
-                                subcommand)
+from coopctrl.cli._core import (PROG, UsageError, _add_set_option, _load, _one_line, int_range, output_directory,
+                                stdout_to_stderr, subcommand)
 from coopctrl.errors import ScenarioError
 
 #: Reference methods offered on the command line (see coopctrl.analysis.reference; kept here as
@@ -14,14 +13,16 @@ from coopctrl.errors import ScenarioError
 _METHODS = ("DOP853", "Radau")
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} is invalid: expected an integer >= 1")
-    return value
+#: Largest ``--repeat`` (runs per grid point) and number of ``--steps`` entries (each a column of runs).
+MAX_REPEAT = 100
+MAX_STEPS = 64
+
+
+def _count_steps(items) -> None:
+    """Refuse more than :data:`MAX_STEPS` ``--steps`` entries before any is parsed."""
+    count = sum(len([t for t in str(item).split(",") if t.strip()]) for item in items)
+    if count > MAX_STEPS:
+        raise UsageError(f"--steps has {count} entries: expected at most {MAX_STEPS} steps")
 
 
 def _print_progress(label: str) -> None:
@@ -37,6 +38,8 @@ def cmd_tradeoff(args) -> int:
 
     scenario = _load(args)
     integrators = parse_integrators(args.integrators) if args.integrators else None
+    if args.steps:
+        _count_steps(args.steps)
     substeps = parse_steps(args.steps, scenario.simulation.control_period) if args.steps else None
     try:
         reference = ReferenceConfig(args.reference_method, args.reference_rtol, args.reference_atol)
@@ -75,22 +78,22 @@ def _tradeoff_parser(sub) -> None:
         "The simulated time is the scenario's: shorten it with --set simulation.duration=0.3. "
         "Exit 0 when the grid ran (rows that diverged are results), 1 if the reference failed, 2 for bad input.",
     )
-    parser.add_argument("scenario", help="scenario .toml file, or the name of one in scenarios/")
+    parser.add_argument("scenario", nargs="?", help="scenario .toml file or a name in scenarios/ (default: the built-in scene)")
     _add_set_option(parser)
     parser.add_argument("--integrators", action="append", metavar="NAMES",
                         help="comma-separated integrators (default: euler,symplectic_euler,rk4,implicit_midpoint,"
                         "implicit_euler); repeatable")
     parser.add_argument("--steps", action="append", metavar="STEPS",
                         help="comma-separated steps, each in seconds (2.5e-4) or as T/n (T/4), dividing the control "
-                        "period T (default: T/1,T/2,T/4,T/8,T/16); repeatable")
+                        "period T (default: T/1,T/2,T/4,T/8,T/16; n in T/n at most 4096, at most 64 steps); repeatable")
     parser.add_argument("--reference-method", choices=_METHODS, default="DOP853",
                         help="solve_ivp method of the reference (default DOP853; Radau for very stiff scenes)")
     parser.add_argument("--reference-rtol", type=float, default=1e-11, metavar="RTOL",
                         help="relative tolerance of the reference (default 1e-11)")
     parser.add_argument("--reference-atol", type=float, default=1e-12, metavar="ATOL",
                         help="absolute tolerance of the reference, state units (default 1e-12)")
-    parser.add_argument("--repeat", type=_positive_int, default=1, metavar="N",
-                        help="run each grid point N times and report the smallest wall time (default 1)")
+    parser.add_argument("--repeat", type=int_range(1, MAX_REPEAT), default=1, metavar="N",
+                        help=f"run each grid point N times, 1..{MAX_REPEAT}, and report the smallest wall time (default 1)")
     parser.add_argument("--out", type=output_directory, metavar="DIR",
                         help="write tradeoff.json, tradeoff.csv and work_precision.png into DIR")
     parser.add_argument("--json", action="store_true", help="print the result as JSON on stdout (nothing else)")

@@ -36,6 +36,9 @@ MODEL_SPACES: dict[str, tuple[str, ...]] = {
 DH_COLUMNS = ("a", "alpha", "d", "offset", "mass", "rcx", "rcy", "rcz", "Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz")
 DH_UNITS = "a [m], alpha [rad], d [m], offset [rad], mass [kg], rc [m] (3), I about the COM [kg m^2] (Ixx Iyy Izz Ixy Iyz Ixz)"
 
+#: Most joints of a DH arm (and of a URDF arm's chain counted here): far more than any manipulator.
+MAX_DH_JOINTS = MAX_CHAIN_JOINTS  # rows of a DH table: the joint bound of any serial arm
+
 _UNRESOLVED = object()
 
 
@@ -143,17 +146,13 @@ class ArmConfig:
         return os.path.normpath(os.path.join(folder, self.urdf))
 
 
-#: Most rows of a DH table: the joint bound of a serial arm (``plants.urdf_reader``, which loads no numba).
-MAX_DH_ROWS = MAX_CHAIN_JOINTS
-
-
 def _dh_table(value) -> tuple[tuple[float, ...], ...]:
     """A DH table: a non-empty list of rows of :data:`DH_COLUMNS` numbers."""
-    what = f"a list of rows of {len(DH_COLUMNS)} numbers, one row per joint: {DH_UNITS}"
+    what = f"a list of 1 to {MAX_DH_JOINTS} rows of {len(DH_COLUMNS)} numbers, one row per joint: {DH_UNITS}"
     if not isinstance(value, (list, tuple)) or not value:
         raise ScenarioError("dh", value, what)
-    if len(value) > MAX_DH_ROWS:
-        raise ScenarioError("dh", f"{len(value)} rows", f"at most {MAX_DH_ROWS} rows (joints) of {len(DH_COLUMNS)} numbers")
+    if len(value) > MAX_DH_JOINTS:
+        raise ScenarioError("dh", f"{len(value)} rows", what)
     rows = []
     for i, row in enumerate(value):
         if not isinstance(row, (list, tuple)) or len(row) != len(DH_COLUMNS):

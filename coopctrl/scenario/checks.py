@@ -16,6 +16,7 @@ from contextlib import contextmanager
 from typing import Iterable, Iterator
 
 from coopctrl.errors import ScenarioError
+from coopctrl.scenario.text import check_text
 
 
 class _Missing:
@@ -55,7 +56,9 @@ def _is_number(value) -> bool:
 
 
 def fmt_bound(value: float) -> str:
-    """A bound as short text: ``1e10``, ``1e-06`` -> ``1e-6``, ``0.05``."""
+    """A bound as short text: ``1e10``, ``1e-06`` -> ``1e-6``, ``0.05``; an integer bound exactly."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        return str(value)
     text = f"{value:g}"
     if "e" in text:
         mant, exp = text.split("e")
@@ -135,13 +138,15 @@ def boolean(path: str, value) -> bool:
 
 
 def string(path: str, value, *, nonempty: bool = False, one_line: bool = False) -> str:
-    """A string (optionally non-empty, optionally without line breaks)."""
+    """A string (optionally non-empty, optionally without line breaks) of safe text: no control
+    character, no lone surrogate, at most :data:`~coopctrl.scenario.text.MAX_TEXT` characters
+    (:func:`coopctrl.scenario.text.check_text`)."""
     what = "a non-empty string" if nonempty else "a string"
     if one_line:
         what += " on one line"
     if not isinstance(value, str) or (nonempty and not value.strip()) or (one_line and ("\n" in value or "\r" in value)):
         raise ScenarioError(path, value, what)
-    return value
+    return check_text(path, value)
 
 
 def choice(path: str, value, allowed: Iterable[str]) -> str:

@@ -19,13 +19,17 @@ from coopctrl.errors import ScenarioError
 from coopctrl.scenario.arm import MODEL_SPACES, ArmConfig
 from coopctrl.scenario.checks import MISSING, field_scope, join_path
 from coopctrl.scenario.controllers import ControllersConfig, FollowerControllerConfig, LeaderControllerConfig
+from coopctrl.scenario.library import builtin_path
 from coopctrl.scenario.load_distribution import LoadDistributionConfig
 from coopctrl.scenario.object_config import ObjectConfig
 from coopctrl.scenario.scenario import Scenario, default_arms, default_object_pose, default_trajectory
 from coopctrl.scenario.scene import SceneConfig
-from coopctrl.scenario.sensors import SensorConfig, SensorsConfig
+from coopctrl.scenario.scene_file import read_scene_table
+from coopctrl.scenario.sensors import CHANNELS as SENSOR_CHANNELS
+from coopctrl.scenario.sensors import SensorsConfig
 from coopctrl.scenario.simulation import SimulationConfig
 from coopctrl.scenario.spring import SpringConfig
+from coopctrl.scenario.text import MAX_DEPTH, MAX_TEXT, check_text, check_tree, printable
 from coopctrl.scenario.trajectory import TrajectoryConfig, ViaPoint
 
 #: Sections of each dataclass: a dataclass (a TOML table) or a one-element list (an array of tables).
@@ -43,7 +47,7 @@ SECTIONS: dict[type, dict[str, Any]] = {
     },
     TrajectoryConfig: {"via": [ViaPoint]},
     ControllersConfig: {"leader": LeaderControllerConfig, "followers": FollowerControllerConfig},
-    SensorsConfig: {"joints": SensorConfig, "forces": SensorConfig, "object": SensorConfig},
+    SensorsConfig: dict(SENSOR_CHANNELS),
 }
 
 #: Fields that are not keys of the file.
@@ -57,13 +61,6 @@ def _keys(cls: type) -> list[str]:
 
 def _where(path: str) -> str:
     return f"[{path}]" if path else "the top level"
-
-
-def _file_error(source: str, message: str, value: Any = None) -> ScenarioError:
-    """A file-level ScenarioError (path ``""``) whose message is ``"<source>: <message>"``."""
-    err = ScenarioError("", value, message, source=source)
-    err.args = (f"{source}: {message}",)
-    return err
 
 
 # ---------------------------------------------------------------------- building
@@ -131,10 +128,12 @@ def scenario_from_dict(
     required (:data:`REQUIRED_IN_FILE`). Without it, absent sections take the built-in default
     scene's (``scenario_from_dict({})`` is ``Scenario()``).
     """
-    raw = copy.deepcopy(dict(data))
     try:
+        check_tree(data)  # before any recursive copy: bounded depth, safe strings
+        raw = copy.deepcopy(dict(data))
         if overrides:
             apply_overrides(raw, overrides)
+            check_tree(raw)
         if file:
             _check_file_sections(raw)
         if "source" in raw:
@@ -153,31 +152,25 @@ def load_scenario(path: str | Path | None, overrides: Mapping[str, Any] | None =
     """Load, override and check a scenario file.
 
     Args:
-        path: Path of a ``.toml`` file (it must have ``[[arms]]`` and ``[trajectory]``), or
-            ``None`` for the built-in default scene.
+        path: Path of a ``.toml`` file (it must have ``[[arms]]`` and ``[trajectory]``), the name
+            of a built-in scene (``"spatial_two_puma_carry"``, see ``coopctrl list``), or ``None``
+            for the built-in default scene. A file is read only if it is a regular file of at most
+            :data:`~coopctrl.scenario.scene_file.MAX_SCENE_BYTES` bytes.
         overrides: Dotted path (``"simulation.integrator"``, ``"springs[0].stiffness"``,
             ``"arms[1].grasp"``) to value. A string value is read as a TOML value if it parses
             (``"1e6"`` is a float, ``"[0, 0.1, 0]"`` a list), else kept as a bare string.
 
     Raises:
-        ScenarioError: Missing or unreadable file, TOML syntax error, unknown key or override
-            path, or any invalid field (the message names its dotted path).
+        ScenarioError: Missing, unreadable, oversized or non-regular file, TOML syntax error, nesting
+            deeper than :data:`~coopctrl.scenario.text.MAX_DEPTH`, unknown key or override path, a
+            string with a control character, or any invalid field (the message names its dotted path).
     """
     if path is None:
         return scenario_from_dict({}, overrides=overrides)
+    if isinstance(path, str) and not Path(path).exists():
+        path = builtin_path(path) or path  # a built-in scene by name, as the command line takes it
     source = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise _file_error(source, "file not found; give the path of a scenario .toml file (see `coopctrl list`)", source) from None
-    except (OSError, UnicodeDecodeError) as err:
-        reason = err.strerror if isinstance(err, OSError) and err.strerror else str(err)
-        raise _file_error(source, f"cannot read the file ({reason}); give a readable UTF-8 .toml file", source) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        msg = str(err).replace("\n", " ")
-        raise _file_error(source, f"TOML syntax error: {msg}; fix the syntax (https://toml.io)", source) from None
+    data = read_scene_table(path)  # bounded, regular files only, every string checked
     return scenario_from_dict(data, source=source, overrides=overrides, file=True)
 
 
@@ -187,24 +180,33 @@ _PART = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)$")
 
 def parse_override_value(text: Any) -> Any:
     """Read a CLI string as a TOML value (``1e6``, ``[0, 0.1, 0]``, ``true``, ``"x"``, ``{...}``);
-    a string that is not TOML (``rk4``) is kept as is. Non-strings are returned unchanged."""
+    a string that is not TOML (``rk4``) is kept as is. Non-strings are returned unchanged.
+
+    Raises:
+        ScenarioError: (path ``""``) a value nested deeper than the TOML parser can recurse.
+    """
     if not isinstance(text, str):
         return text
     try:
         return tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
         return text
+    except RecursionError:
+        raise ScenarioError("", text[:32] + "...", f"a value nested at most {MAX_DEPTH} levels deep") from None
 
 
 def parse_override_path(path: str) -> list[str | int]:
     """Split ``"springs[0].stiffness"`` into ``["springs", 0, "stiffness"]``."""
     tokens: list[str | int] = []
+    allowed = "a dotted path like simulation.integrator or springs[0].stiffness"
     if not isinstance(path, str) or not path:
-        raise ScenarioError(str(path), path, "a dotted path like simulation.integrator or springs[0].stiffness")
+        raise ScenarioError(printable(str(path)), path, allowed)
+    if len(path) > MAX_TEXT:
+        raise ScenarioError(printable(path[:32]) + "...", path[:32] + "...", f"{allowed}, at most {MAX_TEXT} characters")
     for part in path.split("."):
-        match = _PART.match(part.strip())
+        match = _PART.match(part.strip(" "))
         if not match:
-            raise ScenarioError(path, path, "a dotted path like simulation.integrator or springs[0].stiffness")
+            raise ScenarioError(printable(path), path, allowed)
         tokens.append(match.group(1))
         tokens.extend(int(i) for i in re.findall(r"\[(\d+)\]", match.group(2)))
     return tokens
@@ -248,7 +250,12 @@ def apply_overrides(raw: dict, overrides: Mapping[str, Any]) -> dict:
     """
     for path, value in overrides.items():
         tokens = parse_override_path(path)
-        value = parse_override_value(value)
+        if isinstance(value, str):
+            check_text(path, value)
+        try:
+            value = parse_override_value(value)
+        except ScenarioError as err:
+            raise ScenarioError(path, err.value, err.allowed) from None
         cls: Any = Scenario
         node: Any = raw
         walked = ""

@@ -17,8 +17,12 @@ import sys
 from dataclasses import MISSING, fields
 from pathlib import Path
 
+from coopctrl.scenario.arm import MAX_DH_JOINTS
+from coopctrl.scenario.checks import fmt_bound
 from coopctrl.scenario.loader import SECTIONS, _keys
-from coopctrl.scenario.scenario import Scenario
+from coopctrl.scenario.scenario import MAX_ARMS, MAX_VIA_POINTS, MIN_CONTACT_DISTANCE_M, Scenario
+from coopctrl.scenario.scene_file import MAX_SCENE_BYTES
+from coopctrl.scenario.text import MAX_DEPTH, MAX_TEXT
 from coopctrl.scenario.schema import range_text, spec
 
 HEADER = """# Scenario reference
@@ -34,7 +38,16 @@ scene with every default filled in. Units are SI. Ranges are inclusive unless wr
 value outside its range is refused (exit 2) with one line naming the key, the value and the range.
 "Absent" means the key is left out (TOML has no null). Paths are the ones `--set` takes
 (`springs[0].stiffness`, `controllers.leader.natural_frequency`).
-"""
+
+Limits of the file itself (each refused with exit 2 and one line, before anything runs): a scene
+file is a regular file (not a folder, FIFO or device) of at most {max_bytes} bytes ({mib:g} MiB) in UTF-8; tables
+and arrays nest at most {max_depth} levels; every key and string (and every `--set` value) is at most
+{max_text} characters of text without control characters (C0 but tab, DEL, C1) or lone surrogates.
+A scene has 2 to {max_arms} arms, whose contact points (`arms[i].grasp`, first 2 values planar, 3
+spatial) are at least {min_contact} m apart, at most {max_via} via points, and a `dh` arm at most
+{max_dh} joints.
+""".format(max_bytes=MAX_SCENE_BYTES, max_depth=MAX_DEPTH, max_text=MAX_TEXT, max_arms=MAX_ARMS,
+           min_contact=fmt_bound(MIN_CONTACT_DISTANCE_M), mib=MAX_SCENE_BYTES / 2**20, max_via=MAX_VIA_POINTS, max_dh=MAX_DH_JOINTS)
 
 
 def _attributes(cls: type) -> dict[str, str]:

@@ -17,6 +17,13 @@ from coopctrl.scenario.simulation import SimulationConfig
 from coopctrl.scenario.spring import SpringConfig
 from coopctrl.scenario.trajectory import TrajectoryConfig, ViaPoint, check_segments
 
+#: Most arms in a scene (each adds its joints, a contact and m - 1 squeeze pairs to every tick).
+MAX_ARMS = 16
+#: Most via points of a trajectory.
+MAX_VIA_POINTS = 10000
+#: Closest two contact points may be [m]: the squeeze of a pair acts along the line joining them.
+MIN_CONTACT_DISTANCE_M = 1e-6
+
 #: Default lift of the default trajectory [m] and its duration [s].
 DEFAULT_LIFT_M = 0.1
 DEFAULT_LIFT_TIME_S = 1.0
@@ -47,6 +54,21 @@ def _check_euler(path: str, pose: tuple[float, ...]) -> None:
     """Reject a spatial pose at the Euler-angle singularity cos(theta) = 0 (docs/model.md §2)."""
     if len(pose) == 6 and abs(math.cos(pose[4])) < 1e-6:
         raise ScenarioError(path, list(pose), "an orientation with cos(theta) != 0 (Euler singularity, docs/model.md §2)")
+
+
+def _check_distinct_contacts(arms, translations: int) -> None:
+    """Refuse two arms whose grasps put their contacts at one point of the object (both at its centre,
+    say): the squeeze of a pair acts along the line joining its contacts, which is then undefined.
+    The grasps are in the object frame, so their distance is that of the contacts in the world."""
+    for j in range(1, len(arms)):
+        for i in range(j):
+            a, b = arms[i].grasp[:translations], arms[j].grasp[:translations]
+            if math.dist(a, b) < MIN_CONTACT_DISTANCE_M:
+                raise ScenarioError(f"arms[{j}].grasp", list(arms[j].grasp),
+                                    f"a contact point at least {MIN_CONTACT_DISTANCE_M:g} m from arms[{i}].grasp = "
+                                    f"{list(arms[i].grasp)} (its first {translations} values are the contact's position "
+                                    "in the object frame; two arms cannot hold the object at one point: the squeeze "
+                                    "between them would have no direction)")
 
 
 @dataclass(frozen=True)
@@ -128,8 +150,9 @@ class Scenario:
         _check_euler(pose_path, obj.pose)
 
         # arms
-        if not isinstance(self.arms, (list, tuple)) or len(self.arms) < 2:
-            raise ScenarioError("arms", self.arms, "a list of at least 2 [[arms]] tables")
+        if not isinstance(self.arms, (list, tuple)) or not 2 <= len(self.arms) <= MAX_ARMS:
+            shown = f"{len(self.arms)} tables" if isinstance(self.arms, (list, tuple)) else self.arms
+            raise ScenarioError("arms", shown, f"a list of 2 to {MAX_ARMS} [[arms]] tables")
         arms = []
         for k, arm in enumerate(self.arms):
             path = f"arms[{k}]"
@@ -158,6 +181,7 @@ class Scenario:
             value = "leader" if len(leaders) > 1 else [a.role for a in arms]
             raise ScenarioError(path, value, f"exactly one arm with role = 'leader' (found {len(leaders)})")
         m = len(arms)
+        _check_distinct_contacts(arms, p - r)
 
         # springs
         springs = self.springs
@@ -199,6 +223,8 @@ class Scenario:
         if trajectory is None:
             trajectory = default_trajectory(obj.pose, space)
         instance("trajectory", trajectory, TrajectoryConfig)
+        if len(trajectory.via) > MAX_VIA_POINTS:
+            raise ScenarioError("trajectory.via", f"{len(trajectory.via)} points", f"at most {MAX_VIA_POINTS} via points")
         s(self, "trajectory", trajectory)
         for k, via in enumerate(trajectory.via):
             path = f"trajectory.via[{k}].pose"

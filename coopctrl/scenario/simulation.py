@@ -10,6 +10,8 @@ from coopctrl.scenario.schema import key, limits
 
 INTEGRATORS = ("rk4", "euler", "symplectic_euler", "implicit_midpoint", "implicit_euler")
 STARTS = ("loaded", "unloaded")
+#: Largest seed: TOML integers are 64-bit signed.
+MAX_SEED = 2**63 - 1
 
 
 @dataclass(frozen=True)
@@ -44,7 +46,7 @@ class SimulationConfig:
                                 "a period above 1 s controls no arm")
     integrator: str = key("rk4", allowed=INTEGRATORS)
     substeps: int = key(1, ge=1, le=10000, why="an integration step of at least 1e-4 control periods")
-    seed: int = key(0, ge=0)
+    seed: int = key(0, ge=0, le=MAX_SEED, why="a 64-bit signed integer, as TOML's integers")
     max_deformation: float = key(0.05, unit="m", gt=0, le=10.0, why="no grasp deforms by metres")
     max_energy: float | None = key(None, unit="J", gt=0, le=1e12, why="absent = no energy bound")
     start: str = key("loaded", allowed=STARTS)
@@ -59,7 +61,7 @@ class SimulationConfig:
             raise ScenarioError("control_period", self.control_period, f"a period <= duration = {self.duration} s")
         s(self, "integrator", choice("integrator", self.integrator, INTEGRATORS))
         s(self, "substeps", integer("substeps", self.substeps, minimum=1, maximum=10000))
-        s(self, "seed", integer("seed", self.seed, minimum=0))
+        s(self, "seed", integer("seed", self.seed, minimum=0, maximum=MAX_SEED))
         s(self, "max_deformation", number("max_deformation", self.max_deformation, **limits(self, "max_deformation")))
         s(self, "max_energy", optional_number("max_energy", self.max_energy, **limits(self, "max_energy")))
         s(self, "start", choice("start", self.start, STARTS))

@@ -13,6 +13,10 @@ given twice are errors.
 
 Order: the product runs over the axes in the order given, the last axis varying fastest (like
 :func:`itertools.product`), and run ``k`` is the ``k``-th combination.
+
+Size: a grid has at most :data:`MAX_RUNS` runs. The count (the product of the axis lengths) is
+checked when the grid is built, before any combination is expanded or validated, so that a grid of
+1e8 points is refused at once instead of filling the memory.
 """
 
 from __future__ import annotations
@@ -23,6 +27,10 @@ from dataclasses import dataclass
 from typing import Any, Iterable, Mapping
 
 from coopctrl.sweep.errors import GridError
+
+#: Most runs of one sweep (the product of the axis lengths). Every run is validated before the first
+#: starts and keeps a row in memory; split a larger study into several sweeps.
+MAX_RUNS = 10_000
 
 _OPEN, _CLOSE = "[{", "]}"
 _FORM = ("PATH=V1,V2,... with values in TOML syntax, e.g. --grid simulation.integrator=rk4,euler "
@@ -117,13 +125,17 @@ class SweepAxis:
             raise GridError(f"{path}=...", "a dotted PATH like simulation.integrator or springs[0].stiffness; " + _FORM) from None
         if not self.values:
             raise GridError(f"{path}=", "at least one value; " + _FORM)
-        seen: list[Any] = []
+        if len(self.values) > MAX_RUNS:
+            raise GridError(f"{path}=...", f"at most {MAX_RUNS} values on one axis (it has {len(self.values)}): "
+                            f"a sweep has at most {MAX_RUNS} runs")
+        seen: set[str] = set()
         for text in self.values:
             value = value_of(text)
-            if any(value == s and type(value) is type(s) for s in seen):
+            marker = f"{type(value).__name__}:{value_text(value)}"  # equal values of one type, one text
+            if marker in seen:
                 argument = f"{path}={','.join(map(value_text, self.values))}"
                 raise GridError(argument, f"distinct values: {value_text(value)} is given twice")
-            seen.append(value)
+            seen.add(marker)
 
 
 @dataclass(frozen=True)
@@ -146,6 +158,12 @@ class SweepGrid:
             if key in seen:
                 raise GridError(f"{axis.path}=...", f"each PATH in one --grid only ({axis.path} is already swept)")
             seen[key] = axis.path
+        runs = len(self)  # counted, never expanded
+        if runs > MAX_RUNS:
+            sizes = " x ".join(str(len(axis.values)) for axis in self.axes)
+            raise GridError(" ".join(f"{axis.path}=..." for axis in self.axes),
+                            f"at most {MAX_RUNS} runs in one sweep; this grid has {sizes} = {runs} runs "
+                            "(split it into several sweeps)")
 
     @classmethod
     def parse(cls, arguments: Iterable[str]) -> "SweepGrid":

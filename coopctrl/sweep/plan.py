@@ -6,14 +6,13 @@ not a path, so that a worker on another machine (a Dask cluster) needs no access
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
 from coopctrl.errors import ScenarioError
 from coopctrl.sweep.errors import GridError
-from coopctrl.sweep.grid import SweepGrid, value_of
+from coopctrl.sweep.grid import MAX_RUNS, SweepGrid, value_of
 
 
 @dataclass(frozen=True)
@@ -71,11 +70,16 @@ class SweepPlan:
 
 
 def _read_table(path: str | Path) -> dict[str, Any]:
-    return tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    """The scene file's checked TOML table, read as :func:`~coopctrl.scenario.load_scenario` reads it
+    (a regular file of at most 1 MiB)."""
+    from coopctrl.scenario.scene_file import read_scene_table
+
+    return read_scene_table(path)
 
 
 def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[str, Any] | None = None) -> SweepPlan:
     """Validate the scenario with every combination of overrides and return the runs; nothing is simulated.
+    A grid has at most :data:`~coopctrl.sweep.grid.MAX_RUNS` runs (counted before any is expanded).
 
     The fields of each run's scenario are checked (the loader's checks: types, ranges, unknown keys).
     Checks that need the plant (reach of a grasp, torque limits against gravity) happen in the run,
@@ -94,6 +98,8 @@ def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[
     from coopctrl.scenario.loader import load_scenario, parse_override_path
 
     sets = dict(sets or {})
+    if len(grid) > MAX_RUNS:  # a SweepGrid refuses this when built; the count comes before any expansion
+        raise GridError(" ".join(f"{p}=..." for p in grid.paths), f"at most {MAX_RUNS} runs in one sweep (this grid has {len(grid)})")
     base = load_scenario(scenario_path, sets)  # file-level errors and bad --set first
     source = None if scenario_path is None else str(scenario_path)
     data = {} if scenario_path is None else _read_table(scenario_path)
