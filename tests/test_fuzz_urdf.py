@@ -23,7 +23,7 @@ from coopctrl.cli import main as cli_main
 from coopctrl.errors import ScenarioError
 from coopctrl.io import dumps_toml
 from coopctrl.scenario import load_scenario
-from coopctrl.scenario.arm import MAX_DH_ROWS
+from coopctrl.scenario.arm import MAX_DH_JOINTS
 from coopctrl.scenario.build import _pose_matrix, make_arm
 from plants.arms import from_urdf
 from plants.arms.named_robots import NAMED_ROBOTS, urdf_path
@@ -214,7 +214,7 @@ def test_hostile_dh_rows_are_refused_or_valid(tmp_path):
             outcomes.append("refused")
     assert "refused" in outcomes
     scene = _scene(tmp_path, model="dh", dh=_dh_rows() * 20)  # 120 joints
-    with pytest.raises(ScenarioError, match=rf"arms\[0\]\.dh.*at most {MAX_DH_ROWS} rows"):
+    with pytest.raises(ScenarioError, match=rf"arms\[0\]\.dh.*1 to {MAX_DH_JOINTS} rows"):
         load_scenario(scene)
 
 
