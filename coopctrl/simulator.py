@@ -80,7 +80,7 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]
-    squeeze = squeeze_series(rec["F_measured"], rec["r_contacts"], Y0[:, :loop.npos], plant.space)
+    squeeze = squeeze_series(rec["F_measured"], rec["r_contacts"], Y0[:, :loop.npos], plant.space, loop.squeeze_desired)
     report = plant.size_report()
     model = {"arms": report["arms"], "dof_per_arm": report["dof_per_arm"], "space": plant.space,
              "unloaded_state": plant.unloaded_state, "state_size": plant.state_size,
@@ -90,7 +90,7 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
         Y0_nominal=rec["Y0_nominal"], F_measured=rec["F_measured"], F_commanded=rec["F_commanded"],
         F_external=rec["F_external"], F_internal=rec["F_internal"], squeeze=squeeze,
         squeeze_desired=np.asarray(loop.squeeze_desired, dtype=float), tau_max=loop.tau_max,
-        qp_status=rec["qp_status"], qp_binding=rec.get("qp_binding", []), qp_iterations=rec["qp_iterations"], qp_solve_time_s=rec["qp_solve_time_s"],
+        qp_status=rec["qp_status"], qp_binding=rec.get("qp_binding", []), qp_iterations=rec["qp_iterations"], qp_active_rows=rec["qp_active_rows"], qp_solve_time_s=rec["qp_solve_time_s"],
         events=rec["events"], status=rec["status"], reason=rec["reason"], model=model, integrator=sim.integrator,
         step_s=sim.step, control_period_s=sim.control_period, duration_s=sim.duration,
         wall_time_s=rec["wall_time_s"], leader=scenario.leader, followers=list(scenario.followers),

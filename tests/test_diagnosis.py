@@ -59,6 +59,9 @@ def test_unreachable_pose_is_named():
     assert unreachable_cause(loop, 0.0) == ""
     why = unreachable_cause(loop, 2.0)
     assert why.startswith("unreachable pose: at t = 2 s arm ") and "joint limits" in why
+    # the node pose is computed (its theta is -1 * 0.0 here): printed without a "-0"
+    pose = why.split("node pose (")[1].split(")")[0].split(", ")
+    assert len(pose) == 6 and "-0" not in pose
 
 
 def test_out_of_reach_waypoint_run_warns_of_the_saturation():
@@ -105,3 +108,29 @@ def test_a_failure_at_the_first_tick_is_diagnosed_without_recursion():
     assert result.status == "diverged"
     assert "diverged at t = 0 s: deformation" in result.reason and "too soft" in result.reason
     assert "not the likely cause" in result.reason and "try a step" not in result.reason
+
+
+def test_saturation_at_the_blow_up_does_not_outweigh_the_step():
+    """RK4 at T/2 = 1.5 ms on the stiff scene (grasps 5e7 N/m, T = 3 ms; RK4's closed-loop limit ~1.3e-4 s):
+    it diverges at its second tick, where the torques of the blow-up saturate (1 of 2 ticks). That
+    saturation is the divergence's consequence: the step is blamed, with advice, and saturation is not."""
+    result = simulate(load("stiff_grasp_extreme", **{"springs[0].stiffness": 5e7, "springs[1].stiffness": 5e7,
+                                                     "simulation.control_period": 0.003, "simulation.integrator": "rk4",
+                                                     "simulation.substeps": 2, "simulation.duration": 0.03}))
+    assert result.status == "diverged"
+    assert result.torque_saturated_ticks >= 1  # the evidence was there, and is outweighed
+    assert "try a step of at most" in result.reason and "not the likely cause" not in result.reason
+    assert "torque saturation" not in result.reason
+
+
+def test_saturation_precedes_blow_up():
+    from coopctrl.analysis.diagnosis import saturation_precedes_blow_up
+
+    # saturated from the start of a run judged 5 ticks before its failure: it came first
+    assert saturation_precedes_blow_up({"saturation_first_time_s": 0.0}, t_fail=0.1, t_back=0.095)
+    # saturated from the start of a run that failed at its second tick (judged at the start): came first
+    assert saturation_precedes_blow_up({"saturation_first_time_s": 0.0}, t_fail=0.006, t_back=0.0)
+    # first met after the state the step is judged at, or late in the run, or never: a consequence
+    assert not saturation_precedes_blow_up({"saturation_first_time_s": 0.003}, t_fail=0.006, t_back=0.0)
+    assert not saturation_precedes_blow_up({"saturation_first_time_s": 0.06}, t_fail=0.1, t_back=0.095)
+    assert not saturation_precedes_blow_up({}, t_fail=0.1, t_back=0.095)

@@ -569,3 +569,24 @@ def test_closed_loop_compiled_agrees_with_proxsuite(name):
     assert np.abs(a.F_commanded - b.F_commanded).max() <= FORCE_TOL
     assert np.abs(a.Y0[:, :npos] - b.Y0[:, :npos]).max() <= 1e-9
     assert a.qp_active_constraints == b.qp_active_constraints
+
+
+def test_active_inequalities_counts_the_rows_held_at_a_bound():
+    """min x^2 + y^2 - 2 x - 2 y (unconstrained optimum (1, 1)) with x + y = 1 and the boxes x <= 0.2,
+    y <= 5: the optimum is (0.2, 0.8) with the x box active (the equality is not counted); without the
+    tight box no inequality is active. The count is read from the workspace the solve left."""
+    from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities
+
+    H = 2.0 * np.eye(2)
+    g = np.array([-2.0, -2.0])
+    M = np.array([[1.0, 1.0], [1.0, 0.0], [0.0, 1.0]])
+    lo = np.array([1.0, -np.inf, -np.inf])
+    x, z = np.zeros(2), np.zeros(3)
+    for x_max, active in ((0.2, 1), (5.0, 0)):
+        hi = np.array([1.0, x_max, 5.0])
+        ws = gi_workspace(2, 3)
+        status, _ = gi_solve(H, g, M, lo, hi, 1, x, z, ws, True, TOL, 100)
+        assert status == SOLVED
+        assert gi_active_inequalities(ws, 1) == active
+        assert gi_active_inequalities(ws, 1) == int(np.sum(z[1:] != 0.0))  # the rows with a multiplier
+    np.testing.assert_allclose(x, [0.5, 0.5], atol=1e-12)  # the last solve: x + y = 1 only

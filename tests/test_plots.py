@@ -8,7 +8,9 @@ import pytest
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon, Rectangle
 
-from coopctrl.results.plots import (SATURATED, failure_time, plot_force_regulation, plot_limits, plot_tracking)
+from coopctrl.results.plain_axes import plain_tick_labels
+from coopctrl.results.plots import (SATURATED, failure_time, plot_force_regulation, plot_limits, plot_qp_solve_times,
+                                    plot_tracking)
 from test_results import synthetic
 
 
@@ -86,8 +88,61 @@ def test_failed_run_is_marked_on_every_panel():
     for fig in r.figures().values():
         assert "DIVERGED" in _titles(fig)
         for ax in fig.get_axes():
-            if ax.get_xlabel() == "solve time [us]":
-                continue  # the histogram has no time axis
+            if ax.get_ylabel() == "solves [-]":
+                continue  # a histogram of the QP plot has no time axis
             marks = [ln for ln in ax.lines if len(ln.get_xdata()) == 2 and np.allclose(ln.get_xdata(), 0.18)]
             assert marks, f"no failure marker on {ax.get_title()!r}"
     assert failure_time(synthetic("planar", 2)) is None
+
+
+def _offset_texts(fig: Figure) -> list[str]:
+    """The offset texts (``+2e1``, ``1e-7``) of every axis of ``fig``, once drawn."""
+    fig.canvas.draw()
+    return [axis.get_offset_text().get_text() for ax in fig.get_axes() for axis in (ax.xaxis, ax.yaxis)
+            if axis.get_offset_text().get_text()]
+
+
+def test_no_axis_has_an_offset_text():
+    """A run from t = 1000 s whose pose varies by 1e-7 m around 0.45 m: matplotlib's default would label
+    the time axis ``+1e3`` and the pose axis ``1e-7+4.5e-1``; every plot labels ticks with the values."""
+    r = synthetic("planar", 2)
+    r.t = r.t + 1000.0
+    r.Y0[:, 0] = 0.45 + 1e-7 * np.sin(np.linspace(0.0, 3.0, r.t.size))
+    r.Y0_nominal[:, 0] = 0.45
+    from matplotlib.figure import Figure as _F
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    raw = _F()  # the same data without plain_tick_labels has offsets: the check below can fail
+    FigureCanvasAgg(raw)
+    ax = raw.subplots()
+    ax.plot(r.t, r.Y0[:, 0])
+    assert len(_offset_texts(raw)) == 2
+    plain_tick_labels(raw)
+    assert _offset_texts(raw) == []
+    for name, fig in r.figures().items():
+        assert _offset_texts(fig) == [], name
+
+
+def test_qp_plot_has_data_for_the_default_solver():
+    """The default (compiled) solver is not timed per solve, but reports its iterations and the active
+    inequality rows of its answer on every tick: the QP plot draws both (heavy_payload_torque_limits
+    activates a torque-limit row from about 0.11 s) and names the missing solve time."""
+    import coopctrl
+    from pathlib import Path
+
+    scene = coopctrl.load_scenario(Path(__file__).resolve().parent.parent / "scenarios" / "heavy_payload_torque_limits.toml",
+                                   {"simulation.duration": 0.2})
+    assert scene.load_distribution.solver == "compiled"
+    r = coopctrl.simulate(scene)
+    assert r.status == "ok"
+    n = r.t.size
+    assert r.qp_active_rows.shape == (n,) and np.all(r.qp_active_rows >= 0) and np.all(r.qp_iterations >= 0)
+    binding = np.array(["torque_limits" in b for b in r.qp_binding])
+    assert binding.any() and np.all(r.qp_active_rows[binding] >= 1)  # a binding row is an active row
+    fig = plot_qp_solve_times(r)
+    by_label = {ax.get_ylabel(): ax for ax in fig.get_axes()}
+    for label in ("QP iterations [-]", "active inequality rows [-]"):
+        y = np.asarray(by_label[label].lines[0].get_ydata(), dtype=float)
+        assert y.shape == (n,) and np.isfinite(y).all(), label
+    assert "solve time [us]" not in by_label  # not timed: no empty panel
+    assert "solve time" in fig.get_supxlabel()

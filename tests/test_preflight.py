@@ -73,3 +73,42 @@ def test_samples_include_every_waypoint_and_a_fine_grid():
     t = sample_times([0.0, 0.42, 2.0], 2.5)
     assert 0.42 in t and 2.0 in t and t[0] == 0.0 and t[-1] == 2.5
     assert max(t[1:] - t[:-1]) <= 0.01 + 1e-12
+
+
+# ---------------------------------------------------------------- short segments (issue 22)
+def _with_extra_via(tmp_path, time: float) -> str:
+    """planar_two_arm_lift with a third via 1 cm beyond the second, ``time`` [s] later."""
+    import tomllib
+
+    from coopctrl.io import dumps_toml
+
+    data = tomllib.loads((REPO / "scenarios" / "planar_two_arm_lift.toml").read_text())
+    via = data["trajectory"]["via"]
+    via.append({"time": via[-1]["time"] + time, "pose": [via[-1]["pose"][0] + 0.01, *via[-1]["pose"][1:]]})
+    path = tmp_path / "short.toml"
+    path.write_text(dumps_toml(data))
+    return str(path)
+
+
+def test_a_segment_shorter_than_the_control_period_is_bad_input(tmp_path, capsys):
+    from coopctrl.cli import main
+
+    scene = _with_extra_via(tmp_path, 1e-9)  # 1 cm in 1 ns: a peak of 5.8e16 m/s^2
+    assert main(["check", scene]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "trajectory.via[2].time" in err[0] and "control period" in err[0], err
+
+
+def test_preflight_checks_the_closed_form_peak_of_a_short_segment(tmp_path):
+    """A 4 ms segment (longer than the 1 ms control period: valid input) moving 1 cm peaks at
+    5.8 * 0.01 / 0.004^2 = 3600 m/s^2; the 10 ms grid has no point inside it, the peak instants do."""
+    scenario = load_scenario(_with_extra_via(tmp_path, 0.004))
+    start, end = scenario.trajectory.via[1].time, scenario.trajectory.via[2].time
+    grid = sample_times([v.time for v in scenario.trajectory.via], scenario.simulation.duration)
+    assert not any(start < t < end for t in grid)  # the old sampling could not see it
+    report = preflight(scenario)
+    assert not report.ok
+    issue = report.issues[0]
+    assert start < issue.time_s < end and issue.kind == "torque", issue
+    assert issue.message.startswith(f"at t = {issue.time_s:.6g} s (a closed-form peak of the segment "
+                                    "trajectory.via[1] -> via[2])"), issue.message

@@ -53,3 +53,19 @@ def test_show_bad_input_exits_2_with_one_line():
                           capture_output=True, text=True, cwd=REPO, timeout=120)
     assert proc.returncode == 2 and proc.stdout == ""
     assert len(proc.stderr.strip().splitlines()) == 1 and "object.mass" in proc.stderr
+
+
+def test_show_writes_no_unit_after_a_switch_and_never_minus_zero(tmp_path):
+    """``torque_limits = false`` is a switch, not a torque: no ``# N m`` after it (nor after any boolean);
+    a pose entered as -0.0 is written 0.0 (equal when loaded back)."""
+    text = _show(str(REPO / "scenarios" / "planar_two_arm_lift.toml"), "--set", "arms[0].base=[-0.6, -0.0, -0.0]")
+    lines = text.splitlines()
+    assert "torque_limits = false" in lines
+    switches = [ln for ln in lines if ln.split("#")[0].rstrip().endswith(("= true", "= false"))]
+    assert switches and all("#" not in ln for ln in switches), switches
+    assert "base = [-0.6, 0.0, 0.0]  # m, rad" in lines
+    assert "-0.0," not in text and "-0.0]" not in text
+    path = tmp_path / "shown.toml"
+    path.write_text(text, encoding="utf-8")
+    assert load_scenario(path) == load_scenario(REPO / "scenarios" / "planar_two_arm_lift.toml",
+                                                {"arms[0].base": [-0.6, -0.0, -0.0]})

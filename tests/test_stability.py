@@ -457,6 +457,9 @@ def test_cli_stability_progress_goes_to_stderr():
     assert data["rows"][0]["closed_loop_predicted_max_step_s"] is None  # stable up to T: no limit below it
     assert data["rows"][0]["closed_loop_beyond_control_period"] is True
     assert "coopctrl stability: linearized" in proc.stderr
+    # the plant's negative stiffness eigenvalues are held by the controllers: not called instabilities of the run
+    assert data["unstable_stiffness_modes"] >= 1 and data["closed_loop_growing_modes"] == 0
+    assert data["static_instabilities"].startswith("none in the closed loop") and "no step cures" not in data["static_instabilities"]
 
 
 def test_closed_loop_map_matches_the_nonlinear_loop():
@@ -549,3 +552,38 @@ def test_the_linearization_carries_the_force_integrals():
     L = lin.linearize(build.initial_state(scenario))
     assert np.max(np.abs(L.EI - np.eye(lin.integral_size))) <= 1e-9
     assert np.max(np.abs(L.KI)) > 0.0
+
+
+# ---------------------------------------------------------------------- static instabilities: plant or closed loop
+@pytest.mark.parametrize("name, growing", [("planar_two_arm_lift", False), ("central_spring_buckling", True)])
+def test_closed_loop_growing_modes_tell_a_held_plant_from_a_buckling_grasp(name, growing):
+    """Both plants have negative stiffness eigenvalues without control; the lift's controllers hold them (it
+    runs fine), the squeezed central springs buckle whatever the control (tests/test_diagnosis.py)."""
+    from coopctrl.analysis.closed_loop_stability import LoopLinearizer
+    from coopctrl.analysis.stability import closed_loop_growing_modes
+
+    scenario = load_scenario(REPO / "scenarios" / f"{name}.toml")
+    x0 = build.initial_state(scenario)
+    assert linear_modes(build.build_plant(scenario), x0).unstable_stiffness_modes >= 1
+    count = closed_loop_growing_modes(LoopLinearizer(scenario).linearize(x0, None, 0.0))
+    assert (count >= 1) if growing else (count == 0)
+
+
+def test_static_instability_line_says_whose_they_are():
+    from coopctrl.analysis.stability import StabilityReport
+
+    def line(**kw):
+        report = StabilityReport(scenario="s", state="loaded", omega_max_rad_s=1.0, damping_ratio=0.1,
+                                 modal_damping_ratio=0.1, fastest_eigenvalue=-1 + 1j, stiffness_asymmetry=0.0,
+                                 control_period_s=1e-3, **kw)
+        text = next(ln for ln in report.table().splitlines() if ln.startswith("static instabilities"))
+        assert text.split(None, 2)[2] == report.static_instability_text() == report.to_dict()["static_instabilities"]
+        return report.static_instability_text()
+
+    held = line(unstable_stiffness_modes=3, closed_loop_growing_modes=0)
+    assert held.startswith("none in the closed loop") and "3 negative stiffness" in held and "no step cures" not in held
+    buckling = line(unstable_stiffness_modes=6, closed_loop_growing_modes=3)
+    assert buckling.startswith("3 growing modes of the closed loop") and "no step cures them" in buckling
+    assert "without control: no step cures them" in line(unstable_stiffness_modes=2, controlled=False)
+    assert "not known" in line(unstable_stiffness_modes=2)  # controlled, closed loop not linearized
+    assert line(unstable_stiffness_modes=0, closed_loop_growing_modes=0) == "none"

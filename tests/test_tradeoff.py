@@ -383,3 +383,18 @@ def test_cli_reference_failure_exits_1(capsys):
     err = capsys.readouterr().err
     assert code == 1
     assert len(err.splitlines()) == 1 and err.startswith("coopctrl: failed: the reference solution diverged")
+
+
+def test_work_precision_axes_have_no_offset_text(stiff_short):
+    """No axis carries an offset or scale text (``+2e1``, ``1e-7``): each tick label reads alone."""
+    import dataclasses
+
+    from coopctrl.analysis.work_precision_plot import work_precision_figure
+
+    failed = [dataclasses.replace(r, status="diverged", position_error_m=None, orientation_error_rad=None,
+                                  force_error_N=None, pareto=False, pareto_force=False) for r in stiff_short.rows]
+    for grid in (stiff_short, dataclasses.replace(stiff_short, rows=failed)):
+        fig = work_precision_figure(grid)
+        fig.canvas.draw()
+        assert [axis.get_offset_text().get_text() for ax in fig.axes for axis in (ax.xaxis, ax.yaxis)
+                if axis.get_offset_text().get_text()] == []

@@ -153,3 +153,32 @@ def test_evaluate_rejects_nan_time():
         make("planar").evaluate(math.nan)
     with pytest.raises(ValueError, match="non-finite"):
         make("planar").sample([0.0, math.nan])
+
+
+# ---------------------------------------------------------------- closed-form peaks (issue 22)
+@pytest.mark.parametrize("space", SPACES)
+def test_closed_form_peaks_bound_a_dense_sampling_and_are_reached(space):
+    tr = make(space, k=5, seed=3)
+    v_peak, a_peak = tr.peaks()
+    assert v_peak.shape == a_peak.shape == (4, SPACES[space])
+    t = np.linspace(0.0, tr.duration, 20001)
+    _, dY, ddY = tr.sample(t)
+    seg = np.clip(np.searchsorted(tr.times, t, side="right") - 1, 0, 3)
+    # a dense grid never exceeds the closed-form peaks (relative rounding of the polynomials: 1e-12) ...
+    assert np.all(np.abs(dY) <= v_peak[seg] * (1 + 1e-12) + 1e-15)
+    assert np.all(np.abs(ddY) <= a_peak[seg] * (1 + 1e-12) + 1e-15)
+    # ... and the peak instants reach them (the same polynomials at the exact instants: rounding)
+    for tp in tr.peak_times():
+        i = min(int(np.searchsorted(tr.times, tp, side="right")) - 1, 3)
+        _, dYp, ddYp = tr.evaluate(float(tp))
+        tau = (tp - tr.times[i]) / (tr.times[i + 1] - tr.times[i])
+        if abs(tau - 0.5) < 1e-9:
+            np.testing.assert_allclose(np.abs(dYp), v_peak[i], rtol=1e-9, atol=1e-12)
+        else:
+            np.testing.assert_allclose(np.abs(ddYp), a_peak[i], rtol=1e-9, atol=1e-12)
+
+
+def test_a_one_via_trajectory_has_no_peaks():
+    tr = MinimumJerkTrajectory([0.0], [[0.0, 0.3, 0.0]], "planar")
+    v, a = tr.peaks()
+    assert v.shape == a.shape == (0, 3) and tr.peak_times().size == 0

@@ -13,8 +13,9 @@ causes, in the order they are reported:
   kinematics within its joint limits);
 - **torque saturation**: the commanded torques were clipped at ``tau_max`` on at least
   :data:`SATURATION_SHARE` of the ticks run, or on the last tick before the failure (which joints, how
-  many ticks, the first time); when the step is also a cause, only if the saturation began in the first
-  half of the run (an unstable step saturates the torques as it blows up);
+  many ticks, the first time); when the step is also a cause, only if the saturation precedes the
+  blow-up (:func:`saturation_precedes_blow_up`): an unstable step saturates the torques as it blows
+  up, and saturation on the last ticks only is then its consequence, not evidence against the step;
 - **load distribution**: the QP failed and the loop held its last feasible split (how many ticks, the
   first time);
 - **the step**: ``h`` beyond the closed loop's predicted limit
@@ -28,10 +29,11 @@ import math
 
 import numpy as np
 
+from coopctrl.io.number_text import numbers_text
 from coopctrl.loop.diagnosis import Diagnosis, held_split_cause, static_instability
 
 __all__ = ["SATURATION_SHARE", "Diagnosis", "closed_loop_limit", "diagnose_failure", "held_split_cause",
-           "saturation_cause", "unreachable_cause"]
+           "saturation_cause", "saturation_precedes_blow_up", "unreachable_cause"]
 
 #: Share of the ticks run [-] with clipped torques from which saturation is named as a cause.
 SATURATION_SHARE = 0.1
@@ -57,6 +59,20 @@ def saturation_cause(loop, rec: dict, k_done: int) -> str:
             "runs)")
 
 
+def saturation_precedes_blow_up(rec: dict, t_fail: float, t_back: float) -> bool:
+    """True when the torques saturated before a step-driven blow-up could have saturated them.
+
+    The step's limit is judged at the start and at the state of ``t_back`` [s], a few ticks
+    (:data:`~coopctrl.loop.diagnosis.DIAGNOSIS_TICKS_BACK`) before the failure at ``t_fail`` [s], where
+    the blow-up has not yet taken over. Saturation outweighs the step only if it began by that state,
+    ``t_sat <= t_back`` (at the start state itself when the run failed within a few ticks), and in the
+    first half of the run, ``t_sat <= t_fail / 2``; saturation
+    first met in the last ticks (e.g. 1 of 2 ticks of a run that diverged at its second tick) is what a
+    diverging state does to its controller."""
+    first = float(rec.get("saturation_first_time_s", math.nan))
+    return first <= t_back and first <= 0.5 * t_fail
+
+
 def unreachable_cause(loop, t: float) -> str:
     """The unreachable-pose phrase when an arm cannot reach its nominal node pose at ``t`` [s], else ``""``."""
     from plants.cooperative import ContactPoint, nominal_node_motion
@@ -73,7 +89,7 @@ def unreachable_cause(loop, t: float) -> str:
         try:
             arm.inverse_kinematics(Yn[i + 1], seeds=5)
         except UnreachablePoseError as exc:
-            pose = ", ".join(f"{v:.4g}" for v in Yn[i + 1])
+            pose = numbers_text(Yn[i + 1])
             return (f"unreachable pose: at t = {t:.4g} s arm {i + 1} (arms[{i}]) cannot reach its nominal node pose "
                     f"({pose}) within its joint limits (best residual {exc.residual:.3g}); move the waypoint, the "
                     "grasp or the arm base")
@@ -133,7 +149,7 @@ def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back
     if loop.enabled:
         sat = saturation_cause(loop, rec, k_done)
         # an unstable step saturates the torques as it blows up: then saturation is named only if it came first
-        if sat and not (step_is_cause and rec.get("saturation_first_time_s", 0.0) > 0.5 * t_fail):
+        if sat and not (step_is_cause and not saturation_precedes_blow_up(rec, t_fail, t_back)):
             causes.append(sat)
         held = held_split_cause(rec.get("events", ()))
         if held:

@@ -1,7 +1,10 @@
 """Pre-flight: is the task possible at all? Checked along the nominal trajectory before any simulation.
 
-At every via point and on a fine grid between them (:data:`SAMPLE_STEP`), the nominal object motion
-gives every contact node's nominal motion (148) and the external load ``w_N``; then, in order:
+At every via point, on a fine grid between them (:data:`SAMPLE_STEP`) and at every segment's
+closed-form acceleration and speed peaks (:meth:`MinimumJerkTrajectory.peak_times
+<coopctrl.trajectory.MinimumJerkTrajectory.peak_times>`: a grid misses the extremes of a segment
+shorter than its step), the nominal object motion gives every contact node's nominal motion (148)
+and the external load ``w_N``; then, in order:
 
 1. **Reach.** Each arm must reach its node's nominal pose (rigid, then deformed by its planned
    wrench through the grasp compliance, as :meth:`ClosedLoop.loaded_state` places it) by inverse
@@ -30,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
+from coopctrl.io.number_text import numbers_text
 from coopctrl.loop.diagnosis import static_instability
 
 #: Largest spacing [s] of the samples between via points (also at most 1/100 of the duration).
@@ -97,14 +101,15 @@ class PreflightReport:
             raise ImpossibleTask(self.issues[0])
 
 
-def sample_times(via_times, duration: float) -> np.ndarray:
-    """Every via time within ``[0, duration]`` and a grid of spacing at most :data:`SAMPLE_STEP` [s]
-    (and ``duration / 100``) between them, sorted."""
+def sample_times(via_times, duration: float, peak_times=()) -> np.ndarray:
+    """Every via time and every trajectory peak instant (``peak_times`` [s]) within ``[0, duration]``,
+    and a grid of spacing at most :data:`SAMPLE_STEP` [s] (and ``duration / 100``) between them, sorted."""
     end = float(duration)
     n = int(math.ceil(end / min(SAMPLE_STEP, end / 100.0))) if end > 0 else 0
     grid = np.linspace(0.0, end, n + 1) if n else np.zeros(1)
     vias = [float(t) for t in via_times if 0.0 <= t <= end]
-    return np.unique(np.round(np.concatenate([grid, vias]), 12))
+    peaks = [float(t) for t in peak_times if 0.0 <= t <= end]
+    return np.unique(np.round(np.concatenate([grid, vias, peaks]), 12))
 
 
 def preflight(scenario, loop=None) -> PreflightReport:
@@ -128,7 +133,9 @@ def preflight(scenario, loop=None) -> PreflightReport:
         return PreflightReport(scenario.name, 0)
     m, space = plant.arm_count, loop.space
     via_times = [v.time for v in scenario.trajectory.via]
-    times = sample_times(via_times, scenario.simulation.duration)
+    peaks = loop.trajectory.peak_times() if hasattr(loop.trajectory, "peak_times") else ()
+    times = sample_times(via_times, scenario.simulation.duration, peaks)
+    peak_set = {round(float(t), 12) for t in peaks}
     check_static = {0.0, *[round(float(t), 12) for t in via_times]}
     x = np.array(build.unloaded_state(scenario), dtype=float)  # the IK seeds; the arms then follow the path
     tau_max = [np.asarray(a.tau_max, dtype=float) for a in plant.arms]
@@ -188,11 +195,18 @@ def preflight(scenario, loop=None) -> PreflightReport:
             if not ratio <= worst:  # also the first (nan)
                 worst, worst_t = ratio, t
             if ratio > 1.0:
+                at = f"{t:.6g} s{_peak_note(t, via_times)}" if round(t, 12) in peak_set else f"{t:.4g} s"
                 return fail(PreflightIssue(t, "torque", (
-                    f"at t = {t:.4g} s arm {i + 1} joint {j + 1} needs {need:.4g} N m > tau_max "
+                    f"at t = {at} arm {i + 1} joint {j + 1} needs {need:.4g} N m > tau_max "
                     f"{tau_max[i][j]:.4g} N m (the planned split with the nominal accelerations); lower the payload "
                     f"(object.mass) or the trajectory's accelerations, or raise {names[i]}.tau_max"), i + 1, j + 1))
     return PreflightReport(scenario.name, len(times), worst, worst_t)
+
+
+def _peak_note(t: float, via_times) -> str:
+    """`` (the peak of segment trajectory.via[k-1] -> via[k])`` for a peak instant ``t`` [s]."""
+    k = int(np.searchsorted(np.asarray(via_times, dtype=float), t, side="right"))
+    return f" (a closed-form peak of the segment trajectory.via[{k - 1}] -> via[{k}])"
 
 
 def _worst_joint(plant, jac, bias, F, limits):
@@ -231,7 +245,7 @@ def _unreachable(t, i, name, target, exc, via_times) -> PreflightIssue:
     """The issue of arm ``i`` not reaching ``target`` at ``t``, naming the via point if ``t`` is one."""
     at_via = [k for k, tv in enumerate(via_times) if abs(tv - t) <= 1e-9]
     where = f" (waypoint trajectory.via[{at_via[0]}])" if at_via else ""
-    pose = ", ".join(f"{v:.4g}" for v in np.asarray(target, dtype=float))
+    pose = numbers_text(np.asarray(target, dtype=float))
     return PreflightIssue(t, "unreachable", (
         f"at t = {t:.4g} s{where} arm {i + 1} ({name}) cannot reach its node pose ({pose}) within its joint "
         f"limits (best inverse-kinematics residual {exc.residual:.3g}); move the waypoint, the grasp "

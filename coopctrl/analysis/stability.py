@@ -187,11 +187,16 @@ class StabilityReport:
             (:func:`~coopctrl.analysis.modes.linear_modes`); ``modal_damping_ratio`` its classical modal one.
         fastest_eigenvalue: Eigenvalue of ``A`` of largest magnitude [1/s].
         stiffness_asymmetry: ``|K - K^T| / |K|`` [-] (dropped for ``omega``).
-        unstable_stiffness_modes: Number of negative ``omega^2`` (static instabilities).
+        unstable_stiffness_modes: Number of negative ``omega^2`` of the plant *without control* (static
+            instabilities of the open-loop plant: the controllers may hold them).
         control_period_s: ``T`` [s], the longest step the loop can take.
         reference: ``{"integrator", "step_s", "status", "reason", "horizon_s", "elastic_energy_max_J"}`` of the
             reference run, or ``{}``.
         rows: One :class:`StabilityRow` per integrator.
+        closed_loop_growing_modes: Modes of the closed loop that grow at a vanishing step at the start
+            (:func:`closed_loop_growing_modes`; physical instabilities no step cures), ``None`` when the
+            closed loop was not linearized (controllers off, or ``closed_loop=False``).
+        controlled: False for a scene without control (``controllers.enabled = false``): the plant is the loop.
     """
 
     scenario: str
@@ -205,6 +210,8 @@ class StabilityReport:
     control_period_s: float
     reference: dict = field(default_factory=dict)
     rows: tuple[StabilityRow, ...] = ()
+    closed_loop_growing_modes: int | None = None
+    controlled: bool = True
 
     def row(self, integrator: str) -> StabilityRow:
         """The row of one integrator."""
@@ -256,10 +263,32 @@ class StabilityReport:
             "fastest_mode_damping_ratio": damping_ratio_of(lam) if lam != 0 else None,
             "stiffness_asymmetry": self.stiffness_asymmetry,
             "unstable_stiffness_modes": self.unstable_stiffness_modes,
+            "closed_loop_growing_modes": self.closed_loop_growing_modes,
+            "static_instabilities": self.static_instability_text(),
             "control_period_s": self.control_period_s,
             "reference": self.reference,
             "rows": rows,
         })
+
+    def static_instability_text(self) -> str:
+        """What the negative stiffness eigenvalues mean for this scene, in one phrase.
+
+        They are the plant's without control: where the controllers hold them (the closed loop grows
+        no mode at a vanishing step) the run is not unstable and no step is at stake, so the phrase says
+        so; where the closed loop does grow (a buckling grasp, or a scene without control) no step
+        cures them."""
+        n = self.unstable_stiffness_modes
+        growing = self.closed_loop_growing_modes
+        plant = f"the plant without control has {n} negative stiffness eigenvalue{'' if n == 1 else 's'}"
+        if not self.controlled:
+            return "none" if n == 0 else f"{n} (negative stiffness eigenvalues; the scene runs without control: no step cures them)"
+        if growing is None:
+            return "none" if n == 0 else (f"{n} in the plant without control (negative stiffness eigenvalues); the closed "
+                                          "loop was not linearized: whether the controllers hold them is not known")
+        if growing == 0:
+            return "none" if n == 0 else f"none in the closed loop ({plant}; the controllers hold them)"
+        return (f"{growing} growing mode{'s' if growing > 1 else ''} of the closed loop at a vanishing step ({plant}): "
+                "physical, no step cures them")
 
     def table(self) -> str:
         """The report as text: the modes, then one line per integrator."""
@@ -271,7 +300,7 @@ class StabilityReport:
             f"omega_max_rad_s             {self.omega_max_rad_s:.6g}",
             f"damping ratio (that mode)   {self.damping_ratio:.3g}",
             f"fastest eigenvalue of A     |lambda| = {abs(lam):.6g} rad/s, zeta = {zeta_fast:.3g}",
-            f"static instabilities        {self.unstable_stiffness_modes} (negative stiffness eigenvalues; no step cures them)",
+            f"static instabilities        {self.static_instability_text()}",
             f"control period              {self.control_period_s:g} s (the longest step the loop can take)",
         ]
         ref = self.reference
@@ -305,6 +334,20 @@ class StabilityReport:
 
 
 # ---------------------------------------------------------------------- prediction
+def closed_loop_growing_modes(lin) -> int:
+    """Modes that the closed loop linearized in ``lin`` (a
+    :class:`~coopctrl.analysis.closed_loop_stability.LoopLinearization`) grows on its own: eigenvalues of
+    its period map ``Phi(h_0)`` outside the unit circle (by
+    :data:`~coopctrl.analysis.closed_loop_stability.GROWTH_TOLERANCE`), with RK4 at ``h_0 = min(T, 0.01 /
+    |lambda|_max)``, far below every step limit (the ``h_0`` of ``max_stable_step``). A negative stiffness
+    of the plant that the controllers hold grows nothing here; a buckling grasp does, at every step."""
+    lam = np.linalg.eigvals(lin.A)
+    fastest = float(np.max(np.abs(lam))) if lam.size else 0.0
+    T = lin.control_period
+    h0 = min(T, 1e-2 / fastest) if fastest > 0 else T
+    return lin.unstable_count(get_integrator(REFERENCE_INTEGRATOR), h0)
+
+
 def limiting_mode(modes: ModalAnalysis, integrator) -> tuple[float, float]:
     """``(|lambda| [rad/s], zeta [-])`` of the mode that sets ``integrator``'s limit
     (:meth:`ModalAnalysis.limiting_mode`); ``(nan, nan)`` when no mode limits the step."""
@@ -561,6 +604,7 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
 
     closed: dict = {}
     probe = None
+    growing = None
     if closed_loop and scenario.controllers.enabled:
         from coopctrl.analysis.closed_loop_stability import (LoopLinearizer, ModeProbe, closed_loop_limits,
                                                               linearizations)
@@ -571,9 +615,10 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
             lins = linearizations(scenario, x_start, record=record, progress=say)
             closed = closed_loop_limits(lins, names, progress=say)
             probe = ModeProbe(LoopLinearizer(scenario), lins[0])
+            growing = closed_loop_growing_modes(lins[0])
         except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
             say(f"closed-loop prediction not available: {exc}")
-            closed, probe = {}, None
+            closed, probe, growing = {}, None, None
 
     rows = []
     for name in names:
@@ -621,4 +666,4 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
         scenario=scenario.name, state=scenario.simulation.start, omega_max_rad_s=modes.omega_max,
         damping_ratio=modes.damping_ratio, modal_damping_ratio=modes.modal_damping_ratio, fastest_eigenvalue=lam, stiffness_asymmetry=modes.stiffness_asymmetry,
         unstable_stiffness_modes=modes.unstable_stiffness_modes, control_period_s=T, reference=reference,
-        rows=tuple(rows))
+        rows=tuple(rows), closed_loop_growing_modes=growing, controlled=scenario.controllers.enabled)

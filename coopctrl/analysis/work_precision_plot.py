@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from coopctrl.io.atomic import atomic_write
+from coopctrl.results.plain_axes import plain_tick_labels
 
 if TYPE_CHECKING:
     from coopctrl.analysis.tradeoff import TradeoffResult
@@ -79,6 +80,7 @@ def work_precision_figure(result: "TradeoffResult"):
     fig.suptitle(f"{result.scenario}: work-precision, {result.duration_s:.4g} s simulated, "
                  f"T = {result.control_period_s * 1e3:.4g} ms (error: maximum over the run against the reference)",
                  fontsize=10)
+    plain_tick_labels(fig)
     return fig
 
 

@@ -11,7 +11,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
 
-from coopctrl.errors import CoopctrlError
+from coopctrl.errors import CoopctrlError, ScenarioError
 
 PROG = "coopctrl"
 
@@ -92,7 +92,14 @@ def _load(args):
     from coopctrl.scenario import load_scenario
 
     path = resolve_scenario(args.scenario) if args.scenario else None
-    return load_scenario(path, parse_sets(args.sets))
+    scenario = load_scenario(path, parse_sets(args.sets))
+    try:  # a URDF arm's file is read now (safely, without numba: plants.urdf_reader), before any long work
+        scenario.dof_per_arm  # noqa: B018
+    except ScenarioError as err:
+        if err.source or scenario.source is None:
+            raise
+        raise ScenarioError(err.path, err.value, err.allowed, scenario.source) from None
+    return scenario
 
 
 def _one_line(text: str) -> str:

@@ -709,3 +709,16 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
         else:
             z[row] = -u[i]
     return status, iters
+
+
+@njit(cache=True, _nrt=False)
+def gi_active_inequalities(ws, n_eq):
+    """Number of inequality rows in the active set that the last :func:`gi_solve` with workspace
+    ``ws`` left (rows ``>= n_eq`` held at one of their bounds; the equality rows are not counted).
+    Reads ``ints[0] = q`` and the codes ``ints[4:4+q]`` (module docstring); allocates nothing."""
+    ints = ws[3]
+    count = 0
+    for i in range(ints[0]):
+        if (ints[4 + i] >> 1) >= n_eq:
+            count += 1
+    return count

@@ -1,4 +1,4 @@
-"""Grasp matrix and virtual-linkage internal-force basis (docs/model.md section 6).
+"""Grasp matrix, internal-force bases (null space, virtual linkage) and pair tensions (docs/model.md section 6).
 
 A contact wrench ``F_i`` [N, N m] is applied by arm i to the object at the contact point
 ``r_i`` [m], in world coordinates. The object mass centre is ``r_0`` [m].
@@ -28,6 +28,32 @@ order), the unit squeeze column ``e_ij`` of ``E`` puts the force ``+t_ij`` on co
 
 Positive squeeze ``s_ij > 0`` means both arms push the object toward each other (compression);
 negative means they pull it apart (tension). The moments of ``e_ij`` are zero.
+
+The pair columns span the *force-only* internal loads along the lines joining the contacts. They are
+independent for two contacts, for three non-collinear contacts, and (spatial) for four non-coplanar
+ones; beyond that (``m(m-1)/2`` pairs against ``2m - 3`` planar or ``3m - 6`` spatial force-only
+internal directions) they are dependent, and pair tensions of a given internal load are not unique.
+
+**Null-space basis (any m).** :func:`internal_null_basis` returns an orthonormal basis ``N``
+(``n x k(m-1)``, ``N^T N = I``, ``G N = 0``) of the whole internal space ``null(G)``, forces and
+moments, for any number of contacts: the columns that apply a unit wrench ``e_a`` (expressed at
+contact 1) at contact j and its opposite at contact 1, ``j = 2..m``, orthonormalized by a Householder
+QR. ``null(G)`` does not depend on the reference point ``r_0``.
+
+**Pair tensions (any m).** :func:`pair_tensions` decomposes an internal load ``f_int`` on the pair
+columns relative to the desired squeeze ``s_des``:
+
+.. math::
+
+    s = s_{des} + E^+ (f_{int} - E s_{des}),
+
+with ``E^+`` the pseudo-inverse of the pair columns' numerical rank: the pair tensions nearest the
+setpoint (least ``||s - s_des||``) whose linkage forces ``E s`` match ``f_int`` best. Where the pairs
+are independent, ``E^+ E = I`` and ``s = E^+ f_int`` (the unique pair tensions, whatever ``s_des``).
+The rank is read from the singular values ``sigma`` of ``E``: ``sigma / sigma_max <= PAIR_ZERO_RTOL``
+is a structural dependence (rounding), ``> PAIR_KEEP_RTOL`` a kept direction; a singular value in
+between (contacts nearly collinear or nearly coincident) means the decomposition is ill-conditioned:
+the tensions are reported as NaN (unavailable), never computed from it.
 
 **No internal load.** A split ``F`` carries no internal load when it lies in the range of
 ``W^{-1} G^T`` (the weighted pseudo-inverse split ``F = W^{-1} G^T (G W^{-1} G^T)^{-1} w`` is the
@@ -166,21 +192,110 @@ def internal_force_basis(r_contacts, space: str) -> np.ndarray:
     return E
 
 
-def virtual_linkage_squeeze(F_internal, r_contacts, space: str) -> np.ndarray:
-    """Virtual-linkage squeeze ``s = E^+ F_int`` [N] per pair ``i < j`` of an internal load.
+#: Singular values of the pair columns at or below this fraction of the largest are a structural
+#: dependence (rounding: about 1e-15 for dependent pairs), ignored by :func:`pair_tensions`.
+PAIR_ZERO_RTOL = 1e-10
+#: Singular values above this fraction of the largest are kept; between the two tolerances the
+#: decomposition is ill-conditioned (it would amplify the forces' rounding by more than 1e6) and
+#: :func:`pair_tensions` reports NaN.
+PAIR_KEEP_RTOL = 1e-6
 
-    The least-squares coefficients of ``F_int`` (stacked or (m, 6)/(m, 3)) on the unit-squeeze
-    columns of :func:`internal_force_basis`; minimum norm when the pairs are dependent (three or
-    more collinear contacts). Internal moments and shear are not squeeze and do not show here.
+
+def internal_null_basis(r_contacts, space: str) -> np.ndarray:
+    """Orthonormal basis ``N`` of the internal loads ``null(G)`` for any number of contacts.
+
+    Columns ``j = 2..m``, ``a = 1..k`` apply the wrench ``T_j^{-1} e_a`` at contact j and
+    ``-T_1^{-1} e_a`` at contact 1 (``T_i`` the block ``G_i`` taken about contact 1, so that the
+    column's resultant is ``e_a - e_a = 0``); a Householder QR makes them orthonormal. The internal
+    space does not depend on the object point ``r_0``, so none is taken.
+
+    Args:
+        r_contacts: Contact points, shape (m, 3) spatial or (m, 2) planar [m], m >= 1.
+        space: ``"spatial"`` or ``"planar"``.
+
+    Returns:
+        ``N``, shape (k m, k (m - 1)), ``N^T N = I``, ``G N = 0`` [N per unit coordinate].
+    """
+    k = wrench_dim(space)
+    r = np.asarray(r_contacts, dtype=float)
+    p = POSITION_DIM[space]
+    if r.ndim != 2 or r.shape[1] != p or r.shape[0] < 1:
+        raise ScenarioError("r_contacts", r.shape, f"an array of shape (m, {p}), m >= 1 [m]")
+    if not np.all(np.isfinite(r)):
+        raise ScenarioError("r_contacts", r.tolist(), "finite contact points [m]")
+    m = r.shape[0]
+    G = grasp_matrix(r, r[0], space)
+    B = np.zeros((k * m, k * (m - 1)))
+    T0_inv = np.linalg.inv(G[:, :k])  # the identity: contact 1 is the reference point
+    for j in range(1, m):
+        Tj_inv = np.linalg.inv(G[:, k * j:k * (j + 1)])  # unit determinant: always invertible
+        B[k * j:k * (j + 1), k * (j - 1):k * j] = Tj_inv
+        B[:k, k * (j - 1):k * j] = -T0_inv
+    if B.shape[1] == 0:
+        return B
+    Q, _ = np.linalg.qr(B)
+    return Q
+
+
+def pair_tensions(E, F_internal, desired=None) -> np.ndarray:
+    """Pair tensions ``s = s_des + E^+ (F_int - E s_des)`` [N], for one sample or a batch.
+
+    ``E^+`` is the pseudo-inverse of the numerical rank of the pair columns (see the module
+    docstring): where the pairs are independent this is ``E^+ F_int``, the unique pair tensions;
+    where they are dependent (planar m >= 4, spatial m >= 5 or coplanar contacts) it is the solution
+    nearest ``s_des``. A sample whose pair columns are ill-conditioned (a singular value between
+    :data:`PAIR_ZERO_RTOL` and :data:`PAIR_KEEP_RTOL` of the largest) or not finite gets NaN.
+
+    Args:
+        E: Pair columns, (n, P) or (N, n, P) (:func:`internal_force_basis`).
+        F_internal: Internal loads, (n,) or (N, n) [N, N m].
+        desired: Desired squeeze ``s_des`` (P,) [N]; None for zeros (then the minimum-norm tensions).
+
+    Returns:
+        ``s``, (P,) or (N, P) [N].
+    """
+    E = np.asarray(E, dtype=float)
+    f = np.asarray(F_internal, dtype=float)
+    single = E.ndim == 2
+    if single:
+        E, f = E[None], f.reshape(1, -1)
+    N, n, P = E.shape
+    if f.shape != (N, n):
+        raise ValueError(f"F_internal: shape {f.shape}; expected ({N}, {n}) like E's rows")
+    s_des = np.zeros(P) if desired is None else np.asarray(desired, dtype=float).reshape(-1)
+    if s_des.shape != (P,):
+        raise ValueError(f"desired: shape {s_des.shape}; expected ({P},), one squeeze per pair")
+    s = np.full((N, P), np.nan)
+    if P == 0 or N == 0:
+        return s[0] if single else s
+    good = np.all(np.isfinite(E.reshape(N, -1)), axis=1) & np.all(np.isfinite(f), axis=1)
+    Eg = E[good]
+    U, S, Vt = np.linalg.svd(Eg, full_matrices=False)
+    smax = S[:, :1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(smax > 0, S / smax, 0.0)
+        keep = rel > PAIR_KEEP_RTOL
+        ill = np.any((rel > PAIR_ZERO_RTOL) & ~keep, axis=1) | (smax[:, 0] <= 0)
+        inv = np.where(keep, 1.0 / np.where(keep, S, 1.0), 0.0)
+    resid = f[good] - np.einsum("sij,j->si", Eg, s_des)
+    coef = inv * np.einsum("sji,sj->si", U, resid)
+    sg = s_des[None, :] + np.einsum("sji,sj->si", Vt, coef)
+    sg[ill] = np.nan
+    s[good] = sg
+    return s[0] if single else s
+
+
+def virtual_linkage_squeeze(F_internal, r_contacts, space: str, desired=None) -> np.ndarray:
+    """Virtual-linkage squeeze [N] per pair ``i < j`` of an internal load: :func:`pair_tensions`
+    of ``F_int`` (stacked or (m, 6)/(m, 3)) on the columns of :func:`internal_force_basis`.
+
+    Where the pairs are independent (two contacts, three non-collinear) it is the unique ``E^+ F_int``;
+    where they are dependent (planar m >= 4, spatial m >= 5) the tensions nearest ``desired`` (the
+    minimum-norm ones if None). NaN where the decomposition is ill-conditioned. Internal moments and
+    shear are not squeeze and do not show here.
     """
     F = np.asarray(F_internal, dtype=float).ravel()
     E = internal_force_basis(r_contacts, space)
     if E.shape[1] == 0:
         return np.zeros(0)
-    if E.shape[1] == 1:
-        e = E[:, 0]
-        return np.array([e @ F / (e @ e)])
-    try:
-        return np.linalg.solve(E.T @ E, E.T @ F)
-    except np.linalg.LinAlgError:
-        return np.linalg.lstsq(E, F, rcond=None)[0]
+    return pair_tensions(E, F, desired)

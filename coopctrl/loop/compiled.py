@@ -407,7 +407,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
             state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
             rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
-            rec["r_contacts"], qs, qb, rec["qp_iterations"], x_good, x_fail, out_int, out_float)
+            rec["r_contacts"], qs, qb, rec["qp_iterations"], rec["qp_active_rows"], x_good, x_fail, out_int, out_float)
     run_ticks = K.run_ticks
     qp_solve_time = rec["qp_solve_time_s"]
 

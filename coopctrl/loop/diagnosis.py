@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from coopctrl.errors import DivergenceError
+from coopctrl.io.number_text import number_text
 from coopctrl.loop.euler_band import (
     EULER_PITCH_MARGIN_DEG,
     NearSingularity,
@@ -93,7 +94,7 @@ def static_instability(loop, x) -> str:
     if ev[0] < 0:
         d = vec[:, 0] * np.sign(vec[np.argmax(np.abs(vec[:, 0])), 0])
         axes = "xyz" if npos == 3 else "xz"
-        direction = ", ".join(f"{c}: {v:+.2f}" for c, v in zip(axes, d))
+        direction = ", ".join(f"{c}: {number_text(v, '+.2f')}" for c, v in zip(axes, d))
         return (f"the grasp is statically unstable: the object's translational stiffness has a negative "
                 f"eigenvalue {ev[0]:.4g} N/m along ({direction}); central springs carry lateral load only "
                 "through tension and squeeze makes their lateral stiffness negative, so the object buckles out "

@@ -69,7 +69,7 @@ from coopctrl.load_distribution.assembly import (
 )
 from coopctrl.load_distribution.contact_model import contact_normals_into, torque_model_into
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
-from coopctrl.load_distribution.goldfarb_idnani import gi_solve
+from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities, gi_solve
 from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
 from coopctrl.loop.stages import compile_stage
 from coopctrl.loop.energy import plant_energy
@@ -531,7 +531,7 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
 def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
               ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, noise_q, noise_o, noise_f, noise_cfg,
               x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
-              rec_r, rec_qs, rec_qb, rec_qit, x_good, x_fail, out_int, out_float):
+              rec_r, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float):
     """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
 
     ``P`` = the plant's kernel arguments ``(arm_kind, arm_dof, q_off, tables, table_off, bases, tools,
@@ -563,6 +563,11 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
     ``d`` (int64, ticks) (:class:`~coopctrl.tuning.loop_probes.FollowerProbe`).
 
     ``tw``: the tick's work arrays (:func:`tick_workspace`).
+
+    Record (row ``k`` per tick): ``rec_qs``, ``rec_qb``, ``rec_qit`` the QP's status code, binding
+    families mask and iterations; ``rec_qact`` the inequality rows active at the compiled solver's
+    answer (:func:`~coopctrl.load_distribution.goldfarb_idnani.gi_active_inequalities`; -1 on a held,
+    passive or externally solved tick).
 
     Returns nothing; ``out_int = (code, tick, detail, detail, -, ticks recorded, last tick that passed
     the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
@@ -711,6 +716,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
                     F_set[i, a] = 0.0
             qs = 0
             qit = -1
+            qact = -1
             qb = 0
         elif hold:
             hold_status[0] = 0
@@ -719,6 +725,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
                     F_set[i, a] = last[0, i, a]
             qs = hold_status[1]
             qit = hold_status[2]
+            qact = -1
             qb = 0
         else:
             qcode, P_changed = qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic_split)
@@ -735,6 +742,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
                 hold_status[0] = 0
                 qs = hold_status[1]
                 qit = hold_status[2]
+                qact = -1  # a backend outside the kernel: its active set is not seen here
                 qb = hold_status[3]
             else:
                 qs, qit, okqp, qb = qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric)
@@ -743,6 +751,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
                     out_int[2] = qs
                     out_int[3] = qit
                     return
+                qact = gi_active_inequalities(ws, p)
             for i in range(m):
                 for a in range(p):
                     F_set[i, a] = xq[i * p + a]
@@ -802,6 +811,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
         rec_qs[k] = qs
         rec_qb[k] = qb
         rec_qit[k] = qit
+        rec_qact[k] = qact
         out_int[5] = k + 1  # ticks recorded
         if k == N - 1:
             break

@@ -26,6 +26,8 @@ class LoopRecord:
         r_contacts: (N, m, npos) true contact-node positions [m].
         qp_iterations: (N,) active-set changes (compiled) or iterations of the QP solve (the reference
             path's backend; -1 when it does not report them, and on a passive run) [-].
+        qp_active_rows: (N,) inequality rows active (held at a bound) at the compiled solver's answer
+            [-]; -1 where the kernel did not solve (a held split, the reference path's backend, a passive run).
         qp_solve_time_s: (N,) QP solve time [s] of the reference path's backend (NaN with the compiled
             solver, which the kernel does not time per solve, and on a passive run).
         energy, kinetic_energy: (N,) total and kinetic energy [J] (passive runs only, else NaN).
@@ -57,6 +59,7 @@ class LoopRecord:
     F_internal: np.ndarray
     r_contacts: np.ndarray
     qp_iterations: np.ndarray
+    qp_active_rows: np.ndarray
     qp_solve_time_s: np.ndarray
     energy: np.ndarray
     kinetic_energy: np.ndarray
@@ -82,7 +85,8 @@ class LoopRecord:
 
         return cls(t=nan(N), x=nan(N, nx), tau=nan(N, nu), Y0_nominal=nan(N, p), F_measured=nan(N, m, p),
                    F_commanded=nan(N, m, p), F_external=nan(N, m, p), F_internal=nan(N, m, p),
-                   r_contacts=nan(N, m, npos), qp_iterations=np.full(N, -1, dtype=np.int64), qp_solve_time_s=nan(N),
+                   r_contacts=nan(N, m, npos), qp_iterations=np.full(N, -1, dtype=np.int64),
+                   qp_active_rows=np.full(N, -1, dtype=np.int64), qp_solve_time_s=nan(N),
                    energy=nan(N), kinetic_energy=nan(N), saturated_joint_ticks=np.zeros(nu, dtype=np.int64))
 
     # ---- the former dict's access

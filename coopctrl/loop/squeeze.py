@@ -4,14 +4,21 @@ from __future__ import annotations
 
 import numpy as np
 
+from coopctrl.load_distribution.grasp_matrix import pair_tensions
 
-def squeeze_series(F, r_contacts, r_object, space: str) -> np.ndarray:
+
+def squeeze_series(F, r_contacts, r_object, space: str, desired=None) -> np.ndarray:
     """Squeeze [N] per sample and contact pair of the contact wrenches ``F`` (N, m, k).
 
-    Per sample, as :meth:`ClosedLoop.squeeze_of`: the internal part ``f_int = F - G^+ G F`` (the
-    Moore-Penrose split of the same resultant, ``G`` the grasp matrix at the contacts ``r_contacts``
-    (N, m, npos) [m] about ``r_object`` (N, npos) [m]), decomposed on the virtual-linkage basis ``E``
-    by least squares: ``s = E^+ f_int``. Both pseudo-inverses are computed for all samples at once.
+    Per sample: the internal part ``f_int = F - G^+ G F`` (the Moore-Penrose split of the same
+    resultant, ``G`` the grasp matrix at the contacts ``r_contacts`` (N, m, npos) [m] about
+    ``r_object`` (N, npos) [m]), decomposed on the virtual-linkage columns ``E`` by
+    :func:`~coopctrl.load_distribution.grasp_matrix.pair_tensions`:
+    ``s = s_des + E^+ (f_int - E s_des)``, ``s_des = desired`` (P,) [N] (zeros if None). Where the
+    pairs are independent (two contacts, three non-collinear) this is ``E^+ f_int`` whatever
+    ``desired``; for more contacts it is the tensions nearest the setpoint, so that ``s - s_des`` is
+    the internal-force error in pair tensions. NaN at samples whose decomposition is ill-conditioned.
+    All samples are decomposed at once.
     """
     F = np.asarray(F, dtype=float)
     r = np.asarray(r_contacts, dtype=float)
@@ -41,8 +48,9 @@ def squeeze_series(F, r_contacts, r_object, space: str) -> np.ndarray:
     for i in range(m):
         for j in range(i + 1, m):
             t = r[:, j] - r[:, i]
-            t = t / np.linalg.norm(t, axis=1)[:, None]
+            with np.errstate(divide="ignore", invalid="ignore"):  # coincident contacts: NaN, reported as such
+                t = t / np.linalg.norm(t, axis=1)[:, None]
             E[:, k * i:k * i + npos, col] = t
             E[:, k * j:k * j + npos, col] = -t
             col += 1
-    return np.einsum("sij,sj->si", np.linalg.pinv(E), f_int)
+    return pair_tensions(E, f_int, desired)

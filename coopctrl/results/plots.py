@@ -10,7 +10,8 @@ window) titled with the scenario and the status, and writes it as a PNG only whe
   contact node), the squeeze of each pair against its setpoint and the force error per contact.
 - :func:`plot_limits`: where did the limits bind? Torque as a fraction of its limit per arm,
   saturated stretches shaded, and the QP's binding constraint families over time.
-- :func:`plot_qp_solve_times`: the QP's solve time per period and its histogram.
+- :func:`plot_qp_solve_times`: what did the QP cost? Its iterations and active rows per period
+  (the compiled solver reports both) and its solve time (timed on the reference path), with histograms.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from coopctrl.io.atomic import atomic_write
+from coopctrl.results.plain_axes import plain_tick_labels
 from coopctrl.results.signals import dof_per_arm, pair_labels, pose_names, pose_unit, wrench_names
 from coopctrl.results.summary import qp_failed
 
@@ -46,6 +48,7 @@ def _figure(rows: int, cols: int, height: float = 2.2, width: float = 6.0, share
 
 
 def _save(fig, path: str | Path | None):
+    plain_tick_labels(fig)  # every tick label is the value itself: no "+2e1" offset on an axis
     if path is not None:
         with atomic_write(Path(path), "wb") as f:
             fig.savefig(f, format="png", dpi=100)
@@ -241,28 +244,73 @@ def plot_limits(r: "SimulationResult", path: str | Path | None = None):
     return _save(fig, path)
 
 
-# ---------------------------------------------------------------------- QP timing
+# ---------------------------------------------------------------------- QP effort
+def _per_tick(values, n: int) -> np.ndarray:
+    """The first ``n`` entries of a per-solve series as floats, NaN where unknown (``None``, -1 or NaN)."""
+    if values is None:
+        return np.full(n, np.nan)
+    v = np.asarray(values, dtype=float)[:n]
+    v = np.where(v < 0, np.nan, v)
+    return np.concatenate([v, np.full(n - v.shape[0], np.nan)])
+
+
 def plot_qp_solve_times(r: "SimulationResult", path: str | Path | None = None):
-    """QP solve time per control period (failed solves marked) and its histogram."""
-    fig, axes = _figure(1, 2, height=3.5, width=5.0, sharex=False)
-    ax_t, ax_h = axes[0]
-    times_us = r.qp_solve_time_s * 1e6
-    n = min(times_us.shape[0], r.t.shape[0])
-    ax_t.plot(r.t[:n], times_us[:n], linewidth=0.8)
+    """What did the load-distribution QP cost? One row per quantity the run's solver reports: its
+    iterations per control period (active-set changes of the compiled solver, 0 when the last
+    active set was still optimal), the inequality rows active at its answer (the compiled solver)
+    and the solve time [us] (timed per solve for a backend outside the compiled loop, e.g.
+    ``load_distribution.solver = "proxsuite"``); left over time (failed or held solves marked),
+    right as a histogram. A quantity the solver does not report is named in a note below the
+    panels, never drawn as an empty panel."""
+    n = min(r.t.shape[0], len(r.qp_status)) if r.qp_status else 0
+    t = r.t[:n]
+    candidates = [
+        ("iterations", "QP iterations [-]", _per_tick(r.qp_iterations, n), True),
+        ("active rows", "active inequality rows [-]", _per_tick(getattr(r, "qp_active_rows", None), n), True),
+        ("solve time", "solve time [us]", _per_tick(r.qp_solve_time_s, n) * 1e6, False),
+    ]
+    series = [c for c in candidates if np.isfinite(c[2]).any()]
+    missing = [c[0] for c in candidates if c not in series]
+    fig, axes = _figure(max(1, len(series)), 2, height=2.4, width=5.0, sharex=False)
     failed = [k for k, s in enumerate(r.qp_status[:n]) if qp_failed(s)]
-    if failed:
-        ax_t.plot(r.t[failed], times_us[failed], "rx", label="failed")
-        ax_t.legend(loc="best")
-    ax_t.set_xlabel("t [s]")
-    ax_t.set_ylabel("solve time [us]")
-    ax_t.set_title("load-distribution QP solve time")
-    finite = times_us[np.isfinite(times_us)]
-    if finite.size:
-        ax_h.hist(finite, bins=50)
-    ax_h.set_xlabel("solve time [us]")
-    ax_h.set_ylabel("count [-]")
-    _title(fig, r, "QP cost")
-    _mark_failure([ax_t], r)
+    from matplotlib.ticker import MaxNLocator
+
+    for row, (name, label, values, integer) in enumerate(series):
+        ax_t, ax_h = axes[row]
+        known = np.isfinite(values)
+        ax_t.plot(t, values, linewidth=0.8, drawstyle="steps-post" if integer else "default")
+        marked = [k for k in failed if known[k]]
+        if marked:
+            ax_t.plot(t[marked], values[marked], "rx", label="failed / held")
+            _legend_outside(ax_t)
+        finite = values[known]
+        if integer:  # counts: one bar per value, integer ticks
+            ax_h.hist(finite, bins=np.arange(int(finite.min()), int(finite.max()) + 2) - 0.5)
+            ax_t.yaxis.set_major_locator(MaxNLocator(integer=True))
+            ax_h.xaxis.set_major_locator(MaxNLocator(integer=True))
+        else:
+            ax_h.hist(finite, bins=50)
+        ax_t.set_ylabel(label)
+        ax_t.set_title(f"QP {name} per control period")
+        ax_h.set_xlabel(label)
+        ax_h.set_ylabel("solves [-]")
+        ax_h.set_title(f"median {np.median(finite):.3g}, max {finite.max():.3g} ({finite.size} solves)")
+    if not series:
+        for ax in axes[0]:
+            ax.set_yticks([])
+        axes[0, 0].text(0.5, 0.5, "no QP solve in this run" if n == 0 else "the solver reported nothing per solve",
+                        transform=axes[0, 0].transAxes, ha="center", va="center")
+        axes[0, 1].set_visible(False)
+    for ax in axes[:, 0]:
+        ax.set_xlabel("t [s]")
+        if r.t.size > 1:
+            ax.set_xlim(float(r.t[0]), float(r.t[-1]))
+    if missing and series:
+        fig.supxlabel(f"not reported by this run's solver: {', '.join(missing)}"
+                 + (" (the compiled solver is not timed per solve; load_distribution.solver = \"proxsuite\" is)"
+                    if "solve time" in missing else ""), fontsize="small", color="0.3")
+    _title(fig, r, "what did the load-distribution QP cost?")
+    _mark_failure(axes[:, 0], r)
     return _save(fig, path)
 
 

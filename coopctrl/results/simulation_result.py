@@ -36,7 +36,9 @@ class SimulationResult:
         qp_binding: Per solve, the constraint families binding (``"torque_limits+friction"``;
             ``""`` none), as the QP reported them.
         qp_iterations: Solver iterations per solve (N,).
-        qp_solve_time_s: Solve time per solve (N,) [s].
+        qp_solve_time_s: Solve time per solve (N,) [s] (NaN where not timed: the compiled solver).
+        qp_active_rows: Inequality rows active at each solve's answer (N,) [-] (the compiled
+            solver; -1 where not known: a held split, another backend).
         events: ``(t [s], kind, message)`` tuples (saturations, QP failures, ...).
         status: ``"ok"``, ``"diverged"`` or ``"qp_failed"``; ``reason`` says why (one line).
         model: ``{"arms", "dof_per_arm", "space", "unloaded_state", "state_size"}``.
@@ -83,6 +85,7 @@ class SimulationResult:
     qp_active_constraints: dict[str, int] = field(default_factory=dict)
     qp_time_s: float = float("nan")
     torque_saturated_ticks: int = 0
+    qp_active_rows: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.space not in ("planar", "spatial"):
@@ -124,7 +127,7 @@ class SimulationResult:
                 raise ValueError(f"SimulationResult: tau_max has shape {self.tau_max.shape}, expected ({self.tau.shape[1]},) like tau's columns")
         self.qp_status = [str(s) for s in self.qp_status]
         self.qp_binding = [str(s) for s in self.qp_binding]
-        for name in ("qp_iterations", "qp_solve_time_s"):
+        for name in ("qp_iterations", "qp_solve_time_s", "qp_active_rows"):
             value = getattr(self, name)
             setattr(self, name, np.zeros(0) if value is None else np.asarray(value, dtype=float).reshape(-1))
         for name in ("energy", "kinetic_energy"):

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 #: Array fields stored in ``result.npz`` (``None`` fields are left out).
 ARRAY_FIELDS = (
     "t", "x", "tau", "Y0", "Y0_nominal", "F_measured", "F_commanded", "F_external", "F_internal",
-    "squeeze", "squeeze_desired", "tau_max", "qp_iterations", "qp_solve_time_s", "energy", "kinetic_energy",
+    "squeeze", "squeeze_desired", "tau_max", "qp_iterations", "qp_active_rows", "qp_solve_time_s", "energy", "kinetic_energy",
 )
 #: Scalar and dict fields stored as JSON in the ``meta`` entry of ``result.npz``.
 META_FIELDS = (

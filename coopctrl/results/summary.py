@@ -46,6 +46,21 @@ def _max(values: np.ndarray) -> float | None:
     return float(np.max(values)) if values.size else None
 
 
+def _internal_force_error(squeeze: np.ndarray, desired: np.ndarray, t: np.ndarray) -> tuple[float | None, str | None]:
+    """RMS [N] over samples and pairs of ``squeeze - desired`` (the pair tensions of the internal-force
+    error, :func:`coopctrl.loop.squeeze.squeeze_series`), or ``(None, why)``: never computed from a
+    sample whose decomposition was ill-conditioned or not finite (its squeeze is NaN there)."""
+    if squeeze.shape[1] == 0:
+        return None, "a single contact has no internal force"
+    bad = ~np.all(np.isfinite(squeeze), axis=1)
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        return None, (f"pair tensions undefined at {int(np.sum(bad))} of {len(bad)} samples (first at t = "
+                      f"{float(t[k]):.6g} s): the contacts' pair decomposition is ill-conditioned (contacts "
+                      "nearly coincident or collinear) or the contact wrenches are not finite")
+    return _rms(squeeze - desired[None, :]), None
+
+
 def _rotation(A: np.ndarray) -> np.ndarray:
     """R = Rz(psi) Ry(theta) Rx(phi) for rows A = (psi, theta, phi) (docs/model.md §2): (N, 3, 3)."""
     cps, sps = np.cos(A[:, 0]), np.sin(A[:, 0])
@@ -103,7 +118,7 @@ def summarize(result: "SimulationResult") -> dict[str, Any]:
         follower_rms = _rms(np.linalg.norm(df, axis=2))
     else:
         follower_rms = None
-    internal_rms = _rms(r.squeeze - r.squeeze_desired[None, :]) if r.squeeze.shape[1] else None
+    internal_rms, internal_unavailable = _internal_force_error(r.squeeze, r.squeeze_desired, r.t)
     if r.tau_max is not None and r.tau.size:
         with np.errstate(divide="ignore", invalid="ignore"):
             torque_ratio = _max(np.abs(r.tau) / r.tau_max[None, :])
@@ -136,6 +151,7 @@ def summarize(result: "SimulationResult") -> dict[str, Any]:
             "object_orientation_error_max_rad": _max(ori),
             "follower_force_error_rms_N": follower_rms,
             "internal_force_error_rms_N": internal_rms,
+            "internal_force_error_unavailable": internal_unavailable,
             "max_torque_ratio": torque_ratio,
             "qp_solves": len(r.qp_status),
             "qp_failures": sum(qp_failed(s) for s in r.qp_status),

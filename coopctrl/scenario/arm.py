@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from coopctrl.errors import ScenarioError
 from coopctrl.scenario.checks import choice, number, optional_vector, string, vector
 from coopctrl.scenario.schema import key, limits
+from plants.urdf_reader import MAX_CHAIN_JOINTS
 
 #: Robots shipped with the package as URDF files (plants.arms.panda / ur5e / iiwa14).
 NAMED_ROBOTS = ("panda", "ur5e", "iiwa14")
@@ -142,11 +143,17 @@ class ArmConfig:
         return os.path.normpath(os.path.join(folder, self.urdf))
 
 
+#: Most rows of a DH table: the joint bound of a serial arm (``plants.urdf_reader``, which loads no numba).
+MAX_DH_ROWS = MAX_CHAIN_JOINTS
+
+
 def _dh_table(value) -> tuple[tuple[float, ...], ...]:
     """A DH table: a non-empty list of rows of :data:`DH_COLUMNS` numbers."""
     what = f"a list of rows of {len(DH_COLUMNS)} numbers, one row per joint: {DH_UNITS}"
     if not isinstance(value, (list, tuple)) or not value:
         raise ScenarioError("dh", value, what)
+    if len(value) > MAX_DH_ROWS:
+        raise ScenarioError("dh", f"{len(value)} rows", f"at most {MAX_DH_ROWS} rows (joints) of {len(DH_COLUMNS)} numbers")
     rows = []
     for i, row in enumerate(value):
         if not isinstance(row, (list, tuple)) or len(row) != len(DH_COLUMNS):
@@ -157,26 +164,18 @@ def _dh_table(value) -> tuple[tuple[float, ...], ...]:
 
 
 def urdf_chain_dof(path: str, base_link: str, tip_link: str) -> int:
-    """Moving joints between ``base_link`` and ``tip_link`` of a URDF file (pure Python; the
-    full checks are made when the arm is built, ``plants.arms.from_urdf``)."""
-    import xml.etree.ElementTree as ET
+    """Moving joints between ``base_link`` and ``tip_link`` of a URDF file, read by
+    :func:`plants.urdf_reader.chain_dof` (the safe parser and the tree, size and chain-length checks
+    of ``plants.arms.from_urdf``, without the numbers or numba: the full checks are made when the
+    arm is built)."""
+    from plants.errors import ParameterError
+    from plants.urdf_reader import chain_dof
 
-    if not os.path.isfile(path):
-        raise ScenarioError("urdf", path, "an existing URDF file (a path relative to the scene file)")
     try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise ScenarioError("urdf", path, f"a well-formed URDF file (XML error: {exc})") from None
-    links = {el.get("name") for el in root.findall("link")}
-    for key, link in (("base_link", base_link), ("tip_link", tip_link)):
-        if link not in links:
-            raise ScenarioError(key, link, f"a link of {path} (it has {', '.join(sorted(links)[:8])}{', ...' if len(links) > 8 else ''})")
-    parent_joint = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
-    n, link = 0, tip_link
-    while link != base_link:
-        joint = parent_joint.get(link)
-        if joint is None or joint.find("parent") is None:
-            raise ScenarioError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree of {path}")
-        n += joint.get("type") != "fixed"
-        link = joint.find("parent").get("link")
-    return n
+        return chain_dof(path, base_link, tip_link)
+    except ParameterError as exc:
+        field = exc.parameter if exc.parameter in ("urdf", "base_link", "tip_link") else "urdf"
+        if field != exc.parameter:  # an element of the file (joint 'x'.limit.effort): name the file
+            got = "" if exc.value is None else f" (got {exc.value!r})"
+            raise ScenarioError("urdf", path, f"a URDF whose {exc.parameter} is {exc.allowed}{got}") from None
+        raise ScenarioError(field, exc.value, exc.allowed) from None

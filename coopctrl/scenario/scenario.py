@@ -15,7 +15,7 @@ from coopctrl.scenario.scene import SceneConfig
 from coopctrl.scenario.sensors import SensorsConfig
 from coopctrl.scenario.simulation import SimulationConfig
 from coopctrl.scenario.spring import SpringConfig
-from coopctrl.scenario.trajectory import TrajectoryConfig, ViaPoint
+from coopctrl.scenario.trajectory import TrajectoryConfig, ViaPoint, check_segments
 
 #: Default lift of the default trajectory [m] and its duration [s].
 DEFAULT_LIFT_M = 0.1
@@ -205,6 +205,7 @@ class Scenario:
             if len(via.pose) != p:
                 raise ScenarioError(path, list(via.pose), f"{pose_what} in a {space} scene")
             _check_euler(path, via.pose)
+        check_segments(trajectory, self.simulation.control_period)
         if given_pose is not None and any(abs(a - b) > 1e-9 for a, b in zip(trajectory.via[0].pose, obj.pose)):
             raise ScenarioError("object.pose", list(obj.pose), f"the trajectory's start trajectory.via[0].pose = "
                                 f"{list(trajectory.via[0].pose)} (the object starts where its trajectory starts: "

@@ -30,6 +30,8 @@ def _value(value) -> str:
             return "nan"
         if math.isinf(value):
             return "inf" if value > 0 else "-inf"
+        if value == 0.0:
+            return "0.0"  # never "-0.0" (a pose computed as -1 * 0.0); equal when loaded back
         return repr(value)
     if isinstance(value, str):
         return json.dumps(value, ensure_ascii=False)
@@ -66,6 +68,8 @@ def _section(lines: list[str], obj, prefix: str) -> None:
         if value is None:
             lines.append(f"# {name}: absent" + (f" [{unit}]" if unit else ""))
             continue
+        if isinstance(value, bool):  # a switch has no unit, whatever the quantity it switches
+            unit = ""
         lines.append(f"{name} = {_value(value)}" + (f"  # {unit}" if unit else ""))
     for name, sub, value in later:
         path = prefix + name

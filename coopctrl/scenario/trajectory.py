@@ -59,3 +59,18 @@ class TrajectoryConfig:
     def end_time(self) -> float:
         """Time of the last via [s]."""
         return self.via[-1].time
+
+
+def check_segments(trajectory: TrajectoryConfig, control_period: float) -> None:
+    """Refuse a segment shorter than the control period [s] (bad input, naming
+    ``trajectory.via[i].time``): a minimum-jerk segment of duration ``T`` between poses ``D`` apart
+    peaks at ``(10 / sqrt(3)) |D| / T^2`` (1e18 m/s^2 for 0.3 m in 1 ns); the loop samples it once
+    per control period at most, so it cannot be followed, only jumped."""
+    for k in range(1, len(trajectory.via)):
+        T = trajectory.via[k].time - trajectory.via[k - 1].time
+        if T < control_period:
+            raise ScenarioError(
+                f"trajectory.via[{k}].time", trajectory.via[k].time,
+                f"a time >= trajectory.via[{k - 1}].time + simulation.control_period = "
+                f"{trajectory.via[k - 1].time + control_period:.9g} s (a segment of {T:.3g} s is shorter than the "
+                f"control period {control_period:g} s: the controllers cannot follow it)")

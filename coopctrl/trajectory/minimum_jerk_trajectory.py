@@ -15,6 +15,11 @@ POSE_SIZE = {"spatial": 6, "planar": 3}
 
 #: Peak of ``ds/dtau`` of the minimum-jerk profile, reached at ``tau = 1/2`` [-].
 PEAK_VELOCITY_FACTOR = 1.875
+#: Peak of ``|d^2 s/dtau^2|`` of the minimum-jerk profile, ``10 / sqrt(3)`` [-], reached at the
+#: instants :data:`PEAK_ACCELERATION_TAUS` (where ``d^3 s/dtau^3 = 60 - 360 tau + 360 tau^2 = 0``).
+PEAK_ACCELERATION_FACTOR = 10.0 / math.sqrt(3.0)
+#: ``tau = (3 -+ sqrt(3)) / 6`` of a segment: its acceleration and deceleration peaks [-].
+PEAK_ACCELERATION_TAUS = ((3.0 - math.sqrt(3.0)) / 6.0, (3.0 + math.sqrt(3.0)) / 6.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -28,8 +33,9 @@ class MinimumJerkTrajectory:
         Y(t) = Y_i + (Y_{i+1} - Y_i)\\, s(\\tau), \\qquad
         s(\\tau) = 10 \\tau^3 - 15 \\tau^4 + 6 \\tau^5
 
-    so velocity and acceleration are zero at every via point, and the peak velocity of a
-    segment is ``1.875 |Y_{i+1} - Y_i| / T_i`` at its middle. Each coordinate (positions in
+    so velocity and acceleration are zero at every via point. The peaks of a segment are closed
+    form (:meth:`peaks`): velocity ``1.875 |Y_{i+1} - Y_i| / T_i`` at its middle, acceleration
+    ``(10 / sqrt(3)) |Y_{i+1} - Y_i| / T_i^2`` at ``tau = (3 -+ sqrt(3)) / 6``. Each coordinate (positions in
     [m], Euler angles ZYX ``(psi, theta, phi)`` in [rad], docs/model.md s.2) is interpolated
     separately; the angles are not wrapped (the path follows the numerical difference of the
     given angles). Before ``t = 0`` the first pose is held, after :attr:`duration` the last one,
@@ -118,6 +124,31 @@ class MinimumJerkTrajectory:
     def pose_size(self) -> int:
         """6 (spatial) or 3 (planar)."""
         return self.poses.shape[1]
+
+    def peaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """Closed-form peak speed and acceleration of every segment, per pose coordinate.
+
+        Returns:
+            ``(v_peak, a_peak)``, each of shape ``(segments, pose_size)``:
+            ``v_peak = 1.875 |Y_{i+1} - Y_i| / T_i`` [m/s, rad/s] and
+            ``a_peak = (10 / sqrt(3)) |Y_{i+1} - Y_i| / T_i^2`` [m/s^2, rad/s^2] (no segment: empty).
+        """
+        if self.times.shape[0] < 2:
+            empty = np.zeros((0, self.pose_size))
+            return empty, empty.copy()
+        delta = np.abs(np.diff(self.poses, axis=0))
+        T = np.diff(self.times)[:, None]
+        return PEAK_VELOCITY_FACTOR * delta / T, PEAK_ACCELERATION_FACTOR * delta / T**2
+
+    def peak_times(self) -> np.ndarray:
+        """The instants [s] of every segment's closed-form acceleration peaks (``tau = (3 -+ sqrt(3)) / 6``)
+        and speed peak (``tau = 1/2``), sorted: where a check sampled on a grid could miss the extremes
+        of a short segment."""
+        if self.times.shape[0] < 2:
+            return np.zeros(0)
+        t0, T = self.times[:-1], np.diff(self.times)
+        taus = np.array([PEAK_ACCELERATION_TAUS[0], 0.5, PEAK_ACCELERATION_TAUS[1]])
+        return np.sort((t0[:, None] + T[:, None] * taus[None, :]).reshape(-1))
 
     def evaluate(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Pose, velocity and acceleration at time ``t`` [s].

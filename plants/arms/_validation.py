@@ -9,11 +9,26 @@ import numpy as np
 from plants.errors import ParameterError
 
 
+#: Largest magnitude of an arm parameter in SI units (1000 km, 1e6 kg, 1e6 kg m^2, 1e6 N m): beyond it
+#: the kinematics and dynamics overflow or lose all precision. URDF numbers and DH rows are checked.
+MAX_MAGNITUDE = 1e6
+
+
+def check_magnitude(where: str, value, bound: float = MAX_MAGNITUDE) -> None:
+    """Raise unless ``value`` (scalar or array) is finite with every magnitude <= ``bound``."""
+    arr = np.asarray(value, dtype=float)
+    shown = arr.tolist() if arr.ndim else float(arr)  # a list prints on one line, an array may not
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError(where, shown, "finite numbers")
+    if arr.size and float(np.max(np.abs(arr))) > bound:
+        raise ParameterError(where, shown, f"numbers of magnitude <= {bound:g} (SI units)")
+
+
 def check_finite(where: str, value) -> None:
     """Raise if ``value`` (scalar or array) is not finite everywhere."""
     arr = np.asarray(value, dtype=float)
     if not np.all(np.isfinite(arr)):
-        raise ParameterError(where, value, "a finite number")
+        raise ParameterError(where, arr.tolist() if arr.ndim else value, "a finite number")
 
 
 def check_nonnegative(where: str, value: float) -> None:

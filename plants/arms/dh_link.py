@@ -6,7 +6,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from plants.arms._validation import check_finite, check_inertia, check_nonnegative
+from plants.arms._validation import check_inertia, check_magnitude, check_nonnegative
 from plants.errors import ParameterError
 
 
@@ -16,6 +16,9 @@ class DHLink:
 
     Frame k follows frame k-1 by ``Rz(q + offset) Tz(d) Tx(a) Rx(alpha)``; the joint turns
     about ``z_{k-1}``. The mass properties are in frame k (as ``rtb.RevoluteDH(r=..., I=...)``).
+
+    Every number is finite, of magnitude at most :data:`plants.arms._validation.MAX_MAGNITUDE`
+    (SI units).
 
     Attributes:
         a: Link length [m].
@@ -55,7 +58,7 @@ class DHLink:
                 value = float(value)
             except (TypeError, ValueError):
                 raise ParameterError(f"{where}.{name}", value, "a number") from None
-            check_finite(f"{where}.{name}", value)
+            check_magnitude(f"{where}.{name}", value)
             object.__setattr__(self, name, value)
         check_nonnegative(f"{where}.mass", self.mass)
         check_nonnegative(f"{where}.motor_inertia", self.motor_inertia)
@@ -63,7 +66,7 @@ class DHLink:
         rc = np.array(self.rc, dtype=float).reshape(-1)
         if rc.shape != (3,):
             raise ParameterError(f"{where}.rc", self.rc, "3 numbers [m]")
-        check_finite(f"{where}.rc", rc)
+        check_magnitude(f"{where}.rc", rc)
         object.__setattr__(self, "rc", tuple(float(v) for v in rc))
         inertia = np.array(self.inertia, dtype=float)
         if inertia.shape == (3, 3):
@@ -72,6 +75,7 @@ class DHLink:
             inertia = np.array([inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[1, 2], inertia[0, 2]])
         if inertia.shape != (6,):
             raise ParameterError(f"{where}.inertia", self.inertia, "(Ixx, Iyy, Izz, Ixy, Iyz, Ixz) or a 3x3 matrix")
+        check_magnitude(f"{where}.inertia", inertia)
         object.__setattr__(self, "inertia", tuple(float(v) for v in inertia))
         check_inertia(f"{where}.inertia", self.inertia_matrix(), self.mass, self.check_triangle_inequality)
 

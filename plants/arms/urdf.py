@@ -1,8 +1,11 @@
 """Arms from URDF files: :func:`from_urdf` (docs/model.md s.4).
 
-Parser. The URDF is read with the standard library's ``xml.etree.ElementTree``: the subset the
-dynamics needs (``<link>/<inertial>``, ``<joint>`` with ``<origin>``, ``<axis>``, ``<limit>``,
-``<dynamics>``) is small and fully specified. The PyPI parsers were checked and not used:
+Parser. The document and its link tree are read by :mod:`plants.urdf_reader` (``defusedxml``, no
+DTD or entities, a regular file of at most ``MAX_URDF_BYTES``, a link tree without cycles, at most
+:data:`MAX_CHAIN_JOINTS` joints between ``base_link`` and ``tip_link``); this module reads the
+numbers on it, each finite and of magnitude at most :data:`MAX_URDF_NUMBER`. The subset the dynamics
+needs (``<link>/<inertial>``, ``<joint>`` with ``<origin>``, ``<axis>``, ``<limit>``,
+``<dynamics>``) is small and fully specified, so the element tree is walked here. The PyPI URDF parsers were checked and not used:
 ``urdf-parser-py`` (0.0.4, last release 2021, needs ``lxml`` and ``pyyaml``) is not kept on
 PyPI; ``yourdfpy`` and ``urchin`` pull ``trimesh``, ``lxml`` (and ``networkx``, ``pycollada``)
 for meshes this project never loads -- too heavy for the user install. Pinocchio
@@ -16,8 +19,8 @@ What is read, from ``base_link`` down to ``tip_link``:
 * each moving link's mass properties from its ``<inertial>`` (origin and ``rpy`` in any frame),
   with every link rigidly attached to it folded in; links hanging beyond the tip (a hand and its
   fingers) are folded into the last moving link as a rigid payload, their joints held at zero;
-* ``<limit effort>`` -> ``tau_max`` (absent: unlimited), ``<limit lower upper>`` ->
-  ``q_limits``; ``<dynamics damping>`` -> viscous friction [N m s/rad],
+* ``<limit effort>`` -> ``tau_max`` (absent: unlimited; present on a moving joint, it must be
+  > 0), ``<limit lower upper>`` -> ``q_limits``; ``<dynamics damping>`` -> viscous friction [N m s/rad],
   ``<dynamics friction>`` -> Coulomb friction [N m] (smoothed, :data:`COULOMB_SMOOTHING`).
   URDF has no rotor-inertia field: pass ``motor_inertia`` to add reflected rotor inertias.
 
@@ -27,19 +30,22 @@ The node pose is the ``tip_link`` frame (times ``tool``), expressed in the world
 
 from __future__ import annotations
 
-import os
-import xml.etree.ElementTree as ET
 from dataclasses import replace
 
 import numpy as np
 
 from plants.arms._chain_kernels import COULOMB_SMOOTHING  # noqa: F401 (documented here)
+from plants.arms._validation import MAX_MAGNITUDE, check_pose4
 from plants.arms.chain_arm import ChainArm
 from plants.arms.chain_joint import ChainJoint
 from plants.errors import ParameterError
 from plants.frames import rotation_zyx
+from plants.urdf_reader import MAX_CHAIN_JOINTS, MAX_URDF_BYTES, kinematic_chain, link_tree, read_urdf
 
 SUPPORTED_JOINTS = ("revolute", "continuous", "prismatic", "fixed")
+__all__ = ["MAX_CHAIN_JOINTS", "MAX_URDF_BYTES", "MAX_URDF_NUMBER", "from_urdf", "pose_transform"]
+#: Largest magnitude of a number in a URDF, SI units (:data:`plants.arms._validation.MAX_MAGNITUDE`).
+MAX_URDF_NUMBER = MAX_MAGNITUDE
 
 
 def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name: str | None = None,
@@ -50,32 +56,32 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
         path: URDF file.
         base_link: Link whose frame is the arm base (fixed in the world at ``base``).
         tip_link: Link whose frame is the node frame (with ``tool=None``).
-        tool: Node frame in the ``tip_link`` frame, 4x4 [m], or ``None`` (identity).
-        base: World pose of the ``base_link`` frame, 4x4 [m] (default identity).
+        tool: Node frame in the ``tip_link`` frame: a 4x4 homogeneous transform [m], a pose of 6
+            finite numbers (x, y, z [m], ZYX Euler angles psi, theta, phi [rad]), or ``None`` (identity).
+        base: World pose of the ``base_link`` frame, 4x4 homogeneous transform [m] (default identity).
         name: Name used in error messages (default: the robot's name).
         gravity: Gravity acceleration in the world [m/s^2].
         motor_inertia: Reflected rotor inertias added to ``H``'s diagonal, (n,), or ``None``.
         q_rest: Rest posture for IK and the null-space posture task, or ``None``.
 
     Raises:
-        ParameterError: naming ``urdf``, ``base_link``, ``tip_link`` or the offending joint or
-            link, with what is allowed.
+        ParameterError: (a ``ValueError``) naming ``urdf``, ``base_link``, ``tip_link``, ``tool``,
+            ``base`` or the offending joint or link, with what is allowed: a file that is not a
+            regular file of at most :data:`MAX_URDF_BYTES`, has a DTD or entities, whose links do
+            not form a tree, whose chain has more than :data:`MAX_CHAIN_JOINTS` joints, or whose
+            numbers are not finite, out of range (:data:`MAX_URDF_NUMBER`) or unphysical (an
+            effort limit <= 0).
     """
-    robot = _read(path)
+    tool_T = None if tool is None else _check_tool(tool)
+    if base is not None:
+        try:
+            base = check_pose4("base", base)
+        except (TypeError, ValueError) as exc:
+            allowed = exc.allowed if isinstance(exc, ParameterError) else "a 4x4 homogeneous transform [m]"
+            raise ParameterError("base", f"an array of shape {np.shape(base)}", allowed) from None
+    robot = read_urdf(path)
     links, joints = _index(robot, path)
-    for field_name, link in (("base_link", base_link), ("tip_link", tip_link)):
-        if link not in links:
-            raise ParameterError(field_name, link, f"a link of {os.fspath(path)} (e.g. {', '.join(sorted(links)[:6])})")
-    by_child = {j["child"]: j for j in joints.values()}
-    chain = []
-    link = tip_link
-    while link != base_link:
-        if link not in by_child or len(chain) > len(joints):  # not below base_link, or a cycle
-            raise ParameterError("tip_link", tip_link, f"a link below base_link '{base_link}' in the kinematic tree")
-        j = by_child[link]
-        chain.append(j)
-        link = j["parent"]
-    chain.reverse()
+    chain = kinematic_chain(links, joints, base_link, tip_link, path)
     for j in chain:
         if j["type"] not in SUPPORTED_JOINTS:
             raise ParameterError(f"joint '{j['name']}'.type", j["type"],
@@ -114,13 +120,16 @@ def from_urdf(path, base_link: str, tip_link: str, tool=None, *, base=None, name
     n = len(out)
     joints_list = [o["joint"] for o in out]
     if motor_inertia is not None:
-        motor = np.array(motor_inertia, dtype=float).reshape(-1)
-        if motor.shape != (n,):
-            raise ParameterError("motor_inertia", motor_inertia, f"{n} rotor inertias [kg m^2]")
+        try:
+            motor = np.array(motor_inertia, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise ParameterError("motor_inertia", motor_inertia, f"{n} finite rotor inertias >= 0 [kg m^2]") from None
+        if motor.shape != (n,) or not np.all(np.isfinite(motor)) or np.any(motor < 0.0):
+            raise ParameterError("motor_inertia", motor_inertia, f"{n} finite rotor inertias >= 0 [kg m^2]")
         joints_list = [replace(jt, motor_inertia=float(mi)) for jt, mi in zip(joints_list, motor)]
     tau_max = np.array([o["effort"] for o in out], dtype=float)
     q_limits = np.array([o["limits"] for o in out], dtype=float)
-    tool_T = np.eye(4) if tool is None else np.asarray(tool, dtype=float)
+    tool_T = np.eye(4) if tool_T is None else tool_T
     return ChainArm(name=name or robot.get("name", "urdf"), joints=tuple(joints_list),
                     base=np.eye(4) if base is None else base, tool=tip_T @ tool_T, gravity=np.asarray(gravity, float),
                     tau_max=tau_max, q_limits=q_limits, q_rest=q_rest)
@@ -134,19 +143,27 @@ def pose_transform(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)) -> np.ndarray:
     return T
 
 
-# ---- parsing -----------------------------------------------------------------------------
-def _read(path):
-    if not os.path.isfile(path):
-        raise ParameterError("urdf", os.fspath(path), "an existing URDF file")
+def _check_tool(tool) -> np.ndarray:
+    """The tool frame as a 4x4 transform: a pose of 6 finite numbers (x, y, z [m], ZYX Euler
+    psi, theta, phi [rad]) or a 4x4 homogeneous transform; ``ParameterError`` naming ``tool`` otherwise."""
     try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise ParameterError("urdf", os.fspath(path), f"a well-formed URDF (XML error: {exc})") from None
-    if root.tag != "robot":
-        raise ParameterError("urdf", os.fspath(path), f"a URDF whose root element is <robot> (got <{root.tag}>)")
-    return root
+        arr = np.array(tool, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError("tool", repr(tool)[:80], "a pose of 6 finite numbers [m, rad] or a 4x4 homogeneous transform") from None
+    if arr.shape == (6,):
+        if not np.all(np.isfinite(arr)):
+            raise ParameterError("tool", arr.tolist(), "a pose of 6 finite numbers [m, rad]")
+        return pose_transform(arr[:3], arr[5:2:-1])  # ZYX Euler (psi, theta, phi) = rpy reversed
+    if arr.shape == (4, 4):
+        try:
+            return check_pose4("tool", arr)
+        except ParameterError as exc:
+            raise ParameterError("tool", arr.tolist(), exc.allowed) from None
+    raise ParameterError("tool", f"an array of shape {arr.shape}",
+                         "a pose of 6 finite numbers [m, rad] or a 4x4 homogeneous transform")
 
 
+# ---- parsing -----------------------------------------------------------------------------
 def _floats(text, count, where):
     try:
         vals = [float(v) for v in text.split()]
@@ -154,6 +171,8 @@ def _floats(text, count, where):
         raise ParameterError(where, text, f"{count} numbers") from None
     if len(vals) != count or not np.all(np.isfinite(vals)):
         raise ParameterError(where, text, f"{count} finite numbers")
+    if max(abs(v) for v in vals) > MAX_URDF_NUMBER:
+        raise ParameterError(where, text, f"{count} numbers of magnitude <= {MAX_URDF_NUMBER:g} (SI units)")
     return vals
 
 
@@ -173,9 +192,12 @@ def _attr(el, key, default, where):
 
 
 def _index(robot, path):
+    """``(links, joints)`` of the link tree (:func:`plants.urdf_reader.link_tree`) with their numbers:
+    ``links[name] = (mass, inertial origin, inertia)`` or ``None``; ``joints[name]`` with ``origin``,
+    ``axis``, ``limit``, ``damping`` and ``friction`` added."""
+    tree_links, joints = link_tree(robot, path)
     links = {}
-    for el in robot.findall("link"):
-        name = el.get("name")
+    for name, el in tree_links.items():
         where = f"link '{name}'"
         inert = el.find("inertial")
         if inert is None:
@@ -192,33 +214,27 @@ def _index(robot, path):
         v = {k: _attr(I_el, k, 0.0, f"{where}.inertial.inertia") for k in keys}
         I = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
         links[name] = (m, _origin(inert, f"{where}.inertial"), I)
-    joints = {}
-    for el in robot.findall("joint"):
-        name = el.get("name")
+    for name, joint in joints.items():
+        el = joint["element"]
         where = f"joint '{name}'"
-        parent, child = el.find("parent"), el.find("child")
-        if parent is None or child is None:
-            raise ParameterError(where, None, "<parent link> and <child link>")
         axis_el = el.find("axis")
         axis = _floats(axis_el.get("xyz", "1 0 0"), 3, f"{where}.axis") if axis_el is not None else [1.0, 0.0, 0.0]
         lim = el.find("limit")
-        jtype = el.get("type")
+        jtype = joint["type"]
         effort = _attr(lim, "effort", np.inf, f"{where}.limit")
+        if jtype != "fixed" and not effort > 0.0:  # a fixed joint's limits are never read
+            raise ParameterError(f"{where}.limit.effort", effort, "an effort limit > 0 [N m or N] (omit it for unlimited)")
         lower = _attr(lim, "lower", 0.0, f"{where}.limit")
         upper = _attr(lim, "upper", 0.0, f"{where}.limit")
         if jtype in ("revolute", "prismatic") and not lower < upper:
             raise ParameterError(f"{where}.limit", [lower, upper], "lower < upper (a revolute or prismatic joint needs <limit lower upper>)")
         dyn = el.find("dynamics")
-        joints[name] = dict(
-            name=name, type=jtype, parent=parent.get("link"), child=child.get("link"),
+        joint.update(
             origin=_origin(el, where), axis=axis,
-            limit=dict(effort=effort if effort > 0.0 else np.inf, lower=lower, upper=upper),
+            limit=dict(effort=effort, lower=lower, upper=upper),
             damping=_attr(dyn, "damping", 0.0, f"{where}.dynamics"),
             friction=_attr(dyn, "friction", 0.0, f"{where}.dynamics"),
         )
-        for key in ("parent", "child"):
-            if joints[name][key] not in links:
-                raise ParameterError(f"{where}.{key}", joints[name][key], f"a link of {os.fspath(path)}")
     return links, joints
 
 
