@@ -25,7 +25,8 @@ Node rows: spatial ``(mass, I1, I2, I3)``; planar ``(mass, I)`` [kg, kg m^2].
 ELEMENT_CENTRAL = 0
 ELEMENT_OFFSET = 1
 ELEMENT_MATRIX = 2
-ELEMENTS = {"central": ELEMENT_CENTRAL, "offset": ELEMENT_OFFSET, "matrix": ELEMENT_MATRIX}
+ELEMENTS = {"central": ELEMENT_CENTRAL, "offset": ELEMENT_OFFSET, "matrix": ELEMENT_MATRIX,
+            "beam": ELEMENT_MATRIX}  # a beam is packed as its element matrix
 
 DAMPING_FRAME_INVARIANT = 0
 DAMPING_BOOK = 1

@@ -148,7 +148,7 @@ class ElasticSystem:
                     f"nodes {i} and {j} coincide in the reference poses while the central spring has rest length {l} m > 0; "
                     "separate the nodes or set rest_length = 0",
                 )
-            if ic.element == "matrix":
+            if ic.element in ("matrix", "beam"):
                 par[e] = _pack_matrix_element(name, ic, Yr[i], Yr[j], par.shape[1])
                 idx[e] = (i, j, ELEMENTS[ic.element], DAMPING_FORMS[ic.damping_form])
                 continue
@@ -347,26 +347,49 @@ class ElasticSystem:
         return np.r_[r[0:3], r[3:6]] if self.space == "spatial" else np.r_[r[0:2], r[2]]
 
     def stiffness_assembly(self):
-        """The book's finite-element assembly (47)-(59) of this system's springs
-        (:func:`plants.elastic.fem.stiffness_assembly`): interconnection ``(i, j)`` is an element
-        with the world-frame stiffness ``[[K_ij, -K_ij], [-K_ij, K_ij]]`` on ``(y_i, y_j)``, ``K_ij``
-        as in :meth:`stiffness_matrix` (a matrix element: its stiffness linearized at the reference
-        poses, in these coordinates); the connection is statically determinate (``a = a_0``,
-        (49)), and ``K = a^T K_e a`` equals :meth:`stiffness_matrix`."""
+        """The book's finite-element assembly (47)-(59) of this system (:func:`plants.elastic.fem.stiffness_assembly`),
+        in the plant's coordinates ``y = Y - Y_ref``.
+
+        Every interconnection is an element: a beam with its internal nodes (the kinematically
+        indeterminate ``k`` of (50), condensed by (53)-(54)), a matrix element in its own frame,
+        and a spring with the stiffness ``[[K_ij, -K_ij], [-K_ij, K_ij]]`` of :meth:`stiffness_matrix`.
+        ``a_0`` maps the nodes' coordinates to the elements' displacements through each node's
+        ``blockdiag(I, R(A) L(A))`` at the reference (world translations and small rotations from
+        ``(r, A)``), so ``K = a^T K_e a`` equals :meth:`stiffness_matrix`."""
         from plants.elastic.fem import MatrixElement, stiffness_assembly
+        from plants.elastic.fem.elements import line_frame
 
         p, d = self.p, 3 if self.space == "spatial" else 2
+        maps = [self._node_map(k) for k in range(self.node_count)]
         elements = []
-        for e in range(len(self.interconnections)):
+        for e, ic in enumerate(self.interconnections):
             i, j = int(self.edge_index[e, 0]), int(self.edge_index[e, 1])
-            if self.edge_index[e, 2] == ELEMENT_MATRIX:
-                col = MATRIX_LINEAR_SPATIAL if self.space == "spatial" else MATRIX_LINEAR_PLANAR
-                block = self.edge_params[e, col:col + 4 * p * p].reshape(2 * p, 2 * p)
-            else:
+            if ic.element == "beam":
+                from dataclasses import replace
+
+                elements.append(replace(ic.beam, nodes=(i, j)))
+            elif ic.element == "matrix":
+                frame = (np.asarray(ic.frame, float) if ic.frame is not None
+                         else line_frame(self.Y_ref[i, :3], self.Y_ref[j, :3]) if d == 3
+                         else _line_rotation_2d(self.Y_ref[i, :2], self.Y_ref[j, :2]))
+                elements.append(MatrixElement((i, j), np.asarray(ic.matrix, float), frame_rotation=frame))
+            else:  # a spring in the plant's coordinates, taken to world displacements
                 kd = np.diag(self._stiffness_diagonal(self.edge_params[e]))
-                block = np.block([[kd, -kd], [-kd, kd]])
-            elements.append(MatrixElement((i, j), block, frame_rotation=np.eye(d)))
-        return stiffness_assembly(elements, self.Y_ref[:, :d])
+                Tinv = np.zeros((2 * p, 2 * p))
+                Tinv[:p, :p], Tinv[p:, p:] = np.linalg.inv(maps[i]), np.linalg.inv(maps[j])
+                elements.append(MatrixElement((i, j), Tinv.T @ np.block([[kd, -kd], [-kd, kd]]) @ Tinv,
+                                              frame_rotation=np.eye(d)))
+        return stiffness_assembly(elements, self.Y_ref[:, :d], node_maps=maps)
+
+    def _node_map(self, k: int) -> np.ndarray:
+        """``d(world translation, small rotation)/d(r, A)`` of node k at the reference:
+        ``blockdiag(I, R(A) L(A))`` (spatial), the identity (planar: theta is the rotation)."""
+        if self.space != "spatial":
+            return np.eye(3)
+        T = np.eye(6)
+        A = self.Y_ref[k, 3:6]
+        T[3:, 3:] = rotation_zyx(A) @ _body_rate_matrix(A)
+        return T
 
     def damping_matrix(self) -> np.ndarray:
         """Constant ``D`` of the immobile model: ``diag(d I, dA I)`` per edge, Laplacian-assembled (the
@@ -390,6 +413,26 @@ def _skew(a) -> np.ndarray:
     return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
 
 
+def element_matrix(name: str, ic, Yi, Yj) -> np.ndarray:
+    """The stiffness of a matrix or beam interconnection in its own frame (12x12 spatial, 6x6
+    planar): a beam's from :mod:`plants.elastic.fem`, internal nodes condensed by (53)-(54), its
+    length the distance between the nodes at rest ``Yi``, ``Yj``."""
+    if ic.element == "matrix":
+        return np.asarray(ic.matrix, dtype=float)
+    from dataclasses import replace
+
+    from plants.elastic.fem import stiffness_assembly
+
+    n = 3 if len(Yi) == 6 else 2
+    length = float(np.linalg.norm(np.asarray(Yj[:n], float) - np.asarray(Yi[:n], float)))
+    if not length > 1e-9:
+        raise ParameterError(f"{name}.pair", list(ic.pair), f"two nodes apart at rest for a beam (its length is the "
+                             f"distance between them; got {length:.3g} m)")
+    ends = np.zeros((2, n))
+    ends[1, 0] = length
+    return stiffness_assembly([replace(ic.beam, nodes=(0, 1))], ends).K
+
+
 def _pack_matrix_element(name: str, ic, Yi, Yj, width: int) -> np.ndarray:
     """The packed row of a matrix element (``plants.elastic._layout``, ``MATRIX_*`` columns).
 
@@ -400,9 +443,9 @@ def _pack_matrix_element(name: str, ic, Yi, Yj, width: int) -> np.ndarray:
     """
     from plants.elastic.fem.elements import line_frame
 
-    K = np.asarray(ic.matrix, dtype=float)
-    C = np.zeros_like(K) if ic.matrix_damping is None else np.asarray(ic.matrix_damping, dtype=float)
     spatial = len(Yi) == 6
+    K = element_matrix(name, ic, Yi, Yj)
+    C = ic.rayleigh_damping * K if ic.matrix_damping is None else np.asarray(ic.matrix_damping, dtype=float)
     if K.shape != ((12, 12) if spatial else (6, 6)):
         raise ParameterError(f"{name}.matrix", K.shape, f"{'12x12' if spatial else '6x6'} in a {'spatial' if spatial else 'planar'} scene")
     row = np.zeros(width)
@@ -461,3 +504,9 @@ def _pack_matrix_element(name: str, ic, Yi, Yj, width: int) -> np.ndarray:
     row[col:col + m] = (G0.T @ Kjj @ G0).reshape(-1)
     row[col + m:col + 2 * m] = (G0.T @ Cjj @ G0).reshape(-1)
     return row
+
+
+def _line_rotation_2d(p_a, p_b) -> np.ndarray:
+    d = np.asarray(p_b, float) - np.asarray(p_a, float)
+    a = float(np.arctan2(d[1], d[0]))
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])

@@ -62,6 +62,12 @@ class Interconnection:
         frame: ``element="matrix"``: the element frame at rest, a rotation (3x3 spatial, 2x2
             planar; its columns the element axes in the world); ``None``: x along the line from
             node i to node j (:func:`plants.elastic.fem.line_frame`).
+        beam: ``element="beam"``: a :class:`plants.elastic.fem.BeamElement` (its section and
+            internal nodes; its ``nodes`` are this pair). Its length and axis are the line between
+            the nodes at rest; the plant uses its element matrix, internal nodes condensed by
+            (53)-(54), as a matrix element.
+        rayleigh_damping: ``element="matrix"`` or ``"beam"``: ``beta`` [s] of the damping matrix
+            ``beta K`` when ``matrix_damping`` is not given.
     """
 
     pair: tuple[int, int]
@@ -78,6 +84,8 @@ class Interconnection:
     matrix: Sequence[Sequence[float]] | None = None
     matrix_damping: Sequence[Sequence[float]] | None = None
     frame: Sequence[Sequence[float]] | None = None
+    beam: object | None = None
+    rayleigh_damping: float = 0.0
 
     def __post_init__(self):
         n = self.name
@@ -104,6 +112,16 @@ class Interconnection:
             v.finite_array(f"{n}.rest_angles", self.rest_angles)
         if self.rest_offset is not None:
             v.finite_array(f"{n}.rest_offset", self.rest_offset)
+        v.non_negative(f"{n}.rayleigh_damping", self.rayleigh_damping)
+        if self.element == "beam":
+            from plants.elastic.fem import BeamElement
+
+            if not isinstance(self.beam, BeamElement):
+                raise ParameterError(f"{n}.beam", type(self.beam).__name__, "a plants.elastic.fem.BeamElement with element = 'beam'")
+            if self.damping_form != "frame_invariant":
+                raise ParameterError(f"{n}.damping_form", self.damping_form, "'frame_invariant' for a beam element")
+        elif self.beam is not None:
+            raise ParameterError(f"{n}.beam", "given", f"only with element = 'beam' (element is {self.element!r})")
         if self.element == "matrix":
             if self.matrix is None:
                 raise ParameterError(f"{n}.matrix", None, "a 12x12 (spatial) or 6x6 (planar) stiffness matrix with element = 'matrix'")
