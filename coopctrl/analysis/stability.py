@@ -197,6 +197,10 @@ class StabilityReport:
             (:func:`closed_loop_growing_modes`; physical instabilities no step cures), ``None`` when the
             closed loop was not linearized (controllers off, or ``closed_loop=False``).
         controlled: False for a scene without control (``controllers.enabled = false``): the plant is the loop.
+        object_modes: The object's modes on its interconnections with the contact nodes held, as the
+            controllers leave them (:func:`coopctrl.tuning.elastic_modes.elastic_modes`): one dict per mode,
+            slowest first, with ``omega_rad_s``, ``frequency_Hz``, ``damping_ratio`` and the object
+            ``coordinate`` that moves most (a carried beam's first bending mode is its ``object_z``).
     """
 
     scenario: str
@@ -212,6 +216,7 @@ class StabilityReport:
     rows: tuple[StabilityRow, ...] = ()
     closed_loop_growing_modes: int | None = None
     controlled: bool = True
+    object_modes: tuple = ()
 
     def row(self, integrator: str) -> StabilityRow:
         """The row of one integrator."""
@@ -266,6 +271,7 @@ class StabilityReport:
             "closed_loop_growing_modes": self.closed_loop_growing_modes,
             "static_instabilities": self.static_instability_text(),
             "control_period_s": self.control_period_s,
+            "object_modes": list(self.object_modes),
             "reference": self.reference,
             "rows": rows,
         })
@@ -290,6 +296,11 @@ class StabilityReport:
         return (f"{growing} growing mode{'s' if growing > 1 else ''} of the closed loop at a vanishing step ({plant}): "
                 "physical, no step cures them")
 
+    def object_modes_text(self) -> str:
+        """The object's modes, slowest first: ``119.3 rad/s (18.99 Hz) object_z, ...``."""
+        return ", ".join(f"{m['omega_rad_s']:.4g} rad/s ({m['frequency_Hz']:.4g} Hz) {m['coordinate']}"
+                         for m in self.object_modes) or "-"
+
     def table(self) -> str:
         """The report as text: the modes, then one line per integrator."""
         lam = self.fastest_eigenvalue
@@ -301,6 +312,7 @@ class StabilityReport:
             f"damping ratio (that mode)   {self.damping_ratio:.3g}",
             f"fastest eigenvalue of A     |lambda| = {abs(lam):.6g} rad/s, zeta = {zeta_fast:.3g}",
             f"static instabilities        {self.static_instability_text()}",
+            f"object modes (nodes held)   {self.object_modes_text()}",
             f"control period              {self.control_period_s:g} s (the longest step the loop can take)",
         ]
         ref = self.reference
@@ -583,6 +595,12 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
     x_start = build.initial_state(scenario)
     modes = linear_modes(plant, x_start)
     say(f"linearized the plant: omega_max = {modes.omega_max:.6g} rad/s")
+    from coopctrl.tuning.elastic_modes import elastic_modes
+
+    held = elastic_modes(plant, x_start)
+    object_modes = tuple({"omega_rad_s": float(w), "frequency_Hz": float(w) / (2 * math.pi), "damping_ratio": float(z),
+                          "coordinate": held.dominant_coordinate(k)}
+                         for k, (w, z) in enumerate(zip(held.natural_frequencies, held.damping_ratios)))
     x0 = seeded_start(x_start, plant.nz)
     T = scenario.simulation.control_period
     predicted = {name: modes.predicted_max_step(get_integrator(name)) for name in names}
@@ -666,4 +684,5 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
         scenario=scenario.name, state=scenario.simulation.start, omega_max_rad_s=modes.omega_max,
         damping_ratio=modes.damping_ratio, modal_damping_ratio=modes.modal_damping_ratio, fastest_eigenvalue=lam, stiffness_asymmetry=modes.stiffness_asymmetry,
         unstable_stiffness_modes=modes.unstable_stiffness_modes, control_period_s=T, reference=reference,
-        rows=tuple(rows), closed_loop_growing_modes=growing, controlled=scenario.controllers.enabled)
+        rows=tuple(rows), closed_loop_growing_modes=growing, controlled=scenario.controllers.enabled,
+        object_modes=object_modes)

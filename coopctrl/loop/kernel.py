@@ -84,7 +84,7 @@ from plants.frames import rotation_zyx_into
 #: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
 #: 10: the QP's contact normals and torque model moved to :mod:`coopctrl.load_distribution.contact_model`.
 #: The stages of :func:`tick_stages` are defined here so that this number refreshes them too.
-CALLEE_REVISION = 10
+CALLEE_REVISION = 11
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran

@@ -91,6 +91,47 @@ def _box_size(grasps: np.ndarray, space: str) -> list[float]:
     return [float(v) for v in extent]
 
 
+#: Points drawn along a beam element.
+BEAM_POINTS = 17
+
+
+def beam_exaggeration(largest_m: float, size_m: float) -> float:
+    """The factor (a power of ten, 1 to 1e4) the beams' bending is drawn with: their largest
+    deviation from the chord ``largest_m`` [m] drawn as about 10 % of the grasp span ``size_m``."""
+    if not largest_m > 0.0:
+        return 1.0
+    return float(10.0 ** min(4, max(0, round(math.log10(0.1 * size_m / largest_m)))))
+
+
+def _span(grasps: np.ndarray) -> float:
+    """The largest distance of a grasp from the object's centre [m] (1 m without grasps)."""
+    g = np.asarray(grasps, float)
+    return float(np.max(np.linalg.norm(g[:, :3] if g.shape[1] == 6 else g[:, :2], axis=1))) if len(g) else 1.0
+
+
+def _beam_tangents(plant, e: int, Y: np.ndarray, space: str) -> tuple[np.ndarray, np.ndarray]:
+    """The unit tangents (3-D, world) of beam ``e``'s axis at its two ends: the element's x axis
+    as each end node carries it (the packed ``M``, ``N`` of plants.elastic._layout)."""
+    el = plant.elastic
+    i, j = int(el.edge_index[e, 0]), int(el.edge_index[e, 1])
+    row = el.edge_params[e]
+    if space == "spatial":
+        return (_rotation(Y[i], space) @ row[75:84].reshape(3, 3)[:, 0],
+                _rotation(Y[j], space) @ row[84:93].reshape(3, 3)[:, 0])
+    ta, tb = Y[i, 2] + row[20], Y[j, 2] + row[20] - row[21]
+    return np.array([math.cos(ta), 0.0, math.sin(ta)]), np.array([math.cos(tb), 0.0, math.sin(tb)])
+
+
+def _beam_deviation(pa: np.ndarray, pb: np.ndarray, ta: np.ndarray, tb: np.ndarray) -> np.ndarray:
+    """(BEAM_POINTS, 3) deviation [m] from the chord of the cubic Hermite curve from ``pa`` to
+    ``pb`` with end tangents ``L ta`` and ``L tb`` (``L`` the chord's length)."""
+    s = np.linspace(0.0, 1.0, BEAM_POINTS)[:, None]
+    L = float(np.linalg.norm(pb - pa))
+    curve = ((2 * s**3 - 3 * s**2 + 1) * pa + (s**3 - 2 * s**2 + s) * L * ta
+             + (-2 * s**3 + 3 * s**2) * pb + (s**3 - s**2) * L * tb)
+    return curve - (pa + s * (pb - pa))
+
+
 def _r(values, digits: int = 5) -> list:
     return np.round(np.asarray(values, float), digits).reshape(-1).tolist()
 
@@ -125,6 +166,7 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
     p = plant.p
     shapes = [_arm_shapes(scenario, i, arm) for i, arm in enumerate(plant.arms)]
     frames = []
+    beams = []  # (frame, spring, end a, end b, deviation from the chord) of each beam in each frame
     for k in picks:
         x = result.x[k]
         Y = plant.node_poses(x).reshape(m + 1, p)
@@ -140,7 +182,14 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
                 pts = np.array([_position(np.asarray(scenario.arms[i].base, float), space), nodes[i]])
             arms.append(_r(pts) if pts is not None else [])  # a contact point is its node alone
         springs, stretch = [], []
-        for sp in scenario.springs:
+        for e, sp in enumerate(scenario.springs):
+            if sp.element == "beam":  # drawn bent: a cubic through its end nodes, along their frames
+                pa, pb = _position(Y[sp.pair[0]], space), _position(Y[sp.pair[1]], space)
+                deviation = _beam_deviation(pa, pb, *_beam_tangents(plant, e, Y, space))
+                beams.append((len(frames), e, pa, pb, deviation))
+                springs.append([])
+                stretch.append(float(np.max(np.linalg.norm(deviation, axis=1))))  # its bending, drawn true
+                continue
             ends, true_ends = [], []
             for node, other in (sp.pair, sp.pair[::-1]):
                 if node == 0:
@@ -163,6 +212,11 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
             "deformation_mm": round(max(stretch) * 1e3, 4) if stretch else 0.0,
             "forces": _r(np.array([_force3(F[i], space) for i in range(m)]), 3),
         })
+    largest = max((float(np.max(np.linalg.norm(b[4], axis=1))) for b in beams), default=0.0)
+    exaggeration = beam_exaggeration(largest, _span(grasps))
+    for k, e, pa, pb, deviation in beams:
+        s = np.linspace(0.0, 1.0, BEAM_POINTS)[:, None]
+        frames[k]["springs"][e] = _r(pa + s * (pb - pa) + exaggeration * deviation)
     fmax = max((float(np.abs(np.array(f["forces"])).max()) for f in frames if f["forces"]), default=0.0)
     pts = np.array([v for f in frames for a in f["arms"] for v in np.reshape(a, (-1, 3))] +
                    [v for f in frames for v in np.reshape(f["nodes"], (-1, 3))]) if frames else np.zeros((0, 3))
@@ -179,7 +233,7 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
         "integrator": result.integrator,
         "duration_s": float(result.duration_s),
         "fail_t": fail_t,
-        "box": _box_size(grasps, space),
+        "box": _box_size(grasps, space) if not beams else [0.08 * _span(grasps)] * 3,  # a beam is the object itself
         "bounds": bounds,
         "force_scale_m_per_N": (0.2 * span / fmax) if fmax > 0 else 0.0,
         "force_max_N": fmax,
@@ -191,6 +245,7 @@ def replay_data(result, scenario, max_frames: int = MAX_FRAMES) -> dict:
         "notes": [f"arms[{i}]: {n}" for i, s in enumerate(shapes) if s is not None for n in s.notes],
         "leader": int(scenario.leader),
         "springs_pairs": [list(s.pair) for s in scenario.springs],
+        "beam_exaggeration": exaggeration if beams else None,
         "frames": frames,
     }
 

@@ -93,12 +93,7 @@ def _build(scenario):
     obj = scenario.object
     arms = [make_arm(scenario, k) for k in range(len(scenario.arms))]
     nodes = [Node(a.node_mass, a.node_inertia, name=f"arms[{k}].node") for k, a in enumerate(scenario.arms)]
-    springs = []
-    for e, s in enumerate(scenario.springs):
-        springs.append(Interconnection(tuple(s.pair), stiffness=s.stiffness_per_axis(space),
-                                       torsion=s.torsion_per_axis(space), damping=s.damping,
-                                       torsion_damping=s.torsion_damping, element=s.element,
-                                       damping_form=s.damping_form, name=f"springs[{e}]"))
+    springs = [_interconnection(scenario, e) for e in range(len(scenario.springs))]
     grasps = true_grasps(scenario)
     q0 = [None if a.q0 is None else np.asarray(a.q0, dtype=float) for a in scenario.arms]
     try:
@@ -181,6 +176,44 @@ def initial_state(scenario) -> np.ndarray:
         return loaded_state(plant, path, grasps, ld, GraspCompliance(plant), ld.torque_limits, x)
     except UnreachablePoseError as exc:
         raise ScenarioError("simulation.start", "loaded", f"a loaded pose within reach ({exc})", scenario.source) from None
+
+
+def _interconnection(scenario, e: int) -> Interconnection:
+    """``springs[e]`` as the plant's interconnection (a beam: a :class:`plants.elastic.fem.BeamElement`,
+    whose length and axis the plant takes from the nodes at rest)."""
+    from plants.elastic.fem import BeamElement
+
+    s, space = scenario.springs[e], scenario.space
+    name = f"springs[{e}]"
+    try:
+        if s.element in ("central", "offset"):
+            return Interconnection(tuple(s.pair), stiffness=s.stiffness_per_axis(space), torsion=s.torsion_per_axis(space),
+                                   damping=s.damping, torsion_damping=s.torsion_damping, element=s.element,
+                                   damping_form=s.damping_form, name=name)
+        if s.element == "beam":
+            if space == "spatial" and (s.Iz is None or s.J is None):
+                raise ParameterError(f"{name}.{'Iz' if s.Iz is None else 'J'}", None, "a number [m^4] for a beam in a spatial scene")
+            beam = BeamElement(tuple(s.pair), E=s.E, G=s.G, A=s.A, Iy=s.Iy, Iz=s.Iz if s.Iz is not None else s.Iy,
+                               J=s.J if s.J is not None else s.Iy, shear=s.shear, internal_nodes=s.internal_nodes)
+            return Interconnection(tuple(s.pair), 0.0, element="beam", beam=beam,
+                                   rayleigh_damping=s.rayleigh_damping, name=name)
+        frame = None if s.frame is None else _frame_rotation(s.frame, space)
+        C = None if s.matrix_damping is None else np.asarray(s.matrix_damping, dtype=float)
+        return Interconnection(tuple(s.pair), 0.0, element="matrix", matrix=np.asarray(s.matrix, dtype=float),
+                               matrix_damping=C, frame=frame, rayleigh_damping=s.rayleigh_damping, name=name)
+    except ParameterError as exc:
+        field = exc.parameter if exc.parameter.startswith(name) else f"{name}.{exc.parameter}"
+        raise ScenarioError(field, exc.value, exc.allowed, scenario.source) from None
+
+
+def _frame_rotation(angles, space: str) -> np.ndarray:
+    """The element frame's rotation from its ZYX Euler angles (3 spatial) or its angle (1 planar) [rad]."""
+    if space == "spatial":
+        from plants.frames import rotation_zyx
+
+        return rotation_zyx(np.asarray(angles, dtype=float))
+    c, s = np.cos(angles[0]), np.sin(angles[0])
+    return np.array([[c, -s], [s, c]])
 
 
 def true_grasps(scenario) -> np.ndarray:

@@ -15,21 +15,38 @@ spatial (``EDGE_WIDTH_SPATIAL`` columns)
 planar (``EDGE_WIDTH_PLANAR`` columns)
     ``c[0:2]``, ``cA[2]``, ``l[3]``, ``A0[4]``, ``rho[5:7]``, ``d[7]``, ``dA[8]``.
 
-Edge index rows: ``(i, j, element, damping form)`` with element ``ELEMENT_CENTRAL`` or
-``ELEMENT_OFFSET`` and damping form ``DAMPING_FRAME_INVARIANT`` or ``DAMPING_BOOK``.
+Matrix element rows (``ELEMENT_MATRIX``, both spaces): see the ``MATRIX_*`` columns below.
+
+Edge index rows: ``(i, j, element, damping form)`` with element ``ELEMENT_CENTRAL``,
+``ELEMENT_OFFSET`` or ``ELEMENT_MATRIX`` and damping form ``DAMPING_FRAME_INVARIANT`` or ``DAMPING_BOOK``.
 Node rows: spatial ``(mass, I1, I2, I3)``; planar ``(mass, I)`` [kg, kg m^2].
 """
 
 ELEMENT_CENTRAL = 0
 ELEMENT_OFFSET = 1
-ELEMENTS = {"central": ELEMENT_CENTRAL, "offset": ELEMENT_OFFSET}
+ELEMENT_MATRIX = 2
+ELEMENTS = {"central": ELEMENT_CENTRAL, "offset": ELEMENT_OFFSET, "matrix": ELEMENT_MATRIX,
+            "beam": ELEMENT_MATRIX}  # a beam is packed as its element matrix
 
 DAMPING_FRAME_INVARIANT = 0
 DAMPING_BOOK = 1
 DAMPING_FORMS = {"frame_invariant": DAMPING_FRAME_INVARIANT, "book": DAMPING_BOOK}
 
-EDGE_WIDTH_SPATIAL = 27
-EDGE_WIDTH_PLANAR = 9
+EDGE_WIDTH_SPATIAL = 381
+EDGE_WIDTH_PLANAR = 94
+
+# matrix element (co-rotational, node i clamped in the element frame; docs/model.md s.3)
+MATRIX_K = 0          # spatial: K_jj 6x6 row-major [0:36]; planar: 3x3 [0:9]
+MATRIX_C_SPATIAL = 36  # damping C_jj 6x6 [36:72]
+MATRIX_U0_SPATIAL = 72  # rest position of node j in the element frame [72:75]
+MATRIX_M_SPATIAL = 75  # M = R_i0^T R_e0 row-major [75:84]: the element frame in node i's frame
+MATRIX_N_SPATIAL = 84  # N = R_j0^T R_e0 row-major [84:93]: the element frame in node j's rest frame
+MATRIX_LINEAR_SPATIAL = 93  # immobile model: K_lin = G0^T K_jj G0 (12x12) [93:237] and D_lin = G0^T C_jj G0 [237:381]
+MATRIX_C_PLANAR = 9     # C_jj 3x3 [9:18]
+MATRIX_U0_PLANAR = 18   # [18:20]
+MATRIX_ALPHA_PLANAR = 20  # element angle in node i's frame, theta_e0 - theta_i0 [rad]
+MATRIX_BETA_PLANAR = 21   # rest relative angle theta_j0 - theta_i0 [rad]
+MATRIX_LINEAR_PLANAR = 22  # K_lin (6x6) [22:58] and D_lin [58:94]
 
 # kernel status codes
 STATUS_OK = 0

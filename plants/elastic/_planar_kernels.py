@@ -14,8 +14,51 @@ import math
 import numpy as np
 from numba import njit
 
-from plants.elastic._layout import DAMPING_BOOK, ELEMENT_CENTRAL, STATUS_COINCIDENT_NODES, STATUS_OK
-from plants.elastic._spatial_kernels import COINCIDENT_FRACTION, wrap_angle
+from plants.elastic._layout import (DAMPING_BOOK, ELEMENT_CENTRAL, ELEMENT_MATRIX, MATRIX_LINEAR_PLANAR,
+                                    STATUS_COINCIDENT_NODES, STATUS_OK)
+from plants.elastic._spatial_kernels import COINCIDENT_FRACTION, linear_matrix_edge, wrap_angle
+
+
+@njit(cache=True, _nrt=False)
+def matrix_edge(Y, dY, i, j, p, F, rates):
+    """One matrix element in the plane (co-rotational, docs/model.md s.3 [ours]): the element
+    frame turns with node i, ``theta_e = theta_i + alpha``; node j's deformation in it is
+    ``u = R_e^T (r_j - r_i) - u0``, ``theta = theta_j - theta_i - beta`` (wrapped), ``Pi = 1/2 d^T
+    K_jj d``. Forces: ``dPi/dr_j = R_e g_u = -dPi/dr_i``, ``dPi/dtheta_i = g_u . (p_z, -p_x) -
+    g_theta``, ``dPi/dtheta_j = g_theta`` with ``g = K_jj d``, ``p = R_e^T (r_j - r_i)``.
+    ``rates=True``: the dampers, ``d_dot = (R_e^T (dr_j - dr_i) + dtheta_i (p_z, -p_x), dtheta_j -
+    dtheta_i)``, ``D = 1/2 d_dot^T C_jj d_dot``, forces by the same map with ``g = C_jj d_dot``."""
+    te = Y[i, 2] + p[20]
+    c, s = math.cos(te), math.sin(te)
+    rx = Y[j, 0] - Y[i, 0]
+    rz = Y[j, 1] - Y[i, 1]
+    p0 = c * rx + s * rz
+    p1 = -s * rx + c * rz
+    if rates:
+        vx = dY[j, 0] - dY[i, 0]
+        vz = dY[j, 1] - dY[i, 1]
+        w = dY[i, 2]
+        d0 = c * vx + s * vz + w * p1
+        d1 = -s * vx + c * vz - w * p0
+        d2 = dY[j, 2] - dY[i, 2]
+        base = 9
+    else:
+        d0 = p0 - p[18]
+        d1 = p1 - p[19]
+        d2 = wrap_angle(Y[j, 2] - Y[i, 2] - p[21])
+        base = 0
+    g0 = p[base + 0] * d0 + p[base + 1] * d1 + p[base + 2] * d2
+    g1 = p[base + 3] * d0 + p[base + 4] * d1 + p[base + 5] * d2
+    g2 = p[base + 6] * d0 + p[base + 7] * d1 + p[base + 8] * d2
+    fx = c * g0 - s * g1
+    fz = s * g0 + c * g1
+    F[j, 0] += fx
+    F[j, 1] += fz
+    F[i, 0] -= fx
+    F[i, 1] -= fz
+    F[i, 2] += g0 * p1 - g1 * p0 - g2
+    F[j, 2] += g2
+    return 0.5 * (d0 * g0 + d1 * g1 + d2 * g2)
 
 
 @njit(cache=True, _nrt=False)
@@ -31,6 +74,9 @@ def elastic_edges(Y, edge_index, edge_params, F):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
         p = edge_params[e]
+        if edge_index[e, 2] == ELEMENT_MATRIX:
+            Pi += matrix_edge(Y, Y, i, j, p, F, False)
+            continue
         if edge_index[e, 2] == ELEMENT_CENTRAL:
             d0 = Y[i, 0] - Y[j, 0]
             d1 = Y[i, 1] - Y[j, 1]
@@ -101,6 +147,9 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
         p = edge_params[e]
+        if edge_index[e, 2] == ELEMENT_MATRIX:
+            D += matrix_edge(Y, dY, i, j, p, F, True)
+            continue
         dd = p[7]
         if dd != 0.0:
             v0 = dY[i, 0] - dY[j, 0]
@@ -153,6 +202,9 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
         p = edge_params[e]
+        if edge_index[e, 2] == ELEMENT_MATRIX:
+            Pi += linear_matrix_edge(Y, dY, Y_ref, i, j, p, F, MATRIX_LINEAR_PLANAR, 3, 2)
+            continue
         for k in range(3):
             diff = (Y[i, k] - Y_ref[i, k]) - (Y[j, k] - Y_ref[j, k])
             if k == 2:

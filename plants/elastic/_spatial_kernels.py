@@ -18,6 +18,8 @@ from numba import njit
 from plants.elastic._layout import (
     DAMPING_BOOK,
     ELEMENT_CENTRAL,
+    ELEMENT_MATRIX,
+    MATRIX_LINEAR_SPATIAL,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
     STATUS_OK,
@@ -34,7 +36,7 @@ COINCIDENT_FRACTION = 1e-9
 #: ``h``, ``Hw``, ``Hi``; :func:`node_terms_into`: 15 (``g``, zeros); the cooperative plant's
 #: ``interconnection_into`` (plants.cooperative._spatial_kernel): 14 and 15.
 #: The kernels overwrite what they use; the content between calls means nothing.
-EDGE_SCRATCH_SHAPE = (16, 3, 3)
+EDGE_SCRATCH_SHAPE = (22, 3, 3)
 #: 3x3 blocks per node of the ``frames`` array of :func:`node_frames_into`: ``R``, three ``dR/dA``, ``L``.
 NODE_FRAME_BLOCKS = 5
 
@@ -44,6 +46,177 @@ def wrap_angle(a):
     """Map an angle difference [rad] into (-pi, pi]."""
     return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
 
+
+@njit(cache=True, _nrt=False)
+def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
+    """One matrix element (co-rotational; docs/model.md s.3 [ours]) between nodes i and j.
+
+    The element frame turns with node i, ``R_e = R_i M``; node j's deformation in it is
+
+    .. math::
+        u = R_e^T (r_j - r_i) - u_0, \\quad \\theta = \\log(R_e^T R_j N), \\qquad
+        \\Pi = \\tfrac12 d^T K_{jj} d, \\quad d = (u, \\theta),
+
+    ``M = R_i0^T R_e0``, ``N = R_j0^T R_e0`` (rest frames), ``K_jj`` the element stiffness with
+    node i clamped. With ``g = K_jj d`` and ``h = J_r^{-T}(theta) g_theta`` (``J_r`` the right
+    Jacobian of SO(3)), the generalized forces are ``dPi/dr_j = R_e g_u = -dPi/dr_i``,
+    ``dPi/dA_i = L_i^T M (g_u x p - Q h)`` (``p = R_e^T (r_j - r_i)``, ``Q = R_e^T R_j N``) and
+    ``dPi/dA_j = L_j^T N h``. ``rates=True`` gives the dampers instead: ``d_dot = G v`` (``v`` the
+    velocities and body angular velocities ``omega = L dA``, ``G`` the same Jacobian), ``D = 1/2
+    d_dot^T C_jj d_dot``, generalized forces ``G^T C_jj d_dot`` by the same formulas with ``g =
+    C_jj d_dot``. Both are invariant under rigid motions of the pair. Returns ``Pi`` (or ``D``).
+    """
+    Ri = frames[i, 0]
+    Rj = frames[j, 0]
+    Li = frames[i, 4]
+    Lj = frames[j, 4]
+    Re = scratch[16]
+    Q = scratch[17]
+    vec = scratch[18]   # rows: p, theta, g_u
+    vec2 = scratch[19]  # rows: g_theta, h, x (work)
+    for a in range(3):
+        for b in range(3):
+            Re[a, b] = (Ri[a, 0] * p[75 + b] + Ri[a, 1] * p[78 + b] + Ri[a, 2] * p[81 + b])
+    for a in range(3):
+        for b in range(3):
+            acc = 0.0
+            for k in range(3):
+                acc += Re[k, a] * (Rj[k, 0] * p[84 + b] + Rj[k, 1] * p[87 + b] + Rj[k, 2] * p[90 + b])
+            Q[a, b] = acc
+    pv = vec[0]
+    th = vec[1]
+    for a in range(3):
+        pv[a] = (Re[0, a] * (Y[j, 0] - Y[i, 0]) + Re[1, a] * (Y[j, 1] - Y[i, 1])
+                 + Re[2, a] * (Y[j, 2] - Y[i, 2]))
+    # theta = log(Q): angle from atan2(|v|, tr Q - 1), v = vee(Q - Q^T) = 2 sin(angle) axis
+    v0 = Q[2, 1] - Q[1, 2]
+    v1 = Q[0, 2] - Q[2, 0]
+    v2 = Q[1, 0] - Q[0, 1]
+    sv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+    ang = math.atan2(sv, Q[0, 0] + Q[1, 1] + Q[2, 2] - 1.0)
+    fac = 0.5 * (1.0 + ang * ang / 6.0) if ang < 1e-4 else ang / sv
+    th[0] = fac * v0
+    th[1] = fac * v1
+    th[2] = fac * v2
+    # J_r^-1 = I + 1/2 [th]x + c [th]x^2
+    a2 = ang * ang
+    if ang < 1e-3:
+        c = 1.0 / 12.0 + a2 / 720.0 + a2 * a2 / 30240.0
+    else:
+        c = 1.0 / a2 - (1.0 + math.cos(ang)) / (2.0 * ang * math.sin(ang))
+    d = vec2[2]
+    x = scratch[20][0]
+    if rates:
+        # omega_i in the element frame: M^T L_i dA_i; omega_j: N^T L_j dA_j
+        wi = scratch[20][1]
+        wj = scratch[20][2]
+        for a in range(3):
+            oi0 = Li[0, 0] * dY[i, 3] + Li[0, 1] * dY[i, 4] + Li[0, 2] * dY[i, 5]
+            oi1 = Li[1, 0] * dY[i, 3] + Li[1, 1] * dY[i, 4] + Li[1, 2] * dY[i, 5]
+            oi2 = Li[2, 0] * dY[i, 3] + Li[2, 1] * dY[i, 4] + Li[2, 2] * dY[i, 5]
+            oj0 = Lj[0, 0] * dY[j, 3] + Lj[0, 1] * dY[j, 4] + Lj[0, 2] * dY[j, 5]
+            oj1 = Lj[1, 0] * dY[j, 3] + Lj[1, 1] * dY[j, 4] + Lj[1, 2] * dY[j, 5]
+            oj2 = Lj[2, 0] * dY[j, 3] + Lj[2, 1] * dY[j, 4] + Lj[2, 2] * dY[j, 5]
+            wi[a] = p[75 + a] * oi0 + p[78 + a] * oi1 + p[81 + a] * oi2
+            wj[a] = p[84 + a] * oj0 + p[87 + a] * oj1 + p[90 + a] * oj2
+        # u_dot = R_e^T (dr_j - dr_i) + p x w_i
+        du = scratch[21][0]
+        for a in range(3):
+            du[a] = (Re[0, a] * (dY[j, 0] - dY[i, 0]) + Re[1, a] * (dY[j, 1] - dY[i, 1])
+                     + Re[2, a] * (dY[j, 2] - dY[i, 2]))
+        du[0] += pv[1] * wi[2] - pv[2] * wi[1]
+        du[1] += pv[2] * wi[0] - pv[0] * wi[2]
+        du[2] += pv[0] * wi[1] - pv[1] * wi[0]
+        # theta_dot = J_r^-1 (w_j - Q^T w_i)
+        for a in range(3):
+            x[a] = wj[a] - (Q[0, a] * wi[0] + Q[1, a] * wi[1] + Q[2, a] * wi[2])
+        t0 = th[1] * x[2] - th[2] * x[1]
+        t1 = th[2] * x[0] - th[0] * x[2]
+        t2 = th[0] * x[1] - th[1] * x[0]
+        s0 = th[1] * t2 - th[2] * t1
+        s1 = th[2] * t0 - th[0] * t2
+        s2 = th[0] * t1 - th[1] * t0
+        dd = scratch[21][1]
+        dd[0] = du[0]
+        dd[1] = du[1]
+        dd[2] = du[2]
+        dth = scratch[21][2]
+        dth[0] = x[0] + 0.5 * t0 + c * s0
+        dth[1] = x[1] + 0.5 * t1 + c * s1
+        dth[2] = x[2] + 0.5 * t2 + c * s2
+        base = 36
+    else:
+        dd = scratch[21][1]
+        dth = scratch[21][2]
+        for a in range(3):
+            dd[a] = pv[a] - p[72 + a]
+            dth[a] = th[a]
+        base = 0
+    gu = vec[2]
+    gt = vec2[0]
+    E = 0.0
+    for a in range(3):
+        su = 0.0
+        st = 0.0
+        for b in range(3):
+            su += p[base + 6 * a + b] * dd[b] + p[base + 6 * a + 3 + b] * dth[b]
+            st += p[base + 6 * (3 + a) + b] * dd[b] + p[base + 6 * (3 + a) + 3 + b] * dth[b]
+        gu[a] = su
+        gt[a] = st
+        E += 0.5 * (dd[a] * su + dth[a] * st)
+    # h = J_r^-T g_theta = g - 1/2 th x g + c th x (th x g)
+    t0 = th[1] * gt[2] - th[2] * gt[1]
+    t1 = th[2] * gt[0] - th[0] * gt[2]
+    t2 = th[0] * gt[1] - th[1] * gt[0]
+    h = vec2[1]
+    h[0] = gt[0] - 0.5 * t0 + c * (th[1] * t2 - th[2] * t1)
+    h[1] = gt[1] - 0.5 * t1 + c * (th[2] * t0 - th[0] * t2)
+    h[2] = gt[2] - 0.5 * t2 + c * (th[0] * t1 - th[1] * t0)
+    for a in range(3):
+        f = Re[a, 0] * gu[0] + Re[a, 1] * gu[1] + Re[a, 2] * gu[2]
+        F[j, a] += f
+        F[i, a] -= f
+    # tau_e = g_u x p - Q h (element frame), tau_i = M tau_e, tau_j = N h
+    d[0] = gu[1] * pv[2] - gu[2] * pv[1] - (Q[0, 0] * h[0] + Q[0, 1] * h[1] + Q[0, 2] * h[2])
+    d[1] = gu[2] * pv[0] - gu[0] * pv[2] - (Q[1, 0] * h[0] + Q[1, 1] * h[1] + Q[1, 2] * h[2])
+    d[2] = gu[0] * pv[1] - gu[1] * pv[0] - (Q[2, 0] * h[0] + Q[2, 1] * h[1] + Q[2, 2] * h[2])
+    for a in range(3):
+        x[a] = p[75 + 3 * a] * d[0] + p[76 + 3 * a] * d[1] + p[77 + 3 * a] * d[2]
+    for a in range(3):
+        F[i, 3 + a] += Li[0, a] * x[0] + Li[1, a] * x[1] + Li[2, a] * x[2]
+    for a in range(3):
+        x[a] = p[84 + 3 * a] * h[0] + p[85 + 3 * a] * h[1] + p[86 + 3 * a] * h[2]
+    for a in range(3):
+        F[j, 3 + a] += Lj[0, a] * x[0] + Lj[1, a] * x[1] + Lj[2, a] * x[2]
+    return E
+
+
+@njit(cache=True, _nrt=False)
+def linear_matrix_edge(Y, dY, Y_ref, i, j, p, F, col, n, angles_from):
+    """The matrix element in the immobile model (4.5): with ``y = (Y_i - Y_ref_i, Y_j - Y_ref_j)``
+    (angles from coordinate ``angles_from`` on wrapped), add ``K_lin y + D_lin dy`` into ``F``
+    and return ``Pi = 1/2 y^T K_lin y``. ``K_lin = G0^T K_jj G0`` and ``D_lin = G0^T C_jj G0``
+    (2n x 2n, row-major at columns ``col`` and ``col + 4 n^2`` of ``p``) are the linearization of
+    :func:`matrix_edge` at the reference poses, packed once."""
+    m = 2 * n
+    E = 0.0
+    for a in range(m):
+        na = i if a < n else j
+        ka = a % n
+        fa = 0.0
+        ya = Y[na, ka] - Y_ref[na, ka]
+        if ka >= angles_from:
+            ya = wrap_angle(ya)
+        for b in range(m):
+            nb = i if b < n else j
+            kb = b % n
+            yb = Y[nb, kb] - Y_ref[nb, kb]
+            if kb >= angles_from:
+                yb = wrap_angle(yb)
+            fa += p[col + a * m + b] * yb + p[col + m * m + a * m + b] * dY[nb, kb]
+            E += 0.5 * ya * p[col + a * m + b] * yb
+        F[na, ka] += fa
+    return E
 
 @njit(cache=True)
 def elastic_edges(Y, edge_index, edge_params, F):
@@ -112,6 +285,8 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
                     Pi += 0.5 * cA * dl * dl
                     F[i, 3 + k] += cA * dl
                     F[j, 3 + k] -= cA * dl
+        elif edge_index[e, 2] == ELEMENT_MATRIX:
+            Pi += matrix_edge(Y, Y, i, j, p, F, scratch, frames, False)
         else:
             Ri = frames[i, 0]
             dRi = frames[i, 1:4]
@@ -241,6 +416,9 @@ def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
         p = edge_params[e]
+        if edge_index[e, 2] == ELEMENT_MATRIX:
+            D += matrix_edge(Y, dY, i, j, p, F, scratch, frames, True)
+            continue
         book = edge_index[e, 3] == DAMPING_BOOK
         central = edge_index[e, 2] == ELEMENT_CENTRAL
         dd = p[13]
@@ -346,6 +524,9 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
         i = edge_index[e, 0]
         j = edge_index[e, 1]
         p = edge_params[e]
+        if edge_index[e, 2] == ELEMENT_MATRIX:
+            Pi += linear_matrix_edge(Y, dY, Y_ref, i, j, p, F, MATRIX_LINEAR_SPATIAL, 6, 3)
+            continue
         for k in range(6):
             diff = (Y[i, k] - Y_ref[i, k]) - (Y[j, k] - Y_ref[j, k])
             kk = p[k]

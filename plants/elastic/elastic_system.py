@@ -12,7 +12,10 @@ from plants.elastic._layout import (
     EDGE_WIDTH_PLANAR,
     DAMPING_FORMS,
     EDGE_WIDTH_SPATIAL,
+    ELEMENT_MATRIX,
     ELEMENT_OFFSET,
+    MATRIX_LINEAR_PLANAR,
+    MATRIX_LINEAR_SPATIAL,
     ELEMENTS,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
@@ -145,6 +148,10 @@ class ElasticSystem:
                     f"nodes {i} and {j} coincide in the reference poses while the central spring has rest length {l} m > 0; "
                     "separate the nodes or set rest_length = 0",
                 )
+            if ic.element in ("matrix", "beam"):
+                par[e] = _pack_matrix_element(name, ic, Yr[i], Yr[j], par.shape[1])
+                idx[e] = (i, j, ELEMENTS[ic.element], DAMPING_FORMS[ic.damping_form])
+                continue
             if ic.rest_angles is None:
                 A0 = _wrap(Yr[i, npos:] - Yr[j, npos:])
             else:
@@ -312,11 +319,17 @@ class ElasticSystem:
         return 0.5 * (Kk + Kk.T)
 
     # ------------------------------------------------------------------ immobile model (4.5)
-    def _laplacian(self, diag_of) -> np.ndarray:
+    def _laplacian(self, diag_of, linear_block: int = 0) -> np.ndarray:
         N, p = self.node_count, self.p
         K = np.zeros((N * p, N * p))
         for e in range(len(self.interconnections)):
             i, j = self.edge_index[e, :2]
+            if self.edge_index[e, 2] == ELEMENT_MATRIX:  # its linearization K_lin (D_lin), packed once
+                col = (MATRIX_LINEAR_SPATIAL if self.space == "spatial" else MATRIX_LINEAR_PLANAR) + linear_block * 4 * p * p
+                block = self.edge_params[e, col:col + 4 * p * p].reshape(2 * p, 2 * p)
+                dofs = np.r_[i * p:(i + 1) * p, j * p:(j + 1) * p]
+                K[np.ix_(dofs, dofs)] += block
+                continue
             kd = np.diag(diag_of(self.edge_params[e]))
             for a, b, s in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
                 K[a * p:(a + 1) * p, b * p:(b + 1) * p] += s * kd
@@ -334,20 +347,49 @@ class ElasticSystem:
         return np.r_[r[0:3], r[3:6]] if self.space == "spatial" else np.r_[r[0:2], r[2]]
 
     def stiffness_assembly(self):
-        """The book's finite-element assembly (47)-(59) of this system's springs
-        (:func:`plants.elastic.fem.stiffness_assembly`): interconnection ``(i, j)`` is an element
-        with the world-frame stiffness ``[[K_ij, -K_ij], [-K_ij, K_ij]]`` on ``(y_i, y_j)``, ``K_ij``
-        as in :meth:`stiffness_matrix`; the connection is statically determinate (``a = a_0``,
-        (49)), and ``K = a^T K_e a`` equals :meth:`stiffness_matrix`."""
+        """The book's finite-element assembly (47)-(59) of this system (:func:`plants.elastic.fem.stiffness_assembly`),
+        in the plant's coordinates ``y = Y - Y_ref``.
+
+        Every interconnection is an element: a beam with its internal nodes (the kinematically
+        indeterminate ``k`` of (50), condensed by (53)-(54)), a matrix element in its own frame,
+        and a spring with the stiffness ``[[K_ij, -K_ij], [-K_ij, K_ij]]`` of :meth:`stiffness_matrix`.
+        ``a_0`` maps the nodes' coordinates to the elements' displacements through each node's
+        ``blockdiag(I, R(A) L(A))`` at the reference (world translations and small rotations from
+        ``(r, A)``), so ``K = a^T K_e a`` equals :meth:`stiffness_matrix`."""
         from plants.elastic.fem import MatrixElement, stiffness_assembly
+        from plants.elastic.fem.elements import line_frame
 
         p, d = self.p, 3 if self.space == "spatial" else 2
+        maps = [self._node_map(k) for k in range(self.node_count)]
         elements = []
-        for e in range(len(self.interconnections)):
-            kd = np.diag(self._stiffness_diagonal(self.edge_params[e]))
-            elements.append(MatrixElement((int(self.edge_index[e, 0]), int(self.edge_index[e, 1])),
-                                          np.block([[kd, -kd], [-kd, kd]]), frame_rotation=np.eye(d)))
-        return stiffness_assembly(elements, self.Y_ref[:, :d])
+        for e, ic in enumerate(self.interconnections):
+            i, j = int(self.edge_index[e, 0]), int(self.edge_index[e, 1])
+            if ic.element == "beam":
+                from dataclasses import replace
+
+                elements.append(replace(ic.beam, nodes=(i, j)))
+            elif ic.element == "matrix":
+                frame = (np.asarray(ic.frame, float) if ic.frame is not None
+                         else line_frame(self.Y_ref[i, :3], self.Y_ref[j, :3]) if d == 3
+                         else _line_rotation_2d(self.Y_ref[i, :2], self.Y_ref[j, :2]))
+                elements.append(MatrixElement((i, j), np.asarray(ic.matrix, float), frame_rotation=frame))
+            else:  # a spring in the plant's coordinates, taken to world displacements
+                kd = np.diag(self._stiffness_diagonal(self.edge_params[e]))
+                Tinv = np.zeros((2 * p, 2 * p))
+                Tinv[:p, :p], Tinv[p:, p:] = np.linalg.inv(maps[i]), np.linalg.inv(maps[j])
+                elements.append(MatrixElement((i, j), Tinv.T @ np.block([[kd, -kd], [-kd, kd]]) @ Tinv,
+                                              frame_rotation=np.eye(d)))
+        return stiffness_assembly(elements, self.Y_ref[:, :d], node_maps=maps)
+
+    def _node_map(self, k: int) -> np.ndarray:
+        """``d(world translation, small rotation)/d(r, A)`` of node k at the reference:
+        ``blockdiag(I, R(A) L(A))`` (spatial), the identity (planar: theta is the rotation)."""
+        if self.space != "spatial":
+            return np.eye(3)
+        T = np.eye(6)
+        A = self.Y_ref[k, 3:6]
+        T[3:, 3:] = rotation_zyx(A) @ _body_rate_matrix(A)
+        return T
 
     def damping_matrix(self) -> np.ndarray:
         """Constant ``D`` of the immobile model: ``diag(d I, dA I)`` per edge, Laplacian-assembled (the
@@ -355,5 +397,116 @@ class ElasticSystem:
         model; the frame-invariant form of the mobile model couples a node's rotation into the damping of
         the offset, ``rho x omega_i``, which this diagonal form does not have)."""
         if self.space == "spatial":
-            return self._laplacian(lambda r: np.r_[np.full(3, r[13]), np.full(3, r[14])])
-        return self._laplacian(lambda r: np.r_[r[7], r[7], r[8]])
+            return self._laplacian(lambda r: np.r_[np.full(3, r[13]), np.full(3, r[14])], linear_block=1)
+        return self._laplacian(lambda r: np.r_[r[7], r[7], r[8]], linear_block=1)
+
+
+def _body_rate_matrix(A) -> np.ndarray:
+    """``L(A)`` of ``omega = L(A) dA`` (body angular velocity from ZYX Euler rates, docs/model.md s.2)."""
+    _, th, ph = A
+    return np.array([[-np.sin(th), 0.0, 1.0],
+                     [np.sin(ph) * np.cos(th), np.cos(ph), 0.0],
+                     [np.cos(ph) * np.cos(th), -np.sin(ph), 0.0]])
+
+
+def _skew(a) -> np.ndarray:
+    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+
+def element_matrix(name: str, ic, Yi, Yj) -> np.ndarray:
+    """The stiffness of a matrix or beam interconnection in its own frame (12x12 spatial, 6x6
+    planar): a beam's from :mod:`plants.elastic.fem`, internal nodes condensed by (53)-(54), its
+    length the distance between the nodes at rest ``Yi``, ``Yj``."""
+    if ic.element == "matrix":
+        return np.asarray(ic.matrix, dtype=float)
+    from dataclasses import replace
+
+    from plants.elastic.fem import stiffness_assembly
+
+    n = 3 if len(Yi) == 6 else 2
+    length = float(np.linalg.norm(np.asarray(Yj[:n], float) - np.asarray(Yi[:n], float)))
+    if not length > 1e-9:
+        raise ParameterError(f"{name}.pair", list(ic.pair), f"two nodes apart at rest for a beam (its length is the "
+                             f"distance between them; got {length:.3g} m)")
+    ends = np.zeros((2, n))
+    ends[1, 0] = length
+    return stiffness_assembly([replace(ic.beam, nodes=(0, 1))], ends).K
+
+
+def _pack_matrix_element(name: str, ic, Yi, Yj, width: int) -> np.ndarray:
+    """The packed row of a matrix element (``plants.elastic._layout``, ``MATRIX_*`` columns).
+
+    Node i is clamped in the element frame: ``K_jj`` and ``C_jj`` are the node-j blocks of the
+    element's matrices, which hold its whole energy because the matrices leave the element's
+    rigid motions free (checked here). ``G0`` maps ``(y_i, y_j)`` (the plant's coordinates) to node
+    j's deformation at the reference; ``K_lin = G0^T K_jj G0`` is the element in the immobile model.
+    """
+    from plants.elastic.fem.elements import line_frame
+
+    spatial = len(Yi) == 6
+    K = element_matrix(name, ic, Yi, Yj)
+    C = ic.rayleigh_damping * K if ic.matrix_damping is None else np.asarray(ic.matrix_damping, dtype=float)
+    if K.shape != ((12, 12) if spatial else (6, 6)):
+        raise ParameterError(f"{name}.matrix", K.shape, f"{'12x12' if spatial else '6x6'} in a {'spatial' if spatial else 'planar'} scene")
+    row = np.zeros(width)
+    if spatial:
+        Ri0, Rj0 = rotation_zyx(np.asarray(Yi[3:6], float)), rotation_zyx(np.asarray(Yj[3:6], float))
+        Re0 = line_frame(Yi[:3], Yj[:3]) if ic.frame is None else np.asarray(ic.frame, float)
+        u0 = Re0.T @ (np.asarray(Yj[:3], float) - np.asarray(Yi[:3], float))
+        rigid = np.zeros((12, 6))
+        for k in range(3):
+            e = np.eye(3)[k]
+            rigid[k, k] = rigid[6 + k, k] = 1.0
+            rigid[3 + k, 3 + k] = rigid[9 + k, 3 + k] = 1.0
+            rigid[6:9, 3 + k] = np.cross(e, u0)
+        M, N = Ri0.T @ Re0, Rj0.T @ Re0
+        Li, Lj = _body_rate_matrix(Yi[3:6]), _body_rate_matrix(Yj[3:6])
+        G0 = np.zeros((6, 12))
+        G0[0:3, 0:3], G0[0:3, 6:9] = -Re0.T, Re0.T
+        G0[0:3, 3:6] = _skew(u0) @ M.T @ Li
+        G0[3:6, 3:6], G0[3:6, 9:12] = -M.T @ Li, N.T @ Lj
+        n = 6
+        row[72:75], row[75:84], row[84:93] = u0, M.reshape(-1), N.reshape(-1)
+        col = MATRIX_LINEAR_SPATIAL
+    else:
+        d = np.asarray(Yj[:2], float) - np.asarray(Yi[:2], float)
+        if ic.frame is None:
+            length = float(np.hypot(*d))
+            if not length > 0.0:
+                raise ParameterError(f"{name}.pair", list(ic.pair), "nodes apart in the reference poses (the element's frame is the line between them), or give frame")
+            te = float(np.arctan2(d[1], d[0]))
+        else:
+            R = np.asarray(ic.frame, float)
+            te = float(np.arctan2(R[1, 0], R[0, 0]))
+        c, s = np.cos(te), np.sin(te)
+        u0 = np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+        rigid = np.array([[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0], [1.0, 0, -u0[1]], [0, 1.0, u0[0]], [0, 0, 1.0]])
+        G0 = np.zeros((3, 6))
+        G0[0:2, 0:2] = -np.array([[c, s], [-s, c]])
+        G0[0:2, 3:5] = np.array([[c, s], [-s, c]])
+        G0[0:2, 2] = (u0[1], -u0[0])
+        G0[2, 2], G0[2, 5] = -1.0, 1.0
+        n = 3
+        row[18:20] = u0
+        row[20] = te - float(Yi[2])
+        row[21] = float(Yj[2]) - float(Yi[2])
+        col = MATRIX_LINEAR_PLANAR
+    for label, A in (("matrix", K), ("matrix_damping", C)):
+        scale = float(np.max(np.abs(A))) or 1.0
+        if np.max(np.abs(A @ rigid)) > 1e-9 * scale * max(1.0, float(np.linalg.norm(u0))):
+            raise ParameterError(f"{name}.{label}", "not free",
+                                 "a matrix that leaves the element's rigid motions free (A r = 0 for its translations "
+                                 "and rotations; a grounded element cannot be co-rotational)")
+    Kjj, Cjj = K[n:, n:], C[n:, n:]
+    row[0:n * n] = Kjj.reshape(-1)
+    row[n * n:2 * n * n] = Cjj.reshape(-1)
+    m = 4 * n * n
+    row[col:col + m] = (G0.T @ Kjj @ G0).reshape(-1)
+    row[col + m:col + 2 * m] = (G0.T @ Cjj @ G0).reshape(-1)
+    return row
+
+
+def _line_rotation_2d(p_a, p_b) -> np.ndarray:
+    d = np.asarray(p_b, float) - np.asarray(p_a, float)
+    a = float(np.arctan2(d[1], d[0]))
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])

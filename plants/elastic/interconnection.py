@@ -50,6 +50,24 @@ class Interconnection:
         rest_angles: Rest angle difference ``A0_ij`` [rad]; ``None`` = from the reference poses.
         rest_offset: Rest offset ``rho_ij`` [m] in node i's frame; ``None`` = from the reference.
         name: Label used in error messages (``"springs[0]"``).
+        matrix: ``element="matrix"``: the element's stiffness (12x12 spatial, 6x6 planar) on the
+            displacements ``(u, v, w, rx, ry, rz)`` of node i then node j in the element frame
+            [N/m, N, N m/rad]: symmetric, positive semi-definite, with the element's rigid-body
+            motions in its null space (a free element, as :mod:`plants.elastic.fem` builds them).
+            The plant uses it co-rotationally (docs/model.md s.3): exact under large rigid
+            motions, and exactly this matrix in the immobile model.
+        matrix_damping: ``element="matrix"``: an optional damping matrix of the same shape and
+            conditions [N s/m, N s, N m s/rad], on the rates of the same displacements (frame
+            invariant).
+        frame: ``element="matrix"``: the element frame at rest, a rotation (3x3 spatial, 2x2
+            planar; its columns the element axes in the world); ``None``: x along the line from
+            node i to node j (:func:`plants.elastic.fem.line_frame`).
+        beam: ``element="beam"``: a :class:`plants.elastic.fem.BeamElement` (its section and
+            internal nodes; its ``nodes`` are this pair). Its length and axis are the line between
+            the nodes at rest; the plant uses its element matrix, internal nodes condensed by
+            (53)-(54), as a matrix element.
+        rayleigh_damping: ``element="matrix"`` or ``"beam"``: ``beta`` [s] of the damping matrix
+            ``beta K`` when ``matrix_damping`` is not given.
     """
 
     pair: tuple[int, int]
@@ -63,6 +81,11 @@ class Interconnection:
     rest_angles: Sequence[float] | None = None
     rest_offset: Sequence[float] | None = None
     name: str = "interconnection"
+    matrix: Sequence[Sequence[float]] | None = None
+    matrix_damping: Sequence[Sequence[float]] | None = None
+    frame: Sequence[Sequence[float]] | None = None
+    beam: object | None = None
+    rayleigh_damping: float = 0.0
 
     def __post_init__(self):
         n = self.name
@@ -89,3 +112,54 @@ class Interconnection:
             v.finite_array(f"{n}.rest_angles", self.rest_angles)
         if self.rest_offset is not None:
             v.finite_array(f"{n}.rest_offset", self.rest_offset)
+        v.non_negative(f"{n}.rayleigh_damping", self.rayleigh_damping)
+        if self.element == "beam":
+            from plants.elastic.fem import BeamElement
+
+            if not isinstance(self.beam, BeamElement):
+                raise ParameterError(f"{n}.beam", type(self.beam).__name__, "a plants.elastic.fem.BeamElement with element = 'beam'")
+            if self.damping_form != "frame_invariant":
+                raise ParameterError(f"{n}.damping_form", self.damping_form, "'frame_invariant' for a beam element")
+        elif self.beam is not None:
+            raise ParameterError(f"{n}.beam", "given", f"only with element = 'beam' (element is {self.element!r})")
+        if self.element == "matrix":
+            if self.matrix is None:
+                raise ParameterError(f"{n}.matrix", None, "a 12x12 (spatial) or 6x6 (planar) stiffness matrix with element = 'matrix'")
+            if self.damping_form != "frame_invariant":
+                raise ParameterError(f"{n}.damping_form", self.damping_form,
+                                     "'frame_invariant' for a matrix element (its dampers act on the deformation rates)")
+            K = _element_matrix(f"{n}.matrix", self.matrix)
+            object.__setattr__(self, "matrix", _frozen(K))
+            if self.matrix_damping is not None:
+                C = _element_matrix(f"{n}.matrix_damping", self.matrix_damping)
+                if C.shape != K.shape:
+                    raise ParameterError(f"{n}.matrix_damping", C.shape, f"the shape of matrix, {K.shape}")
+                object.__setattr__(self, "matrix_damping", _frozen(C))
+            if self.frame is not None:
+                R = v.finite_array(f"{n}.frame", self.frame)
+                size = 3 if K.shape == (12, 12) else 2
+                if R.shape != (size, size) or not np.allclose(R.T @ R, np.eye(size), atol=1e-9) or np.linalg.det(R) < 0:
+                    raise ParameterError(f"{n}.frame", np.shape(self.frame), f"a {size}x{size} rotation matrix (orthonormal, det +1)")
+                object.__setattr__(self, "frame", _frozen(R))
+        else:
+            for field in ("matrix", "matrix_damping", "frame"):
+                if getattr(self, field) is not None:
+                    raise ParameterError(f"{n}.{field}", "given", f"only with element = 'matrix' (element is {self.element!r})")
+
+
+def _frozen(a: np.ndarray) -> tuple:
+    """A matrix as nested tuples (hashable, as a frozen dataclass's fields should be)."""
+    return tuple(tuple(float(x) for x in row) for row in a)
+
+
+def _element_matrix(name: str, value) -> np.ndarray:
+    """A finite, symmetric, positive semi-definite 12x12 or 6x6 matrix, or ParameterError."""
+    K = v.finite_array(name, value)
+    if K.shape not in ((12, 12), (6, 6)):
+        raise ParameterError(name, K.shape, "a 12x12 (spatial) or 6x6 (planar) matrix")
+    scale = float(np.max(np.abs(K))) or 1.0
+    if not np.allclose(K, K.T, rtol=0.0, atol=1e-12 * scale):
+        raise ParameterError(name, "not symmetric", "a symmetric matrix (K = K^T to 1e-12 of its largest entry)")
+    if float(np.linalg.eigvalsh(0.5 * (K + K.T))[0]) < -1e-10 * scale:
+        raise ParameterError(name, "indefinite", "a positive semi-definite matrix (it has a negative eigenvalue)")
+    return 0.5 * (K + K.T)

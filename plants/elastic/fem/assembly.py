@@ -66,10 +66,15 @@ def _check(elements, rest_positions) -> tuple[np.ndarray, int]:
     return P, 6 if P.shape[1] == 3 else 3
 
 
-def stiffness_assembly(elements, rest_positions) -> StiffnessAssembly:
+def stiffness_assembly(elements, rest_positions, node_maps=None) -> StiffnessAssembly:
     """``K_e``, ``a_0``, ``a_1``, ``a`` and ``K = a^T K_e a`` (48)-(59) of the structure whose nodes
-    rest at ``rest_positions`` [m] ((n, 3); planar (n, 2) as (x, z)) joined by ``elements``."""
+    rest at ``rest_positions`` [m] ((n, 3); planar (n, 2) as (x, z)) joined by ``elements``.
+
+    ``node_maps`` (optional, one d x d matrix per node) takes ``Delta`` from other coordinates of
+    the nodes to their world displacements (the plant's Euler-angle coordinates: ``blockdiag(I,
+    R(A) L(A))``), so that ``K`` is in those coordinates."""
     P, d = _check(elements, rest_positions)
+    maps = [np.eye(d)] * len(P) if node_maps is None else [np.asarray(T, dtype=float) for T in node_maps]
     blocks, rows_0, rows_1 = [], [], []
     n_internal = 0
     for element in elements:
@@ -81,8 +86,10 @@ def stiffness_assembly(elements, rest_positions) -> StiffnessAssembly:
             r0 = np.zeros((2 * d, len(P) * d))
             r1 = np.zeros((2 * d, max(element.internal_nodes, 0) * d))
             for half, (kind, index, _) in enumerate((start, end)):
-                target = r0 if kind == "node" else r1
-                target[half * d:(half + 1) * d, index * d:(index + 1) * d] = T
+                if kind == "node":
+                    r0[half * d:(half + 1) * d, index * d:(index + 1) * d] = T @ maps[index]
+                else:
+                    r1[half * d:(half + 1) * d, index * d:(index + 1) * d] = T
             rows_0.append(r0)
             rows_1.append((n_internal, r1))
         n_internal += element.internal_nodes
