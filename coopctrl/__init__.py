@@ -10,6 +10,8 @@ Heavy modules are imported lazily so that ``coopctrl --help`` stays fast.
 
 from __future__ import annotations
 
+import plants  # noqa: F401  first: it keys numba's cache on every kernel source (plants.numba_cache)
+
 __all__ = ["load_scenario", "simulate", "SimulationResult"]
 
 

@@ -11,7 +11,11 @@ Stateless: every function takes (t, x, u) or (Y, dY) and returns arrays. Subpack
 This package never imports :mod:`coopctrl`.
 """
 
-from plants.errors import (
+from plants import numba_cache as _numba_cache
+
+_numba_cache.configure()  # before any compiled kernel is defined: the cache keyed on every kernel source
+
+from plants.errors import (  # noqa: E402
     EulerSingularityError,
     ParameterError,
     PlantError,

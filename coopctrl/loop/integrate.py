@@ -28,9 +28,8 @@ run by :func:`make_plan`: a step allocates nothing (the singular-matrix fallback
 ``numpy.linalg.pinv`` of the Python integrator aside).
 
 The plant's right-hand side is ``rhs_into`` of :mod:`plants.cooperative` (spatial or planar, chosen by
-the type of the plant's arrays ``P``). numba's disk cache of a caller is keyed on the caller's file
-only: after changing this file, clear the ``__pycache__`` of :mod:`coopctrl.loop` (the cached
-:func:`coopctrl.loop.kernel.run_ticks` would keep the old code).
+the type of the plant's arrays ``P``). numba's disk cache is keyed on every kernel source
+(:mod:`plants.numba_cache`): a change here recompiles its callers in other files.
 """
 
 from __future__ import annotations

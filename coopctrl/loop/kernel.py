@@ -78,13 +78,8 @@ from plants.cooperative import _spatial_kernel as _sk
 from plants.cooperative.loaded_state import body_rates_into, planar_motion_into, spatial_motion_into
 from plants.frames import rotation_zyx_into
 
-#: numba's on-disk cache of this file is keyed on this file's source alone: after a change to a kernel it
-#: calls from another file (:mod:`coopctrl.controllers._kernels`, :mod:`coopctrl.load_distribution`,
-#: :mod:`plants.cooperative.loaded_state`, the plant kernels), bump this number (or clear ``__pycache__``),
-#: or a stale compiled tick is loaded. 2: the allocation-free ``*_into`` kernels (issue 10), reciprocal pivots in the LU.
-#: 10: the QP's contact normals and torque model moved to :mod:`coopctrl.load_distribution.contact_model`.
-#: The stages of :func:`tick_stages` are defined here so that this number refreshes them too.
-CALLEE_REVISION = 11
+# numba keys a cached function on its own file; the cache directory is keyed on every kernel source
+# (plants.numba_cache), so a change to a kernel this file calls from another file recompiles this one too.
 
 #: Codes of ``out_int[0]``.
 DONE = 0            #: every tick ran

@@ -8,10 +8,9 @@ constant node inertia ``W_i = diag(m_i, m_i, I_i)`` and no gyroscopic terms:
     W_0 \\ddot Y_0 = -w_0
 
 The interconnections' forces, dampers included (frame invariant by default, docs/model.md s.3), come from
-the kernels of :mod:`plants.elastic`. numba's on-disk cache of this file is keyed on this file alone:
-after a change to the kernels it calls (:mod:`plants.elastic`, :mod:`plants.arms` ``_chain_kernels`` /
-``_planar_kernels``, :mod:`plants.frames`, :mod:`plants.cooperative._linalg`), change this file too
-(bump ``CALLEE_REVISION`` below) or clear ``__pycache__``, or a stale compiled right-hand side is loaded.
+the kernels of :mod:`plants.elastic`. numba keys a cached function on its own file; the cache directory
+is keyed on every kernel source (:mod:`plants.numba_cache`), so a change to a kernel called from another
+file recompiles this one too.
 
 Allocation-free entry points (issue 10): ``rhs_into`` (the right-hand side into ``dx``),
 ``control_terms_into`` and ``node_state_into``, each with a workspace made once per run by
@@ -34,9 +33,6 @@ from plants.elastic._planar_kernels import damping_edges, elastic_edges, interco
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
 
-#: Changed whenever a kernel this file calls from another file changes, so that numba's on-disk
-#: cache of this file (keyed on this file's source) is rebuilt. 2: the ``*_into`` edge, node, arm kernels.
-CALLEE_REVISION = 4
 
 
 #: Fields of :class:`PlanarWorkspace`, in order (N = m + 1 nodes, n = ``nmax`` = max(3, largest arm dof)).
