@@ -162,7 +162,12 @@ def load_scenario(path: str | Path | None, overrides: Mapping[str, Any] | None =
     Raises:
         ScenarioError: Missing or unreadable file, TOML syntax error, unknown key or override
             path, or any invalid field (the message names its dotted path).
+        TypeError: ``path`` or ``overrides`` of another type (the message names the argument).
     """
+    from coopctrl.arguments import overrides_or_none, path_or_none
+
+    path_or_none("path", path, "the path of a scenario .toml file (a str or pathlib.Path), or None")
+    overrides_or_none("overrides", overrides)
     if path is None:
         return scenario_from_dict({}, overrides=overrides)
     source = str(path)
