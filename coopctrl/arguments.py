@@ -29,7 +29,7 @@ def value_text(value: Any) -> str:
         if value.size <= 6:
             return f"array({np.array2string(value, separator=', ', threshold=6)})"
         return f"array of shape {value.shape} and dtype {value.dtype}"
-    text = repr(value)
+    text = " ".join(repr(value).split())  # one line, whatever the value's own repr
     return text if len(text) <= VALUE_TEXT_MAX else text[:VALUE_TEXT_MAX - 3] + "..."
 
 

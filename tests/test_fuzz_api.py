@@ -3,7 +3,7 @@
 Every public call with one argument replaced by a wrong value raises ``TypeError`` or ``ValueError``
 whose one-line message names that argument, and nothing else (no ``AttributeError``, no numba
 ``TypingError``, no broadcasting error, no run that returns). One small planar loop is built once
-and reused; every refusal comes before any simulation, so the whole file takes about a second.
+and reused; every refusal comes before any simulation, so the calls take well under a second.
 """
 
 from __future__ import annotations
@@ -18,9 +18,9 @@ import coopctrl
 from coopctrl.scenario import build
 from coopctrl.simulator import closed_loop
 
-#: Draws of (call, argument, wrong value); the pools below are small, so 400 draws cover every pair
-#: several times, and the seed makes the draw order, the corrupted entries and the noise reproducible.
-DRAWS = 400
+#: Draws of (call, argument, wrong value); the pools below are small, so 600 draws cover every pair
+#: several times, and the seed makes the draw order and the corrupted entries reproducible.
+DRAWS = 600
 SEED = 22
 
 
@@ -69,6 +69,18 @@ def _cases(scenario, loop, x0, rng):
                   ("predicted_max_step", "x", v, lambda v=v: loop.predicted_max_step(v)) if v is not None else None,
                   ("diagnose", "x", v, lambda v=v: loop.diagnose(v)),
                   ("loaded_state", "x_unloaded", v, lambda v=v: loop.loaded_state(v))]
+    plant, u = loop.plant, np.zeros(loop.plant.input_size)
+    for v in _wrong_states(rng, x0)[:12]:  # the plant checks sizes only: a NaN state is the physics' to report
+        cases += [("plant.rhs", "x", v, lambda v=v: plant.rhs(0.0, v, u)),
+                  ("plant.node_poses", "x", v, lambda v=v: plant.node_poses(v)),
+                  ("plant.energy", "x", v, lambda v=v: plant.energy(v)),
+                  ("plant.contact_wrenches", "x", v, lambda v=v: plant.contact_wrenches(v)),
+                  ("plant.control_terms", "x", v, lambda v=v: plant.control_terms(v)),
+                  ("plant.leader_follower", "x", v, lambda v=v: plant.leader_follower(v)),
+                  ("plant.jacobians", "x_eq", v, lambda v=v: plant.jacobians(v, u))]
+    for v in [None, "tau", np.append(u, 0.0), u[:-1], np.zeros((2, u.size))]:
+        cases += [("plant.rhs", "tau", v, lambda v=v: plant.rhs(0.0, x0, v)),
+                  ("plant.jacobians", "tau_eq", v, lambda v=v: plant.jacobians(x0, v))]
     for v in wrong_durations:
         cases.append(("run", "duration", v, lambda v=v: loop.run(x0, v)))
     for v in wrong_flags:
