@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
 from coopctrl.loop.diagnosis import static_instability
 
@@ -62,6 +63,8 @@ class PreflightIssue:
         joint: The joint (1-based), or ``None``.
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     time_s: float
     kind: str
     message: str
@@ -80,6 +83,8 @@ class PreflightReport:
             sample got that far), at ``torque_ratio_time_s`` [s].
         issues: The failures, the earliest first (pre-flight stops at the first).
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     scenario: str
     samples: int

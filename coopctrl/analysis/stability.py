@@ -87,6 +87,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from coopctrl.analysis.modes import ModalAnalysis, damping_ratio_of, linear_modes
+from coopctrl.compact_repr import compact_repr
 from coopctrl.integrators import INTEGRATORS, get_integrator
 
 #: Relative bisection resolution on the measured limit [-].
@@ -143,6 +144,8 @@ class StabilityRow:
         note: Anything that qualifies the figures.
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     integrator: str
     order: int
     predicted_max_step_s: float
@@ -193,6 +196,8 @@ class StabilityReport:
             reference run, or ``{}``.
         rows: One :class:`StabilityRow` per integrator.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     scenario: str
     state: str
