@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import numbers
-import reprlib
 from typing import Any, Iterable
 
 import numpy as np
@@ -42,7 +41,7 @@ def value_text(value: Any) -> str:
     if isinstance(value, str):
         return repr(value) if len(value) <= VALUE_WIDTH else repr(value[:VALUE_WIDTH - 5]) + "..."
     if isinstance(value, np.ndarray):
-        if value.size <= SMALL and value.dtype.kind in "biuf":
+        if value.size <= SMALL and value.dtype.kind in "biufc":
             text = np.array2string(value, precision=4, separator=", ", threshold=SMALL)
             if len(text) <= VALUE_WIDTH:
                 return text
@@ -62,7 +61,7 @@ def value_text(value: Any) -> str:
             if len(text) <= VALUE_WIDTH:
                 return text
         return f"<dict of {len(value)} keys>"
-    text = reprlib.repr(value) if not dataclasses.is_dataclass(value) else repr(value)
+    text = repr(value)
     if len(text) <= VALUE_WIDTH and "\n" not in text:
         return text
     return f"<{type(value).__name__}>"
