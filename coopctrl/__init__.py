@@ -5,7 +5,10 @@ Public API (notebooks and outside checks use these names):
 - :func:`load_scenario` - a validated scenario from a TOML file (plus ``--set``-style overrides);
 - :func:`simulate` - run a scenario's closed loop and get a :class:`SimulationResult`.
 
-Heavy modules are imported lazily so that ``coopctrl --help`` stays fast.
+Each public function checks its arguments once per call, before any long work, and raises
+``TypeError`` (wrong kind) or ``ValueError`` (wrong value) with one line naming the argument, its value
+and what is allowed (:mod:`coopctrl.arguments`). Heavy modules are imported lazily so that
+``coopctrl --help`` stays fast.
 """
 
 from __future__ import annotations
@@ -16,14 +19,17 @@ __all__ = ["load_scenario", "simulate", "SimulationResult"]
 
 
 def load_scenario(path=None, overrides=None):
-    """A validated :class:`~coopctrl.scenario.Scenario` from ``path`` (None: the default scene)."""
+    """A validated :class:`~coopctrl.scenario.Scenario` from ``path`` (None: the default scene), with
+    ``overrides`` (dotted path -> value, ``{"simulation.duration": 0.5}``); see
+    :func:`coopctrl.scenario.load_scenario`."""
     from coopctrl.scenario import load_scenario as _load
 
     return _load(path, overrides)
 
 
 def simulate(scenario, progress: bool = False):
-    """Run the closed loop of ``scenario``; returns a :class:`~coopctrl.results.SimulationResult`."""
+    """Run the closed loop of ``scenario`` (a :class:`~coopctrl.scenario.Scenario`, from
+    :func:`load_scenario`); returns a :class:`~coopctrl.results.SimulationResult`."""
     from coopctrl.simulator import simulate as _simulate
 
     return _simulate(scenario, progress=progress)

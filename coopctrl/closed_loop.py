@@ -36,9 +36,11 @@ the methods below that name them delegate. The loop imports nothing of ``coopctr
 from __future__ import annotations
 
 import math
+from typing import Mapping
 
 import numpy as np
 
+from coopctrl import arguments
 from coopctrl.controllers import required_object_wrench
 from coopctrl.load_distribution import grasp_matrix, internal_force_basis
 from coopctrl.loop import diagnosis, loaded_start
@@ -151,8 +153,9 @@ class ClosedLoop:
         is instead split into ``n = ceil(T / h)`` equal steps ``T / n <= h`` (the largest step not
         above ``h`` that divides ``T``). ``h`` and ``substeps`` are updated to the steps taken.
         """
-        h = float(h)
-        if not (h > 0.0 and math.isfinite(h)) or h > self.T * (1.0 + 1e-12):
+        h = arguments.number("step", h, positive=True, unit="s")
+        uniform = arguments.flag("uniform", uniform)
+        if h > self.T * (1.0 + 1e-12):
             raise ValueError(f"step = {h!r} is invalid: expected 0 < step <= control period {self.T:g} s")
         if uniform:
             n = max(1, int(math.ceil(self.T / h * (1.0 - 1e-12))))
@@ -174,7 +177,7 @@ class ClosedLoop:
             if self._x_ref is None:
                 raise ValueError("no state to linearize about: pass x, or run the loop first")
             x = self._x_ref
-        x = np.asarray(x, dtype=float)
+        x = self._state("x", x)
         key = hash(x.tobytes())
         hit = self._modes_cache.get(key)
         if hit is None or not np.array_equal(hit[0], x):
@@ -214,13 +217,13 @@ class ClosedLoop:
     def diagnose(self, x) -> str:
         """Why a run at state ``x`` (the loaded start) cannot stay bounded, if the physics says so
         (:func:`coopctrl.loop.diagnosis.static_instability`); else ``""``."""
-        return diagnosis.static_instability(self, x)
+        return diagnosis.static_instability(self, self._state("x", x))
 
     def loaded_state(self, x_unloaded) -> np.ndarray:
         """The loaded state at rest at t = 0, as the controllers plan it, from this loop's parts
         (:func:`coopctrl.loop.loaded_start.loaded_state`)."""
         return loaded_start.loaded_state(self.plant, self.trajectory, self.grasps, self.ld.config, self.compliance,
-                                         self.torque_limits, x_unloaded)
+                                         self.torque_limits, self._state("x_unloaded", x_unloaded))
 
     # ------------------------------------------------------------------ the loop
     def run(self, x0, duration: float, progress: bool = False, integrals=None):
@@ -230,7 +233,16 @@ class ClosedLoop:
         sensor noise streams from their seeds, no QP warm start and no last split, the followers'
         force-error integrals zero or, with ``integrals`` (arm index -> (p,) [N s, N m s]), those
         values (an operating point). The same call twice gives bit-identical records.
+
+        Raises:
+            TypeError, ValueError: ``x0`` not ``plant.state_size`` finite numbers, ``duration`` not a finite
+                number >= 0 [s], ``progress`` not a bool, ``integrals`` not a mapping of follower index to
+                ``p`` finite numbers (the message names the argument; checked once, before the run).
         """
+        x0 = self._state("x0", x0)
+        duration = arguments.number("duration", duration, minimum=0.0, unit="s")
+        progress = arguments.flag("progress", progress)
+        integrals = self._integrals(integrals)
         N = int(round(duration / self.T)) + 1
         check_record_fits(N, sum(v[:1].size for v in self.empty_record(1).values() if isinstance(v, np.ndarray)),
                           duration, self.T)  # before allocating: refuse, with the size, what cannot fit
@@ -238,6 +250,27 @@ class ClosedLoop:
         start_integrals = {} if integrals is None else {int(i): np.asarray(v, dtype=float).copy()
                                                         for i, v in integrals.items()}
         return self._run(rec, x0, N, progress, start_integrals)
+
+    def _state(self, name: str, x) -> np.ndarray:
+        """``x`` checked as a state of the plant: ``plant.state_size`` finite numbers (a float copy)."""
+        n, nz = self.plant.state_size, self.plant.nz
+        return arguments.vector(name, x, n, f"a state of the plant, (z, dz/dt) of size {n} = 2 x {nz} "
+                                "(coopctrl.scenario.build.initial_state(scenario) gives the scenario's)")
+
+    def _integrals(self, integrals) -> dict | None:
+        """``integrals`` checked: None, or follower arm index -> ``p`` finite numbers [N s, N m s]."""
+        if integrals is None:
+            return None
+        allowed = f"None or a mapping of follower arm index ({sorted(self.followers)}) to {self.plant.p} numbers"
+        if not isinstance(integrals, Mapping):
+            raise arguments.invalid("integrals", integrals, allowed, TypeError)
+        checked = {}
+        for i, value in integrals.items():
+            if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or int(i) not in self.followers:
+                raise arguments.invalid("integrals", integrals, f"{allowed} (the key {i!r} is no follower)")
+            checked[int(i)] = arguments.vector(f"integrals[{int(i)}]", value, self.plant.p,
+                                               "a follower's force-error integral [N s, N m s]")
+        return checked
 
     def empty_record(self, N: int = 0):
         """The :class:`~coopctrl.loop.record.LoopRecord` of ``N`` ticks (NaN-filled; a run truncates it)."""

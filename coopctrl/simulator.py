@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from coopctrl import wiring
+from coopctrl import arguments, wiring
 from coopctrl.closed_loop import ClosedLoop
 from coopctrl.errors import InfeasibleLoad
 from coopctrl.loop.squeeze import squeeze_series
@@ -29,6 +29,7 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
     """
     from coopctrl.analysis.diagnosis import diagnose_failure
 
+    wiring.check_arguments(scenario, integrator, step, uniform_step, controllers)
     return wiring.closed_loop(scenario, integrator=integrator, step=step, uniform_step=uniform_step,
                               controllers=controllers, failure_causes=diagnose_failure)
 
@@ -61,7 +62,14 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`.
 
     A run whose recorded signals are not finite, or too large for finite metrics (a sensor noise of
-    1e300 N), is never ``ok``: its status is ``diverged`` with the signal named."""
+    1e300 N), is never ``ok``: its status is ``diverged`` with the signal named.
+
+    Raises:
+        TypeError: ``scenario`` is not a :class:`~coopctrl.scenario.Scenario` (a path, a dict: load it
+            first), or ``progress`` is not a bool.
+    """
+    wiring.check_scenario(scenario)
+    progress = arguments.flag("progress", progress)
     loop = closed_loop(scenario)
     plant = loop.plant
     sim = scenario.simulation

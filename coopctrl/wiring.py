@@ -8,6 +8,7 @@ sensors, load distribution, integrator). The analysis layer builds its loops her
 
 from __future__ import annotations
 
+from coopctrl import arguments
 from coopctrl.closed_loop import ClosedLoop
 from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
 from coopctrl.integrators import get_integrator
@@ -18,6 +19,36 @@ from coopctrl.sensors import SensorConfig, SensorSuite
 
 def _sensor(cfg) -> SensorConfig:
     return SensorConfig(noise_std=cfg.noise_std, quantization=cfg.quantization)
+
+
+def check_scenario(scenario, name: str = "scenario") -> None:
+    """``TypeError`` unless ``scenario`` is a :class:`~coopctrl.scenario.Scenario` (the message says how to
+    get one from a file, a scene's name or a dict)."""
+    from coopctrl.scenario import Scenario
+
+    arguments.instance(name, scenario, Scenario,
+                       "a coopctrl.scenario.Scenario: coopctrl.load_scenario(path) loads one from a .toml file, "
+                       "coopctrl.scenario.scenario_from_dict(data) builds one from a dict")
+
+
+def check_arguments(scenario, integrator=None, step=None, uniform_step: bool = False, controllers=None,
+                    failure_causes=None) -> None:
+    """The argument checks of :func:`closed_loop` (``TypeError``/``ValueError`` naming the argument), made
+    before anything is built."""
+    from coopctrl.integrators import INTEGRATORS
+
+    check_scenario(scenario)
+    if integrator is not None and not isinstance(integrator, str) and not callable(getattr(integrator, "step", None)):
+        raise arguments.invalid("integrator", integrator, f"None, a name ({', '.join(INTEGRATORS)}) or an "
+                                "integrator (with step(f, t, x, u, h), as coopctrl.integrators.Integrator)", TypeError)
+    if step is not None:
+        h, T = arguments.number("step", step, positive=True, unit="s"), scenario.simulation.control_period
+        if h > T * (1.0 + 1e-12):  # as ClosedLoop.set_step, but before the loop is built
+            raise arguments.invalid("step", step, f"0 < step <= simulation.control_period = {T:g} s")
+    arguments.flag("uniform_step", uniform_step)
+    arguments.callable_or_none("controllers", controllers, "None or f(leader, followers) -> (leader, followers)")
+    arguments.callable_or_none("failure_causes", failure_causes,
+                               "None or f(loop, evidence, k_done, t_fail, x_back, t_back, x0) -> Diagnosis")
 
 
 def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform_step: bool = False,
@@ -37,7 +68,11 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
             :mod:`coopctrl.tuning.loop_probes`).
         failure_causes: The loop's ``failure_causes`` part (:mod:`coopctrl.loop.diagnosis`); ``None``: the
             open-loop diagnosis.
+
+    Raises:
+        TypeError, ValueError: An argument of the wrong type or value (the message names it).
     """
+    check_arguments(scenario, integrator, step, uniform_step, controllers, failure_causes)
     plant = build.build_plant(scenario)
     space, m = scenario.space, len(scenario.arms)
     trajectory = build.trajectory(scenario)

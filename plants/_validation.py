@@ -61,3 +61,22 @@ def per_axis(name: str, value, n: int, *, allow_zero: bool = True) -> np.ndarray
     if np.any(arr < 0.0) or (not allow_zero and np.any(arr <= 0.0)):
         raise ParameterError(name, value, f"values {'>= 0' if allow_zero else '> 0'}")
     return arr
+
+
+def sized_vector(name: str, value, size: int, what: str) -> np.ndarray:
+    """``value`` as a contiguous float64 vector of ``size`` entries (``what`` says what it is): a
+    ``TypeError`` for no numbers at all (``None``, a string), a :class:`ParameterError` (``ValueError``)
+    naming ``name`` for another shape. Finiteness is not checked: a diverging run's NaN state must reach
+    the physics, which reports it. A float64 array of the right shape passes as it is (cheap)."""
+    if type(value) is np.ndarray and value.shape == (size,) and value.dtype == np.float64 and value.flags.c_contiguous:
+        return value
+    allowed = f"{what}: {size} numbers"
+    if value is None or isinstance(value, (str, bytes, dict)):
+        raise TypeError(f"{name} = {value!r:.80} is invalid: expected {allowed}")
+    try:
+        arr = np.ascontiguousarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} = {value!r:.80} is invalid: expected {allowed}") from None
+    if arr.shape != (size,):
+        raise ParameterError(name, f"<{'x'.join(map(str, arr.shape)) or 'scalar'} values>", f"{allowed}, shape ({size},)")
+    return arr

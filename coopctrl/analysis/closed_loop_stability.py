@@ -43,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.integrators import get_integrator
 
 #: Relative resolution of the bisection on the predicted limit [-].
@@ -95,6 +96,8 @@ class LoopLinearization:
         Ex, EI: Integral update Jacobians ``dI'/dx``, ``dI'/dI``.
         control_period: ``T`` [s].
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     t: float
     x: np.ndarray
@@ -258,6 +261,8 @@ class LoopLinearizer:
         scenario: A :class:`~coopctrl.scenario.Scenario`.
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     def __init__(self, scenario):
         from coopctrl.wiring import closed_loop
 
@@ -344,6 +349,8 @@ class ClosedLoopLimit:
         loop_spectral_radius: ``rho_0`` [-] at that instant (below 1: the loop decays at a small step).
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     integrator: str
     max_step_s: float
     at_time_s: float
@@ -425,6 +432,8 @@ class ModeProbe:
         linearizer: The scenario's :class:`LoopLinearizer`.
         lin: The :class:`LoopLinearization` at the start.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     def __init__(self, linearizer: LoopLinearizer, lin: LoopLinearization):
         self.linearizer = linearizer

@@ -46,6 +46,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import ScenarioError
 
 #: Relative tolerance [-] on the task parameters compared by :func:`check_same_task` (they are
@@ -127,6 +128,8 @@ class PlaneTrace:
         out_of_plane_moment: ``max(|n_x|, |n_z|)`` over contacts [N m] (0 planar).
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     scenario: str
     space: str
     t: np.ndarray
@@ -185,6 +188,8 @@ class PlanarTask:
         load_distribution, controllers, sensors: the sections as dicts (space-independent).
         simulation: ``(control_period [s], substeps, integrator, duration [s], start)``.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     object_mass: float
     object_inertia: float
@@ -386,6 +391,8 @@ class FidelityModel:
             rotation [rad], the contacts' ``max |f_y|`` [N] and ``max |n_x|, |n_z|`` [N m].
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     scenario: str
     space: str
     arm_models: list[str]
@@ -406,6 +413,8 @@ class FidelityModel:
 class FidelityReport:
     """The model-fidelity comparison: one :class:`FidelityModel` per scenario, in the order given,
     the ``reference`` (highest fidelity) by name, and the plane traces (for plots and saving)."""
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     models: list[FidelityModel]
     reference: str

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
 from coopctrl.io.number_text import numbers_text
 from coopctrl.loop.diagnosis import static_instability
@@ -66,6 +67,8 @@ class PreflightIssue:
         joint: The joint (1-based), or ``None``.
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     time_s: float
     kind: str
     message: str
@@ -84,6 +87,8 @@ class PreflightReport:
             sample got that far), at ``torque_ratio_time_s`` [s].
         issues: The failures, the earliest first (pre-flight stops at the first).
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     scenario: str
     samples: int

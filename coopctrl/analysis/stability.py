@@ -87,6 +87,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from coopctrl.analysis.modes import ModalAnalysis, damping_ratio_of, linear_modes
+from coopctrl.compact_repr import compact_repr
 from coopctrl.integrators import INTEGRATORS, get_integrator
 
 #: Relative bisection resolution on the measured limit [-].
@@ -142,6 +143,8 @@ class StabilityRow:
         horizon_s: Simulated time of each trial [s].
         note: Anything that qualifies the figures.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     integrator: str
     order: int
@@ -202,6 +205,8 @@ class StabilityReport:
             slowest first, with ``omega_rad_s``, ``frequency_Hz``, ``damping_ratio`` and the object
             ``coordinate`` that moves most (a carried beam's first bending mode is its ``object_z``).
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     scenario: str
     state: str

@@ -42,6 +42,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from coopctrl.analysis.reference import ReferenceConfig, ReferenceIntegrator
+from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import CoopctrlError, ScenarioError
 from coopctrl.integrators import INTEGRATORS, get_integrator
 from coopctrl.integrators.base import Integrator
@@ -213,6 +214,8 @@ class LoopRun:
         record: The loop's full record (``ClosedLoop.run``).
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     t: np.ndarray
     Y0: np.ndarray
     forces: np.ndarray
@@ -330,6 +333,8 @@ class TradeoffRow:
             force error).
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     integrator: str
     step_s: float
     substeps: int
@@ -363,6 +368,8 @@ class ReferenceSummary:
             run (the motion the position errors are small against).
     """
 
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
+
     config: ReferenceConfig
     wall_time_s: float
     rhs_evaluations: int
@@ -388,6 +395,8 @@ class TradeoffResult:
         omega_max_rad_s: Highest mode [rad/s] of the plant linearized at the initial state
             (:meth:`ClosedLoop.omega_max`), for reading the steps against stability limits.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     scenario: str
     duration_s: float

@@ -44,6 +44,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from coopctrl.compact_repr import compact_repr
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,6 +63,8 @@ class ModalAnalysis:
         stiffness_asymmetry: ``|K_z - K_z^T|_F / |K_z|_F`` [-].
         unstable_stiffness_modes: Number of negative ``omega^2`` (static instabilities).
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     x: np.ndarray
     tau: np.ndarray

@@ -77,6 +77,16 @@ class LoopRecord:
     saturated_last_tick: int = -1
     rhs_evaluations: int | None = None
 
+    def __repr__(self) -> str:
+        """A few lines: status, ticks and timing (never the arrays: ``record.x`` has them)."""
+        from coopctrl.compact_repr import compact_repr
+
+        n = int(np.shape(self.t)[0])
+        return compact_repr(self, ["status", "reason", "wall_time_s", "saturated_ticks"],
+                            extra=[("ticks", n), ("t_end_s", float(self.t[-1]) if n else None),
+                                   ("state_size", int(np.shape(self.x)[1]) if np.ndim(self.x) == 2 else None),
+                                   ("events", len(self.events))])
+
     @classmethod
     def empty(cls, N: int, nx: int, nu: int, m: int, p: int, npos: int) -> "LoopRecord":
         """NaN-filled arrays for ``N`` ticks (a run truncates them to the ticks it recorded)."""

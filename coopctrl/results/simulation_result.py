@@ -155,6 +155,23 @@ class SimulationResult:
         self.followers = [int(k) for k in self.followers]
         self.leader = int(self.leader)
 
+    def __repr__(self) -> str:
+        """A few lines: scene, status, sizes and key figures (never the arrays: ``result.x`` has them)."""
+        from coopctrl.compact_repr import compact_repr
+
+        n = int(self.t.shape[0])
+        try:
+            s = self.summary()
+        except Exception:  # noqa: BLE001 - a repr must never raise
+            s = {}
+        return compact_repr(self, ["scenario", "status", "reason", "space", "integrator", "step_s", "control_period_s"],
+                            extra=[("samples", n), ("t_end_s", float(self.t[-1]) if n else None),
+                                   ("arms", self.arms), ("state_size", int(self.x.shape[1])),
+                                   ("joints", int(self.tau.shape[1])),
+                                   ("position_error_rms_m", s.get("object_position_error_rms_m")),
+                                   ("max_torque_ratio", s.get("max_torque_ratio")),
+                                   ("qp_failures", s.get("qp_failures")), ("wall_time_s", self.wall_time_s)])
+
     # ------------------------------------------------------------------ views
     @property
     def pose_size(self) -> int:

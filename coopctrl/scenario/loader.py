@@ -164,7 +164,12 @@ def load_scenario(path: str | Path | None, overrides: Mapping[str, Any] | None =
         ScenarioError: Missing, unreadable, oversized or non-regular file, TOML syntax error, nesting
             deeper than :data:`~coopctrl.scenario.text.MAX_DEPTH`, unknown key or override path, a
             string with a control character, or any invalid field (the message names its dotted path).
+        TypeError: ``path`` or ``overrides`` of another type (the message names the argument).
     """
+    from coopctrl.arguments import overrides_or_none, path_or_none
+
+    path_or_none("path", path, "the path of a scenario .toml file or a shipped scene's name (a str or pathlib.Path), or None")
+    overrides_or_none("overrides", overrides)
     if path is None:
         return scenario_from_dict({}, overrides=overrides)
     if isinstance(path, str) and not Path(path).exists():

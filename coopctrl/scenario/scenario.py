@@ -246,6 +246,16 @@ class Scenario:
             raise ScenarioError("load_distribution.squeeze", list(ld.squeeze), f"a scalar or {pairs} values, one per contact pair [N]")
 
     # ------------------------------------------------------------------ views
+    def __repr__(self) -> str:
+        """A few lines: name, space, arms, integrator, duration and source (``to_dict()`` has every field)."""
+        from coopctrl.compact_repr import compact_repr
+
+        sim = self.simulation
+        return compact_repr(self, ["name", "source"],
+                            extra=[("space", self.scene.space), ("arms", [f"{a.model} {a.role}" for a in self.arms]),
+                                   ("integrator", sim.integrator), ("control_period_s", sim.control_period),
+                                   ("substeps", sim.substeps), ("duration_s", sim.duration)])
+
     @property
     def space(self) -> str:
         """``"planar"`` or ``"spatial"``."""

@@ -6,7 +6,8 @@
   started with ``spawn``: a fresh interpreter inherits no threads or locks from this process (which
   may hold numba, BLAS, tqdm or Dask threads, and ``fork`` with threads can deadlock), and it behaves
   the same on Linux, macOS and Windows. A worker's start-up costs about 0.85 s (imports, and the numba
-  kernels loaded from their on-disk cache), paid once per worker; ``forkserver`` measured the same.
+  kernels loaded from their on-disk cache), paid once per worker; ``forkserver`` measured the same. It is
+  not a run's time: a run's timeout and wall time start at its first tick (:mod:`coopctrl.sweep.worker`).
   Workers ignore SIGINT: Ctrl-C reaches the sweep, which stops them itself. Workers die with the sweep:
   on Linux the kernel sends them SIGKILL when their parent dies (``prctl(PR_SET_PDEATHSIG)``, which also
   covers a SIGKILL of the sweep); elsewhere a watchdog thread in each worker exits when its parent

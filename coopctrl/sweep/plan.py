@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import ScenarioError
 from coopctrl.sweep.errors import GridError
 from coopctrl.sweep.grid import MAX_RUNS, SweepGrid, value_of
@@ -26,6 +27,8 @@ class SweepRun:
         source: The scenario file (for messages), or ``None`` for the built-in default scene.
         data: The scenario file's raw TOML table (the overrides are applied to a copy).
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     index: int
     grid_values: tuple[tuple[str, Any], ...]
@@ -61,6 +64,8 @@ class SweepPlan:
         sets: The fixed overrides ``(path, value text)``.
         runs: One :class:`SweepRun` per combination, by index.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     name: str
     source: str | None

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.sweep.grid import SweepGrid, value_of, value_text
 
 #: Status of a run: the simulation's own (``ok``, ``diverged``, ``qp_failed``), ``error`` when the
@@ -125,6 +126,11 @@ class SweepResult:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rows", tuple(sorted(self.rows, key=lambda row: row["run"])))
+
+    def __repr__(self) -> str:
+        """A few lines: scene, grid, runs finished and failed (``table()`` prints the rows)."""
+        return compact_repr(self, ["scenario", "source", "runs"],
+                            extra=[("grid", self.grid.paths), ("finished", len(self.rows)), ("failed", len(self.failed))])
 
     @property
     def complete(self) -> bool:

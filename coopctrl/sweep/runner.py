@@ -30,9 +30,19 @@ from coopctrl.sweep.results import SweepResult, make_row
 from coopctrl.sweep.worker import RunFunction, execute_run, simulate_run
 
 
-#: Seconds a local worker gets beyond twice the run timeout before the sweep stops it from outside (a run
-#: stuck where the worker's own alarm cannot reach it, e.g. inside a C library); see :func:`run_sweep`.
+#: Seconds a local worker gets beyond twice the run timeout (and its run function's start-up allowance,
+#: :data:`~coopctrl.sweep.worker.STARTUP_ALLOWANCE_S` for the simulation) before the sweep stops it from
+#: outside (a run stuck where the worker's own alarm cannot reach it, e.g. inside a C library); see
+#: :func:`run_sweep`.
 BACKSTOP_GRACE_S = 30.0
+
+
+def backstop_s(run_function: RunFunction, run_timeout_s: float) -> float:
+    """Seconds after which the sweep stops a run from outside: ``allowance + 2 run_timeout_s +
+    BACKSTOP_GRACE_S``, where ``allowance`` is the run function's ``start_up_allowance_s`` (0 without a
+    start-up phase). The sweep cannot see when a worker's start-up ends, so it waits for both."""
+    allowance = float(getattr(run_function, "start_up_allowance_s", 0.0) or 0.0)
+    return allowance + 2.0 * run_timeout_s + BACKSTOP_GRACE_S
 
 
 def _lost_row(run: SweepRun, exc: BaseException) -> dict[str, Any]:
@@ -115,11 +125,13 @@ def run_sweep(
             process pool pickles it by name); :func:`~coopctrl.sweep.worker.simulate_run` simulates.
         save_interval_s: Least time between two saves while running [s].
         run_timeout_s: Wall time after which a run is stopped and becomes a ``timeout`` row [s]
-            (``None``: no limit). Applies to local workers and ``jobs = 1``, not on a Dask cluster.
-            The worker stops its own run (an alarm). A run that does not answer it (stuck inside a C
-            library) is stopped from outside ``2 run_timeout_s + BACKSTOP_GRACE_S`` after it started: the
-            pool's workers are terminated, that run is a ``timeout`` row and the other runs in flight
-            start again on a fresh pool.
+            (``None``: no limit), counted from the run's first tick: the worker's start-up (imports, the
+            numba kernels, building the scene) is not the run's time and has its own allowance
+            (:data:`~coopctrl.sweep.worker.STARTUP_ALLOWANCE_S`; see :mod:`coopctrl.sweep.worker`).
+            Applies to local workers and ``jobs = 1``, not on a Dask cluster. The worker stops its own
+            run (an alarm). A run that does not answer it (stuck inside a C library) is stopped from
+            outside :func:`backstop_s` after its worker took it: the pool's workers are terminated, that
+            run is a ``timeout`` row and the other runs in flight start again on a fresh pool.
 
     Returns:
         The :class:`SweepResult`, rows by run index.
@@ -193,14 +205,14 @@ def run_sweep(
                 for future in pending:
                     if future not in started and future.running():
                         started[future] = now
-                limit_s = 2.0 * run_timeout_s + BACKSTOP_GRACE_S
+                limit_s = backstop_s(run_function, run_timeout_s)
                 overdue = [f for f in pending if now - started.get(f, now) > limit_s]
                 if overdue:  # stop the pool from outside; the others in flight start again on a fresh one
                     executor.interrupt()
                     for future in sorted(overdue, key=lambda f: pending[f].index):
                         run = pending.pop(future)
                         deliver(make_row(run.index, run.columns, "timeout",
-                                         f"run stopped by the sweep {limit_s:g} s after it started: it did not answer "
+                                         f"run stopped by the sweep {limit_s:g} s after its worker took it: it did not answer "
                                          f"its run timeout of {run_timeout_s:g} s (--run-timeout)", None,
                                          now - started[future]))
                     redo = [pending.pop(future) for future in sorted(pending, key=lambda f: pending[f].index)]

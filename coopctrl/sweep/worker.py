@@ -2,6 +2,15 @@
 :func:`execute_run`, which turns whatever the run function does, an exception included, into a row.
 
 Both are module-level functions so that a process pool or a Dask cluster can pickle them by name.
+
+A run is timed from its first tick, not from the worker's start-up. A run function may declare a
+start-up phase: it sets the attribute ``start_up_allowance_s`` [s] and does its set-up inside
+:func:`start_up` (imports, loading or compiling the numba kernels, building the scene). The start-up
+is then bounded by that allowance (:data:`STARTUP_ALLOWANCE_S` for :func:`simulate_run`), and the run
+timeout and the row's ``wall_time_s`` count from the end of the start-up. A fresh worker under load
+takes seconds to start (3.5 s measured: a 0.2 s run became a ``timeout``), and a cold numba cache
+compiles a scene kind in minutes; neither is the run's time. A run function without a start-up phase
+is timed from its call.
 """
 
 from __future__ import annotations
@@ -20,21 +29,118 @@ from coopctrl.sweep.results import make_row
 #: ``reason`` (:meth:`~coopctrl.results.SimulationResult.summary`), or raises.
 RunFunction = Callable[[SweepRun], dict]
 
-
-def simulate_run(run: SweepRun) -> dict[str, Any]:
-    """Load the run's scenario (its data with the overrides), simulate it and return the summary."""
-    from coopctrl.simulator import simulate
-
-    return simulate(run.scenario()).summary()
+#: Seconds a worker may take to start a run of :func:`simulate_run` before the run is stopped as a
+#: ``timeout``: the imports, the numba kernels loaded from their cache (seconds under load) or compiled
+#: on a cold cache (1 to 3 minutes per scene kind on a loaded machine), the scene built. Only with a run
+#: timeout; the run's own timeout starts after it.
+STARTUP_ALLOWANCE_S = 600.0
 
 
 class RunTimeout(Exception):
-    """A run went past the sweep's ``--run-timeout``; its row has status ``timeout``."""
+    """A run went past the sweep's ``--run-timeout`` (or its start-up past its allowance); its row has
+    status ``timeout``."""
+
+
+class _RunClock:
+    """The clock of one run in :func:`execute_run`: its phase (``"start-up"`` or ``"run"``), when the run
+    itself started [s, ``time.perf_counter``], and whether its alarm (SIGALRM) can be re-armed."""
+
+    def __init__(self, timeout_s: float | None, allowance_s: float | None, alarm: bool):
+        self.timeout_s = timeout_s
+        self.allowance_s = STARTUP_ALLOWANCE_S if allowance_s is None else allowance_s
+        self.alarm = alarm
+        self.phase = "run"
+        self.run_start = time.perf_counter()
+        self.fired: list[str] = []
+
+    def arm(self, seconds: float | None) -> None:
+        if self.alarm and seconds is not None:
+            signal.setitimer(signal.ITIMER_REAL, seconds)
+
+    def expired(self) -> str:
+        """The reason of a timeout in the current phase."""
+        if self.phase == "start-up":
+            return (f"the worker's start-up (imports, numba kernels, building the scene) went past its allowance of "
+                    f"{self.allowance_s:g} s; the run never started")
+        return f"run stopped after the run timeout of {self.timeout_s:g} s (--run-timeout)"
+
+
+_local = threading.local()
+
+
+def current_phase() -> str | None:
+    """``"start-up"`` or ``"run"`` inside :func:`execute_run` in this thread, else ``None``."""
+    clock = getattr(_local, "clock", None)
+    return None if clock is None else clock.phase
 
 
 @contextmanager
-def _deadline(timeout_s: float | None) -> Iterator[list[str]]:
-    """Raise :class:`RunTimeout` in this thread after ``timeout_s`` seconds of wall time (SIGALRM).
+def start_up() -> Iterator[None]:
+    """The start-up of a run (see the module docstring): inside, the run's timeout is replaced by the run
+    function's ``start_up_allowance_s``; on leaving, the run's clock (its timeout and ``wall_time_s``)
+    starts. Outside :func:`execute_run` it does nothing."""
+    clock = getattr(_local, "clock", None)
+    if clock is None:
+        yield
+        return
+    clock.phase = "start-up"
+    clock.arm(clock.allowance_s)
+    yield
+    clock.phase = "run"
+    clock.run_start = time.perf_counter()
+    clock.arm(clock.timeout_s)
+
+
+#: The scene kinds whose kernels this process has loaded (:func:`_warm_up`).
+_warmed: set[tuple] = set()
+
+
+def _kind(scenario) -> tuple:
+    """What selects the compiled kernels' specialisation: the space, the arm models, the integrator, the
+    QP solver, whether the controllers run and whether torque limits bind."""
+    return (scenario.scene.space, tuple(a.model for a in scenario.arms), scenario.simulation.integrator,
+            scenario.load_distribution.solver, scenario.controllers.enabled, scenario.load_distribution.torque_limits)
+
+
+def _warm_up(scenario) -> None:
+    """Load (or compile) the compiled kernels of ``scenario``'s kind in this process, once per kind: a run
+    of one control period, whose outcome is ignored (the real run reports its own)."""
+    from dataclasses import replace
+
+    from coopctrl.simulator import simulate
+
+    kind = _kind(scenario)
+    if kind in _warmed:
+        return
+    clock = getattr(_local, "clock", None)
+    try:
+        sim = scenario.simulation
+        simulate(replace(scenario, simulation=replace(sim, duration=sim.control_period)))
+        _warmed.add(kind)
+    except Exception as exc:  # noqa: BLE001 - the real run meets the same error and reports it; not so a
+        if (clock is not None and clock.fired) or interruption_in(exc) is not None:  # timeout or a Ctrl-C
+            raise
+
+
+def simulate_run(run: SweepRun) -> dict[str, Any]:
+    """Load the run's scenario (its data with the overrides), simulate it and return the summary. The
+    imports, the scenario and a one-period run that loads the compiled kernels are its start-up
+    (:func:`start_up`); the run is timed from its first tick."""
+    with start_up():
+        from coopctrl.simulator import simulate
+
+        scenario = run.scenario()
+        _warm_up(scenario)
+    return simulate(scenario).summary()
+
+
+simulate_run.start_up_allowance_s = STARTUP_ALLOWANCE_S
+
+
+@contextmanager
+def _deadline(clock: _RunClock) -> Iterator[list[str]]:
+    """Raise :class:`RunTimeout` in this thread after ``clock.timeout_s`` seconds of wall time (SIGALRM),
+    re-armed by :func:`start_up` (the start-up allowance, then the run timeout from the first tick).
 
     Only in a process's main thread on a POSIX system (a local worker, or the sweep's own process with
     ``jobs = 1``); elsewhere (a Dask worker's thread) the run has no deadline. The alarm interrupts
@@ -42,21 +148,18 @@ def _deadline(timeout_s: float | None) -> Iterator[list[str]]:
     guarded against non-termination on validated input. Yields a list that holds the timeout's message
     once it fired (the exception may surface wrapped, e.g. as numba's ``SystemError``).
     """
-    fired: list[str] = []
-    usable = (timeout_s is not None and hasattr(signal, "setitimer")
-              and threading.current_thread() is threading.main_thread())
-    if not usable:
-        yield fired
+    if not clock.alarm:
+        yield clock.fired
         return
 
     def expire(signum, frame) -> None:
-        fired.append(f"run stopped after the run timeout of {timeout_s:g} s (--run-timeout)")
-        raise RunTimeout(fired[0])
+        clock.fired.append(clock.expired())
+        raise RunTimeout(clock.fired[0])
 
     previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, timeout_s)
+    clock.arm(clock.timeout_s)
     try:
-        yield fired
+        yield clock.fired
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0.0)
         signal.signal(signal.SIGALRM, previous)
@@ -69,13 +172,16 @@ def execute_run(run_function: RunFunction, run: SweepRun, timeout_s: float | Non
     is ``diverged``, an :class:`~coopctrl.errors.InfeasibleLoad` ``qp_failed``, a run still going after
     ``timeout_s`` seconds [s] ``timeout`` (see :func:`_deadline`), and any other exception ``error``
     with the reason ``"<ExceptionType>: <message>"``. Only ``KeyboardInterrupt`` and ``SystemExit`` go
-    through. ``wall_time_s`` is the whole call [s].
+    through. ``wall_time_s`` [s] and the timeout count from the run's first tick: from the end of the run
+    function's :func:`start_up` (bounded by its ``start_up_allowance_s``), else from its call.
     """
-    start = time.perf_counter()
+    alarm = (timeout_s is not None and hasattr(signal, "setitimer")
+             and threading.current_thread() is threading.main_thread())
+    clock = _RunClock(timeout_s, getattr(run_function, "start_up_allowance_s", None), alarm)
     summary: dict[str, Any] | None = None
-    fired: list[str] = []
+    outer, _local.clock = getattr(_local, "clock", None), clock
     try:
-        with _deadline(timeout_s) as fired:
+        with _deadline(clock) as fired:
             summary = run_function(run)
         status, reason = summary.get("status", "ok"), summary.get("reason", "")
     except RunTimeout as exc:
@@ -88,7 +194,9 @@ def execute_run(run_function: RunFunction, run: SweepRun, timeout_s: float | Non
             summary, status, reason = None, "timeout", fired[0]
         else:
             summary, status, reason = _failure(exc)
-    return make_row(run.index, run.columns, status, reason, summary, time.perf_counter() - start)
+    finally:
+        _local.clock = outer
+    return make_row(run.index, run.columns, status, reason, summary, time.perf_counter() - clock.run_start)
 
 
 def _failure(exc: Exception) -> tuple[None, str, str]:

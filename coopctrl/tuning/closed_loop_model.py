@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.errors import TuningError
 from coopctrl.tuning.one_period_map import OnePeriodMap
@@ -56,6 +57,8 @@ class ClosedLoopModel:
         operating_point: The equilibrium it is linearized about.
         control_period: ``T`` [s].
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     scenario: object
     opened: object

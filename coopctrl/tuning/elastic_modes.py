@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning import signal_names as names
 
 #: Central-difference step on the object's pose and rate [m, rad, m/s, rad/s].
@@ -38,6 +39,8 @@ class ElasticModes:
         wrench_per_mode: (m, p, n_modes) change of each arm's measured wrench [N, N m] per unit
             of the mode's shape: which loop sees which mode.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     natural_frequencies: np.ndarray
     damping_ratios: np.ndarray

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.elastic_modes import elastic_modes
 from coopctrl.tuning.errors import TuningError
@@ -70,6 +71,8 @@ class ForceLoop:
         nyquist: ``pi / T`` [rad/s], the highest frequency the sampled loop can act at.
         stable: Whether every pole of the closed loop is inside the unit circle.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     follower: int
     component: str

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.elastic_modes import elastic_modes
 from coopctrl.tuning.errors import TuningError, UnachievableDesign
@@ -49,6 +50,8 @@ class ForceLoopDesign:
         target: ``{"bandwidth_rad_s": ..., "phase_margin_deg": ...}``.
         other_components: :class:`ForceLoop` of the follower's other components with the same gains.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     gains: Gains
     force_loop: ForceLoop

@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from coopctrl.compact_repr import compact_repr
 
 #: Frequency samples per decade of the response used for the margins and the bandwidth.
 POINTS_PER_DECADE = 400
@@ -72,6 +73,8 @@ class Margins:
             margin [rad/s]; stability_crossover: of the stability margin [rad/s].
         delay_margin: Extra loop delay that reaches instability, ``phase_margin / gain_crossover`` [s].
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     gain_margin: float
     phase_margin: float

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning.errors import TuningError, UnachievableDesign
 from coopctrl.tuning.gains import Gains
 from coopctrl.tuning.leader_error_model import error_dynamics, error_poles
@@ -69,6 +70,8 @@ class LeaderLQRDesign:
         poles: Closed-loop poles with the returned ``(omega_n, zeta)``.
         note: What was approximated, if anything.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     gains: Gains
     K: np.ndarray

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.leader_error_model import error_poles
 
@@ -41,6 +42,8 @@ class LeaderLoop:
         step: ``control.step_response`` of ``closed_loop``.
         step_info: ``control.step_info`` of ``step`` (overshoot in percent, times in s).
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     axis: str
     natural_frequency: float

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.errors import TuningError
 from coopctrl.tuning.loop_probes import probed_closed_loop
@@ -29,6 +30,8 @@ class StepComparison:
         linear: (N, n_y) the linear model's response.
         status: The nonlinear run's status (``"ok"`` or why it stopped).
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     input: str
     amplitude: float

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.errors import TuningError
 from coopctrl.tuning.loop_probes import probed_closed_loop
@@ -51,6 +52,8 @@ class OnePeriodMap:
     Args:
         scenario: A held scene (:func:`~coopctrl.tuning.operating_point.hold_scenario`).
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     def __init__(self, scenario):
 

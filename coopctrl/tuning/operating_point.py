@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning.errors import NoOperatingPoint
 
 
@@ -48,6 +49,8 @@ class OperatingPoint:
         force_error: ``max |F* - F_meas|`` there [N, N m].
         iterations: Newton iterations used.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     x: np.ndarray
     tau: np.ndarray

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from coopctrl.compact_repr import compact_repr
 from coopctrl.tuning import signal_names as names
 
 #: Central-difference step of the output map on poses and rates [m, rad, m/s, rad/s].
@@ -37,6 +38,8 @@ class PlantModel:
             object itself is not at rest (e.g. the unloaded state, in which gravity is not yet
             carried by the interconnections). The linear model leaves it out.
     """
+
+    __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     system: object
     x: np.ndarray

@@ -16,6 +16,7 @@ from plants.elastic._layout import (
     STATUS_OK,
     STATUS_SINGULAR_MASS,
 )
+from plants._validation import sized_vector
 from plants.errors import EulerSingularityError, ParameterError, SingularJacobianError
 from plants.frames import body_rate_map_inv, euler_zyx_from_rotation, rotation_zyx
 
@@ -176,8 +177,13 @@ class CooperativePlant:
     def rhs(self, t: float, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """``dx/dt = (z', Gamma^-1 ((tau, 0) - phi))`` at state ``x`` and input ``tau``.
 
-        Raises :class:`~plants.errors.EulerSingularityError` at ``cos(theta) = 0`` of any node.
+        Raises :class:`~plants.errors.EulerSingularityError` at ``cos(theta) = 0`` of any node;
+        ``TypeError``/:class:`~plants.errors.ParameterError` for an ``x`` or ``tau`` of another size.
         """
+        nz = self.nz
+        if not (type(x) is np.ndarray and x.shape == (2 * nz,) and type(tau) is np.ndarray  # noqa: E721 - exact
+                and tau.shape == (nz - self.p,)):  # the sizes only, cheaply (integrators call this per step)
+            x, tau = self._state(x), self._input(tau)
         dx = self._kern.rhs_kernel(x, tau, *self._args)
         if self._status[0]:
             self._check(self._status, x)
@@ -206,8 +212,17 @@ class CooperativePlant:
         kernel checks nothing: a nonzero ``status[0]`` leaves ``dx`` partly written."""
         return self._kern.rhs_into, self._args
 
+    def _state(self, x, name: str = "x") -> np.ndarray:
+        """``x`` as a state (``state_size`` floats), checked for its size only (cheap; see
+        :func:`plants._validation.sized_vector`)."""
+        return sized_vector(name, x, self.state_size, "a state (z, dz/dt) of the plant")
+
+    def _input(self, tau, name: str = "tau") -> np.ndarray:
+        """``tau`` as the input (``input_size`` joint torques [N m]), checked for its size only."""
+        return sized_vector(name, tau, self.input_size, "the joint torques [N m]")
+
     def _node_state(self, x):
-        x = np.ascontiguousarray(x, dtype=float)
+        x = self._state(x)
         st = np.zeros(2, dtype=np.int64)
         out = self._kern.node_state_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
                                           self._dh_off, self._bases, self._tools, self._gravity, st)
@@ -249,7 +264,7 @@ class CooperativePlant:
     def control_terms(self, x) -> ControlTerms:
         """:class:`ControlTerms` at state ``x`` (one kernel call, :attr:`control_kernel_into`, into a new
         workspace whose arrays the returned object keeps)."""
-        xc = np.array(x, dtype=float)
+        xc = self._state(x).copy()
         st = np.zeros(2, dtype=np.int64)
         cws = self._kern.make_control_workspace(self._arm_dof, self.node_count)
         self._kern.control_terms_into(xc, *self._args[:-1], st, cws)
@@ -284,7 +299,7 @@ class CooperativePlant:
 
     def kinetic_energy(self, x) -> float:
         """``T = 1/2 z'^T Gamma(z) z'`` [J]: arms and nodes."""
-        x = np.ascontiguousarray(x, dtype=float)
+        x = self._state(x)
         dz = x[self.nz:]
         return 0.5 * float(dz @ self.mass_matrix(x) @ dz)
 
@@ -292,7 +307,7 @@ class CooperativePlant:
         """Total energy [J]: kinetic (arms and nodes), elastic, and gravitational (nodes and links).
 
         Conserved by :meth:`rhs` without damping and input (docs/model.md s.3)."""
-        x = np.ascontiguousarray(x, dtype=float)
+        x = self._state(x)
         T = self.kinetic_energy(x)
         Y = self.node_poses(x)
         U_arms = self._kern.arm_potential_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
@@ -344,7 +359,7 @@ class CooperativePlant:
     # ------------------------------------------------------------------ regrouping (4.10-4.11)
     def leader_follower(self, x) -> dict:
         """The leader/follower coordinates ``(q_v, Y_s, Y_0)`` of (163-165) and their rates."""
-        x = np.asarray(x, dtype=float)
+        x = self._state(x)
         Y = self.node_poses(x).reshape(self.node_count, self.p)
         dY = self.node_velocities(x).reshape(self.node_count, self.p)
         sl = self.q_slice(self.leader)
@@ -377,8 +392,8 @@ class CooperativePlant:
 
     def jacobians(self, x_eq, tau_eq, rel_step: float = 1e-6):
         """``(A, B) = (df/dx, df/dtau)`` by central differences (step ``rel_step * max(1, |v|)``)."""
-        x_eq = np.asarray(x_eq, dtype=float)
-        tau_eq = np.asarray(tau_eq, dtype=float)
+        x_eq = self._state(x_eq, "x_eq")
+        tau_eq = self._input(tau_eq, "tau_eq")
         nx, nu = x_eq.size, tau_eq.size
         A = np.empty((nx, nx))
         B = np.empty((nx, nu))
