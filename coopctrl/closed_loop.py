@@ -42,7 +42,7 @@ import numpy as np
 
 from coopctrl import arguments
 from coopctrl.controllers import required_object_wrench
-from coopctrl.load_distribution import grasp_matrix, internal_force_basis
+from coopctrl.load_distribution import grasp_matrix
 from coopctrl.loop import diagnosis, loaded_start
 from coopctrl.loop.diagnosis import DIAGNOSIS_TICKS_BACK
 from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
@@ -305,12 +305,14 @@ class ClosedLoop:
     def squeeze_of(self, F, r_contacts, r_object) -> np.ndarray:
         """Virtual-linkage squeeze [N] of the internal part of contact wrenches ``F`` (m, p).
 
-        The internal part is ``F - G^+ G F`` (the Moore-Penrose split of the same resultant),
-        decomposed on the virtual-linkage basis by least squares.
+        The internal part is ``F - G^+ G F`` (the Moore-Penrose split of the same resultant), its
+        pair tensions those of :func:`~coopctrl.load_distribution.grasp_matrix.virtual_linkage_squeeze`
+        (nearest the desired squeeze where the pairs are dependent; NaN where ill-conditioned).
         """
+        from coopctrl.load_distribution.grasp_matrix import virtual_linkage_squeeze
+
         G = grasp_matrix(r_contacts, r_object, self.space)
-        f = F.reshape(-1)
+        f = np.asarray(F, dtype=float).reshape(-1)
         f_int = f - np.linalg.pinv(G) @ (G @ f)
-        E = internal_force_basis(r_contacts, self.space)
-        return np.linalg.lstsq(E, f_int, rcond=None)[0]
+        return virtual_linkage_squeeze(f_int, r_contacts, self.space, self.squeeze_desired)
 

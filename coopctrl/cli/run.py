@@ -48,6 +48,11 @@ def cmd_run(args) -> int:
     if args.record_every is not None:  # checked against the schema's range with the scenario
         args.sets = [*args.sets, f"simulation.record_every={args.record_every}"]
     scenario = _load(args)
+    from coopctrl.record_memory import check_record_fits
+
+    sim = scenario.simulation  # a record that cannot fit is refused before pre-flight, whose cost grows with the duration
+    check_record_fits(int(round(sim.duration / sim.control_period)) + 1, scenario.state_size + sum(scenario.dof_per_arm),
+                      sim.duration, sim.control_period)  # a lower bound (state and torques); the loop checks the exact size
     if not args.no_preflight:  # an impossible task is refused before the first tick (exit 1)
         from coopctrl.analysis.preflight import preflight
 

@@ -62,8 +62,8 @@ METRICS = (
 )
 
 #: Columns measured on the wall clock: they vary from run to run, everything else is reproducible.
-#: ``realtime_factor`` is simulated time over the loop's wall time; ``wall_time_s`` is the whole run
-#: in its worker (loading, building and simulating) [s].
+#: ``realtime_factor`` is simulated time over the loop's wall time; ``wall_time_s`` is the run from its
+#: first tick [s]: the worker's start-up (imports, compiling or loading the kernels, building) is excluded.
 TIMING_COLUMNS = ("realtime_factor", "wall_time_s")
 
 #: The file names written into an output directory.
