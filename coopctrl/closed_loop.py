@@ -40,7 +40,7 @@ from typing import Mapping
 
 import numpy as np
 
-from coopctrl import arguments
+import coopctrl.arguments as arguments
 from coopctrl.controllers import required_object_wrench
 from coopctrl.load_distribution import grasp_matrix
 from coopctrl.loop import diagnosis, loaded_start

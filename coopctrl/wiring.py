@@ -8,7 +8,7 @@ sensors, load distribution, integrator). The analysis layer builds its loops her
 
 from __future__ import annotations
 
-from coopctrl import arguments
+import coopctrl.arguments as arguments
 from coopctrl.closed_loop import ClosedLoop
 from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
 from coopctrl.integrators import get_integrator

@@ -17,13 +17,14 @@ from pathlib import Path
 #: The package that carries the scenes in an installed wheel (``pyproject.toml``, ``package-dir``).
 PACKAGE = "coopctrl.scenarios"
 
+#: The ``coopctrl`` package's folder (found from this file: importing the package's API is not needed).
+_PACKAGE_DIR = Path(__file__).resolve().parent.parent
+
 
 def _checkout_dir() -> Path | None:
     """``scenarios/`` beside the imported ``coopctrl`` package when it runs from a checkout (the
     repository root has ``pyproject.toml``), else None."""
-    import coopctrl
-
-    root = Path(coopctrl.__file__).resolve().parent.parent
+    root = _PACKAGE_DIR.parent
     folder = root / "scenarios"
     return folder if (root / "pyproject.toml").is_file() and folder.is_dir() else None
 
@@ -40,9 +41,7 @@ def builtin_dir() -> Path:
     try:
         files = resources.files(PACKAGE)
     except ModuleNotFoundError:  # neither a checkout nor an installed wheel: nothing shipped
-        import coopctrl
-
-        return Path(coopctrl.__file__).resolve().parent / "scenarios"
+        return _PACKAGE_DIR / "scenarios"
     return Path(os.fspath(files))  # a wheel installs unzipped: a real folder
 
 
