@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _quick_plots import quick_plots, stub_plots  # noqa: F401  (quick_plots: autouse, the plots stubbed)
 
 from coopctrl import cli
 
@@ -39,21 +40,6 @@ def one_line(err: str) -> str:
     return lines[0]
 
 
-def _stub_plots(result, directory):
-    """A stand-in for :func:`coopctrl.results.plots.plot_result` (tested in tests/test_plots.py): one tiny
-    PNG, so that the folder holds what a run writes without 1-2 s of matplotlib per figure here."""
-    path = Path(directory) / "object_pose.png"
-    path.write_bytes(b"\x89PNG\r\n\x1a\n")
-    return [path]
-
-
-@pytest.fixture(autouse=True)
-def quick_plots(monkeypatch):
-    import coopctrl.results.plots as plots
-
-    monkeypatch.setattr(plots, "plot_result", _stub_plots)
-
-
 @pytest.fixture(scope="module")
 def result_dir(tmp_path_factory):
     """One short result folder, written by ``coopctrl run --out``."""
@@ -61,7 +47,7 @@ def result_dir(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("base") / "r"
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(plots, "plot_result", _stub_plots)
+        patch.setattr(plots, "plot_result", stub_plots)
         assert cli.main(["run", "planar_two_arm_lift", *SHORT, "-q", "--out", str(out)]) == 0
     return out
 

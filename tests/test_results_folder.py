@@ -5,13 +5,13 @@ itself alone (issue 21 item 2), it is replaced as one unit (issue 22), and ``--r
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import zipfile
 from pathlib import Path
 
 import numpy as np
 import pytest
+from _quick_plots import quick_plots  # noqa: F401  (autouse: the plots stubbed)
 
 from coopctrl import cli
 from coopctrl.io import dumps_toml
@@ -21,21 +21,6 @@ from test_urdf_scenario import _dh_as_urdf, _dh_rows, _scene_data
 LIFT = "planar_two_arm_lift"
 #: Figures of the summary that are measured on the wall clock (they differ from run to run).
 TIMING = ("wall_time_s", "realtime_factor", "qp_solve_time_median_us", "qp_time_share")
-
-
-def _stub_plots(result, directory):
-    """A stand-in for :func:`coopctrl.results.plots.plot_result` (tested in tests/test_plots.py): one tiny
-    PNG, so that the folder holds what a run writes without 1-2 s of matplotlib per figure here."""
-    path = Path(directory) / "object_pose.png"
-    path.write_bytes(b"\x89PNG\r\n\x1a\n")
-    return [path]
-
-
-@pytest.fixture(autouse=True)
-def quick_plots(monkeypatch):
-    import coopctrl.results.plots as plots
-
-    monkeypatch.setattr(plots, "plot_result", _stub_plots)
 
 
 def run_cli(args, capsys):

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
@@ -153,8 +152,8 @@ def _one_line(text) -> str:
 def output_directory(text: str) -> Path:
     """The ``--out DIR`` of a subcommand, checked before any work (an ``argparse`` type: a bad place is a
     usage error, exit 2). An existing directory is accepted (its files of the same names are replaced);
-    a missing one must be creatable. The check creates the missing directories and a probe file, then
-    removes them again, so that it leaves nothing behind and says exactly what the system refused.
+    a missing one must be creatable (:func:`coopctrl.io.output_folder.check_writable`, which leaves
+    nothing behind).
 
     Raises:
         argparse.ArgumentTypeError: ``text`` is an existing non-directory (a file, ``/dev/null``), or a
@@ -164,32 +163,12 @@ def output_directory(text: str) -> Path:
     allowed = "a new or existing writable directory"
     if path.exists() and not path.is_dir():
         raise argparse.ArgumentTypeError(f"{text!r} is invalid: it exists and is not a directory; expected {allowed}")
-    created: list[Path] = []
+    from coopctrl.io.output_folder import check_writable
+
     try:
-        missing = []
-        parent = path
-        while not parent.exists():
-            missing.append(parent)
-            if parent.parent == parent:
-                break
-            parent = parent.parent
-        if parent.exists() and not parent.is_dir():
-            raise argparse.ArgumentTypeError(f"{text!r} is invalid: {str(parent)!r} is not a directory; expected {allowed}")
-        for directory in reversed(missing):
-            directory.mkdir()
-            created.append(directory)
-        fd, probe = tempfile.mkstemp(dir=path, prefix=".coopctrl-probe.", suffix=".tmp")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        reason = exc.strerror or type(exc).__name__
-        raise argparse.ArgumentTypeError(f"{text!r} is invalid: cannot write there ({reason}); expected {allowed}") from None
-    finally:
-        for directory in reversed(created):
-            try:
-                directory.rmdir()
-            except OSError:
-                pass
+        check_writable(text, path, allowed)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
     return path
 
 

@@ -79,16 +79,18 @@ def check_output_folder(path: str | os.PathLike, kind: FolderKind) -> Path:
             shown = ", ".join(repr(n) for n in foreign[:3]) + (f" and {len(foreign) - 3} more" if len(foreign) > 3 else "")
             raise ValueError(f"{text!r} is invalid: it holds {shown}, which `{kind.command}` does not write and would "
                              f"lose when it replaces the folder; expected {allowed}")
-    _check_parent_writable(text, real.parent, allowed)
+    check_writable(text, real.parent, allowed, where=f"beside it in {str(real.parent)!r}")
     return path
 
 
-def _check_parent_writable(text: str, parent: Path, allowed: str) -> None:
-    """Make (and remove again) the missing parents and a probe folder beside the target."""
+def check_writable(text: str, directory: Path, allowed: str, where: str = "there") -> None:
+    """Refuse (ValueError, naming ``text``) a ``directory`` that cannot be made or written: make its
+    missing parents and a probe folder in it, then remove what was made, so the check leaves nothing
+    behind and says exactly what the system refused. ``where`` words the place in the message."""
     created: list[Path] = []
     try:
         missing = []
-        up = parent
+        up = directory
         while not up.exists():
             missing.append(up)
             if up.parent == up:
@@ -96,18 +98,17 @@ def _check_parent_writable(text: str, parent: Path, allowed: str) -> None:
             up = up.parent
         if up.exists() and not up.is_dir():
             raise ValueError(f"{text!r} is invalid: {str(up)!r} is not a directory; expected {allowed}")
-        for directory in reversed(missing):
-            directory.mkdir()
-            created.append(directory)
-        probe = tempfile.mkdtemp(dir=parent, prefix=".coopctrl-probe.", suffix=".tmp")
+        for folder in reversed(missing):
+            folder.mkdir()
+            created.append(folder)
+        probe = tempfile.mkdtemp(dir=directory, prefix=".coopctrl-probe.", suffix=".tmp")
         shutil.rmtree(probe, ignore_errors=True)
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
-        raise ValueError(f"{text!r} is invalid: cannot write beside it in {str(parent)!r} ({reason}); "
-                         f"expected {allowed}") from None
+        raise ValueError(f"{text!r} is invalid: cannot write {where} ({reason}); expected {allowed}") from None
     finally:
-        for directory in reversed(created):
+        for folder in reversed(created):
             try:
-                directory.rmdir()
+                folder.rmdir()
             except OSError:
                 pass
