@@ -8,8 +8,9 @@ numba), of the numba, llvmlite and Python versions: any change of a kernel sourc
 empty directory, and the next run compiles afresh.
 
 The directory is ``$NUMBA_CACHE_DIR/coopctrl-<digest>`` when ``NUMBA_CACHE_DIR`` is set, else
-``$XDG_CACHE_HOME/coopctrl/numba/coopctrl-<digest>`` (``~/.cache`` by default). Directories of other
-digests unused for :data:`PRUNE_AFTER_S` are removed. :func:`configure` must run before any
+``$XDG_CACHE_HOME/coopctrl/numba/coopctrl-<digest>`` (``~/.cache`` by default; the system's temporary
+folder if that cannot be written). Directories of other digests unused for :data:`PRUNE_AFTER_S` are
+removed. :func:`configure` must run before any
 ``@njit(cache=True)`` decorator does; ``plants/__init__.py`` and ``coopctrl/__init__.py`` call it
 first thing.
 """
@@ -84,8 +85,14 @@ def configure(top: Path | None = None) -> str:
         directory.mkdir(parents=True, exist_ok=True)
         os.utime(directory)
         _prune(base, keep=directory.name)
-    except OSError:
-        pass  # an unwritable cache only costs compile time: numba then warns and compiles in memory
+    except OSError:  # an unwritable home: the system's temporary folder (a cache costs only compile time)
+        import tempfile
+
+        directory = Path(tempfile.gettempdir()) / f"coopctrl-numba-{os.getuid() if hasattr(os, 'getuid') else 0}" / name
+        try:
+            directory.mkdir(parents=True, exist_ok=True)
+        except OSError:
+            pass  # numba then warns that it cannot cache, and compiles in memory
     os.environ["NUMBA_CACHE_DIR"] = str(directory)  # read by numba when it is imported (and by child processes)
     if "numba" in sys.modules:  # already imported: its config is read at each cached function's definition
         sys.modules["numba"].config.CACHE_DIR = str(directory)
