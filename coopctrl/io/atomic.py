@@ -89,15 +89,15 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str | No
     _fsync_directory(directory)
 
 
-def _permissions(target: Path) -> int:
-    """Keep an existing file's permissions; a new file gets the usual 0666 minus the umask
-    (``mkstemp`` would leave 0600)."""
+def _permissions(target: Path, new: int = 0o666) -> int:
+    """Keep an existing file's (or folder's) permissions; a new one gets ``new`` (0666 for a file,
+    0777 for a folder) minus the umask (``mkstemp`` / ``mkdtemp`` would leave 0600 / 0700)."""
     try:
         return target.stat().st_mode & 0o777
     except OSError:
         umask = os.umask(0)
         os.umask(umask)
-        return 0o666 & ~umask
+        return new & ~umask
 
 
 def _fsync_directory(directory: Path) -> None:

@@ -18,7 +18,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator
 
-from coopctrl.io.atomic import _HELD, _PENDING, _fsync_directory
+from coopctrl.io.atomic import _HELD, _PENDING, _fsync_directory, _permissions
 
 #: ``renameat2`` flag: exchange the two paths atomically (Linux >= 3.15).
 _RENAME_EXCHANGE = 2
@@ -109,7 +109,7 @@ def atomic_directory(target: str | os.PathLike) -> Iterator[Path]:
     finally:
         _release(held)
     try:
-        os.chmod(folder, _permissions(target))
+        os.chmod(folder, _permissions(target, new=0o777))
         yield Path(folder)
         _fsync_directory(Path(folder))
         _put_in_place(folder, target)
@@ -152,14 +152,3 @@ def _put_in_place(folder: str, target: Path) -> None:
         _PENDING.discard(old)
     finally:
         _release(held)
-
-
-def _permissions(target: Path) -> int:
-    """Keep an existing folder's permissions; a new one gets 0777 minus the umask (``mkdtemp`` would
-    leave 0700)."""
-    try:
-        return target.stat().st_mode & 0o777
-    except OSError:
-        umask = os.umask(0)
-        os.umask(umask)
-        return 0o777 & ~umask

@@ -51,26 +51,12 @@ def sha256_of(path: Path) -> str:
 
 
 # ---------------------------------------------------------------------- writing
-def _mesh_file(name: str, urdf: Path) -> Path:
-    """The file a ``<mesh filename>`` names, as the replay reads it: relative to the URDF's folder,
-    ``file://`` absolute, ``package://PKG/REST`` as ``D/REST`` for the nearest folder ``D`` named ``PKG``
-    above the URDF (else ``REST`` beside it)."""
-    folder = urdf.resolve().parent
-    if name.startswith("file://"):
-        return Path(name[len("file://"):])
-    if name.startswith("package://"):
-        package, _, rest = name[len("package://"):].partition("/")
-        for parent in (folder, *folder.parents):
-            if parent.name == package:
-                return parent / rest
-        return folder / rest
-    return folder / name
-
-
 def _mesh_files(urdf: Path) -> list[tuple[str, Path]]:
     """``(filename attribute, file)`` of the ``<mesh>`` elements of ``urdf`` whose files exist here
     (other URI schemes and missing files are left as they are)."""
     from defusedxml import ElementTree
+
+    from coopctrl.replay.urdf_visuals import resolve_mesh  # a mesh is found as the replay finds it
 
     try:
         tree = ElementTree.parse(urdf)
@@ -81,7 +67,7 @@ def _mesh_files(urdf: Path) -> list[tuple[str, Path]]:
         name = mesh.get("filename") or ""
         if "://" in name and not name.startswith(("file://", "package://")):
             continue
-        path = _mesh_file(name, urdf)
+        path = resolve_mesh(name, urdf)
         if path.is_file():
             found.append((name, path))
     return found
