@@ -12,7 +12,6 @@ import numpy as np
 from coopctrl import arguments, wiring
 from coopctrl.closed_loop import ClosedLoop
 from coopctrl.errors import InfeasibleLoad
-from coopctrl.loop.squeeze import squeeze_series
 from coopctrl.results import SimulationResult
 from coopctrl.results.thinning import finish_record
 from coopctrl.scenario import build
@@ -89,7 +88,7 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]
-    squeeze = squeeze_series(rec["F_measured"], rec["r_contacts"], Y0[:, :loop.npos], plant.space, loop.squeeze_desired)
+    squeeze = rec["squeeze"]  # recorded per tick by the kernel (coopctrl.loop.squeeze)
     report = plant.size_report()
     model = {"arms": report["arms"], "dof_per_arm": report["dof_per_arm"], "space": plant.space,
              "unloaded_state": plant.unloaded_state, "state_size": plant.state_size,

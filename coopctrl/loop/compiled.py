@@ -32,6 +32,7 @@ from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 from coopctrl.loop import integrate as I
 from coopctrl.loop import kernel as K
+from coopctrl.loop.squeeze import squeeze_workspace
 from coopctrl.loop.stages import pointers_in_use
 from coopctrl.loop.state import LoopState
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
@@ -399,6 +400,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     # every argument bound once (the reference path enters the kernel twice per tick)
     head = (cl.spatial,)
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
+    sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
     t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
     with pointers_in_use():
         stages = K.tick_stages(cl.spatial, plan, cl.P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
@@ -406,10 +408,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                                out_float)
     stages_startup = _time.perf_counter() - t_stages
     args = (N, loop.T, cl.steps, plan, stages, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
-            cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
+            cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
             state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
             rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
-            rec["r_contacts"], qs, qb, rec["qp_iterations"], rec["qp_active_rows"], x_good, x_fail, out_int, out_float)
+            rec["r_contacts"], rec["squeeze"], qs, qb, rec["qp_iterations"], rec["qp_active_rows"], x_good, x_fail, out_int, out_float)
     run_ticks = K.run_ticks
     qp_solve_time = rec["qp_solve_time_s"]
 

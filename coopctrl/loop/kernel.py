@@ -71,6 +71,7 @@ from coopctrl.load_distribution.contact_model import contact_normals_into, torqu
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities, gi_solve
 from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
+from coopctrl.loop.squeeze import pair_squeeze_into
 from coopctrl.loop.stages import compile_stage
 from coopctrl.loop.energy import plant_energy
 from plants.cooperative import _planar_kernel as _pk
@@ -524,9 +525,9 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
 
 @njit(cache=True, _nrt=False)
 def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
-              ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, noise_q, noise_o, noise_f, noise_cfg,
+              ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
               x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
-              rec_r, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float):
+              rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float):
     """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
 
     ``P`` = the plant's kernel arguments ``(arm_kind, arm_dof, q_off, tables, table_off, bases, tools,
@@ -557,12 +558,15 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
     setpoint offset ``r`` and PI output ``v`` [N, N m], error gain ``g`` [-] and measurement delay
     ``d`` (int64, ticks) (:class:`~coopctrl.tuning.loop_probes.FollowerProbe`).
 
-    ``tw``: the tick's work arrays (:func:`tick_workspace`).
+    ``tw``: the tick's work arrays (:func:`tick_workspace`); ``sq``: the squeeze's desired values and work
+    arrays (:func:`coopctrl.loop.squeeze.squeeze_workspace`).
 
-    Record (row ``k`` per tick): ``rec_qs``, ``rec_qb``, ``rec_qit`` the QP's status code, binding
-    families mask and iterations; ``rec_qact`` the inequality rows active at the compiled solver's
-    answer (:func:`~coopctrl.load_distribution.goldfarb_idnani.gi_active_inequalities`; -1 on a held,
-    passive or externally solved tick).
+    Record (row ``k`` per tick): ``rec_sq`` (N, P) the virtual-linkage squeeze [N] of the measured
+    wrenches at the true contact nodes (:func:`coopctrl.loop.squeeze.pair_squeeze_into`); ``rec_qs``,
+    ``rec_qb``, ``rec_qit`` the QP's status code, binding families mask and iterations; ``rec_qact``
+    the inequality rows active at the compiled solver's answer
+    (:func:`~coopctrl.load_distribution.goldfarb_idnani.gi_active_inequalities`; -1 on a held, passive
+    or externally solved tick).
 
     Returns nothing; ``out_int = (code, tick, detail, detail, -, ticks recorded, last tick that passed
     the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
@@ -608,6 +612,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
     # every work array of a tick, made once per run by tick_workspace (the kernel allocates nothing)
     (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
      rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw  # TickWorkspace, in its field order
+    sq_desired, sq_E, sq_W, sq_V, sq_sigma = sq  # SqueezeWork, in its field order
     for a in range(obj_inertia.shape[0]):
         obj_inertia[a] = obj[1 + a]
     k = k0
@@ -803,6 +808,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
                 rec_Fi[k, i, a] = last[2, i, a]
             for a in range(npos):
                 rec_r[k, i, a] = Y[i + 1, a]
+        pair_squeeze_into(rec_r[k], Fm, sq_desired, sq_E, sq_W, sq_V, sq_sigma, rec_sq[k])
         rec_qs[k] = qs
         rec_qb[k] = qb
         rec_qit[k] = qit

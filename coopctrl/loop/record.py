@@ -24,6 +24,9 @@ class LoopRecord:
         F_external: (N, m, p) its external part ``A w_N`` [N, N m].
         F_internal: (N, m, p) its internal part ``F - A w_N`` [N, N m].
         r_contacts: (N, m, npos) true contact-node positions [m].
+        squeeze: (N, m(m-1)/2) virtual-linkage squeeze per contact pair ``i < j`` of ``F_measured`` at
+            ``r_contacts`` [N] (positive: compression), relative to the loop's desired squeeze where the
+            pairs are dependent; NaN where it is ill-conditioned (:mod:`coopctrl.loop.squeeze`, recorded per tick).
         qp_iterations: (N,) active-set changes (compiled) or iterations of the QP solve (the reference
             path's backend; -1 when it does not report them, and on a passive run) [-].
         qp_active_rows: (N,) inequality rows active (held at a bound) at the compiled solver's answer
@@ -58,6 +61,7 @@ class LoopRecord:
     F_external: np.ndarray
     F_internal: np.ndarray
     r_contacts: np.ndarray
+    squeeze: np.ndarray
     qp_iterations: np.ndarray
     qp_active_rows: np.ndarray
     qp_solve_time_s: np.ndarray
@@ -95,7 +99,7 @@ class LoopRecord:
 
         return cls(t=nan(N), x=nan(N, nx), tau=nan(N, nu), Y0_nominal=nan(N, p), F_measured=nan(N, m, p),
                    F_commanded=nan(N, m, p), F_external=nan(N, m, p), F_internal=nan(N, m, p),
-                   r_contacts=nan(N, m, npos), qp_iterations=np.full(N, -1, dtype=np.int64),
+                   r_contacts=nan(N, m, npos), squeeze=nan(N, m * (m - 1) // 2), qp_iterations=np.full(N, -1, dtype=np.int64),
                    qp_active_rows=np.full(N, -1, dtype=np.int64), qp_solve_time_s=nan(N),
                    energy=nan(N), kinetic_energy=nan(N), saturated_joint_ticks=np.zeros(nu, dtype=np.int64))
 
