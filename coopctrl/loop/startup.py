@@ -3,8 +3,9 @@
 A run's machine code depends on its *kind*: the space (``"planar"``, ``"spatial"``) and the integrator
 family (``"explicit"``: euler, symplectic_euler, rk4 and the integrators stepped outside the kernel;
 ``"implicit"``: implicit_midpoint, implicit_euler, Newton in the kernel). Every scene of a kind runs
-the same compiled functions; the first run of a kind on a machine compiles them (tens of seconds),
-later runs load them from the cache directory (:func:`plants.numba_cache.configure`, keyed on the
+the same compiled functions (a passive run's energy and the elastic split add small stages of their
+own, compiled at their first use and not announced); the first run of a kind on a machine compiles
+them (tens of seconds), later runs load them from the cache directory (:func:`plants.numba_cache.configure`, keyed on the
 kernel sources), in a fraction of a second.
 
 *Cold* or warm is read from the files of the cache directory, never from numba's internals:
