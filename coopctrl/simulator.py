@@ -101,7 +101,7 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
         qp_status=rec["qp_status"], qp_binding=rec.get("qp_binding", []), qp_iterations=rec["qp_iterations"], qp_active_rows=rec["qp_active_rows"], qp_solve_time_s=rec["qp_solve_time_s"],
         events=rec["events"], status=rec["status"], reason=rec["reason"], model=model, integrator=sim.integrator,
         step_s=sim.step, control_period_s=sim.control_period, duration_s=sim.duration,
-        wall_time_s=rec["wall_time_s"], leader=scenario.leader, followers=list(scenario.followers),
+        wall_time_s=rec["wall_time_s"], startup_s=rec["startup_s"], leader=scenario.leader, followers=list(scenario.followers),
         qp_active_constraints=rec["qp_binding_counts"], qp_time_s=rec["qp_time_s"],
         torque_saturated_ticks=rec["saturated_ticks"],
         energy=None if scenario.controllers.enabled else rec["energy"],

@@ -31,7 +31,7 @@ VIEW = ".venv/bin/coopctrl view out/carry"
 RANGE = ".venv/bin/coopctrl check planar_two_arm_lift --set 'springs[0].stiffness=1.7976931348623157e308'"
 INSTALL = "python3 -m venv .venv && .venv/bin/pip install -e . && .venv/bin/coopctrl run"
 #: Summary lines whose values are timings (they vary from run to run).
-TIMINGS = ("wall time", "real-time factor", "QP solve time median")
+TIMINGS = ("wall time", "real-time factor", "startup (compile or load)", "QP solve time median")
 #: Relative tolerance on the README's printed figures: they are shown to 4 significant digits, and a
 #: different CPU or library version may move the last one. (On one machine the deterministic runs are
 #: bit-identical; a figure printed with fewer digits may also move by one unit of its last digit, see

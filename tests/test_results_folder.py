@@ -20,7 +20,7 @@ from test_urdf_scenario import _dh_as_urdf, _dh_rows, _scene_data
 
 LIFT = "planar_two_arm_lift"
 #: Figures of the summary that are measured on the wall clock (they differ from run to run).
-TIMING = ("wall_time_s", "realtime_factor", "qp_solve_time_median_us", "qp_time_share")
+TIMING = ("wall_time_s", "realtime_factor", "startup_s", "qp_solve_time_median_us", "qp_time_share")
 
 
 def run_cli(args, capsys):

@@ -53,19 +53,27 @@ def cmd_run(args) -> int:
     sim = scenario.simulation  # a record that cannot fit is refused before pre-flight, whose cost grows with the duration
     check_record_fits(int(round(sim.duration / sim.control_period)) + 1, scenario.state_size + sum(scenario.dof_per_arm),
                       sim.duration, sim.control_period)  # a lower bound (state and torques); the loop checks the exact size
-    if not args.no_preflight:  # an impossible task is refused before the first tick (exit 1)
-        from coopctrl.analysis.preflight import preflight
+    # the first run of a kind compiles its kernels (pre-flight's too) for tens of seconds: it says so first
+    from coopctrl.cli.first_run import announce
 
-        report = preflight(scenario)
-        if not report.ok:
-            print(f"{PROG}: failed: pre-flight: {_one_line(report.issues[0].message)} "
-                  "(--no-preflight runs it anyway)", file=sys.stderr)
-            return 1
-    simulate = _simulate_function()
-    progress = not (args.quiet or args.json) and sys.stderr.isatty()
+    notice = announce([scenario], ticker=not args.quiet)
     try:
+        if not args.no_preflight:  # an impossible task is refused before the first tick (exit 1)
+            from coopctrl.analysis.preflight import preflight
+
+            report = preflight(scenario)
+            if not report.ok:
+                if notice is not None:
+                    notice.close()
+                print(f"{PROG}: failed: pre-flight: {_one_line(report.issues[0].message)} "
+                      "(--no-preflight runs it anyway)", file=sys.stderr)
+                return 1
+        simulate = _simulate_function()
+        progress = not (args.quiet or args.json) and sys.stderr.isatty()
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
             result = simulate(scenario, progress=progress)
+            if notice is not None:
+                notice.close()
             with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so
                 summary = result.summary()
             if args.out is not None:  # the whole folder as one unit (an earlier result stays whole until then)
@@ -73,12 +81,17 @@ def cmd_run(args) -> int:
 
                 write_result_folder(result, scenario, args.out)
     except (DivergenceError, InfeasibleLoad) as err:
+        if notice is not None:
+            notice.close()
         kind = "diverged" if isinstance(err, DivergenceError) else "qp_failed"
         print(f"{PROG}: {kind}: {_one_line(err)}", file=sys.stderr)
         return 1
     except OutputWriteError as err:
         print(f"{PROG}: failed: {err}; {args.out} was left as it was", file=sys.stderr)
         return 1
+    finally:
+        if notice is not None:
+            notice.close()
     from coopctrl.results import summary_table
 
     ticks = summary.get("samples", len(result.t))

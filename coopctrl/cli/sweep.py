@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import sys
 
 from coopctrl.cli._core import (PROG, _add_set_option, float_range, int_range, output_directory, parse_sets,
@@ -48,17 +49,34 @@ def cmd_sweep(args) -> int:
     grid = SweepGrid.parse(args.grid)
     sets = parse_sets(args.sets)
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
+    path = resolve_scenario(args.scenario) if args.scenario else None
+    run_function = _run_function()
+    # the first runs of a kind compile its kernels for tens of seconds: the sweep says so first (the ticker
+    # only where no progress bar shares its line, and until the first row)
+    from coopctrl.cli.first_run import announce_sweep
+
+    notice = announce_sweep(path, grid, sets, run_function, ticker=not (args.quiet or progress))
+
+    def first_row(row) -> None:
+        if notice is not None:
+            notice.close()
+
     try:
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library or worker prints
-            result = run_sweep(resolve_scenario(args.scenario) if args.scenario else None, grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
-                               progress=progress, out=args.out, run_function=_run_function(),
-                               run_timeout_s=args.run_timeout)
+            result = run_sweep(path, grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
+                               progress=progress, out=args.out, run_function=run_function,
+                               run_timeout_s=args.run_timeout, on_row=first_row)
     except SweepInterrupted as stop:
+        if notice is not None:
+            notice.close()
         partial = stop.result
         _emit(partial, args)
         kept = f"kept in {args.out}" if args.out is not None else "printed above (use --out DIR to keep them in files)"
         print(f"{PROG}: interrupted: {len(partial.rows)} of {partial.runs} runs finished, {kept}", file=sys.stderr)
         return 130
+    finally:
+        if notice is not None:
+            notice.close()
     _emit(result, args)
     if result.failed:
         print(f"{PROG}: {len(result.failed)} of {result.runs} runs failed (see their status and reason)", file=sys.stderr)

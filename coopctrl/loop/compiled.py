@@ -32,6 +32,7 @@ from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 from coopctrl.loop import integrate as I
 from coopctrl.loop import kernel as K
+from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace
 from coopctrl.loop.stages import pointers_in_use
 from coopctrl.loop.state import LoopState
@@ -377,6 +378,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     # the integrator's work arrays and Newton state, cold (an integrator outside the kernel steps in Python:
     # the kernel stops before its plant block, and an explicit Euler plan only fixes the argument types)
     plan = I.make_plan(loop.integrator if not cl.plant_outside else ExplicitEuler(), plant.state_size)
+    # the run's work arrays so far: a first call in a process loads (or compiles) their compiled constructors
+    # (the QP's and the plant's workspaces, tens of ms): start-up, not run time
+    setup = _time.perf_counter() - wall0
     times = np.arange(N) * loop.T
     traj = _trajectory_samples(loop.trajectory, times, p)
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
@@ -392,11 +396,6 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     from coopctrl.loop.euler_band import margin_cos
 
     band = margin_cos()
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=N - 1, unit="tick", desc=loop.name, leave=False, mininterval=0.2)
     # every argument bound once (the reference path enters the kernel twice per tick)
     head = (cl.spatial,)
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
@@ -437,7 +436,14 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         advance(0, 0)
         run_ticks = _entry_point(run_ticks, (*head, 0, 0, *args))
     out_int[0] = out_int[1] = 0
-    startup = _time.perf_counter() - t_load + stages_startup
+    # the kind is warm now (its stamp, once per process: start-up too, like the listeners it tells)
+    S.started(S.kind_of_run(cl.spatial, isinstance(plan, I.ImplicitPlan)), _time.perf_counter() - t_load + stages_startup + setup)
+    startup = _time.perf_counter() - t_load + stages_startup + setup
+    bar = None
+    if progress:  # after the start-up (a first run's compile has its own notice: coopctrl.cli.first_run)
+        from tqdm import tqdm
+
+        bar = tqdm(total=N - 1, unit="tick", desc=loop.name, leave=False, mininterval=0.2)
     status, reason = "ok", ""
     k = 0
     exc = None
@@ -535,7 +541,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     _probe_errors(loop, rec)
     for i, c in loop.followers.items():  # the controllers' integrals as the run left them (read by analysis code)
         _inner(c).integral[:] = state.integrals[i]
-    rec.update(status=status, reason=reason, events=events, wall_time_s=wall,
+    rec.update(status=status, reason=reason, events=events, wall_time_s=wall, startup_s=startup,
                qp_time_s=qp_time if ld is not None or passive else math.nan,
                qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings,
                rhs_evaluations=None if cl.plant_outside else int(out_int[7]),

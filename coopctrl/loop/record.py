@@ -40,7 +40,8 @@ class LoopRecord:
     Run summary:
         status: ``"ok"``, ``"diverged"`` or ``"qp_failed"``; reason: why it stopped (``""`` if ok).
         events: ``(t [s], kind, message)`` of what happened (held QP splits, saturation, the stop).
-        wall_time_s: wall time of the run [s]; qp_time_s: total QP time [s] (NaN with the compiled
+        wall_time_s: wall time of the run [s], from its first tick; startup_s: its start-up before the
+            first tick, compiling (a first run of its kind) or loading the compiled kernels [s]; qp_time_s: total QP time [s] (NaN with the compiled
             solver, not timed; 0 on a passive run).
         qp_binding_counts: ticks on which each family was binding; saturated_ticks: ticks with a
             torque clipped at its limit; saturated_joint_ticks: (nu,) such ticks per joint;
@@ -73,6 +74,7 @@ class LoopRecord:
     reason: str = ""
     events: list = field(default_factory=list)
     wall_time_s: float = 0.0
+    startup_s: float = 0.0
     qp_time_s: float = 0.0
     qp_binding_counts: dict = field(default_factory=dict)
     saturated_ticks: int = 0

@@ -43,7 +43,9 @@ class SimulationResult:
         status: ``"ok"``, ``"diverged"`` or ``"qp_failed"``; ``reason`` says why (one line).
         model: ``{"arms", "dof_per_arm", "space", "unloaded_state", "state_size"}``.
         integrator, step_s, control_period_s, duration_s: Integration settings ([s]).
-        wall_time_s: Wall-clock time of the run [s].
+        wall_time_s: Wall-clock time of the run [s], from its first tick.
+        startup_s: Start-up of the run before its first tick [s]: compiling (the first run of its kind
+            on a machine) or loading the compiled kernels; not in ``wall_time_s`` (NaN: not known).
         energy: Total energy T + Pi + gravity (N,) [J], or ``None``.
         kinetic_energy: Kinetic energy T (N,) [J], or ``None`` (scales the energy drift).
         energy_conserving: True when the run had no control and no damping.
@@ -83,6 +85,7 @@ class SimulationResult:
     control_period_s: float = float("nan")
     duration_s: float = float("nan")
     wall_time_s: float = float("nan")
+    startup_s: float = float("nan")
     energy: np.ndarray | None = None
     kinetic_energy: np.ndarray | None = None
     energy_conserving: bool = False

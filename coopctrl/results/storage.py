@@ -22,7 +22,7 @@ ARRAY_FIELDS = (
 #: Scalar and dict fields stored as JSON in the ``meta`` entry of ``result.npz``.
 META_FIELDS = (
     "scenario", "space", "status", "reason", "model", "integrator", "step_s", "control_period_s",
-    "duration_s", "wall_time_s", "energy_conserving", "leader", "followers", "qp_active_constraints",
+    "duration_s", "wall_time_s", "startup_s", "energy_conserving", "leader", "followers", "qp_active_constraints",
     "qp_time_s", "torque_saturated_ticks", "record_every", "tick_summary", "scenario_sha256",
 )
 #: The node (end-effector) poses are stored too (optional on reading: older results have none).
@@ -34,7 +34,7 @@ TEXT_ENTRIES = ("qp_status", "events_t", "events_kind", "events_message", "meta"
 #: The type each ``meta`` field must have when read back (``float`` fields may be ``None`` for NaN).
 _META_TYPES = {
     "scenario": str, "space": str, "status": str, "reason": str, "model": dict, "integrator": str,
-    "step_s": float, "control_period_s": float, "duration_s": float, "wall_time_s": float,
+    "step_s": float, "control_period_s": float, "duration_s": float, "wall_time_s": float, "startup_s": float,
     "energy_conserving": bool, "leader": int, "followers": list, "qp_active_constraints": dict,
     "qp_time_s": float, "torque_saturated_ticks": int, "record_every": int, "tick_summary": (dict, type(None)),
     "scenario_sha256": str, "_nan": list,

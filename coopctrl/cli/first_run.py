@@ -1,0 +1,198 @@
+"""The first run of a kind says what it does: one line on stderr before compiling, a ticker on a terminal.
+
+The first run of a kind of kernels on a machine (:class:`coopctrl.loop.startup.KernelKind`: planar or
+spatial, explicit or implicit integrators) compiles them for tens of seconds before its first tick;
+later runs load them from the cache. ``coopctrl run`` and ``coopctrl sweep`` ask
+:func:`coopctrl.loop.startup.is_cold` before any long work and, for a cold kind, print one line on
+stderr::
+
+    coopctrl: compiling the spatial closed-loop kernels (explicit integrators: rk4) for this machine:
+    about 45 s once; later runs load them from /home/me/.cache/coopctrl/.../coopctrl-0123456789abcdef
+
+(on one line), with the estimate of :data:`COMPILE_S`. On a terminal (stderr is a TTY) an elapsed-time
+ticker follows on the next line until the kernels are ready (:func:`coopctrl.loop.startup.listening`),
+then is erased; nothing else is written when stderr is not a terminal. A warm run prints nothing.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Iterable
+
+from coopctrl.cli._core import PROG
+
+#: Start-up of the first ``coopctrl run`` of a kind [s]: ``(on an empty cache, once another kind has been
+#: compiled)``, on the project's 2-core machine class at a load average of about 1. Measured: planar-explicit
+#: on an empty cache 50 s (the whole ``coopctrl run`` of the default scene, 50.5 s at load 1.1); spatial-
+#: explicit 56 s (``benchmarks/bench_startup.py``, the carry, load 1.0: README, "The compiled loop"); an
+#: implicit kind after its explicit one about 23 s and the planar kind after the spatial one about 21 s
+#: (issue 18's measurements on this machine class). Under a load average of 6 to 10 the processor time of
+#: the same cold runs less a warm run's was 59 s (planar-explicit, empty cache), 32 s (planar-implicit after
+#: planar-explicit), 68 s (spatial-explicit after the planar kinds) and 45 s (spatial-implicit after
+#: spatial-explicit), their wall times two to six times that: the figures are estimates, said as such.
+#: Derived, not measured alone: an implicit kind on an empty cache (its explicit kind's figure plus the
+#: implicit increment) and spatial-explicit after a planar kind (68 s of loaded processor time scaled by
+#: planar-explicit's 46 s quiet / 59 s loaded). A second kind compiles only what the first did not (the
+#: QP solver, the frames and the shared kernels are cached once).
+COMPILE_S = {
+    "planar-explicit": (50.0, 21.0),
+    "spatial-explicit": (56.0, 53.0),
+    "planar-implicit": (73.0, 23.0),
+    "spatial-implicit": (79.0, 23.0),
+}
+
+#: How often the ticker redraws [s].
+TICK_S = 1.0
+
+
+def estimate_s(kinds, warm_kinds=()) -> float:
+    """About how long compiling the cold ``kinds`` takes [s] (:data:`COMPILE_S`): the first at its
+    empty-cache figure when no kind is warm (``warm_kinds``), every other at its second figure."""
+    total = 0.0
+    for i, kind in enumerate(kinds):
+        alone, after = COMPILE_S[kind.name]
+        total += alone if i == 0 and not warm_kinds else after
+    return total
+
+
+def about(seconds: float) -> str:
+    """``"about 45 s"``, or ``"about 2 min"`` from 100 s on (an estimate: whole seconds, whole minutes)."""
+    if seconds < 100:
+        return f"about {max(round(seconds), 1)} s"
+    return f"about {round(seconds / 60.0)} min"
+
+
+def notice_line(kinds: dict, directory: Path, warm_kinds=()) -> str:
+    """The one line of the notice: ``kinds`` maps each cold :class:`~coopctrl.loop.startup.KernelKind`
+    to the integrator names that need it."""
+    from coopctrl.loop.startup import FAMILIES, SPACES
+
+    order = sorted(kinds, key=lambda k: (SPACES.index(k.space), FAMILIES.index(k.family)))
+    what = " and ".join(f"the {k.space} closed-loop kernels ({k.family} integrators: {', '.join(sorted(kinds[k]))})"
+                        for k in order)
+    return (f"{PROG}: compiling {what} for this machine: {about(estimate_s(order, warm_kinds))} once; "
+            f"later runs load them from {directory}")
+
+
+class CompileNotice:
+    """The notice of a first run (:func:`announce`): its ticker, stopped by :meth:`close` or by the end
+    of the run's start-up."""
+
+    def __init__(self, stream, ticker: bool) -> None:
+        self._stream = stream
+        self._stop = threading.Event()
+        self._thread = None
+        self._width = 0
+        self._listening = None
+        if ticker:
+            from coopctrl.loop.startup import listening
+
+            self._listening = listening(lambda kind, seconds: self.stop_ticker())
+            self._listening.__enter__()
+            self._thread = threading.Thread(target=self._tick, name="coopctrl-compile-ticker", daemon=True)
+            self._thread.start()
+
+    def _tick(self) -> None:
+        began = time.monotonic()
+        while not self._stop.wait(TICK_S):
+            text = f"  compiling: {time.monotonic() - began:.0f} s"
+            self._width = max(self._width, len(text))
+            try:
+                self._stream.write("\r" + text.ljust(self._width))
+                self._stream.flush()
+            except (OSError, ValueError):  # a closed or broken terminal: no ticker
+                return
+
+    def stop_ticker(self) -> None:
+        """Stop the ticker and erase its line (idempotent)."""
+        if self._thread is None:
+            return
+        self._stop.set()
+        self._thread.join()
+        self._thread = None
+        if self._width:
+            try:
+                self._stream.write("\r" + " " * self._width + "\r")
+                self._stream.flush()
+            except (OSError, ValueError):
+                pass
+
+    def close(self) -> None:
+        """Stop the ticker (if any) and stop listening."""
+        self.stop_ticker()
+        if self._listening is not None:
+            self._listening.__exit__(None, None, None)
+            self._listening = None
+
+
+def cold_kinds(scenarios: Iterable, directory: Path | None = None) -> dict:
+    """The cold :class:`~coopctrl.loop.startup.KernelKind` of ``scenarios`` in the cache ``directory``
+    (default: this tree's), each with the integrator names that need it (``{}``: all warm)."""
+    from coopctrl.loop.startup import cache_directory, is_cold, kind_of
+
+    needed: dict = {}
+    for scenario in scenarios:
+        needed.setdefault(kind_of(scenario), set()).add(scenario.simulation.integrator)
+    directory = cache_directory() if directory is None else Path(directory)
+    return {k: names for k, names in needed.items() if is_cold(k, directory)}
+
+
+def announce(scenarios: Iterable, *, ticker: bool = True, stream=None,
+             directory: Path | None = None) -> CompileNotice | None:
+    """Print the notice for the cold kinds among those of ``scenarios`` in the cache ``directory``
+    (default: this tree's); ``None`` and nothing printed when all are warm. ``ticker``: draw the
+    elapsed-time ticker when ``stream`` (default stderr) is a terminal."""
+    from coopctrl.loop.startup import FAMILIES, SPACES, KernelKind, cache_directory, is_cold
+
+    stream = sys.stderr if stream is None else stream
+    directory = cache_directory() if directory is None else Path(directory)
+    cold = cold_kinds(scenarios, directory)
+    if not cold:
+        return None
+    warm = [k for k in (KernelKind(s, f) for s in SPACES for f in FAMILIES) if not is_cold(k, directory)]
+    print(notice_line(cold, directory, warm), file=stream, flush=True)
+    try:
+        tty = stream.isatty()
+    except (AttributeError, ValueError):
+        tty = False
+    return CompileNotice(stream, ticker and tty)
+
+
+def sweep_scenarios(scenario_path, grid, sets) -> list:
+    """The scenarios of a sweep that differ in their kind of kernels: the scenario with ``sets`` and each
+    value of the grid's ``simulation.integrator`` and ``scene.space`` axes (those that do not validate
+    are left out: the sweep reports them)."""
+    import itertools
+
+    from coopctrl.scenario.loader import load_scenario, parse_override_path
+
+    kinds_paths = [tuple(parse_override_path(p)) for p in ("simulation.integrator", "scene.space")]
+    axes = [a for a in grid.axes if tuple(parse_override_path(a.path)) in kinds_paths]
+    out = []
+    for values in itertools.product(*(a.values for a in axes)):
+        try:
+            out.append(load_scenario(scenario_path, {**dict(sets), **{a.path: v for a, v in zip(axes, values)}}))
+        except Exception:  # noqa: BLE001 - any bad input is the sweep's to report (before it runs anything)
+            continue
+    return out
+
+
+def announce_sweep(scenario_path, grid, sets, run_function, *, ticker: bool = True) -> CompileNotice | None:
+    """:func:`announce` for a sweep whose runs call ``run_function``: only the simulator's
+    (:func:`coopctrl.sweep.worker.simulate_run`) compiles; and only once every run is valid
+    (:func:`coopctrl.sweep.plan.plan_sweep` raises on bad input before the notice, as the sweep would:
+    checked again only when a kind is cold, whose compile dwarfs it)."""
+    from coopctrl.sweep.worker import simulate_run
+
+    if run_function is not simulate_run:
+        return None
+    scenarios = sweep_scenarios(scenario_path, grid, sets)
+    if not cold_kinds(scenarios):
+        return None
+    from coopctrl.sweep.plan import plan_sweep
+
+    plan_sweep(scenario_path, grid, sets)
+    return announce(scenarios, ticker=ticker)

@@ -1,0 +1,112 @@
+"""The first run of a kind says what it compiles; the summary's wall time leaves the start-up out
+(coopctrl.cli.first_run, coopctrl.loop.startup, the summary's ``startup_s``)."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import subprocess
+import sys
+import time
+
+from coopctrl import cli
+from coopctrl.cli import first_run
+from coopctrl.loop import kernel, startup
+from coopctrl.loop.startup import KernelKind
+from coopctrl.results import summary_table
+from coopctrl.scenario import Scenario
+from coopctrl.scenario.loader import load_scenario
+
+from test_cli import REPO
+
+
+class _Terminal(io.StringIO):
+    """A stream that says it is a terminal (the ticker draws only there)."""
+
+    def isatty(self) -> bool:
+        return True
+
+
+def test_a_cold_kind_is_announced_in_one_line_and_a_warm_one_not_at_all(tmp_path):
+    scenes = [Scenario(), load_scenario(None, {"simulation.integrator": "euler"})]
+    stream = io.StringIO()  # not a terminal: the line only, no ticker
+    notice = first_run.announce(scenes, stream=stream, directory=tmp_path)
+    assert notice is not None
+    notice.close()
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 1, lines
+    assert lines[0].startswith("coopctrl: compiling the planar closed-loop kernels (explicit integrators: euler, rk4)")
+    assert f"for this machine: {first_run.about(first_run.estimate_s([KernelKind('planar', 'explicit')]))} once; " \
+        f"later runs load them from {tmp_path}" in lines[0]
+    (tmp_path / "loop_0").mkdir()
+    (tmp_path / "loop_0" / "kernel.run_ticks-1.py311.nbi").write_bytes(b"")
+    startup.record_warm(KernelKind("planar", "explicit"), tmp_path)
+    quiet = io.StringIO()
+    assert first_run.announce(scenes, stream=quiet, directory=tmp_path) is None
+    assert quiet.getvalue() == ""
+    # the implicit kind is still cold; a kind is warm already: the second figure
+    implicit = load_scenario(None, {"simulation.integrator": "implicit_euler"})
+    first_run.announce([*scenes, implicit], stream=quiet, directory=tmp_path).close()
+    assert quiet.getvalue().splitlines() == [first_run.notice_line(
+        {KernelKind("planar", "implicit"): {"implicit_euler"}}, tmp_path, [KernelKind("planar", "explicit")])]
+
+
+def test_on_a_terminal_a_ticker_runs_until_the_start_up_ends_and_is_erased(tmp_path, monkeypatch):
+    monkeypatch.setattr(first_run, "TICK_S", 0.01)
+    terminal = _Terminal()
+    notice = first_run.announce([Scenario()], stream=terminal, directory=tmp_path)
+    deadline = time.monotonic() + 60.0  # the ticker draws within 0.01 s; a bound, not a measurement
+    while "compiling: " not in terminal.getvalue() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    startup.started(KernelKind("planar", "explicit"), 0.0, tmp_path)  # the run's kernels are ready
+    drawn = terminal.getvalue()
+    assert drawn.count("\n") == 1 and "\r  compiling: " in drawn
+    assert drawn.endswith("\r"), "the ticker's line is erased"
+    notice.close()  # idempotent; nothing more is drawn
+    time.sleep(0.05)
+    assert terminal.getvalue() == drawn
+
+
+def test_the_json_summary_carries_the_start_up_and_the_wall_time_leaves_it_out(capsys, monkeypatch):
+    """In-process and warm (the kernels are loaded, not compiled): a start-up made at least SLOW_S long
+    (the stages are built SLOW_S later) is in ``startup_s`` and not in ``wall_time_s``."""
+    SLOW_S = 0.5
+    original = kernel.tick_stages
+
+    def slow_stages(*args, **kwargs):
+        time.sleep(SLOW_S)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(kernel, "tick_stages", slow_stages)
+    monkeypatch.setattr(startup, "is_cold", lambda kind, directory=None: False)  # warm: no notice
+    began = time.perf_counter()
+    assert cli.main(["run", "--json", "--no-preflight", "--set", "simulation.duration=0.05"]) == 0
+    total = time.perf_counter() - began
+    out = capsys.readouterr()
+    assert out.err == ""
+    summary = json.loads(out.out)
+    # time.sleep sleeps at least SLOW_S: the start-up holds it, and the whole call bounds both figures
+    assert summary["startup_s"] >= SLOW_S
+    assert 0.0 < summary["wall_time_s"] <= total - SLOW_S
+    assert summary["realtime_factor"] == summary["simulated_time_s"] / summary["wall_time_s"]
+    row = [line for line in summary_table(summary).splitlines() if line.startswith("startup (compile or load)")]
+    assert len(row) == 1 and row[0].endswith(" s"), row
+
+
+def test_a_first_run_says_what_it_compiles_and_a_second_run_says_nothing(tmp_path):
+    """The one cold run of the suite (it compiles the planar kernels, a minute or two): an empty cache
+    directory, then the same command again on the cache the first run left."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path),
+           "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    command = [sys.executable, "-m", "coopctrl", "run", "--set", "simulation.duration=0.05"]
+    cold = subprocess.run(command, capture_output=True, text=True, env=env, cwd=REPO, timeout=900)
+    assert cold.returncode == 0, cold.stderr
+    lines = cold.stderr.splitlines()
+    assert len(lines) == 1, cold.stderr
+    assert lines[0].startswith("coopctrl: compiling the planar closed-loop kernels (explicit integrators: rk4) "
+                               "for this machine: about ")
+    assert f"later runs load them from {tmp_path}" in lines[0]
+    assert "startup (compile or load)" in cold.stdout
+    warm = subprocess.run(command, capture_output=True, text=True, env=env, cwd=REPO, timeout=900)
+    assert warm.returncode == 0 and warm.stderr == "", warm.stderr

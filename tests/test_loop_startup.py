@@ -1,0 +1,71 @@
+"""The kind of kernels a run needs, and whether the cache holds them (coopctrl.loop.startup)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from coopctrl.loop import startup
+from coopctrl.loop.startup import KernelKind
+from coopctrl.scenario import Scenario
+from coopctrl.scenario.loader import load_scenario
+
+from test_cli import REPO
+
+
+def _index(directory, name):
+    """A stand-in index file of the cache (only its name and presence are read)."""
+    path = directory / "loop_0" / name
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(b"")
+    return path
+
+
+def test_a_kind_is_cold_until_its_start_up_is_recorded_and_again_when_a_listed_index_file_goes(tmp_path):
+    planar = KernelKind("planar", "explicit")
+    assert startup.is_cold(planar, tmp_path)
+    startup.record_warm(planar, tmp_path)  # an empty cache (compiled in memory): nothing to list, no stamp
+    assert startup.is_cold(planar, tmp_path)
+    kept = _index(tmp_path, "kernel.run_ticks-525.py311.nbi")
+    startup.record_warm(planar, tmp_path)
+    assert not startup.is_cold(planar, tmp_path)
+    # another kind shares the index file but has its own stamp: its variant may not be in it
+    assert startup.is_cold(KernelKind("spatial", "explicit"), tmp_path)
+    assert startup.is_cold(KernelKind("planar", "implicit"), tmp_path)
+    kept.unlink()
+    assert startup.is_cold(planar, tmp_path)
+
+
+def test_started_records_the_kind_and_tells_the_listeners(tmp_path):
+    kind = KernelKind("spatial", "implicit")
+    _index(tmp_path, "integrate._sdirk_step-390.py311.nbi")
+    heard = []
+    with startup.listening(lambda k, s: heard.append((k, s))):
+        startup.started(kind, 1.5, tmp_path)
+    startup.started(kind, 2.5, tmp_path)  # no listener any more
+    assert heard == [(kind, 1.5)]
+    assert not startup.is_cold(kind, tmp_path)
+    assert startup.stamp_path(kind, tmp_path).read_text().splitlines() == ["loop_0/integrate._sdirk_step-390.py311.nbi"]
+
+
+def test_the_kind_of_a_scenario_is_its_space_and_integrator_family():
+    assert startup.kind_of(Scenario()) == KernelKind("planar", "explicit")
+    implicit = load_scenario(None, {"simulation.integrator": "implicit_midpoint"})
+    assert startup.kind_of(implicit) == KernelKind("planar", "implicit")
+    assert startup.family_of("euler") == startup.family_of("rk4") == "explicit"
+    assert startup.family_of("implicit_euler") == "implicit"
+    spatial = load_scenario(REPO / "scenarios" / "spatial_two_puma_carry.toml", {})
+    assert startup.kind_of(spatial) == KernelKind("spatial", "explicit")
+    assert startup.kind_of_run(True, False) == startup.kind_of(spatial)
+
+
+@pytest.mark.parametrize("field, value", [("space", "3d"), ("family", "rk4")])
+def test_a_kind_names_its_bad_field(field, value):
+    with pytest.raises(ValueError, match=f"{field} = '{value}' is invalid: expected one of"):
+        dataclasses.replace(KernelKind("planar", "explicit"), **{field: value})
+
+
+def test_family_of_refuses_a_non_name():
+    with pytest.raises(TypeError, match="integrator = 3 is invalid: expected an integrator name"):
+        startup.family_of(3)
