@@ -74,6 +74,24 @@ class DivergenceError(CoopctrlError, ArithmeticError):
         super().__init__(f"diverged at t = {time:.6g} s: {quantity} = {value:.6g}{hint}")
 
 
+class StepTooSmall(DivergenceError):
+    """An error-controlled integrator needed a step below ``simulation.min_step``.
+
+    Attributes:
+        time: Time [s] of the step that could not be taken; step: the step [s] it needed;
+        min_step: the bound [s]; integrator: its name; mode: the state coordinate that moves most
+        in the stiffest mode of the linearization there; omega: that mode's frequency [rad/s].
+    """
+
+    def __init__(self, time: float, step: float, min_step: float, integrator: str, mode: str, omega: float):
+        self.step, self.min_step, self.integrator, self.mode, self.omega = step, min_step, integrator, mode, omega
+        super().__init__(time, "integration step [s]", step)
+        fix = ('use simulation.integrator = "trbdf2" (L-stable: stiff modes do not limit its step)'
+               if integrator != "trbdf2" else "loosen simulation.rtol / simulation.atol, or stiffen less")
+        self.args = (f"{integrator} needed a step of {step:.3g} s < simulation.min_step = {min_step:.3g} s at t = {time:.6g} s; "
+                     f"the stiffest mode there is {mode} at {omega:.4g} rad/s; {fix}",)
+
+
 def interruption_in(exc: BaseException | None) -> KeyboardInterrupt | None:
     """The ``KeyboardInterrupt`` (Ctrl-C, or SIGTERM turned into one by the command line) that ``exc`` is,
     or that it was raised while handling: a library may wrap it (numba's ``SystemError`` "returned a

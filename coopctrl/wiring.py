@@ -90,7 +90,11 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
     if integrator is None:
         integrator = sim.integrator
     if isinstance(integrator, str):
-        integrator = get_integrator(integrator)
+        from coopctrl.integrators import ERROR_CONTROLLED
+
+        options = (dict(rtol=sim.rtol, atol=sim.atol, atol_velocity=sim.atol_velocity, min_step=sim.min_step)
+                   if integrator in ERROR_CONTROLLED else {})
+        integrator = get_integrator(integrator, **options)
     loop = ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
                       LoadDistribution(scenario.load_distribution, space, m), compliance, leader,
                       followers, sensors, integrator, sim.control_period, sim.substeps,

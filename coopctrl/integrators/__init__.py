@@ -21,6 +21,7 @@ from __future__ import annotations
 from coopctrl.errors import ScenarioError
 from coopctrl.integrators.base import Integrator, RightHandSide
 from coopctrl.integrators.diagonally_implicit import DiagonallyImplicitRungeKutta, NewtonConvergenceError
+from coopctrl.integrators.error_controlled import TRBDF2, BogackiShampine, DormandPrince, ErrorControlled
 from coopctrl.integrators.explicit_euler import ExplicitEuler
 from coopctrl.integrators.implicit_euler import ImplicitEuler
 from coopctrl.integrators.implicit_midpoint import ImplicitMidpoint
@@ -36,6 +37,13 @@ INTEGRATORS: dict[str, type[Integrator]] = {
     "implicit_midpoint": ImplicitMidpoint,
     "implicit_euler": ImplicitEuler,
 }
+#: Error-controlled schemes (:mod:`coopctrl.integrators.error_controlled`): name -> class. They run in
+#: the compiled loop only; :func:`get_integrator` builds them too.
+ERROR_CONTROLLED: dict[str, type[ErrorControlled]] = {
+    "rk23": BogackiShampine,
+    "rk45": DormandPrince,
+    "trbdf2": TRBDF2,
+}
 
 
 def get_integrator(name: str, **options) -> Integrator:
@@ -43,24 +51,31 @@ def get_integrator(name: str, **options) -> Integrator:
 
     Args:
         name: One of :data:`INTEGRATORS` (``"euler"``, ``"symplectic_euler"``, ``"rk4"``,
-            ``"implicit_midpoint"``, ``"implicit_euler"``).
-        options: Keyword arguments of the class (only the implicit schemes take any: Newton
-            tolerances, see :class:`DiagonallyImplicitRungeKutta`);
+            ``"implicit_midpoint"``, ``"implicit_euler"``) or :data:`ERROR_CONTROLLED` (``"rk23"``,
+            ``"rk45"``, ``"trbdf2"``).
+        options: Keyword arguments of the class (the implicit schemes' Newton tolerances, see
+            :class:`DiagonallyImplicitRungeKutta`; the error-controlled schemes' ``rtol``, ``atol``,
+            ``atol_velocity``, ``min_step``, see :class:`ErrorControlled`);
             an unknown keyword raises ``TypeError``.
 
     Raises:
         ScenarioError: (a ``ValueError``) for an unknown name; the message lists the valid ones.
     """
     try:
-        cls = INTEGRATORS[name]
+        cls = INTEGRATORS[name] if name in INTEGRATORS else ERROR_CONTROLLED[name]
     except (KeyError, TypeError):
-        valid = ", ".join(repr(n) for n in INTEGRATORS)
+        valid = ", ".join(repr(n) for n in (*INTEGRATORS, *ERROR_CONTROLLED))
         raise ScenarioError("integrator", name, f"one of {valid}") from None
     return cls(**options)
 
 
 __all__ = [
     "INTEGRATORS",
+    "ERROR_CONTROLLED",
+    "ErrorControlled",
+    "BogackiShampine",
+    "DormandPrince",
+    "TRBDF2",
     "DiagonallyImplicitRungeKutta",
     "ExplicitEuler",
     "ImplicitEuler",

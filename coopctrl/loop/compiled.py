@@ -27,7 +27,7 @@ import time as _time
 
 import numpy as np
 
-from coopctrl.errors import DivergenceError, InfeasibleLoad
+from coopctrl.errors import DivergenceError, InfeasibleLoad, StepTooSmall
 from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 from coopctrl.loop import integrate as I
@@ -41,7 +41,8 @@ from plants.errors import EulerSingularityError, PlantError, SingularJacobianErr
 #: Integrators the kernel implements, by name (:mod:`coopctrl.loop.integrate`): the explicit ones share a
 #: compiled loop; the implicit ones (Newton in the kernel, their settings read from the integrator) another.
 METHODS = {"euler": I.METHOD_EULER, "symplectic_euler": I.METHOD_SYMPLECTIC_EULER, "rk4": I.METHOD_RK4,
-           "implicit_midpoint": I.METHOD_SDIRK, "implicit_euler": I.METHOD_SDIRK}
+           "implicit_midpoint": I.METHOD_SDIRK, "implicit_euler": I.METHOD_SDIRK,
+           "rk23": I.METHOD_ADAPTIVE, "rk45": I.METHOD_ADAPTIVE, "trbdf2": I.METHOD_ADAPTIVE}
 
 #: QP status names of the kernel's codes (as the compiled backend reports them).
 _QP_STATUS = ("solved", "infeasible", "max_iter", "failed")
@@ -307,6 +308,12 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
         return DivergenceError(t, "state (non-finite)", float("nan"))
     if code == K.NEWTON_FAILED:  # the Python integrator's exception, from the step that failed
         return I.newton_failure(loop.integrator.name, cl.steps, out_int, out_float)
+    if code == K.STEP_TOO_SMALL:
+        from coopctrl.loop.stiffest_mode import stiffest_mode
+
+        name, omega = stiffest_mode(plant, x_fail)
+        return StepTooSmall(float(out_float[1]), float(out_float[0]), loop.integrator.min_step, loop.integrator.name,
+                            name, omega)
     if code == K.DEFORMATION:
         return DivergenceError(t, f"deformation of contact {int(out_int[2])} [m]", float(out_float[0]))
     if code == K.ENERGY:
@@ -377,7 +384,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     plant_ws = cl.plant_workspaces(plant)
     # the integrator's work arrays and Newton state, cold (an integrator outside the kernel steps in Python:
     # the kernel stops before its plant block, and an explicit Euler plan only fixes the argument types)
-    plan = I.make_plan(loop.integrator if not cl.plant_outside else ExplicitEuler(), plant.state_size)
+    plan = I.make_plan(loop.integrator if not cl.plant_outside else ExplicitEuler(), plant.state_size, loop.T, N)
     # the run's work arrays so far: a first call in a process loads (or compiles) their compiled constructors
     # (the QP's and the plant's workspaces, tens of ms): start-up, not run time
     setup = _time.perf_counter() - wall0
@@ -545,6 +552,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                qp_time_s=qp_time if ld is not None or passive else math.nan,
                qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings,
                rhs_evaluations=None if cl.plant_outside else int(out_int[7]),
+               integration_steps=plan.stats[:k_done].copy() if hasattr(plan, "stats") else None,
                **saturation)
     return rec
 

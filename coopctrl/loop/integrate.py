@@ -50,10 +50,13 @@ METHOD_SYMPLECTIC_EULER = 1
 METHOD_RK4 = 2
 #: The diagonally implicit Runge-Kutta schemes (an :class:`ImplicitPlan`; the tableau says which).
 METHOD_SDIRK = 3
+#: The error-controlled schemes (:mod:`coopctrl.loop.adaptive`: an ``EmbeddedPlan`` or a ``TRBDF2Plan``).
+METHOD_ADAPTIVE = 4
 
 #: Results of :func:`zoh_advance`.
 STEP_OK = 0  #: the period is integrated
 STEP_PLANT_ERROR = 1  #: the right-hand side failed (``status`` holds its code, ``x_fail`` the state it was called at)
+STEP_TOO_SMALL = 3  #: an error-controlled step fell below ``min_step`` (:mod:`coopctrl.loop.adaptive`; ``out_float = (step [s], time [s])``)
 STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``out_int[2:4]``, ``out_float``: see :func:`zoh_advance`)
 
 _EPS = float(np.finfo(float).eps)
@@ -73,20 +76,31 @@ ImplicitPlan = namedtuple("ImplicitPlan", "settings tableau weights nodes M A LU
                                           "known k xs fs dk xp fp memo")
 
 
-def make_plan(integrator, nx: int):
+def make_plan(integrator, nx: int, period: float | None = None, ticks: int = 1):
     """A fresh plan (work arrays, cold Newton state) for one run of ``integrator`` on a state of size ``nx``.
 
     Args:
         integrator: An :class:`~coopctrl.integrators.ExplicitEuler`,
-            :class:`~coopctrl.integrators.SymplecticEuler`, :class:`~coopctrl.integrators.RungeKutta4`
-            or a :class:`~coopctrl.integrators.DiagonallyImplicitRungeKutta` (implicit midpoint,
-            implicit Euler); its Newton settings are read now.
+            :class:`~coopctrl.integrators.SymplecticEuler`, :class:`~coopctrl.integrators.RungeKutta4`,
+            a :class:`~coopctrl.integrators.DiagonallyImplicitRungeKutta` (implicit midpoint,
+            implicit Euler; its Newton settings are read now) or an
+            :class:`~coopctrl.integrators.ErrorControlled` scheme (:mod:`coopctrl.loop.adaptive`).
         nx: State size ``2 nz``.
+        period: The control period ``T`` [s] (the error-controlled schemes integrate ``[t, t + T]``).
+        ticks: Ticks of the run (the error-controlled schemes' step statistics have a row each).
 
     Raises:
         TypeError: for another integrator.
     """
-    from coopctrl.integrators import DiagonallyImplicitRungeKutta, ExplicitEuler, RungeKutta4, SymplecticEuler
+    from coopctrl.integrators import (DiagonallyImplicitRungeKutta, ErrorControlled, ExplicitEuler, RungeKutta4,
+                                      SymplecticEuler)
+
+    if isinstance(integrator, ErrorControlled):
+        from coopctrl.loop.adaptive import adaptive_plan
+
+        if period is None:
+            raise TypeError("make_plan: an error-controlled scheme needs the control period [s]")
+        return adaptive_plan(integrator, nx, period, ticks)
 
     explicit = {ExplicitEuler: METHOD_EULER, SymplecticEuler: METHOD_SYMPLECTIC_EULER, RungeKutta4: METHOD_RK4}
     if type(integrator) in explicit:
@@ -205,6 +219,16 @@ def _zoh_advance_typed(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out
                 if code != STEP_OK:
                     return code
             return STEP_OK
+        return impl
+    from coopctrl.loop import adaptive as _adaptive
+
+    if getattr(plan, "instance_class", None) is _adaptive.EmbeddedPlan:
+        def impl(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
+            return _adaptive.embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out_float)
+        return impl
+    if getattr(plan, "instance_class", None) is _adaptive.TRBDF2Plan:
+        def impl(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
+            return _adaptive.trbdf2_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out_float)
         return impl
     return None
 

@@ -71,6 +71,7 @@ from coopctrl.load_distribution.contact_model import contact_normals_into, torqu
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities, gi_solve
 from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
+from coopctrl.loop.integrate import STEP_TOO_SMALL as STEP_TOO_SMALL_CODE
 from coopctrl.loop.squeeze import pair_squeeze_into
 from coopctrl.loop.stages import compile_stage
 from coopctrl.loop.energy import plant_energy
@@ -99,6 +100,8 @@ QP_EXTERNAL = 12    #: the QP of tick ``out_int[1]`` is assembled (``out_int[4]`
                     #: solver outside the kernel: resume at that tick with the answer (``hold_status[0] = 2``)
 PLANT_EXTERNAL = 13  #: tick ``out_int[1] - 1`` is recorded and its torques are in ``tau``: the caller integrates
                      #: ``x`` over the period and resumes at tick ``out_int[1]``
+STEP_TOO_SMALL = 14  #: an error-controlled step fell below ``min_step`` (``out_float`` = step [s], time [s];
+                     #: ``x_fail`` the state)
 
 #: Entries of ``opts[0]`` (int64 switches of a run).
 OPT_PASSIVE = 0     #: no QP, no controllers, zero torques; energy recorded
@@ -827,6 +830,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
             _copy(x, rec_x[k])
             if step_code == STEP_NEWTON_FAILED:
                 out_int[0] = NEWTON_FAILED
+            elif step_code == STEP_TOO_SMALL_CODE:
+                out_int[0] = STEP_TOO_SMALL
             else:
                 out_int[0] = PLANT_ERROR
                 out_int[2] = status[0]

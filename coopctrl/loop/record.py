@@ -47,7 +47,10 @@ class LoopRecord:
             torque clipped at its limit; saturated_joint_ticks: (nu,) such ticks per joint;
             saturation_first_time_s: time of the first [s] (NaN: none); saturated_last_tick: index of
             the last (-1: none); rhs_evaluations: plant right-hand-side calls of the kernel's integration
-            (``None`` when an integrator outside the kernel steps the plant).
+            (``None`` when an integrator outside the kernel steps the plant); integration_steps: (N, 4)
+            per tick of an error-controlled integrator (``rk23``, ``rk45``, ``trbdf2``): accepted steps,
+            rejected steps, right-hand-side evaluations, smallest accepted step [s] (``None`` for a
+            fixed-step integrator).
 
     Item access (``record["x"]``, ``record.get``, ``record.update``, ``record.items()``) reads and writes
     the same fields, for code written against the former dict.
@@ -82,6 +85,7 @@ class LoopRecord:
     saturation_first_time_s: float = float("nan")
     saturated_last_tick: int = -1
     rhs_evaluations: int | None = None
+    integration_steps: np.ndarray | None = None
 
     def __repr__(self) -> str:
         """A few lines: status, ticks and timing (never the arrays: ``record.x`` has them)."""
