@@ -55,9 +55,11 @@ def test_the_kind_of_a_scenario_is_its_space_and_integrator_family():
     assert startup.kind_of(implicit) == KernelKind("planar", "implicit")
     assert startup.family_of("euler") == startup.family_of("rk4") == "explicit"
     assert startup.family_of("implicit_euler") == "implicit"
+    assert startup.family_of("rk23") == startup.family_of("rk45") == "embedded"
+    assert startup.family_of("trbdf2") == "trbdf2"
     spatial = load_scenario(REPO / "scenarios" / "spatial_two_puma_carry.toml", {})
     assert startup.kind_of(spatial) == KernelKind("spatial", "explicit")
-    assert startup.kind_of_run(True, False) == startup.kind_of(spatial)
+    assert startup.kind_of_run(True, "explicit") == startup.kind_of(spatial)
 
 
 @pytest.mark.parametrize("field, value", [("space", "3d"), ("family", "rk4")])

@@ -444,7 +444,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         run_ticks = _entry_point(run_ticks, (*head, 0, 0, *args))
     out_int[0] = out_int[1] = 0
     # the kind is warm now (its stamp, once per process: start-up too, like the listeners it tells)
-    S.started(S.kind_of_run(cl.spatial, isinstance(plan, I.ImplicitPlan)), _time.perf_counter() - t_load + stages_startup + setup)
+    S.started(S.kind_of_run(cl.spatial, S.family_of(loop.integrator.name) if not cl.plant_outside else "explicit"), _time.perf_counter() - t_load + stages_startup + setup)
     startup = _time.perf_counter() - t_load + stages_startup + setup
     bar = None
     if progress:  # after the start-up (a first run's compile has its own notice: coopctrl.cli.first_run)

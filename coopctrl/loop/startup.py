@@ -2,7 +2,8 @@
 
 A run's machine code depends on its *kind*: the space (``"planar"``, ``"spatial"``) and the integrator
 family (``"explicit"``: euler, symplectic_euler, rk4 and the integrators stepped outside the kernel;
-``"implicit"``: implicit_midpoint, implicit_euler, Newton in the kernel). Every scene of a kind runs
+``"implicit"``: implicit_midpoint, implicit_euler, Newton in the kernel; ``"embedded"``: the
+error-controlled pairs rk23 and rk45; ``"trbdf2"``: the error-controlled L-stable scheme). Every scene of a kind runs
 the same compiled functions (a passive run's energy and the elastic split add small stages of their
 own, compiled at their first use and not announced); the first run of a kind on a machine compiles
 them (tens of seconds), later runs load them from the cache directory (:func:`plants.numba_cache.configure`, keyed on the
@@ -30,7 +31,7 @@ from typing import Callable, Iterator
 
 #: Spaces and integrator families of :class:`KernelKind`.
 SPACES = ("planar", "spatial")
-FAMILIES = ("explicit", "implicit")
+FAMILIES = ("explicit", "implicit", "embedded", "trbdf2")
 
 #: Folder of the stamps, inside the cache directory.
 STAMP_FOLDER = "coopctrl-kinds"
@@ -47,7 +48,8 @@ class KernelKind:
 
     Attributes:
         space: ``"planar"`` or ``"spatial"``.
-        family: ``"explicit"`` or ``"implicit"`` (the integrator's family; see the module's docstring).
+        family: ``"explicit"``, ``"implicit"``, ``"embedded"`` or ``"trbdf2"`` (the integrator's family;
+            see the module's docstring).
     """
 
     space: str
@@ -67,14 +69,17 @@ class KernelKind:
 
 def family_of(integrator: str) -> str:
     """``"implicit"`` for an integrator the kernel steps by Newton iterations (implicit_midpoint,
-    implicit_euler), else ``"explicit"`` (an integrator the kernel lacks steps in Python and runs the
-    explicit kernels)."""
+    implicit_euler), ``"embedded"`` for rk23 and rk45, ``"trbdf2"`` for trbdf2, else ``"explicit"``
+    (an integrator the kernel lacks steps in Python and runs the explicit kernels)."""
     if not isinstance(integrator, str):
         raise TypeError(f"integrator = {integrator!r} is invalid: expected an integrator name (str)")
     import coopctrl.loop.compiled as compiled
     import coopctrl.loop.integrate as integrate
 
-    return "implicit" if compiled.METHODS.get(integrator) == integrate.METHOD_SDIRK else "explicit"
+    method = compiled.METHODS.get(integrator)
+    if method == integrate.METHOD_ADAPTIVE:
+        return "trbdf2" if integrator == "trbdf2" else "embedded"
+    return "implicit" if method == integrate.METHOD_SDIRK else "explicit"
 
 
 def kind_of(scenario) -> KernelKind:
@@ -82,10 +87,10 @@ def kind_of(scenario) -> KernelKind:
     return KernelKind(scenario.scene.space, family_of(scenario.simulation.integrator))
 
 
-def kind_of_run(spatial: bool, implicit: bool) -> KernelKind:
-    """The :class:`KernelKind` of a run from what the loop decided: ``spatial`` and whether its
-    integration plan is implicit."""
-    return KernelKind("spatial" if spatial else "planar", "implicit" if implicit else "explicit")
+def kind_of_run(spatial: bool, family: str) -> KernelKind:
+    """The :class:`KernelKind` of a run from what the loop decided: ``spatial`` and its integration
+    plan's family (:data:`FAMILIES`)."""
+    return KernelKind("spatial" if spatial else "planar", family)
 
 
 def cache_directory() -> Path:
