@@ -80,16 +80,20 @@ class StepTooSmall(DivergenceError):
     Attributes:
         time: Time [s] of the step that could not be taken; step: the step [s] it needed;
         min_step: the bound [s]; integrator: its name; mode: the state coordinate that moves most
-        in the stiffest mode of the linearization there; omega: that mode's frequency [rad/s].
+        in the stiffest mode of the linearization there; omega: that mode's frequency [rad/s];
+        object_pose: the object's pose in the state where the step failed [m, rad].
     """
 
-    def __init__(self, time: float, step: float, min_step: float, integrator: str, mode: str, omega: float):
+    def __init__(self, time: float, step: float, min_step: float, integrator: str, mode: str, omega: float,
+                 object_pose: tuple = ()):
         self.step, self.min_step, self.integrator, self.mode, self.omega = step, min_step, integrator, mode, omega
+        self.object_pose = object_pose
         super().__init__(time, "integration step [s]", step)
         fix = ('use simulation.integrator = "trbdf2" (L-stable: stiff modes do not limit its step)'
                if integrator != "trbdf2" else "loosen simulation.rtol / simulation.atol, or stiffen less")
-        self.args = (f"{integrator} needed a step of {step:.3g} s < simulation.min_step = {min_step:.3g} s at t = {time:.6g} s; "
-                     f"the stiffest mode there is {mode} at {omega:.4g} rad/s; {fix}",)
+        where = f" with the object at ({', '.join(f'{v:.4g}' for v in object_pose)}) [m, rad]" if object_pose else ""
+        self.args = (f"{integrator} needed a step of {step:.3g} s < simulation.min_step = {min_step:.3g} s at t = "
+                     f"{time:.6g} s{where}; the stiffest mode there is {mode} at {omega:.4g} rad/s; {fix}",)
 
 
 def interruption_in(exc: BaseException | None) -> KeyboardInterrupt | None:

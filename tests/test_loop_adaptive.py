@@ -203,6 +203,7 @@ def test_step_below_min_step_stops_with_the_stiffest_mode():
     r = coopctrl.simulate(scene)
     assert r.status == "diverged"
     assert "simulation.min_step = 0.0009 s" in r.reason and "rad/s" in r.reason and '"trbdf2"' in r.reason
+    assert "with the object at (" in r.reason  # the state where it failed
     omega = float(r.reason.split(" at ")[-1].split(" rad/s")[0])
     assert 3000.0 < omega < 8000.0  # the grasp's spring mode (stability.py reports omega_max ~ 5000 rad/s)
 

@@ -312,8 +312,9 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
         from coopctrl.loop.stiffest_mode import stiffest_mode
 
         name, omega = stiffest_mode(plant, x_fail)
+        pose = x_fail[plant.nz - plant.p:plant.nz]
         return StepTooSmall(float(out_float[1]), float(out_float[0]), loop.integrator.min_step, loop.integrator.name,
-                            name, omega)
+                            name, omega, tuple(float(v) for v in pose))
     if code == K.DEFORMATION:
         return DivergenceError(t, f"deformation of contact {int(out_int[2])} [m]", float(out_float[0]))
     if code == K.ENERGY:
