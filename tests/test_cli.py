@@ -102,7 +102,7 @@ def test_check_toml_syntax_error(tmp_path):
 @pytest.mark.parametrize(
     "setting, field",
     [
-        ("simulation.integrator=rk45", "simulation.integrator"),
+        ("simulation.integrator=rk89", "simulation.integrator"),  # rk45 is a scheme since the error-controlled ones
         ("springs[0].stiffness=abc", "springs[0].stiffness"),
         ("simulation.nope=1", "simulation.nope"),
         ("springs[9].stiffness=1", "springs[9].stiffness"),
