@@ -20,10 +20,10 @@ residual ``|e_p|`` [m] and the rotation residual ``|e_r|`` [rad] are both at mos
 difference); ``J_e`` the geometric Jacobian. Planar: ``e = Y_target - Y(q)`` with its angle wrapped to
 ``(-pi, pi]``; ``J_e`` the analytic Jacobian.
 
-A solve that does not converge returns ``False``: the caller falls back to the arm's own
-:meth:`inverse_kinematics` with its random restarts, which also measures the residual it reports. A
-redundant arm (more than 6 joints) is not solved here: its Python solve also moves the answer along the
-self-motion manifold toward the rest posture, which this iteration does not.
+A redundant spatial arm (more than 6 joints) is then moved along its self-motion manifold toward its
+rest posture, as its Python solve does (:func:`spatial_ik`). A solve that does not converge returns
+``False``: the caller falls back to the arm's own :meth:`inverse_kinematics` with its random restarts,
+which also measures the residual it reports.
 """
 
 from __future__ import annotations
@@ -36,14 +36,11 @@ from numba import njit
 from plants.arms._chain_kernels import chain_arm_tip
 from plants.arms._planar_kernels import planar_arm_terms
 from plants.arms._spatial_kernels import spatial_arm_tip
-from plants.arms.spatial_ik import IK_TOLERANCE
+from plants.arms.spatial_ik import IK_TOLERANCE, POSTURE_ITERATIONS, POSTURE_STEP
 from plants.frames import rotation_zyx_into
 
 #: Iteration budget of one solve (as :func:`plants.arms._dls_ik.damped_least_squares`).
 MAX_ITERATIONS = 200
-#: Largest joint count solved here (a redundant arm keeps its Python solve, module docstring).
-MAX_DOF = 6
-
 #: ``kind`` of a spatial arm: standard DH table (``SerialArm.dh_array``) or general chain
 #: (``ChainArm.kernel_table``).
 KIND_DH, KIND_CHAIN = 0, 1
@@ -154,15 +151,10 @@ def _spatial_converged(e, tol):
 
 
 @njit(cache=True)
-def spatial_ik(kind, table, base, tool, lower, upper, target, q):
-    """Damped least squares from ``q`` (n,) [rad or m] toward the node pose ``target`` (6,): position [m],
-    ZYX Euler angles [rad]; ``q`` gets the answer. ``kind``: :data:`KIND_DH` (``table`` a DH table) or
-    :data:`KIND_CHAIN` (a chain table); ``base``, ``tool`` 4x4; ``lower``, ``upper`` the joint limits.
-    Returns whether it converged (both residuals at most ``IK_TOLERANCE``)."""
+def _spatial_dls(kind, table, base, tool, lower, upper, p_target, R_target, q):
+    """The damped least-squares iteration (module docstring) from ``q``, which gets the answer; returns
+    whether it converged."""
     n = q.shape[0]
-    R_target = np.empty((3, 3))
-    rotation_zyx_into(target[3:], R_target)
-    p_target = target[:3]
     T = np.empty((4, 4))
     M = np.empty((3, 3))
     Je = np.empty((6, n))
@@ -192,6 +184,66 @@ def spatial_ik(kind, table, base, tool, lower, upper, target, q):
             if lam > 1e6:
                 break
     return _spatial_converged(e, IK_TOLERANCE)
+
+
+@njit(cache=True)
+def _null_space_residual(kind, table, base, tool, posture, q, d):
+    """``d = (I - J_g^+ J_g)(posture - q)`` at ``q``; returns ``|d|``."""
+    n = q.shape[0]
+    T = np.empty((4, 4))
+    Jg = np.empty((6, n))
+    if kind == KIND_DH:
+        spatial_arm_tip(q, table, base, tool, T, Jg)
+    else:
+        chain_arm_tip(q, table, base, tool, T, Jg)
+    P = np.eye(n) - np.linalg.pinv(Jg) @ Jg
+    d[:] = P @ (posture - q)
+    return math.sqrt(np.sum(d * d))
+
+
+@njit(cache=True)
+def spatial_ik(kind, table, base, tool, lower, upper, posture, target, q):
+    """Damped least squares from ``q`` (n,) [rad or m] toward the node pose ``target`` (6,): position [m],
+    ZYX Euler angles [rad]; ``q`` gets the answer. ``kind``: :data:`KIND_DH` (``table`` a DH table) or
+    :data:`KIND_CHAIN` (a chain table); ``base``, ``tool`` 4x4; ``lower``, ``upper`` the joint limits.
+    Returns whether it converged (both residuals at most ``IK_TOLERANCE``).
+
+    A redundant arm (``n > 6``) is then moved along its self-motion manifold toward ``posture`` (n,), as
+    :meth:`SpatialInverseKinematics._posture_refine <plants.arms.spatial_ik.SpatialInverseKinematics>`
+    does: ``q <- q + s (I - J_g^+ J_g)(posture - q)`` from ``s = POSTURE_STEP``, each trial pulled back
+    onto the target by the iteration above and kept if it converged and reduced the null-space residual
+    (then ``s <- min(1, 2 s)``, else ``s <- s / 2``, given up below 1e-3), at most ``POSTURE_ITERATIONS``
+    trials, until that residual is at most 1e-10."""
+    n = q.shape[0]
+    R_target = np.empty((3, 3))
+    rotation_zyx_into(target[3:], R_target)
+    p_target = target[:3]
+    if not _spatial_dls(kind, table, base, tool, lower, upper, p_target, R_target, q):
+        return False
+    if n <= 6:
+        return True
+    d = np.empty(n)
+    d_new = np.empty(n)
+    trial = np.empty(n)
+    r = _null_space_residual(kind, table, base, tool, posture, q, d)
+    step = POSTURE_STEP
+    for _ in range(POSTURE_ITERATIONS):
+        if r <= 1e-10:
+            break
+        for k in range(n):
+            trial[k] = min(max(q[k] + step * d[k], lower[k]), upper[k])
+        if _spatial_dls(kind, table, base, tool, lower, upper, p_target, R_target, trial):
+            r_new = _null_space_residual(kind, table, base, tool, posture, trial, d_new)
+            if r_new < r:
+                q[:] = trial
+                d[:] = d_new
+                r = r_new
+                step = min(1.0, 2.0 * step)
+                continue
+        step *= 0.5
+        if step < 1e-3:
+            break
+    return True
 
 
 @njit(cache=True)
@@ -251,7 +303,7 @@ def planar_ik(links, base, tool, gravity, lower, upper, target, q):
 def warm_ik(arm):
     """``solve(target, q0) -> q or None`` for ``arm``: :func:`spatial_ik` or :func:`planar_ik` from the seed
     ``q0`` (not changed) toward the node pose ``target`` [m, rad], ``None`` where it does not converge; or
-    ``None`` for an arm not solved here (a contact point, a redundant arm, an arm of another class)."""
+    ``None`` for an arm not solved here (a contact point, an arm of another class)."""
     from plants.arms.chain_arm import ChainArm
     from plants.arms.planar_arm import PlanarArm
     from plants.arms.serial_arm import SerialArm
@@ -259,15 +311,15 @@ def warm_ik(arm):
     def f64(a):
         return np.array(a, dtype=np.float64, order="C")  # writable copies: one compiled signature for all
 
-    if isinstance(arm, (SerialArm, ChainArm)) and arm.dof <= MAX_DOF:
+    if isinstance(arm, (SerialArm, ChainArm)):
         kind = KIND_DH if isinstance(arm, SerialArm) else KIND_CHAIN
         table = f64(arm.dh_array() if kind == KIND_DH else arm.kernel_table())
-        base, tool = f64(arm.base), f64(arm.tool)
+        base, tool, posture = f64(arm.base), f64(arm.tool), f64(arm.rest_posture())
         lower, upper = f64(arm.q_limits[:, 0]), f64(arm.q_limits[:, 1])
 
         def solve(target, q0):
             q = f64(q0)
-            return q if spatial_ik(kind, table, base, tool, lower, upper, f64(target), q) else None
+            return q if spatial_ik(kind, table, base, tool, lower, upper, posture, f64(target), q) else None
 
         return solve
     if isinstance(arm, PlanarArm):
