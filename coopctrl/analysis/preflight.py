@@ -34,14 +34,19 @@ grid points and the end, whatever the duration (:func:`sample_times`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
 from coopctrl.io.number_text import numbers_text
+from coopctrl.load_distribution import LoadDistribution
 from coopctrl.loop.diagnosis import static_instability
+from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, contact_normals, qp_torque_limits, torque_model
+from plants.cooperative import ContactPoint
+from plants.cooperative.control_terms import ControlTerms
+from plants.errors import PlantError
 
 #: Steps of the sampling grid from 0 to the last via point [-] (fewer when :data:`SAMPLE_STEP` apart gives
 #: fewer): the samples between via points are bounded whatever the duration; a segment's extremes are its
@@ -139,11 +144,10 @@ def preflight(scenario, loop=None) -> PreflightReport:
     it refuses a path through the Euler band with a :class:`~coopctrl.errors.ScenarioError`).
     Returns the :class:`PreflightReport` (``report.raise_if_impossible()`` to stop on a failure).
     """
+    from coopctrl.analysis.preflight_ik import warm_ik
     from coopctrl.controllers import required_object_wrench
     from coopctrl.scenario import build
-    from plants.cooperative import ContactPoint, nominal_node_motion
-    from coopctrl.analysis.preflight_ik import warm_ik
-    from coopctrl.load_distribution import LoadDistribution
+    from plants.cooperative import nominal_node_motion
     from plants.errors import UnreachablePoseError
 
     if loop is None:
@@ -168,10 +172,11 @@ def preflight(scenario, loop=None) -> PreflightReport:
         return PreflightReport(scenario.name, len(times), worst, worst_t, (issue,))
 
     solvers = [warm_ik(arm) for arm in plant.arms]
+    slices = [plant.q_slice(i) for i in range(m)]
 
     def reach(i, target):
         arm = plant.arms[i]
-        sl = plant.q_slice(i)
+        sl = slices[i]
         if isinstance(arm, ContactPoint):
             return np.asarray(target, dtype=float)
         if solvers[i] is not None:  # compiled, from the previous sample's joints (one branch)
@@ -197,12 +202,12 @@ def preflight(scenario, loop=None) -> PreflightReport:
             q = reach(i, Yn[i + 1])
             if isinstance(q, Exception):
                 return fail(_unreachable(t, i, names[i], Yn[i + 1], q, via_times))
-            x[plant.q_slice(i)] = q
+            x[slices[i]] = q
     x = x_start
 
     F = None
     ld = LoadDistribution(loop.ld.config, space, m)  # warm started sample to sample; a failure is re-solved afresh
-    control_terms = _ControlTermsAt(plant)
+    control_terms = _ControlTermsAt(plant, slices)
     for t in times:
         t = float(t)
         Y0N, dY0N, ddY0N = loop.trajectory.evaluate(t)
@@ -243,8 +248,6 @@ def _peak_note(t: float, via_times) -> str:
 def _worst_joint(plant, jac, bias, F, limits):
     """``(arm, joint, |tau| [N m], |tau| / limit)`` of the joint nearest its limit under the split ``F``
     (``tau_i = J_i^T F_i + bias_i``), or ``None`` when no arm has joints."""
-    from plants.cooperative import ContactPoint
-
     best = None
     for i, arm in enumerate(plant.arms):
         if isinstance(arm, ContactPoint):
@@ -265,16 +268,14 @@ class _ControlTermsAt:
     state the kernel refuses (an Euler singularity) goes through ``plant.control_terms``, which raises
     the plant's error naming the node."""
 
-    def __init__(self, plant):
-        self.plant = plant
+    def __init__(self, plant, slices):
+        self.plant, self.slices = plant, slices
         self.kernel, args = plant.control_kernel_into
         self.args = args[:-1]
         self.status = np.zeros(2, dtype=np.int64)
         self.work = plant.control_workspace()
 
     def __call__(self, x):
-        from plants.cooperative.control_terms import ControlTerms
-
         xc = np.array(x, dtype=np.float64)  # the kernel's state, as plant.control_terms copies it
         self.status[:] = 0
         self.kernel(xc, *self.args, self.status, self.work)
@@ -300,8 +301,8 @@ def _terms_with_velocities(plant, control_terms, x, dYn):
             rates.append(np.linalg.solve(J, dYn[i + 1]))
         except np.linalg.LinAlgError:
             rates.append(np.linalg.lstsq(J, dYn[i + 1], rcond=None)[0])
-    for i, dq in enumerate(rates):  # after the loop: terms.J is the workspace the next call overwrites
-        x[nz:][plant.q_slice(i)] = dq
+    for sl, dq in zip(control_terms.slices, rates):  # after the loop: terms.J is the workspace the next call overwrites
+        x[nz:][sl] = dq
     return control_terms(x)
 
 
@@ -319,12 +320,6 @@ def _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w
     """Reach, then the load distribution (``ld``, the run's :class:`LoadDistribution`), at one instant:
     ``(issue or None, terms, jac, bias, split)``; ``x`` gets the arms' joints and rates. ``control_terms``:
     a :class:`_ControlTermsAt` of the plant."""
-    import dataclasses
-
-    from coopctrl.load_distribution import LoadDistribution
-    from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, contact_normals, qp_torque_limits, torque_model
-    from plants.errors import PlantError
-
     nz, p, npos, space, m = plant.nz, plant.p, loop.npos, loop.space, plant.arm_count
     none = (None, None, None, None)
     # 1. reach: each node's pose deformed by the previous split (rigid before the first split)
@@ -335,7 +330,7 @@ def _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w
         q = reach(i, target)
         if isinstance(q, Exception):
             return (_unreachable(t, i, names[i], target, q, via_times), *none)
-        x[plant.q_slice(i)] = q
+        x[control_terms.slices[i]] = q
     try:
         terms = _terms_with_velocities(plant, control_terms, x, dYn)
     except PlantError as exc:
@@ -365,7 +360,7 @@ def _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w
         if loop.torque_limits:  # which joint: the split without the torque rows, against the limits
             free = {k: v for k, v in kwargs.items() if k not in ("jacobians", "biases", "tau_max")}
             try:
-                free_ld = LoadDistribution(dataclasses.replace(config, torque_limits=False), space, m)
+                free_ld = LoadDistribution(replace(config, torque_limits=False), space, m)
                 F_free = free_ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **free).F
                 over = _worst_joint(plant, jac, bias, F_free, [TORQUE_HEADROOM * lim for lim in tau_max])
             except InfeasibleLoad:
