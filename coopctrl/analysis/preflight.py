@@ -38,6 +38,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from coopctrl.analysis.preflight_ik import square_joint_rates_into, warm_ik
 from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
 from coopctrl.io.number_text import numbers_text
@@ -144,7 +145,6 @@ def preflight(scenario, loop=None) -> PreflightReport:
     it refuses a path through the Euler band with a :class:`~coopctrl.errors.ScenarioError`).
     Returns the :class:`PreflightReport` (``report.raise_if_impossible()`` to stop on a failure).
     """
-    from coopctrl.analysis.preflight_ik import warm_ik
     from coopctrl.controllers import required_object_wrench
     from coopctrl.scenario import build
     from plants.cooperative import nominal_node_motion
@@ -270,6 +270,8 @@ class _ControlTermsAt:
 
     def __init__(self, plant, slices):
         self.plant, self.slices = plant, slices
+        self.dofs = np.array([arm.dof for arm in plant.arms], dtype=np.int64)
+        self.rates = np.empty((plant.arm_count, max(plant.p, int(self.dofs.max()))))  # joint rates, a work array
         self.kernel, args = plant.control_kernel_into
         self.args = args[:-1]
         self.status = np.zeros(2, dtype=np.int64)
@@ -287,21 +289,17 @@ class _ControlTermsAt:
 
 def _terms_with_velocities(plant, control_terms, x, dYn):
     """Control terms at ``x`` (``control_terms(x)``) with each arm's joint rates set to follow its node's
-    nominal rate: ``J_i dq_i = dYn_i`` solved exactly where ``J_i`` is square and regular, else in the
-    least-squares sense."""
+    nominal rate: ``J_i dq_i = dYn_i`` solved exactly where every ``J_i`` is square and regular, else in
+    the least-squares sense."""
     nz = plant.nz
     x[nz:2 * nz - plant.p] = 0.0
     terms = control_terms(x)
-    rates = []
-    for i, arm in enumerate(plant.arms):
-        J = terms.J[i, :, :arm.dof]
-        try:
-            if J.shape[0] != J.shape[1]:
-                raise np.linalg.LinAlgError
-            rates.append(np.linalg.solve(J, dYn[i + 1]))
-        except np.linalg.LinAlgError:
-            rates.append(np.linalg.lstsq(J, dYn[i + 1], rcond=None)[0])
-    for sl, dq in zip(control_terms.slices, rates):  # after the loop: terms.J is the workspace the next call overwrites
+    rates = control_terms.rates
+    if square_joint_rates_into(terms.J, dYn, control_terms.dofs, rates):
+        rates = [rates[i, :n] for i, n in enumerate(control_terms.dofs)]
+    else:
+        rates = [np.linalg.lstsq(terms.J[i, :, :n], dYn[i + 1], rcond=None)[0] for i, n in enumerate(control_terms.dofs)]
+    for sl, dq in zip(control_terms.slices, rates):  # after solving: terms.J is the workspace the next call overwrites
         x[nz:][sl] = dq
     return control_terms(x)
 

@@ -332,3 +332,42 @@ def warm_ik(arm):
 
         return solve
     return None
+
+
+@njit(cache=True)
+def square_joint_rates_into(J, dY, dofs, out):
+    """Each arm's joint rates ``out[i, :n_i]`` solving ``J[i, :, :n_i] dq_i = dY[i + 1]`` (LU with partial
+    pivoting) where every arm's Jacobian is square (``n_i`` = the pose size) and regular; returns ``False``
+    (``out`` then undefined) if one is not: the caller solves that case in the least-squares sense."""
+    m, p = dofs.shape[0], J.shape[1]
+    A = np.empty((p, p))
+    b = np.empty(p)
+    for i in range(m):
+        if dofs[i] != p:
+            return False
+        for r in range(p):
+            b[r] = dY[i + 1, r]
+            for c in range(p):
+                A[r, c] = J[i, r, c]
+        for c in range(p):
+            piv = c
+            for r in range(c + 1, p):
+                if abs(A[r, c]) > abs(A[piv, c]):
+                    piv = r
+            if A[piv, c] == 0.0:
+                return False
+            if piv != c:
+                for k in range(p):
+                    A[c, k], A[piv, k] = A[piv, k], A[c, k]
+                b[c], b[piv] = b[piv], b[c]
+            for r in range(c + 1, p):
+                f = A[r, c] / A[c, c]
+                for k in range(c, p):
+                    A[r, k] -= f * A[c, k]
+                b[r] -= f * b[c]
+        for r in range(p - 1, -1, -1):
+            s = b[r]
+            for k in range(r + 1, p):
+                s -= A[r, k] * out[i, k]
+            out[i, r] = s / A[r, r]
+    return True
