@@ -45,7 +45,8 @@ def main(argv=None) -> int:
     if args.repeats < 1:
         parser.error(f"--repeats {args.repeats} is invalid: expected an integer >= 1")
     scenes = [s for s in args.scenes.split(",") if s] or SCENES
-    print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}; coopctrl from {Path(coopctrl.__file__).parent}")
+    print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}; "
+          f"coopctrl from {Path(coopctrl.__file__).parent}")
     print(f"{'scene':28s} {'instants':>8s} {'pre-flight ms':>13s} {'ticks ms':>9s} {'pre-flight/ticks':>16s}")
     for name in scenes:
         scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml", {})

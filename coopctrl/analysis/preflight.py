@@ -214,8 +214,8 @@ def preflight(scenario, loop=None) -> PreflightReport:
         Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, loop.grasps, space)
         w_N = required_object_wrench(space, loop.object_mass, loop.object_inertia, loop.gravity, Y0N, dY0N, ddY0N)
         for _ in range(2 if F is None else 1):  # the first sample: the rigid pose, then the deformed one
-            issue, terms, jac, bias, split = _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach,
-                                                     names, via_times, tau_max)
+            issue, terms, jac, bias, split = _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn,
+                                                     ddYn, w_N, reach, names, via_times, tau_max)
             if issue is not None:
                 return fail(issue)
             F = split.F
@@ -298,7 +298,8 @@ def _terms_with_velocities(plant, control_terms, x, dYn):
     if square_joint_rates_into(terms.J, dYn, control_terms.dofs, rates):
         rates = [rates[i, :n] for i, n in enumerate(control_terms.dofs)]
     else:
-        rates = [np.linalg.lstsq(terms.J[i, :, :n], dYn[i + 1], rcond=None)[0] for i, n in enumerate(control_terms.dofs)]
+        rates = [np.linalg.lstsq(terms.J[i, :, :n], dYn[i + 1], rcond=None)[0]
+                 for i, n in enumerate(control_terms.dofs)]
     for sl, dq in zip(control_terms.slices, rates):  # after solving: terms.J is the workspace the next call overwrites
         x[nz:][sl] = dq
     return control_terms(x)
