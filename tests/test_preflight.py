@@ -83,15 +83,28 @@ def test_samples_include_every_waypoint_every_peak_and_a_bounded_grid():
 
 
 @pytest.mark.parametrize("duration", [40.0, 1e4])
-def test_preflight_checks_a_number_of_instants_bounded_whatever_the_duration(duration):
+def test_preflight_checks_a_number_of_instants_bounded_whatever_the_duration(duration, monkeypatch):
     """The same path checked for a run of 2.5 s or of 10^4 s (the schema's longest): the same instants
-    (the vias, their peaks, the bounded grid and the end), where a fixed time step would check 4000 times as
-    many; counted, not timed."""
+    (the vias, their peaks, the bounded grid and the end) and the same inverse-kinematics solves, where a
+    fixed time step would check 4000 times as many; counted, not timed."""
+    import coopctrl.analysis.preflight as module
+    from coopctrl.analysis.preflight_ik import warm_ik
+
+    solves = []
+
+    def counting(arm):
+        solve = warm_ik(arm)
+        return None if solve is None else (lambda target, q0: solves.append(1) or solve(target, q0))
+
+    monkeypatch.setattr(module, "warm_ik", counting)
+    short = preflight(load("planar_two_arm_lift"))
+    short_solves, solves[:] = len(solves), []
     report = preflight(load("planar_two_arm_lift", **{"simulation.duration": duration}))
     assert report.ok, report.issues
-    vias, segments = 2, 1
-    assert report.samples <= vias + 3 * segments + GRID_INTERVALS + 2
-    assert report.samples == preflight(load("planar_two_arm_lift")).samples
+    vias, segments, arms = 2, 1, 2
+    assert report.samples == short.samples <= vias + 3 * segments + GRID_INTERVALS + 2
+    # each arm: once per via first, then once per instant (twice at the first: rigid, then deformed)
+    assert len(solves) == short_solves == arms * (vias + report.samples + 1)
 
 
 # ---------------------------------------------------------------- short segments (issue 22)
