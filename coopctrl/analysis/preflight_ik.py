@@ -21,7 +21,7 @@ difference); ``J_e`` the geometric Jacobian. Planar: ``e = Y_target - Y(q)`` wit
 ``(-pi, pi]``; ``J_e`` the analytic Jacobian.
 
 A redundant spatial arm (more than 6 joints) is then moved along its self-motion manifold toward its
-rest posture, as its Python solve does (:func:`spatial_ik`). A solve that does not converge returns
+rest posture, as its Python solve does (:func:`refine_posture`). A solve that does not converge returns
 ``False``: the caller falls back to the arm's own :meth:`inverse_kinematics` with its random restarts,
 which also measures the residual it reports.
 """
@@ -202,26 +202,29 @@ def _null_space_residual(kind, table, base, tool, posture, q, d):
 
 
 @njit(cache=True)
-def spatial_ik(kind, table, base, tool, lower, upper, posture, target, q):
+def spatial_ik(kind, table, base, tool, lower, upper, target, q):
     """Damped least squares from ``q`` (n,) [rad or m] toward the node pose ``target`` (6,): position [m],
     ZYX Euler angles [rad]; ``q`` gets the answer. ``kind``: :data:`KIND_DH` (``table`` a DH table) or
     :data:`KIND_CHAIN` (a chain table); ``base``, ``tool`` 4x4; ``lower``, ``upper`` the joint limits.
-    Returns whether it converged (both residuals at most ``IK_TOLERANCE``).
+    Returns whether it converged (both residuals at most ``IK_TOLERANCE``)."""
+    R_target = np.empty((3, 3))
+    rotation_zyx_into(target[3:], R_target)
+    return _spatial_dls(kind, table, base, tool, lower, upper, target[:3], R_target, q)
 
-    A redundant arm (``n > 6``) is then moved along its self-motion manifold toward ``posture`` (n,), as
-    :meth:`SpatialInverseKinematics._posture_refine <plants.arms.spatial_ik.SpatialInverseKinematics>`
-    does: ``q <- q + s (I - J_g^+ J_g)(posture - q)`` from ``s = POSTURE_STEP``, each trial pulled back
-    onto the target by the iteration above and kept if it converged and reduced the null-space residual
-    (then ``s <- min(1, 2 s)``, else ``s <- s / 2``, given up below 1e-3), at most ``POSTURE_ITERATIONS``
-    trials, until that residual is at most 1e-10."""
+
+@njit(cache=True)
+def refine_posture(kind, table, base, tool, lower, upper, posture, target, q):
+    """Move the answer ``q`` of a redundant arm's :func:`spatial_ik` (same arguments) along its self-motion
+    manifold toward ``posture`` (n,), as :meth:`SpatialInverseKinematics._posture_refine
+    <plants.arms.spatial_ik.SpatialInverseKinematics>` does: ``q <- q + s (I - J_g^+ J_g)(posture - q)``
+    from ``s = POSTURE_STEP``, each trial pulled back onto the target by the damped least squares and kept
+    if it converged and reduced the null-space residual (then ``s <- min(1, 2 s)``, else ``s <- s / 2``,
+    given up below 1e-3), at most ``POSTURE_ITERATIONS`` trials, until that residual is at most 1e-10.
+    (A function of its own: the pseudo-inverse is compiled only for a redundant arm.)"""
     n = q.shape[0]
     R_target = np.empty((3, 3))
     rotation_zyx_into(target[3:], R_target)
     p_target = target[:3]
-    if not _spatial_dls(kind, table, base, tool, lower, upper, p_target, R_target, q):
-        return False
-    if n <= 6:
-        return True
     d = np.empty(n)
     d_new = np.empty(n)
     trial = np.empty(n)
@@ -243,7 +246,6 @@ def spatial_ik(kind, table, base, tool, lower, upper, posture, target, q):
         step *= 0.5
         if step < 1e-3:
             break
-    return True
 
 
 @njit(cache=True)
@@ -318,8 +320,12 @@ def warm_ik(arm):
         lower, upper = f64(arm.q_limits[:, 0]), f64(arm.q_limits[:, 1])
 
         def solve(target, q0):
-            q = f64(q0)
-            return q if spatial_ik(kind, table, base, tool, lower, upper, posture, f64(target), q) else None
+            q, target = f64(q0), f64(target)
+            if not spatial_ik(kind, table, base, tool, lower, upper, target, q):
+                return None
+            if q.shape[0] > 6:
+                refine_posture(kind, table, base, tool, lower, upper, posture, target, q)
+            return q
 
         return solve
     if isinstance(arm, PlanarArm):
