@@ -24,6 +24,9 @@ A redundant spatial arm (more than 6 joints) is then moved along its self-motion
 rest posture, as its Python solve does (:func:`refine_posture`). A solve that does not converge returns
 ``False``: the caller falls back to the arm's own :meth:`inverse_kinematics` with its random restarts,
 which also measures the residual it reports.
+
+At velocity level, :func:`square_joint_rates_into` gives the joint rates that follow the nodes' nominal
+rates, ``J_i dq_i = dY_i``, where every arm's Jacobian is square and regular.
 """
 
 from __future__ import annotations
