@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from coopctrl.analysis.preflight import preflight, sample_times
+from coopctrl.analysis.preflight import GRID_INTERVALS, SAMPLE_STEP, preflight, sample_times
 from coopctrl.scenario import load_scenario
 from test_cli import REPO, assert_user_error, coopctrl
 
@@ -69,10 +69,42 @@ def test_check_exit_codes_match_the_help():
     assert_user_error(coopctrl("check", "planar_two_arm_lift", "--set", "object.mass=-1"), "object.mass")
 
 
-def test_samples_include_every_waypoint_and_a_fine_grid():
-    t = sample_times([0.0, 0.42, 2.0], 2.5)
-    assert 0.42 in t and 2.0 in t and t[0] == 0.0 and t[-1] == 2.5
-    assert max(t[1:] - t[:-1]) <= 0.01 + 1e-12
+def test_samples_include_every_waypoint_every_peak_and_a_bounded_grid():
+    """Up to the last via point the grid has GRID_INTERVALS equal steps (the path is then held: the end
+    of the run is its one sample); the peak instants are added, whatever the grid."""
+    t = sample_times([0.0, 0.42, 2.0], 2.5, peak_times=[0.1111, 1.2345])
+    assert 0.42 in t and 2.0 in t and 0.1111 in t and 1.2345 in t and t[0] == 0.0 and t[-1] == 2.5
+    moving = t[t <= 2.0]
+    assert max(moving[1:] - moving[:-1]) <= 2.0 / GRID_INTERVALS + 1e-12
+    assert len(t) <= 3 + 2 + GRID_INTERVALS + 2
+    # a path shorter than GRID_INTERVALS steps of SAMPLE_STEP is not sampled more finely than that
+    short = sample_times([0.0, 0.05], 0.05)
+    assert len(short) == 6 and max(short[1:] - short[:-1]) <= SAMPLE_STEP + 1e-12
+
+
+@pytest.mark.parametrize("duration", [40.0, 1e4])
+def test_preflight_checks_a_number_of_instants_bounded_whatever_the_duration(duration, monkeypatch):
+    """The same path checked for a run of 2.5 s or of 10^4 s (the schema's longest): the same instants
+    (the vias, their peaks, the bounded grid and the end) and the same inverse-kinematics solves, where a
+    fixed time step would check 4000 times as many; counted, not timed."""
+    import coopctrl.analysis.preflight as module
+    from coopctrl.analysis.preflight_ik import warm_ik
+
+    solves = []
+
+    def counting(arm):
+        solve = warm_ik(arm)
+        return None if solve is None else (lambda target, q0: solves.append(1) or solve(target, q0))
+
+    monkeypatch.setattr(module, "warm_ik", counting)
+    short = preflight(load("planar_two_arm_lift"))
+    short_solves, solves[:] = len(solves), []
+    report = preflight(load("planar_two_arm_lift", **{"simulation.duration": duration}))
+    assert report.ok, report.issues
+    vias, segments, arms = 2, 1, 2
+    assert report.samples == short.samples <= vias + 3 * segments + GRID_INTERVALS + 2
+    # each arm: once per via first, then once per instant (twice at the first: rigid, then deformed)
+    assert len(solves) == short_solves == arms * (vias + report.samples + 1)
 
 
 # ---------------------------------------------------------------- short segments (issue 22)

@@ -1,15 +1,18 @@
 """Pre-flight: is the task possible at all? Checked along the nominal trajectory before any simulation.
 
-At every via point, on a fine grid between them (:data:`SAMPLE_STEP`) and at every segment's
-closed-form acceleration and speed peaks (:meth:`MinimumJerkTrajectory.peak_times
-<coopctrl.trajectory.MinimumJerkTrajectory.peak_times>`: a grid misses the extremes of a segment
-shorter than its step), the nominal object motion gives every contact node's nominal motion (148)
-and the external load ``w_N``; then, in order:
+At every via point, at every segment's closed-form acceleration and speed peaks
+(:meth:`MinimumJerkTrajectory.peak_times <coopctrl.trajectory.MinimumJerkTrajectory.peak_times>`: a grid
+misses the extremes of a segment shorter than its step), on a grid of :data:`GRID_INTERVALS` equal steps
+from 0 to the last via point (at most :data:`SAMPLE_STEP` apart when that gives fewer) and at the end of
+the run (the path holds its last pose from the last via point on: one sample checks it all), the nominal
+object motion gives every contact node's nominal motion (148) and the external load ``w_N``; then, in
+order:
 
 1. **Reach.** Each arm must reach its node's nominal pose (rigid, then deformed by its planned
    wrench through the grasp compliance, as :meth:`ClosedLoop.loaded_state` places it) by inverse
    kinematics within its joint limits (residual at most ``IK_TOLERANCE``); the previous sample's
-   joints seed the next, so the arm follows one branch.
+   joints seed the next, so the arm follows one branch (compiled, :mod:`coopctrl.analysis.preflight_ik`;
+   the arm's own random restarts when that seed does not converge).
 2. **Load distribution.** The scene's QP (``G F = w_N``, squeeze, grip, friction, and the torque
    limits when enabled, planned within :data:`~coopctrl.loop.qp_inputs.TORQUE_HEADROOM` of them) must
    have a feasible split at the arms' nominal state.
@@ -23,21 +26,34 @@ and the external load ``w_N``; then, in order:
 The Euler band (a nominal path within 5 deg of pitch +-90 deg) is refused earlier, as bad input
 (exit 2), when the loop is built. The first failure is reported with its time and what binds, e.g.
 ``at t = 0.42 s arm 2 joint 3 needs 187 N m > tau_max 97.6 N m``.
+
+Cost: the number of samples is the via points, three peaks per segment, at most ``GRID_INTERVALS + 1``
+grid points and the end, whatever the duration (:func:`sample_times`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from coopctrl.analysis.preflight_ik import square_joint_rates_into, warm_ik
 from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
 from coopctrl.io.number_text import numbers_text
+from coopctrl.load_distribution import LoadDistribution
 from coopctrl.loop.diagnosis import static_instability
+from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, contact_normals, qp_torque_limits, torque_model
+from plants.cooperative import ContactPoint
+from plants.cooperative.control_terms import ControlTerms
+from plants.errors import PlantError
 
-#: Largest spacing [s] of the samples between via points (also at most 1/100 of the duration).
+#: Steps of the sampling grid from 0 to the last via point [-] (fewer when :data:`SAMPLE_STEP` apart gives
+#: fewer): the samples between via points are bounded whatever the duration; a segment's extremes are its
+#: closed-form peak instants, sampled too.
+GRID_INTERVALS = 20
+#: Smallest grid spacing [s]: a short path is not sampled more finely than this.
 SAMPLE_STEP = 0.01
 
 
@@ -107,14 +123,19 @@ class PreflightReport:
 
 
 def sample_times(via_times, duration: float, peak_times=()) -> np.ndarray:
-    """Every via time and every trajectory peak instant (``peak_times`` [s]) within ``[0, duration]``,
-    and a grid of spacing at most :data:`SAMPLE_STEP` [s] (and ``duration / 100``) between them, sorted."""
+    """The instants pre-flight checks, sorted: every via time and every trajectory peak instant
+    (``peak_times`` [s]) within ``[0, duration]`` [s], the end ``duration``, and a grid of
+    ``n = min(GRID_INTERVALS, ceil(span / SAMPLE_STEP))`` equal steps on ``[0, span]``, with ``span`` the
+    last via time (or ``duration`` if the run ends first): after it the minimum-jerk path holds its last
+    pose, so the end checks the rest. At most ``len(via_times) + len(peak_times) + GRID_INTERVALS + 2``
+    instants, whatever the duration."""
     end = float(duration)
-    n = int(math.ceil(end / min(SAMPLE_STEP, end / 100.0))) if end > 0 else 0
-    grid = np.linspace(0.0, end, n + 1) if n else np.zeros(1)
     vias = [float(t) for t in via_times if 0.0 <= t <= end]
     peaks = [float(t) for t in peak_times if 0.0 <= t <= end]
-    return np.unique(np.round(np.concatenate([grid, vias, peaks]), 12))
+    span = min(end, max((float(t) for t in via_times), default=end))
+    n = min(GRID_INTERVALS, int(math.ceil(span / SAMPLE_STEP))) if span > 0 else 0
+    grid = np.linspace(0.0, span, n + 1) if n else np.zeros(1)
+    return np.unique(np.round(np.concatenate([grid, vias, peaks, [max(end, 0.0)]]), 12))
 
 
 def preflight(scenario, loop=None) -> PreflightReport:
@@ -126,7 +147,7 @@ def preflight(scenario, loop=None) -> PreflightReport:
     """
     from coopctrl.controllers import required_object_wrench
     from coopctrl.scenario import build
-    from plants.cooperative import ContactPoint, nominal_node_motion
+    from plants.cooperative import nominal_node_motion
     from plants.errors import UnreachablePoseError
 
     if loop is None:
@@ -150,16 +171,24 @@ def preflight(scenario, loop=None) -> PreflightReport:
     def fail(issue):
         return PreflightReport(scenario.name, len(times), worst, worst_t, (issue,))
 
+    solvers = [warm_ik(arm) for arm in plant.arms]
+    slices = [plant.q_slice(i) for i in range(m)]
+
     def reach(i, target):
         arm = plant.arms[i]
-        sl = plant.q_slice(i)
+        sl = slices[i]
         if isinstance(arm, ContactPoint):
             return np.asarray(target, dtype=float)
-        try:  # the previous sample's joints first (one branch), then the arm's own random restarts
-            return arm.inverse_kinematics(target, x[sl], seeds=0)
-        except UnreachablePoseError:
-            pass
-        try:
+        if solvers[i] is not None:  # compiled, from the previous sample's joints (one branch)
+            q = solvers[i](target, x[sl])
+            if q is not None:
+                return q
+        else:
+            try:  # the previous sample's joints first (one branch)
+                return arm.inverse_kinematics(target, x[sl], seeds=0)
+            except UnreachablePoseError:
+                pass
+        try:  # the arm's own solve: that seed, then its random restarts
             return arm.inverse_kinematics(target, x[sl])
         except UnreachablePoseError as exc:
             return exc
@@ -173,18 +202,20 @@ def preflight(scenario, loop=None) -> PreflightReport:
             q = reach(i, Yn[i + 1])
             if isinstance(q, Exception):
                 return fail(_unreachable(t, i, names[i], Yn[i + 1], q, via_times))
-            x[plant.q_slice(i)] = q
+            x[slices[i]] = q
     x = x_start
 
     F = None
+    ld = LoadDistribution(loop.ld.config, space, m)  # warm started sample to sample; a failure is re-solved afresh
+    control_terms = _ControlTermsAt(plant, slices)
     for t in times:
         t = float(t)
         Y0N, dY0N, ddY0N = loop.trajectory.evaluate(t)
         Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, loop.grasps, space)
         w_N = required_object_wrench(space, loop.object_mass, loop.object_inertia, loop.gravity, Y0N, dY0N, ddY0N)
         for _ in range(2 if F is None else 1):  # the first sample: the rigid pose, then the deformed one
-            issue, terms, jac, bias, split = _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach,
-                                                     names, via_times, tau_max)
+            issue, terms, jac, bias, split = _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn,
+                                                     ddYn, w_N, reach, names, via_times, tau_max)
             if issue is not None:
                 return fail(issue)
             F = split.F
@@ -217,33 +248,61 @@ def _peak_note(t: float, via_times) -> str:
 def _worst_joint(plant, jac, bias, F, limits):
     """``(arm, joint, |tau| [N m], |tau| / limit)`` of the joint nearest its limit under the split ``F``
     (``tau_i = J_i^T F_i + bias_i``), or ``None`` when no arm has joints."""
-    from plants.cooperative import ContactPoint
-
     best = None
     for i, arm in enumerate(plant.arms):
         if isinstance(arm, ContactPoint):
             continue
         need = np.abs(jac[i].T @ F[i] + bias[i])
         lim = np.asarray(limits[i], dtype=float)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(lim > 0, need / lim, np.inf)
+        ratio = np.full(need.shape, np.inf)  # a joint without a positive limit binds first
+        np.divide(need, lim, out=ratio, where=lim > 0)
         j = int(np.argmax(ratio))
         if best is None or ratio[j] > best[3]:
             best = (i, j, float(need[j]), float(ratio[j]))
     return best
 
 
-def _terms_with_velocities(plant, x, dYn):
-    """Control terms at ``x`` with each arm's joint rates set to follow its node's nominal rate
-    (least squares through the arm Jacobian)."""
+class _ControlTermsAt:
+    """``plant.control_terms(x)`` into one reused workspace (:attr:`CooperativePlant.control_kernel_into`):
+    the returned :class:`ControlTerms` holds that workspace's arrays, overwritten by the next call. A
+    state the kernel refuses (an Euler singularity) goes through ``plant.control_terms``, which raises
+    the plant's error naming the node."""
+
+    def __init__(self, plant, slices):
+        self.plant, self.slices = plant, slices
+        self.dofs = np.array([arm.dof for arm in plant.arms], dtype=np.int64)
+        self.rates = np.empty((plant.arm_count, max(plant.p, int(self.dofs.max()))))  # joint rates, a work array
+        self.kernel, args = plant.control_kernel_into
+        self.args = args[:-1]
+        self.status = np.zeros(2, dtype=np.int64)
+        self.work = plant.control_workspace()
+
+    def __call__(self, x):
+        xc = np.array(x, dtype=np.float64)  # the kernel's state, as plant.control_terms copies it
+        self.status[:] = 0
+        self.kernel(xc, *self.args, self.status, self.work)
+        if self.status[0]:
+            return self.plant.control_terms(x)
+        w, ws, nz = self.work, self.work.ws, self.plant.nz
+        return ControlTerms(ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq, w.W, w.w_free, w.S, w.Fw, xc[:nz], xc[nz:2 * nz])
+
+
+def _terms_with_velocities(plant, control_terms, x, dYn):
+    """Control terms at ``x`` (``control_terms(x)``) with each arm's joint rates set to follow its node's
+    nominal rate: ``J_i dq_i = dYn_i`` solved exactly where every ``J_i`` is square and regular, else in
+    the least-squares sense."""
     nz = plant.nz
     x[nz:2 * nz - plant.p] = 0.0
-    terms = plant.control_terms(x)
-    for i, arm in enumerate(plant.arms):
-        sl = plant.q_slice(i)
-        J = terms.J[i, :, :arm.dof]
-        x[nz:][sl] = np.linalg.lstsq(J, dYn[i + 1], rcond=None)[0]
-    return plant.control_terms(x)
+    terms = control_terms(x)
+    rates = control_terms.rates
+    if square_joint_rates_into(terms.J, dYn, control_terms.dofs, rates):
+        rates = [rates[i, :n] for i, n in enumerate(control_terms.dofs)]
+    else:
+        rates = [np.linalg.lstsq(terms.J[i, :, :n], dYn[i + 1], rcond=None)[0]
+                 for i, n in enumerate(control_terms.dofs)]
+    for sl, dq in zip(control_terms.slices, rates):  # after solving: terms.J is the workspace the next call overwrites
+        x[nz:][sl] = dq
+    return control_terms(x)
 
 
 def _unreachable(t, i, name, target, exc, via_times) -> PreflightIssue:
@@ -256,15 +315,10 @@ def _unreachable(t, i, name, target, exc, via_times) -> PreflightIssue:
         f"limits (best inverse-kinematics residual {exc.residual:.3g}); move the waypoint, the grasp "
         f"({name}.grasp) or the arm base ({name}.base) closer"), i + 1)
 
-def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, via_times, tau_max):
-    """Reach, then the load distribution, at one instant: ``(issue or None, terms, jac, bias, split)``;
-    ``x`` gets the arms' joints and rates."""
-    import dataclasses
-
-    from coopctrl.load_distribution import LoadDistribution
-    from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, contact_normals, qp_torque_limits, torque_model
-    from plants.errors import PlantError
-
+def _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, via_times, tau_max):
+    """Reach, then the load distribution (``ld``, the run's :class:`LoadDistribution`), at one instant:
+    ``(issue or None, terms, jac, bias, split)``; ``x`` gets the arms' joints and rates. ``control_terms``:
+    a :class:`_ControlTermsAt` of the plant."""
     nz, p, npos, space, m = plant.nz, plant.p, loop.npos, loop.space, plant.arm_count
     none = (None, None, None, None)
     # 1. reach: each node's pose deformed by the previous split (rigid before the first split)
@@ -275,9 +329,9 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
         q = reach(i, target)
         if isinstance(q, Exception):
             return (_unreachable(t, i, names[i], target, q, via_times), *none)
-        x[plant.q_slice(i)] = q
+        x[control_terms.slices[i]] = q
     try:
-        terms = _terms_with_velocities(plant, x, dYn)
+        terms = _terms_with_velocities(plant, control_terms, x, dYn)
     except PlantError as exc:
         return (PreflightIssue(t, "unreachable", f"at t = {t:.4g} s the nominal state is singular: {exc}"), *none)
     # 2. the load distribution
@@ -290,9 +344,13 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
         kwargs["jacobians"], kwargs["biases"], kwargs["tau_max"] = jac, bias, qp_torque_limits(plant)
     if config.split == "elastic":
         kwargs["K"] = loop.compliance.stiffness_world(Y0N)
-    ld = LoadDistribution(config, space, m)  # each sample on its own: a failure is never a held split
     try:
-        split = ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **kwargs)
+        try:
+            split = ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **kwargs)
+        except InfeasibleLoad:
+            split = None
+        if split is None or split.held:  # each failure on its own: a fresh solve says why (never a held split)
+            split = LoadDistribution(config, space, m).solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **kwargs)
     except InfeasibleLoad as exc:
         if exc.status != "infeasible":  # a split exists: the solver failed (its limit, its accuracy), say so
             return (PreflightIssue(t, "qp_solver", f"at t = {t:.4g} s {exc}"), *none)
@@ -301,7 +359,7 @@ def _sample(loop, plant, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, v
         if loop.torque_limits:  # which joint: the split without the torque rows, against the limits
             free = {k: v for k, v in kwargs.items() if k not in ("jacobians", "biases", "tau_max")}
             try:
-                free_ld = LoadDistribution(dataclasses.replace(config, torque_limits=False), space, m)
+                free_ld = LoadDistribution(replace(config, torque_limits=False), space, m)
                 F_free = free_ld.solve(terms.Y[1:, :npos], terms.Y[0, :npos], w_N, **free).F
                 over = _worst_joint(plant, jac, bias, F_free, [TORQUE_HEADROOM * lim for lim in tau_max])
             except InfeasibleLoad:
