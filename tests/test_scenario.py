@@ -214,7 +214,7 @@ BAD = [
     ("springs[1].pair", [0, 1], "springs[1].pair"),
     ("simulation.substeps", 0, "simulation.substeps"),
     ("simulation.substeps", 1.5, "simulation.substeps"),
-    ("simulation.integrator", "rk45", "simulation.integrator"),
+    ("simulation.integrator", "rk89", "simulation.integrator"),  # rk45 is an error-controlled scheme
     ("simulation.duration", "1 s", "simulation.duration"),
     ("simulation.control_period", 0.0, "simulation.control_period"),
     ("scene.space", "3d", "scene.space"),
