@@ -7,7 +7,7 @@ later runs load them from the cache. ``coopctrl run`` and ``coopctrl sweep`` ask
 stderr::
 
     coopctrl: compiling the spatial closed-loop kernels (explicit integrators: rk4) for this machine:
-    about 45 s once; later runs load them from /home/me/.cache/coopctrl/.../coopctrl-0123456789abcdef
+    about 45 s once; later runs load them from ~/.cache/coopctrl/numba/coopctrl-0123456789abcdef
 
 (on one line), with the estimate of :data:`COMPILE_S`. On a terminal (stderr is a TTY) an elapsed-time
 ticker follows on the next line until the kernels are ready (:func:`coopctrl.loop.startup.listening`),

@@ -13,16 +13,6 @@ import math
 import numpy as np
 
 
-def state_coordinates(plant) -> list[str]:
-    """Names of the position coordinates ``z = (q, Y_0)``: ``"<arm> joint <j>"``, then the object's pose."""
-    from coopctrl.tuning import signal_names
-
-    names = []
-    for i, arm in enumerate(plant.arms):
-        names += [f"{arm.name} joint {j + 1}" for j in range(arm.dof)]
-    return names + list(signal_names.object_pose(plant.space))
-
-
 def stiffest_mode(plant, x) -> tuple[str, float]:
     """``(coordinate, |lambda| [rad/s])`` of the eigenvalue of largest modulus of ``df/dx`` at ``x``;
     ``("unknown", nan)`` when the linearization cannot be formed (a non-finite state)."""
@@ -37,6 +27,5 @@ def stiffest_mode(plant, x) -> tuple[str, float]:
         return "unknown", math.nan
     k = int(np.argmax(np.abs(modes.eigenvalues)))
     v = np.abs(modes.eigenvectors[:plant.nz, k])
-    names = state_coordinates(plant)
-    return names[int(np.argmax(v))] if len(names) == plant.nz else f"coordinate {int(np.argmax(v))}", \
-        float(abs(modes.eigenvalues[k]))
+    names = plant.state_names()[:plant.nz]  # arm1_q3, object_x, ...
+    return names[int(np.argmax(v))], float(abs(modes.eigenvalues[k]))
