@@ -1,8 +1,21 @@
-"""The fixed-step closed loop against scipy's solve_ivp at equal accuracy (error <= 1e-6).
+"""The compiled closed loop against scipy's solve_ivp at equal accuracy (error <= 1e-6).
 
 Run from the repository root::
 
-    python benchmarks/bench_reference.py [--repeats 5] [--quick] [--tolerance 1e-6]
+    python benchmarks/bench_reference.py [--repeats 5] [--quick] [--tolerance 1e-6] [--sections 1,2,3,4]
+
+Sections 3 and 4 (issue 19) measure the error-controlled schemes of the compiled loop:
+
+3. **rk45 against solve_ivp's RK45** on the closed loop of section 1: the compiled ``rk45`` at the
+   loosest ``rtol = atol`` (decades; atol on positions and velocities alike) whose run reaches the
+   tolerance, and solve_ivp's RK45 restarted at every tick at the same rtol and atol (the same
+   restarts at the control instants, the last step carried as ``first_step``): whole-loop medians,
+   errors, right-hand-side evaluations and rejected-step rates side by side (rk23 against RK23 too).
+   Target: >= 20x.
+4. **trbdf2 on stiff_grasp_extreme** (1e7 N/m grasps): its contact-force error at rtol 1e-5 (max over
+   the ticks against solve_ivp DOP853 at rtol 1e-10 per tick), and for every fixed-step scheme the
+   fewest substeps reaching that error (doubling, then bisection); whole-loop medians round-robin.
+   Target: trbdf2 faster than every fixed step.
 
 Two settings, both on spatial_two_puma_carry (two Pumas, 36 states), in one run:
 
@@ -92,6 +105,8 @@ class IvpStep(Integrator):
         self.atol = rtol if atol is None else atol
         self.max_step = max_step
         self.nfev = 0
+        self.accepted = 0
+        self.calls = 0
         self._last = None
 
     def predicted_max_step(self, omega_max):
@@ -99,7 +114,7 @@ class IvpStep(Integrator):
 
     def reset(self):
         """A fresh start: no step carried over, no evaluations counted."""
-        self.nfev, self._last = 0, None
+        self.nfev, self.accepted, self.calls, self._last = 0, 0, 0, None
 
     def step(self, f, t, x, u, h):
         first = None if self._last is None else min(self._last, (t + h) - t)
@@ -107,6 +122,8 @@ class IvpStep(Integrator):
             sol = solve_ivp(lambda s, y: f(s, y, u), (t, t + h), x, method=self.method, rtol=self.rtol,
                             atol=self.atol, first_step=first, max_step=self.max_step)
         self.nfev += sol.nfev
+        self.calls += 1
+        self.accepted += max(0, sol.t.size - 1)
         if sol.status != 0 or not sol.y.shape[1]:
             return np.full_like(x, np.nan)
         if sol.t.size >= 2:
@@ -518,13 +535,155 @@ def compare(title, problem, ref, tol, fixed, ivp, n_start, n_max, step_unit, rep
     return speedup
 
 
+#: Issue 19: the compiled rk45 closed loop against solve_ivp's RK45 at the same rtol/atol, whole loop [-].
+TARGET_ADAPTIVE = 20.0
+#: The stiff scene of section 4 and its force reference.
+STIFF_SCENE = REPO / "scenarios" / "stiff_grasp_extreme.toml"
+#: Tolerances tried for the error-controlled schemes (atol = rtol [m, rad] and [m/s, rad/s]).
+ADAPTIVE_RTOLS = tuple(10.0 ** -k for k in range(2, 12))
+#: Fixed-step schemes of section 4, and their most substeps per period.
+STIFF_FIXED = ("symplectic_euler", "rk4", "implicit_midpoint", "implicit_euler")
+STIFF_N_MAX = 64
+
+
+def _median_wall(loop, x0, duration, repeats, before=None):
+    """Median wall time [s] of ``repeats`` runs of ``loop`` after one warm-up (``before()`` resets
+    what a run accumulates), and the last record."""
+    times = []
+    rec = None
+    for _ in range(repeats + 1):
+        if before is not None:
+            before()
+        t0 = time.perf_counter()
+        with np.errstate(all="ignore"):
+            rec = loop.run(x0, duration)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times[1:]), rec
+
+
+def _rejected_share(rec) -> float:
+    s = rec.integration_steps
+    acc, rej = float(s[:, 0].sum()), float(s[:, 1].sum())
+    return rej / (acc + rej) if acc + rej else 0.0
+
+
+def compare_adaptive(problem, ref, tol, repeats):
+    """Section 3: the compiled rk45 (and rk23) closed loop against solve_ivp's RK45 (RK23) restarted at
+    every tick, at the same rtol and atol; the loosest rtol at which the compiled scheme reaches ``tol``."""
+    T = problem.scenario.simulation.control_period
+    rows = []
+    for name, method in (("rk45", "RK45"), ("rk23", "RK23")):
+        chosen = None
+        for rtol in ADAPTIVE_RTOLS:
+            sc = coopctrl.load_scenario(SCENE, {"simulation.duration": str(LOOP_DURATION), "simulation.integrator": name,
+                                                "simulation.rtol": repr(rtol), "simulation.atol": repr(rtol),
+                                                "simulation.atol_velocity": repr(rtol)})
+            loop = closed_loop(sc)
+            with np.errstate(all="ignore"):
+                rec = loop.run(problem.x0, LOOP_DURATION)
+            e = error(rec["x"], ref, problem.nz) if rec["status"] == "ok" else math.inf
+            if e <= tol:
+                chosen = (rtol, loop, e)
+                break
+        if chosen is None:
+            print(f"  {name}: error > {tol:g} at every rtol down to {ADAPTIVE_RTOLS[-1]:g}")
+            continue
+        rtol, loop, e = chosen
+        ivp = IvpStep(method, rtol, rtol)
+        ivp_loop = closed_loop(problem.scenario, integrator=ivp)
+        w_c, rec_c = _median_wall(loop, problem.x0, LOOP_DURATION, repeats)
+        w_i, rec_i = _median_wall(ivp_loop, problem.x0, LOOP_DURATION, max(1, repeats // 2), before=ivp.reset)
+        e_i = error(rec_i["x"], ref, problem.nz) if rec_i["status"] == "ok" else math.inf
+        attempted = (ivp.nfev - ivp.calls) / (6 if method == "RK45" else 3)  # first_step given: f(t0), then s per try
+        rej_i = max(0.0, attempted - ivp.accepted) / attempted if attempted else 0.0
+        rows.append((name, method, rtol, e, e_i, w_c, w_i, rec_c, rej_i, ivp))
+    ticks = len(ref) - 1
+    print(f"\n{'scheme':22s} {'rtol = atol':>11s} {'error':>8s} {'rhs evals':>9s} {'rejected':>9s} {'whole loop':>11s} "
+          f"{'us/tick':>8s}")
+    for name, method, rtol, e, e_i, w_c, w_i, rec_c, rej_i, ivp in rows:
+        print(f"{name + ' (compiled)':22s} {rtol:11.0e} {e:8.1e} {rec_c.rhs_evaluations:9d} {_rejected_share(rec_c):8.2%} "
+              f"{w_c * 1e3:8.2f} ms {w_c / ticks * 1e6:8.1f}")
+        print(f"{'solve_ivp ' + method:22s} {rtol:11.0e} {e_i:8.1e} {ivp.nfev:9d} {rej_i:8.2%} {w_i * 1e3:8.2f} ms "
+              f"{w_i / ticks * 1e6:8.1f}")
+    result = None
+    for name, method, rtol, e, e_i, w_c, w_i, *_ in rows:
+        ratio = w_i / w_c
+        verdict = "PASS" if ratio >= TARGET_ADAPTIVE else "FAIL"
+        print(f"  compiled {name} vs solve_ivp {method} at rtol = atol = {rtol:.0e} (error <= {tol:g}), whole loop: "
+              f"{ratio:.1f}x faster" + (f"  (target >= {TARGET_ADAPTIVE:g}x: {verdict})" if name == "rk45" else ""))
+        if name == "rk45":
+            result = ratio
+    return result
+
+
+def compare_stiff(repeats):
+    """Section 4: stiff_grasp_extreme, TR-BDF2 against every fixed step reaching its contact-force error."""
+    sc = coopctrl.load_scenario(STIFF_SCENE)
+    x0 = sc.initial_state()
+    ivp = IvpStep("DOP853", 1e-10, 1e-12)
+    with np.errstate(all="ignore"):
+        ref = closed_loop(sc, integrator=ivp).run(x0, sc.simulation.duration)
+    F_ref = ref["F_measured"]
+
+    def run(overrides):
+        loop = closed_loop(coopctrl.load_scenario(STIFF_SCENE, overrides))
+        with np.errstate(all="ignore"):
+            rec = loop.run(x0, sc.simulation.duration)
+        ok = rec["status"] == "ok"
+        return loop, rec, (float(np.max(np.abs(rec["F_measured"] - F_ref))) if ok else math.inf)
+
+    tr = {"simulation.integrator": "trbdf2", "simulation.rtol": "1e-5", "simulation.atol": "1e-7"}
+    loop_t, rec_t, e_t = run(tr)
+    chosen = [("trbdf2 rtol 1e-5", loop_t, rec_t, e_t)]
+    for name in STIFF_FIXED:
+        n, fail, found = 1, 0, None
+        while n <= STIFF_N_MAX:
+            loop, rec, e = run({"simulation.integrator": name, "simulation.substeps": str(n)})
+            if e <= e_t:
+                found = (n, loop, rec, e)
+                break
+            fail, n = n, 2 * n
+        if found is None:
+            print(f"  {name}: contact-force error > {e_t:.3g} N even at T/{STIFF_N_MAX}; not timed")
+            continue
+        lo = fail
+        while found[0] - lo > 1:
+            mid = (lo + found[0]) // 2
+            loop, rec, e = run({"simulation.integrator": name, "simulation.substeps": str(mid)})
+            if e <= e_t:
+                found = (mid, loop, rec, e)
+            else:
+                lo = mid
+        chosen.append((f"{name} T/{found[0]}", found[1], found[2], found[3]))
+    walls = [[] for _ in chosen]
+    for _ in range(repeats + 1):  # round-robin, the first round a warm-up
+        for k, (_, loop, _, _) in enumerate(chosen):
+            t0 = time.perf_counter()
+            with np.errstate(all="ignore"):
+                loop.run(x0, sc.simulation.duration)
+            walls[k].append(time.perf_counter() - t0)
+    med = [statistics.median(w[1:]) for w in walls]
+    print(f"\n{'setting':26s} {'force error':>11s} {'rhs evals':>9s} {'rejected':>9s} {'whole loop':>11s}")
+    for (label, _, rec, e), w in zip(chosen, med):
+        rej = f"{_rejected_share(rec):8.2%}" if rec.integration_steps is not None else "-"
+        print(f"{label:26s} {e:9.3g} N {rec.rhs_evaluations:9d} {rej:>9s} {w * 1e3:8.2f} ms")
+    fastest_fixed = min(med[1:]) if len(med) > 1 else math.inf
+    verdict = "PASS" if med[0] < fastest_fixed else "FAIL"
+    print(f"  trbdf2 faster than every fixed step reaching its contact-force error ({e_t:.3g} N): "
+          f"{fastest_fixed / med[0]:.2f}x the fastest  {verdict}")
+    return fastest_fixed / med[0]
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="timed runs per chosen setting (default 5)")
     parser.add_argument("--quick", action="store_true", help="no explicit or implicit "
                         "Euler and no Radau (the slowest searches: first order needs up to 3e5 steps for 1e-6)")
     parser.add_argument("--tolerance", type=float, default=1e-6, help="error to reach [rad, m] (default 1e-6)")
+    parser.add_argument("--sections", default="1,2,3,4", help="sections to run (default 1,2,3,4; 3 and 4: the "
+                        "error-controlled schemes)")
     args = parser.parse_args(argv)
+    sections = {int(k) for k in args.sections.split(",")}
     repeats = args.repeats
     fixed = tuple(n for n in FIXED if not (args.quick and n in ("euler", "implicit_euler")))
     ivp = tuple(m for m in IVP if not (args.quick and m == "Radau"))
@@ -544,20 +703,35 @@ def main(argv=None) -> int:
     print(f"\n1. closed loop: spatial_two_puma_carry, {LOOP_DURATION} s at T = {T * 1e3:g} ms (error: max over the "
           f"{len(ref)} ticks); reference DOP853 per tick at rtol 1e-12 with at least 4 steps per tick, its "
           f"difference from RK4 at T/64: {ref_err:.1e}")
-    loop_speedup, loop_integration = compare_loop(loop, ref, tol, fixed, ivp, repeats)
+    loop_speedup = loop_integration = adaptive_speedup = stiff_speedup = open_speedup = None
+    if 1 in sections:
+        loop_speedup, loop_integration = compare_loop(loop, ref, tol, fixed, ivp, repeats)
+    if 3 in sections:
+        print(f"\n3. error-controlled, closed loop: spatial_two_puma_carry as in 1.; the compiled rk45 and rk23 at the "
+              f"loosest rtol = atol (decades) reaching {tol:g}, against solve_ivp's RK45 and RK23 restarted at every "
+              "tick at the same rtol and atol (the last step carried as first_step)")
+        adaptive_speedup = compare_adaptive(loop, ref, tol, repeats)
+    if 4 in sections:
+        print("\n4. error-controlled, stiff: stiff_grasp_extreme (1e7 N/m grasps, omega_max ~ 5000 rad/s, 1 s), contact "
+              "forces against solve_ivp DOP853 per tick at rtol 1e-10; trbdf2 at rtol 1e-5 against each fixed step's "
+              "fewest substeps reaching the same force error")
+        stiff_speedup = compare_stiff(repeats)
 
-    open_ = OpenProblem()
-    open_.step_of = lambda n: HORIZON / n
-    ref = open_.ivp("DOP853", 1e-13)[0]
-    ref_err = error(ref, open_.ivp("DOP853", 3e-14)[0], open_.nz)
-    print(f"\n2. plant alone over {HORIZON} s, holding torque, object struck (error at the final time); reference "
-          f"DOP853 at rtol 1e-13, its error estimate {ref_err:.1e}")
-    open_speedup = compare("plant alone", open_, ref, tol, fixed, ivp, 8, OPEN_N_MAX, "0.2 s", repeats)
+    if 2 in sections:
+        open_ = OpenProblem()
+        open_.step_of = lambda n: HORIZON / n
+        ref = open_.ivp("DOP853", 1e-13)[0]
+        ref_err = error(ref, open_.ivp("DOP853", 3e-14)[0], open_.nz)
+        print(f"\n2. plant alone over {HORIZON} s, holding torque, object struck (error at the final time); reference "
+              f"DOP853 at rtol 1e-13, its error estimate {ref_err:.1e}")
+        open_speedup = compare("plant alone", open_, ref, tol, fixed, ivp, 8, OPEN_N_MAX, "0.2 s", repeats)
 
     fmt = (lambda v: "-" if v is None else f"{v:.1f}x")
     print(f"\nsummary (total {time.perf_counter() - t_start:.0f} s): at error <= {tol:g}, the fastest fixed-step closed "
           f"loop is {fmt(loop_speedup)} faster than the fastest solve_ivp loop, whole loop (target >= {TARGET_LOOP:g}x), "
-          f"{fmt(loop_integration)} integration only; plant alone {fmt(open_speedup)} (target >= {TARGET:g}x)")
+          f"{fmt(loop_integration)} integration only; plant alone {fmt(open_speedup)} (target >= {TARGET:g}x); compiled "
+          f"rk45 {fmt(adaptive_speedup)} faster than solve_ivp RK45 at the same tolerances (target >= {TARGET_ADAPTIVE:g}x); "
+          f"trbdf2 {fmt(stiff_speedup)} the fastest fixed step at its force error on the stiff scene (target > 1x)")
     return 0
 
 

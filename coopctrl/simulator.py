@@ -18,6 +18,21 @@ from coopctrl.results.thinning import finish_record
 from coopctrl.scenario import build
 
 
+def integration_statistics(steps, control_period: float) -> dict | None:
+    """The run's totals of the per-tick step statistics of an error-controlled integrator
+    (:attr:`LoopRecord.integration_steps <coopctrl.loop.record.LoopRecord>`), or ``None``."""
+    if steps is None or not len(steps):
+        return None
+    accepted, rejected = int(steps[:, 0].sum()), int(steps[:, 1].sum())
+    advanced = steps[:, 0] > 0
+    smallest = float(np.min(steps[advanced, 3])) if advanced.any() else float("nan")
+    covered = float(np.count_nonzero(advanced)) * control_period  # time integrated [s]
+    return {"steps_accepted": accepted, "steps_rejected": rejected,
+            "rejected_share": rejected / (accepted + rejected) if accepted + rejected else 0.0,
+            "rhs_evaluations": int(steps[:, 2].sum()), "smallest_step_s": smallest,
+            "mean_step_s": covered / accepted if accepted else float("nan")}
+
+
 def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform_step: bool = False,
                 controllers=None) -> ClosedLoop:
     """The :class:`ClosedLoop` of a scenario (:func:`coopctrl.wiring.closed_loop`, same arguments), with
@@ -94,6 +109,7 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     model = {"arms": report["arms"], "dof_per_arm": report["dof_per_arm"], "space": plant.space,
              "unloaded_state": plant.unloaded_state, "state_size": plant.state_size,
              "arm_models": [a.model for a in scenario.arms]}
+    stats = integration_statistics(rec.get("integration_steps"), sim.control_period)
     result = SimulationResult(
         scenario=scenario.name, space=plant.space, t=rec["t"], x=x, tau=rec["tau"], Y0=Y0,
         Y0_nominal=rec["Y0_nominal"], F_measured=rec["F_measured"], F_commanded=rec["F_commanded"],
@@ -101,7 +117,8 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
         squeeze_desired=np.asarray(loop.squeeze_desired, dtype=float), tau_max=loop.tau_max,
         qp_status=rec["qp_status"], qp_binding=rec.get("qp_binding", []), qp_iterations=rec["qp_iterations"], qp_active_rows=rec["qp_active_rows"], qp_solve_time_s=rec["qp_solve_time_s"],
         events=rec["events"], status=rec["status"], reason=rec["reason"], model=model, integrator=sim.integrator,
-        step_s=sim.step, control_period_s=sim.control_period, duration_s=sim.duration,
+        step_s=stats["mean_step_s"] if stats else sim.step, control_period_s=sim.control_period,
+        duration_s=sim.duration, integration_statistics=stats,
         wall_time_s=rec["wall_time_s"], leader=scenario.leader, followers=list(scenario.followers),
         qp_active_constraints=rec["qp_binding_counts"], qp_time_s=rec["qp_time_s"],
         torque_saturated_ticks=rec["saturated_ticks"],

@@ -9,7 +9,9 @@ is chosen so that each step's local error estimate ``e`` meets the tolerances,
 
 with ``atol_c`` = ``simulation.atol`` [m, rad] on the positions and ``simulation.atol_velocity``
 [m/s, rad/s] on the velocities (``x = (z, dz)``). The last step is cut to land exactly on
-``t + T``; the step proposed before that cut carries over to the next period.
+``t + T`` (with the PI controller, a remainder between one and two steps is taken in two equal
+steps rather than a full step and a sliver); the step proposed before that cut carries over to the
+next period.
 
 Explicit pairs (:class:`EmbeddedPlan`): Bogacki-Shampine 3(2) (``rk23``) and Dormand-Prince 5(4)
 (``rk45``), both first-same-as-last: the slope at a step's end is the next step's first. The step
@@ -41,8 +43,8 @@ with the third-order weights ``bh = ((1 - w) / 3, (3 w + 1) / 3, d / 3)``, filte
 implicit stage is solved by simplified Newton with ``M``; the Jacobian ``J`` (forward differences,
 as :mod:`coopctrl.loop.integrate`) is kept from step to step and tick to tick and re-evaluated only
 when Newton converges slowly. To keep ``M`` too, the period is cut into ``n`` equal steps
-``h = T / n``: ``n`` changes only when the controller's step leaves ``[T / n, 1.5 T / n]``, so a
-steady run inverts ``I - d h J`` once.
+``h = T / n``: ``n`` (and the rest of the period's plan) changes only when the controller's step
+leaves ``[h, 1.5 h]``, so a steady run inverts ``I - d h J`` once.
 
 A step below ``min_step`` returns :data:`STEP_TOO_SMALL` (``out_float = (h, t)``); the caller names
 the stiffest mode. Every period's accepted and rejected steps, right-hand-side evaluations and
@@ -206,9 +208,11 @@ def embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out
                 _record(plan.stats, k_tick, accepted, rejected, out_int[7] - evals0, hmin)
                 return STEP_TOO_SMALL
             proposal = h_abs
+            if controller == CONTROLLER_PI and h_abs < t_end - t_cur < 2.0 * h_abs:
+                h_abs = 0.5 * (t_end - t_cur)  # two even steps to the instant, not a sliver after a full one
             t_new = t_cur + h_abs
-            clipped = t_new - t_end > 0.0
-            if clipped:
+            clipped = t_new - t_end > 0.0 or h_abs < proposal
+            if t_new - t_end > 0.0:
                 t_new = t_end
             h = t_new - t_cur
             for i in range(1, s):
@@ -465,7 +469,11 @@ def trbdf2_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out_f
                 hmin = h
             if controller != CONTROLLER_FIXED:
                 factor = max_factor if err == 0.0 else min(max_factor, safety * err ** (-1.0 / 3.0))
-                memo[M_CARRY] = h * max(factor, min_factor)
+                proposal = h * max(factor, min_factor)
+                memo[M_CARRY] = proposal
+                if remaining_parts > 0 and (proposal < h or proposal > 1.5 * h):  # re-plan the rest of the period
+                    remaining_parts = max(1, int(math.ceil((period - done) / proposal)))
+                    h = (period - done) / remaining_parts
             continue
         rejected += 1
         factor = max(min_factor, safety * err ** (-1.0 / 3.0)) if err == err else min_factor

@@ -54,6 +54,10 @@ class SimulationResult:
         tick_summary: The :meth:`summary` computed on every tick before the record was thinned, or
             ``None`` (``record_every = 1``: the summary is computed from the record itself).
         scenario_sha256: SHA-256 (hex) of the ``scenario.toml`` saved with the result, or ``""``.
+        integration_statistics: The steps of an error-controlled integrator (``rk23``, ``rk45``,
+            ``trbdf2``) over the run, or ``None`` (a fixed step): ``steps_accepted``,
+            ``steps_rejected``, ``rejected_share`` [-], ``rhs_evaluations``, ``smallest_step_s`` and
+            ``mean_step_s`` [s] (``step_s`` is then the mean step).
     """
 
     scenario: str
@@ -96,6 +100,7 @@ class SimulationResult:
     qp_time_s: float = float("nan")
     torque_saturated_ticks: int = 0
     qp_active_rows: np.ndarray | None = None
+    integration_statistics: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         if self.space not in ("planar", "spatial"):

@@ -24,6 +24,7 @@ META_FIELDS = (
     "scenario", "space", "status", "reason", "model", "integrator", "step_s", "control_period_s",
     "duration_s", "wall_time_s", "energy_conserving", "leader", "followers", "qp_active_constraints",
     "qp_time_s", "torque_saturated_ticks", "record_every", "tick_summary", "scenario_sha256",
+    "integration_statistics",
 )
 #: The node (end-effector) poses are stored too (optional on reading: older results have none).
 ARRAY_FIELDS = ARRAY_FIELDS + ("Y_nodes",)
@@ -37,7 +38,7 @@ _META_TYPES = {
     "step_s": float, "control_period_s": float, "duration_s": float, "wall_time_s": float,
     "energy_conserving": bool, "leader": int, "followers": list, "qp_active_constraints": dict,
     "qp_time_s": float, "torque_saturated_ticks": int, "record_every": int, "tick_summary": (dict, type(None)),
-    "scenario_sha256": str, "_nan": list,
+    "scenario_sha256": str, "integration_statistics": (dict, type(None)), "_nan": list,
 }
 #: How to get a whole result again, appended to every message about a damaged ``result.npz``.
 RERUN = "rerun `coopctrl run SCENARIO --out DIR` to write it again"

@@ -163,8 +163,18 @@ def summarize(result: "SimulationResult") -> dict[str, Any]:
             "events": len(r.events),
             "leader": r.leader,
             "followers": list(r.followers),
+            **_integration(r.integration_statistics),
         }
     )
+
+
+def _integration(stats) -> dict[str, Any]:
+    """The error-controlled integrator's step counts (no keys for a fixed step)."""
+    if not stats:
+        return {}
+    return {"steps_accepted": stats["steps_accepted"], "steps_rejected": stats["steps_rejected"],
+            "steps_rejected_share": stats["rejected_share"], "smallest_step_s": stats["smallest_step_s"],
+            "rhs_evaluations": stats["rhs_evaluations"]}
 
 
 #: Rows of :func:`summary_table`: (key, label, scale, unit).
@@ -174,6 +184,9 @@ _ROWS = (
     ("reason", "reason", None, ""),
     ("integrator", "integrator", None, ""),
     ("step_s", "integration step", 1e3, "ms"),
+    ("smallest_step_s", "smallest step", 1e3, "ms"),
+    ("steps_accepted", "steps accepted", None, ""),
+    ("steps_rejected", "steps rejected", None, ""),
     ("control_period_s", "control period", 1e3, "ms"),
     ("simulated_time_s", "simulated time", 1.0, "s"),
     ("wall_time_s", "wall time", 1.0, "s"),
