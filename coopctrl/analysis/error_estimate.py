@@ -21,7 +21,9 @@ proportionality, which the step controller aims at): 100 times smaller tolerance
 of the error, and the difference is ``0.99 e``; the estimate is the difference times 100 / 99.
 The estimate is only as good as these asymptotics: it holds when the tighter run is much more
 accurate than the cheap one (the step in the asymptotic range, no step-size-dependent event such
-as a divergence or a torque saturation switching on in one run only). It says nothing about the
+as a divergence or a torque saturation switching on in one run only). An error-controlled run whose
+steps are all whole control periods (the tolerance is not what limits them) may take the very same
+steps at the tighter tolerances: there is then no estimate, and the reason says so. It says nothing about the
 model's error (the plant against the real arms), only the integration's.
 """
 
@@ -135,6 +137,10 @@ def estimate_error(scenario) -> ErrorEstimate:
             return ErrorEstimate(None, None, None, setting, tighter, factor, fine.wall_time_s,
                                  f"{label} {r.status}: {r.reason}")
     errors = run_errors(run, fine)
+    if sim.adaptive and run.rhs_evaluations == fine.rhs_evaluations and errors["position_error_m"] == 0.0:
+        return ErrorEstimate(None, None, None, setting, tighter, factor, fine.wall_time_s,
+                             "the tighter tolerances took the same steps (the control period, not the tolerance, "
+                             "limits the step): rerun with a smaller rtol, or a fixed step")
     values = [errors["position_error_m"] * factor, errors["orientation_error_rad"] * factor,
               errors["force_error_N"] * factor]
     if not all(math.isfinite(v) for v in values):
