@@ -33,6 +33,10 @@ fidelity_planar at their whole durations, 2.5, 2.5, 1.0 and 2.5 s; targets 1e-3 
 * hit rate 20 of 20; cost / cheapest fixed-step setting meeting the target over the run: median 1,
   max 2 (gripping_immobile_object at 1e-4 m: symplectic Euler at T/1 reaches 9.8e-5 m, within the
   5 % margin of the target, so T/2 is chosen; no candidate lies between 1 and 2 substeps).
+
+``--scenes stiff_grasp_extreme,spatial_three_arm_carry`` (1.0 s at T = 3 ms, 2.5 s): full / prefix
+error up to 42 (TR-BDF2) and 24 (implicit midpoint); full / predicted 0.91 to 1.23 on the stiff scene,
+0.999 to 1.000 on the other; hit rate 10 of 10; cost / cheapest fixed step: median 0.94, max 1.
 """
 
 from __future__ import annotations

@@ -21,8 +21,9 @@ Growth after the prefix, and the safety factor
 The prefix error underestimates the full run's: the error keeps growing after the prefix while
 the motion goes on, by a factor that depends on the scene **and** the scheme. Measured with
 ``benchmarks/bench_accuracy_target.py`` (full-run error / prefix error over every candidate):
-1 on ``gripping_immobile_object`` (the error is made in the first transient); over 383 settings of
-four scenes median 1.5, 95th percentile 13, up to 39 on ``planar_two_arm_lift`` (its motion
+1 on ``gripping_immobile_object`` (the error is made in the first transient); over 604 settings of
+six scenes median 1.5 to 2.5, 95th percentile 9 to 13, up to 42 (``stiff_grasp_extreme``) and 39 on
+``planar_two_arm_lift`` (its motion
 accelerates after 0.25 s; 1.5 for Euler, 7 for RK4, 39 for TR-BDF2 at a loose tolerance). No single factor serves both: 39 would cost a first-order scheme
 39 times its step count where 1 suffices. So the growth is measured per candidate, without the
 expensive reference: a **compiled quasi-reference** (``rk45`` at ``rtol`` 1e-10, atol 1e-12 m:
@@ -35,11 +36,12 @@ quasi-reference's own prefix error against the reference is checked: above 1 % o
 :data:`FALLBACK_GROWTH`. A setting is accepted when ``SAFETY_FACTOR * g * prefix_error <= target``
 (the same for the force with ``--force-target``). :data:`SAFETY_FACTOR` = 1.05 covers the error of
 the prediction, measured by the same benchmark (full-run error against the reference / predicted
-error, over the 308 candidates with a prefix error above 1e-9 m on planar_two_arm_lift,
-contact_points_only, gripping_immobile_object and fidelity_planar: 0.994 to 1.013), plus the
-quasi-reference's share; a larger factor would make the search skip settings that meet the target
-(1 -> 2 substeps doubles the cost). On those scenes at targets 1e-3 to 1e-7 m the recommendation
-met the target over the whole run in 20 of 20 cases.
+error, over the candidates with a prefix error above 1e-9 m: 0.994 to 1.013 on planar_two_arm_lift,
+contact_points_only, gripping_immobile_object, fidelity_planar and spatial_three_arm_carry, 488
+candidates; 0.91 to 1.23 on stiff_grasp_extreme, 99 candidates), plus the quasi-reference's share;
+a larger factor would make the search skip settings that meet the target (1 -> 2 substeps doubles
+the cost). On those six scenes at targets 1e-3 to 1e-7 m the recommendation met the target over
+the whole run in 30 of 30 cases.
 
 The cost
 --------
