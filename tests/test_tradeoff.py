@@ -21,6 +21,7 @@ from coopctrl.analysis.tradeoff import (
     orientation_angles,
     pareto_front,
     parse_integrators,
+    parse_rtols,
     parse_steps,
     run_errors,
     run_loop,
@@ -28,7 +29,7 @@ from coopctrl.analysis.tradeoff import (
     substeps_of,
 )
 from coopctrl.errors import ScenarioError
-from coopctrl.integrators import INTEGRATORS, RK4_IMAGINARY_AXIS_LIMIT, get_integrator
+from coopctrl.integrators import ERROR_CONTROLLED, INTEGRATORS, RK4_IMAGINARY_AXIS_LIMIT, get_integrator
 from coopctrl.scenario import build
 from plants.frames import rotation_zyx
 from test_cli import assert_user_error, coopctrl as coopctrl_process
@@ -177,10 +178,40 @@ def test_steps_must_divide_the_control_period():
 
 
 def test_integrator_names_are_checked():
-    assert parse_integrators(None) == tuple(INTEGRATORS)
-    assert parse_integrators(["rk4,euler", "rk4"]) == ("rk4", "euler")
-    with pytest.raises(ScenarioError, match="--integrators = 'rk45'.*rk4"):
-        parse_integrators("rk4,rk45")
+    """The grid takes the error-controlled schemes too (issue 19), after the fixed-step ones."""
+    assert parse_integrators(None) == (*INTEGRATORS, *ERROR_CONTROLLED)
+    assert parse_integrators(["rk4,euler", "rk4", "rk45"]) == ("rk4", "euler", "rk45")
+    with pytest.raises(ScenarioError, match="--integrators = 'heun'.*rk4.*trbdf2"):
+        parse_integrators("rk4,heun")
+
+
+def test_rtols_are_checked():
+    assert parse_rtols(["1e-6,1e-3", "1e-6"]) == (1e-3, 1e-6)
+    for bad in ("0", "1", "nan", "1e-14", "abc", ""):
+        with pytest.raises(ScenarioError, match="--rtols"):
+            parse_rtols(bad)
+
+
+def test_grid_has_error_controlled_rows_with_their_tolerances(tmp_path):
+    """Issue 19: rows of rk45/rk23 at each rtol (atol = 0.01 rtol [m]) beside the fixed steps, in the table,
+    the JSON, the CSV and the plot. planar_two_arm_lift for 0.05 s: the tighter tolerance is not less
+    accurate (an error-controlled step only shrinks as rtol does; both can be a whole period, the error
+    then equal)."""
+    scene = load("planar_two_arm_lift", **{"simulation.duration": 0.05})
+    grid = run_tradeoff(scene, ["rk4", "rk23"], [1], rtols=[1e-3, 1e-7])
+    assert [(r.integrator, r.substeps, r.rtol) for r in grid.rows] == [("rk4", 1, None), ("rk23", None, 1e-3),
+                                                                      ("rk23", None, 1e-7)]
+    loose, tight = grid.row("rk23", 1e-3), grid.row("rk23", 1e-7)
+    assert loose.atol == pytest.approx(1e-5) and tight.atol == pytest.approx(1e-9) and loose.step_s is None
+    assert loose.status == tight.status == "ok"
+    assert tight.position_error_m <= loose.position_error_m and tight.rhs_evaluations >= loose.rhs_evaluations
+    table = grid.table()
+    assert "rtol" in table and "1e-07" in table and "adaptive" in table
+    paths = grid.save(tmp_path)
+    assert paths[1].read_text().splitlines()[0].startswith("integrator,step_s,substeps,rtol,atol,position_error_m")
+    assert [r["rtol"] for r in json.loads(paths[0].read_text())["rows"]] == [None, 1e-3, 1e-7]
+    with pytest.raises(ScenarioError, match="rtols"):
+        run_tradeoff(scene, ["rk23"], [1], rtols=[0.5])
 
 
 # ---------------------------------------------------------------------- the grid
@@ -240,7 +271,7 @@ def test_save_writes_json_csv_png(stiff_short, tmp_path):
     assert [p.name for p in paths] == ["tradeoff.json", "tradeoff.csv", "work_precision.png"]
     assert json.loads(paths[0].read_text())["scenario"] == "stiff_grasp_extreme"
     lines = paths[1].read_text().splitlines()
-    assert lines[0].startswith("integrator,step_s,substeps,position_error_m") and len(lines) == 5
+    assert lines[0].startswith("integrator,step_s,substeps,rtol,atol,position_error_m") and len(lines) == 5
     assert paths[2].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert not list((tmp_path / "out").glob(".*.tmp"))  # atomic writes leave no temporaries
 

@@ -1,10 +1,13 @@
-"""The speed-accuracy trade of the integrators: a grid of (integrator, step) runs against a reference.
+"""The speed-accuracy trade of the integrators: a grid of (integrator, setting) runs against a reference.
 
 :func:`run_tradeoff` simulates a scenario's closed loop once with the reference solution
 (:class:`~coopctrl.analysis.reference.ReferenceIntegrator`: ``solve_ivp`` over each control
-period) and once per grid point (integrator, step ``h = T / n``), and reports for each run its
-error against the reference, its wall time and real-time factor, and whether it is on the
-Pareto front of (wall time, error).
+period) and once per grid point, and reports for each run its error against the reference, its
+wall time and real-time factor, and whether it is on the Pareto front of (wall time, error).
+A grid point is a fixed-step scheme at a step ``h = T / n`` (``n`` substeps per control period),
+or an error-controlled scheme (``rk23``, ``rk45``, ``trbdf2``) at a relative tolerance ``rtol``
+with ``atol = ATOL_PER_RTOL * rtol`` [m] (the ratio of the defaults ``atol = 1e-8 m`` and
+``rtol = 1e-6``; the velocities' ``atol / T``): its rows have ``rtol`` and ``atol`` and no step.
 
 What is compared
 ----------------
@@ -44,11 +47,15 @@ import numpy as np
 from coopctrl.analysis.reference import ReferenceConfig, ReferenceIntegrator
 from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import CoopctrlError, ScenarioError
-from coopctrl.integrators import INTEGRATORS, get_integrator
+from coopctrl.integrators import ERROR_CONTROLLED, INTEGRATORS, get_integrator
 from coopctrl.integrators.base import Integrator
 
 #: Default grid: ``h = T / n`` for these ``n`` (substeps per control period).
 DEFAULT_SUBSTEPS = (1, 2, 4, 8, 16)
+#: Default relative tolerances [-] of the error-controlled schemes: 1e-3 to 1e-9 by decades.
+DEFAULT_RTOLS = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9)
+#: ``atol = ATOL_PER_RTOL * rtol`` [m] of a grid point (the defaults' ratio: 1e-8 m at rtol 1e-6).
+ATOL_PER_RTOL = 1e-2
 #: Largest number of substeps a step may ask for (``h >= T / MAX_SUBSTEPS``).
 MAX_SUBSTEPS = 4096
 #: Control periods of the untimed warm-up run before the reference (loads kernels, QP and scipy).
@@ -57,7 +64,7 @@ WARM_UP_TICKS = 10
 STEP_RTOL = 1e-6
 
 #: Columns of a row, in the order of :meth:`TradeoffRow.to_dict`, the CSV file and the table.
-ROW_FIELDS = ("integrator", "step_s", "substeps", "position_error_m", "orientation_error_rad", "force_error_N",
+ROW_FIELDS = ("integrator", "step_s", "substeps", "rtol", "atol", "position_error_m", "orientation_error_rad", "force_error_N",
               "force_error_relative", "wall_time_s", "realtime_factor", "rhs_evaluations", "status", "reason",
               "pareto", "pareto_force")
 
@@ -136,14 +143,66 @@ def parse_steps(items: Sequence[str] | str, control_period: float) -> tuple[int,
     return tuple(sorted(out))
 
 
+def grid_integrators() -> tuple[str, ...]:
+    """Every name the grid takes: the fixed-step schemes, then the error-controlled ones."""
+    return (*INTEGRATORS, *ERROR_CONTROLLED)
+
+
+def is_adaptive(name: str) -> bool:
+    """Whether ``name`` is an error-controlled scheme (:data:`~coopctrl.integrators.ERROR_CONTROLLED`)."""
+    return name in ERROR_CONTROLLED
+
+
+def tolerances_of(rtol: float) -> dict[str, float]:
+    """``{"rtol": rtol, "atol": ATOL_PER_RTOL * rtol}`` [-, m]: the tolerances of a grid point."""
+    return {"rtol": float(rtol), "atol": ATOL_PER_RTOL * float(rtol)}
+
+
+def make_integrator(name: str, rtol: float | None = None) -> Integrator:
+    """A new integrator of the grid: ``name`` (fixed step), or an error-controlled ``name`` at
+    ``rtol`` with ``atol = ATOL_PER_RTOL * rtol`` (:func:`tolerances_of`)."""
+    if is_adaptive(name):
+        return get_integrator(name, **tolerances_of(1e-6 if rtol is None else rtol))
+    return get_integrator(name)
+
+
+def parse_rtols(items: Sequence[str] | str) -> tuple[float, ...]:
+    """Relative tolerances from the command line (comma-separated allowed), each in [1e-13, 0.1];
+    duplicates dropped, loosest first.
+
+    Raises:
+        ScenarioError: for a malformed or out-of-range item.
+    """
+    if isinstance(items, str):
+        items = [items]
+    out: set[float] = set()
+    for item in items:
+        for text in str(item).split(","):
+            text = text.strip()
+            if not text:
+                continue
+            try:
+                value = float(text)
+            except ValueError:
+                value = math.nan
+            if not 1e-13 <= value <= 0.1:  # NaN fails
+                raise ScenarioError("--rtols", text, "relative tolerances in [1e-13, 0.1] (e.g. 1e-4,1e-6)")
+            out.add(value)
+    if not out:
+        raise ScenarioError("--rtols", ",".join(map(str, items)), "at least one tolerance")
+    return tuple(sorted(out, reverse=True))
+
+
 def parse_integrators(items: Sequence[str] | str | None) -> tuple[str, ...]:
-    """Integrator names (comma-separated allowed), in the order given, checked against the registry.
+    """Integrator names (comma-separated allowed), in the order given, checked against the registry
+    (fixed-step and error-controlled schemes).
 
     Raises:
         ScenarioError: for an unknown name (the message lists the valid ones).
     """
+    valid_names = grid_integrators()
     if items is None:
-        return tuple(INTEGRATORS)
+        return valid_names
     if isinstance(items, str):
         items = [items]
     names: list[str] = []
@@ -152,13 +211,13 @@ def parse_integrators(items: Sequence[str] | str | None) -> tuple[str, ...]:
             name = name.strip()
             if not name:
                 continue
-            if name not in INTEGRATORS:
-                valid = ", ".join(INTEGRATORS)
+            if name not in valid_names:
+                valid = ", ".join(valid_names)
                 raise ScenarioError("--integrators", name, f"names among {valid}")
             if name not in names:
                 names.append(name)
     if not names:
-        raise ScenarioError("--integrators", ",".join(items), f"at least one of {', '.join(INTEGRATORS)}")
+        raise ScenarioError("--integrators", ",".join(items), f"at least one of {', '.join(valid_names)}")
     return tuple(names)
 
 
@@ -233,7 +292,7 @@ def run_loop(scenario, x0, integrator: Integrator, substeps: int, duration: floa
         scenario: The :class:`~coopctrl.scenario.Scenario`.
         x0: Initial state (:func:`coopctrl.scenario.build.initial_state`), the same for every run.
         integrator: A new :class:`~coopctrl.integrators.Integrator` (not shared between runs).
-        substeps: Plant steps per control period, >= 1.
+        substeps: Plant steps per control period, >= 1 (an error-controlled scheme ignores it).
         duration: Simulated time [s]; default ``simulation.duration``.
     """
     from coopctrl.simulator import closed_loop
@@ -246,7 +305,7 @@ def run_loop(scenario, x0, integrator: Integrator, substeps: int, duration: floa
     if compiled_unsupported(loop) is not None:  # the Python tick: count the calls through a wrapper
         counted = _CountingIntegrator(integrator)
         loop = closed_loop(scenario, integrator=counted, step=step)
-    if loop.substeps != int(substeps):
+    if not getattr(integrator, "adaptive", False) and loop.substeps != int(substeps):
         raise RuntimeError(f"the closed loop took {loop.substeps} substeps for T/{substeps}")
     duration = scenario.simulation.duration if duration is None else float(duration)
     rec = loop.run(np.asarray(x0, dtype=float), duration)
@@ -280,6 +339,28 @@ def orientation_angles(Y0: np.ndarray, Y0_ref: np.ndarray) -> np.ndarray:
     R = Rotation.from_euler("ZYX", Y0[:, 3:6])
     R_ref = Rotation.from_euler("ZYX", Y0_ref[:, 3:6])
     return (R_ref.inv() * R).magnitude()
+
+
+def measured_row(run: LoopRun, ref: LoopRun, name: str, control_period: float, substeps: int | None,
+                 rtol: float | None) -> dict[str, Any]:
+    """The fields of a :class:`TradeoffRow` (without the Pareto marks) of ``run`` against ``ref``:
+    a fixed step ``T / substeps``, or an error-controlled scheme at ``rtol`` (``substeps`` ``None``)."""
+    simulated = float(run.t[-1] - run.t[0]) if run.t.size > 1 else 0.0
+    rtf = simulated / run.wall_time_s if run.wall_time_s > 0 and simulated > 0 else None
+    errors = run_errors(run, ref) if run.status == "ok" else dict.fromkeys(
+        ("position_error_m", "orientation_error_rad", "force_error_N", "force_error_relative"))
+    tol = tolerances_of(rtol) if substeps is None else {"rtol": None, "atol": None}
+    return dict(integrator=name, step_s=None if substeps is None else control_period / substeps, substeps=substeps,
+                **tol, **errors, wall_time_s=run.wall_time_s, realtime_factor=rtf,
+                rhs_evaluations=run.rhs_evaluations, status=run.status, reason=run.reason)
+
+
+def mark_pareto(rows: list[dict]) -> None:
+    """Set ``pareto`` and ``pareto_force`` of row dicts (see :func:`pareto_front`), in place."""
+    walls = [r["wall_time_s"] for r in rows]
+    for key, metric in (("pareto", "position_error_m"), ("pareto_force", "force_error_N")):
+        for r, on in zip(rows, pareto_front(walls, [r[metric] for r in rows])):
+            r[key] = on
 
 
 def run_errors(run: LoopRun, ref: LoopRun) -> dict[str, float]:
@@ -321,7 +402,9 @@ class TradeoffRow:
     """One grid point. Errors are ``None`` unless ``status == "ok"``; see the module docstring.
 
     Attributes:
-        integrator: Registry name; step_s: ``h`` [s]; substeps: ``n = T / h``.
+        integrator: Registry name; step_s: ``h`` [s]; substeps: ``n = T / h`` (``None`` for an
+            error-controlled scheme).
+        rtol, atol: Tolerances [-, m] of an error-controlled scheme (``None`` for a fixed step).
         position_error_m, orientation_error_rad, force_error_N, force_error_relative: Errors
             against the reference (maximum over the run).
         wall_time_s: Wall time of the closed loop [s] (controller, QP and plant).
@@ -336,8 +419,10 @@ class TradeoffRow:
     __repr__ = compact_repr  # a few lines, never whole arrays (coopctrl.compact_repr)
 
     integrator: str
-    step_s: float
-    substeps: int
+    step_s: float | None
+    substeps: int | None
+    rtol: float | None
+    atol: float | None
     position_error_m: float | None
     orientation_error_rad: float | None
     force_error_N: float | None
@@ -413,12 +498,15 @@ class TradeoffResult:
                           "control_period_s": self.control_period_s, "omega_max_rad_s": self.omega_max_rad_s,
                           "reference": self.reference.to_dict(), "rows": [r.to_dict() for r in self.rows]})
 
-    def row(self, integrator: str, substeps: int) -> TradeoffRow:
-        """The row of ``integrator`` at ``h = T / substeps``."""
+    def row(self, integrator: str, setting: float) -> TradeoffRow:
+        """The row of ``integrator`` at ``h = T / setting`` (fixed step: ``setting`` is the number of
+        substeps) or at ``rtol = setting`` (error-controlled)."""
+        key = "rtol" if is_adaptive(integrator) else "substeps"
         for r in self.rows:
-            if r.integrator == integrator and r.substeps == substeps:
+            if r.integrator == integrator and getattr(r, key) == setting:
                 return r
-        raise KeyError(f"no row ({integrator!r}, T/{substeps}) in the grid")
+        shown = f"rtol {setting:g}" if key == "rtol" else f"T/{setting}"
+        raise KeyError(f"no row ({integrator!r}, {shown}) in the grid")
 
     def table(self) -> str:
         """The grid as an aligned text table (``*`` marks the Pareto front: ``p`` position, ``f`` force)."""
@@ -429,12 +517,12 @@ class TradeoffResult:
                 + (f", omega_max = {self.omega_max_rad_s:.4g} rad/s" if self.omega_max_rad_s else ""),
                 f"reference: solve_ivp {c.method}, rtol {c.rtol:.3g}, atol {c.atol:.3g}, one call per control "
                 f"period; wall time {ref.wall_time_s:.4g} s, {ref.rhs_evaluations} rhs evaluations"]
-        cols = ["integrator", "step", "pos err [m]", "ori err [rad]", "force err [N]", "force rel [-]",
+        cols = ["integrator", "step", "rtol", "pos err [m]", "ori err [rad]", "force err [N]", "force rel [-]",
                 "wall [s]", "RTF [x]", "rhs evals", "status", "pareto"]
         lines = []
         for r in self.rows:
             front = ("p" if r.pareto else "") + ("f" if r.pareto_force else "")
-            lines.append([r.integrator, f"{_duration(r.step_s)} (T/{r.substeps})", _num(r.position_error_m),
+            lines.append([r.integrator, setting_label(r), _num(r.rtol, "{:.0e}"), _num(r.position_error_m),
                           _num(r.orientation_error_rad), _num(r.force_error_N), _num(r.force_error_relative),
                           f"{r.wall_time_s:.3g}", _num(r.realtime_factor, "{:.3g}"), str(r.rhs_evaluations),
                           r.status, ("* " + front) if front else ""])
@@ -442,7 +530,7 @@ class TradeoffResult:
                   for k in range(len(cols))]
         fmt = lambda parts: "  ".join(p.ljust(w) for p, w in zip(parts, widths)).rstrip()  # noqa: E731
         body = [fmt(cols)] + [fmt(line) for line in lines]
-        notes = [f"{r.integrator} {_duration(r.step_s)}: {r.reason}" for r in self.rows if r.status != "ok"]
+        notes = [f"{r.integrator} {setting_label(r)}: {r.reason}" for r in self.rows if r.status != "ok"]
         foot = ["pareto: * p = not beaten in both wall time and position error, f = in wall time and force error"]
         return "\n".join(head + [""] + body + [""] + foot + [f"  {n}" for n in notes])
 
@@ -475,6 +563,14 @@ class TradeoffResult:
         return paths
 
 
+def setting_label(row) -> str:
+    """``"250 us (T/4)"`` for a fixed step, ``"adaptive"`` for an error-controlled row (its ``rtol``
+    is in its own column)."""
+    if row.substeps is None:
+        return "adaptive"
+    return f"{_duration(row.step_s)} (T/{row.substeps})"
+
+
 def _timed(run: Callable[[], LoopRun], repeats: int) -> LoopRun:
     """The first of ``repeats`` identical runs, with the smallest wall time of them."""
     first = run()
@@ -498,20 +594,27 @@ def _num(value, fmt: str = "{:.3e}") -> str:
 # ---------------------------------------------------------------------- the driver
 def run_tradeoff(scenario, integrators: Sequence[str] | None = None, substeps: Sequence[int] | None = None,
                  reference: ReferenceConfig | None = None, repeats: int = 1,
-                 progress: Callable[[str], None] | None = None) -> TradeoffResult:
-    """Run the reference, then every (integrator, step) of the grid, and compare.
+                 progress: Callable[[str], None] | None = None, rtols: Sequence[float] | None = None,
+                 duration: float | None = None) -> TradeoffResult:
+    """Run the reference, then every (integrator, step or tolerance) of the grid, and compare.
 
     Args:
         scenario: The :class:`~coopctrl.scenario.Scenario` (its ``simulation.duration`` is the
             simulated time: shorten it with an override, ``simulation.duration = 0.3``).
-        integrators: Registry names; default: all of :data:`~coopctrl.integrators.INTEGRATORS`.
-        substeps: ``n`` of the steps ``h = T / n``; default :data:`DEFAULT_SUBSTEPS`. Use
-            :func:`parse_steps` or :func:`substeps_of` to turn steps in seconds into these.
+        integrators: Registry names; default: all of :data:`~coopctrl.integrators.INTEGRATORS`
+            then all of :data:`~coopctrl.integrators.ERROR_CONTROLLED`.
+        substeps: ``n`` of the steps ``h = T / n`` of the fixed-step schemes; default
+            :data:`DEFAULT_SUBSTEPS`. Use :func:`parse_steps` or :func:`substeps_of` to turn steps
+            in seconds into these.
         reference: The :class:`ReferenceConfig` (default DOP853, rtol 1e-11, atol 1e-12).
         repeats: Runs per grid point (and of the reference), >= 1; the wall time reported is the
             smallest (the least disturbed by other load on the machine). The runs are identical
             bit for bit, so the errors do not depend on it.
         progress: Called with a short label before each run (e.g. to print progress).
+        rtols: Relative tolerances of the error-controlled schemes, each in [1e-13, 0.1];
+            default :data:`DEFAULT_RTOLS` (``atol = ATOL_PER_RTOL * rtol``).
+        duration: Simulated time [s] (rounded to whole control periods); default
+            ``simulation.duration``.
 
     Returns:
         The :class:`TradeoffResult`.
@@ -533,6 +636,11 @@ def run_tradeoff(scenario, integrators: Sequence[str] | None = None, substeps: S
     grid = tuple(sorted({int(n) for n in grid}))
     if isinstance(repeats, bool) or int(repeats) != repeats or repeats < 1:
         raise ScenarioError("repeats", repeats, "an integer >= 1")
+    tolerances = DEFAULT_RTOLS if rtols is None else tuple(rtols)
+    for rtol in tolerances:
+        if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-13 <= rtol <= 0.1:
+            raise ScenarioError("rtols", rtol, "relative tolerances in [1e-13, 0.1]")
+    tolerances = tuple(sorted({float(r) for r in tolerances}, reverse=True))
     config = reference if reference is not None else ReferenceConfig()
     sim = scenario.simulation
     T = sim.control_period
@@ -540,7 +648,13 @@ def run_tradeoff(scenario, integrators: Sequence[str] | None = None, substeps: S
         x0 = build.initial_state(scenario)
     except InfeasibleLoad as exc:
         raise ReferenceFailed("qp_failed", f"at t = 0 s (loaded start): {exc}") from None
-    duration = sim.control_steps * T
+    if duration is None:
+        duration = sim.control_steps * T
+    elif isinstance(duration, bool) or not isinstance(duration, (int, float)) or not T <= duration <= sim.duration:
+        raise ScenarioError("duration", duration, f"a time in [{T:g}, {sim.duration:g}] s (one control period "
+                                                  "to simulation.duration)")
+    else:
+        duration = max(1, round(duration / T)) * T
     # warm-up, untimed: first calls of the kernels, the QP and scipy must not be charged to a row
     run_loop(scenario, x0, get_integrator("rk4"), 1, min(duration, WARM_UP_TICKS * T))
     if progress:
@@ -553,21 +667,13 @@ def run_tradeoff(scenario, integrators: Sequence[str] | None = None, substeps: S
     force_scale = float(np.max(np.linalg.norm(ref.forces, axis=-1))) if ref.forces.size else 0.0
     rows = []
     for name in names:
-        for n in grid:
+        settings = [(None, rtol) for rtol in tolerances] if is_adaptive(name) else [(n, None) for n in grid]
+        for n, rtol in settings:
             if progress:
-                progress(f"{name} T/{n}")
-            run = _timed(lambda: run_loop(scenario, x0, get_integrator(name), n, duration), repeats)
-            simulated = float(run.t[-1] - run.t[0]) if run.t.size > 1 else 0.0
-            rtf = simulated / run.wall_time_s if run.wall_time_s > 0 and simulated > 0 else None
-            errors = run_errors(run, ref) if run.status == "ok" else dict.fromkeys(
-                ("position_error_m", "orientation_error_rad", "force_error_N", "force_error_relative"))
-            rows.append(dict(integrator=name, step_s=T / n, substeps=n, **errors, wall_time_s=run.wall_time_s,
-                             realtime_factor=rtf, rhs_evaluations=run.rhs_evaluations, status=run.status,
-                             reason=run.reason))
-    walls = [r["wall_time_s"] for r in rows]
-    for key, metric in (("pareto", "position_error_m"), ("pareto_force", "force_error_N")):
-        for r, on in zip(rows, pareto_front(walls, [r[metric] for r in rows])):
-            r[key] = on
+                progress(f"{name} rtol {rtol:g}" if n is None else f"{name} T/{n}")
+            run = _timed(lambda: run_loop(scenario, x0, make_integrator(name, rtol), n or 1, duration), repeats)
+            rows.append(measured_row(run, ref, name, T, n, rtol))
+    mark_pareto(rows)
     try:
         omega = closed_loop(scenario).omega_max(x0)
     except (PlantError, ArithmeticError, ValueError):  # a diagnostic only: it must not lose the grid

@@ -2,13 +2,15 @@
 
 Two log-log panels, error against wall time: the object position error [m] (left) and the
 contact force error [N] (right). One line per integrator through its steps (each point labelled
-``T/n``), the Pareto front of each panel highlighted and joined, the reference's wall time as a
+``n`` of ``h = T/n``; an error-controlled scheme, dashed, through its tolerances, each point
+labelled with the exponent of its ``rtol``: ``-6`` for 1e-6), the Pareto front of each panel highlighted and joined, the reference's wall time as a
 vertical line. Rows that diverged are not drawn; the legend (below the panels, so that it
-hides no curve) counts them. Points are labelled with n of h = T/n, alternately above and below.
+hides no curve) counts them. Labels alternate above and below their points.
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -18,7 +20,16 @@ from coopctrl.results.plain_axes import plain_tick_labels
 if TYPE_CHECKING:
     from coopctrl.analysis.tradeoff import TradeoffResult
 
-_MARKERS = {"euler": "o", "symplectic_euler": "s", "rk4": "D", "implicit_midpoint": "^", "implicit_euler": "v"}
+_MARKERS = {"euler": "o", "symplectic_euler": "s", "rk4": "D", "implicit_midpoint": "^", "implicit_euler": "v",
+            "rk23": "P", "rk45": "X", "trbdf2": "*"}
+
+
+def point_label(row) -> str:
+    """``"4"`` (n of h = T/4) for a fixed step; ``"-6"`` (exponent of rtol = 1e-6) for an error-controlled row."""
+    if row.substeps is None:
+        exponent = math.log10(row.rtol)
+        return f"{exponent:.0f}" if abs(exponent - round(exponent)) < 1e-9 else f"{row.rtol:.1g}"
+    return str(row.substeps)
 
 
 def work_precision_figure(result: "TradeoffResult"):
@@ -45,10 +56,11 @@ def work_precision_figure(result: "TradeoffResult"):
                 ax.plot([], [], marker=_MARKERS.get(name, "o"), color=colors[name], label=legend)
                 continue
             drawn += len(shown)
-            ax.plot([r.wall_time_s for r in shown], [getattr(r, metric) for r in shown], "-",
+            style = "--" if shown[0].substeps is None else "-"
+            ax.plot([r.wall_time_s for r in shown], [getattr(r, metric) for r in shown], style,
                     marker=_MARKERS.get(name, "o"), color=colors[name], label=legend, markersize=5)
             for k, r in enumerate(shown):
-                ax.annotate(str(r.substeps), (r.wall_time_s, getattr(r, metric)), textcoords="offset points",
+                ax.annotate(point_label(r), (r.wall_time_s, getattr(r, metric)), textcoords="offset points",
                             xytext=(5, 4) if k % 2 == 0 else (5, -11), fontsize=8, color=colors[name])
         front = sorted((r for r in result.rows if getattr(r, front_key) and getattr(r, metric) > 0),
                        key=lambda r: r.wall_time_s)
@@ -72,7 +84,7 @@ def work_precision_figure(result: "TradeoffResult"):
         ax.xaxis.set_minor_locator(LogLocator(subs=tuple(float(k) for k in range(1, 10))))
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.margins(x=0.08, y=0.12)  # room for the labels of the outermost points
-        ax.set_xlabel("wall time [s]  (labels: n of the step h = T/n)")
+        ax.set_xlabel("wall time [s]  (labels: n of the step h = T/n; dashed: log10 rtol)")
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)
     handles, labels = axes[0].get_legend_handles_labels()

@@ -68,6 +68,20 @@ def cmd_run(args) -> int:
                 print(f"{PROG}: failed: pre-flight: {_one_line(report.issues[0].message)} "
                       "(--no-preflight runs it anyway)", file=sys.stderr)
                 return 1
+        choice = None
+        if scenario.simulation.accuracy is not None:  # simulation.accuracy: the cheapest setting meeting it
+            from coopctrl.analysis.accuracy_target import choose_setting
+
+            try:
+                with stdout_to_stderr(args.json):
+                    scenario, choice = choose_setting(scenario)
+            except ArithmeticError as err:  # TargetUnreachable, ReferenceFailed: nothing to run at that accuracy
+                if notice is not None:
+                    notice.close()
+                print(f"{PROG}: failed: simulation.accuracy: {_one_line(err)}", file=sys.stderr)
+                return 1
+            if not args.quiet:
+                print(f"{PROG}: simulation.accuracy = {choice.target_m:.3g} m: {choice.sentence()}", file=sys.stderr)
         simulate = _simulate_function()
         progress = not (args.quiet or args.json) and sys.stderr.isatty()
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
@@ -76,6 +90,14 @@ def cmd_run(args) -> int:
                 notice.close()
             with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so
                 summary = result.summary()
+            if choice is not None:
+                summary["accuracy_choice"] = choice.to_dict()
+            estimate = None
+            if args.estimate_error and result.status == "ok":
+                from coopctrl.analysis.error_estimate import estimate_error
+
+                estimate = estimate_error(scenario)
+                summary.update(estimate.to_dict())
             if args.out is not None:  # the whole folder as one unit (an earlier result stays whole until then)
                 from coopctrl.results.folder import write_result_folder
 
@@ -101,6 +123,9 @@ def cmd_run(args) -> int:
         elif not args.quiet:
             say(summary_table(summary))
             say(f"{'torque-saturated ticks'.ljust(28)}  {summary.get('torque_saturated_ticks', 0)} of {ticks}")
+            if estimate is not None:
+                for line in estimate.lines():
+                    say(line)
             if args.out is not None:
                 say(f"outputs written to {args.out}")
     except OutputWriteError as err:
@@ -138,6 +163,10 @@ def _run_parser(sub) -> None:
                         "(simulation.record_every); the summary is computed on every tick")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON on stdout (nothing else on stdout)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary table")
+    parser.add_argument("--estimate-error", action="store_true",
+                        help="rerun the scene at a tighter setting (half the step; error-controlled: rtol and atol "
+                        "100 times smaller) and report the estimated integration error of the object position [m], "
+                        "orientation [rad] and contact forces [N] (maximum over the run; Richardson)")
     parser.add_argument("--no-preflight", action="store_true",
                         help="skip the pre-flight check of the task (see `coopctrl check`) and simulate anyway")
     parser.set_defaults(handler=cmd_run)

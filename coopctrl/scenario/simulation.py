@@ -39,9 +39,11 @@ class SimulationConfig:
             ``atol / control_period``.
         min_step: Smallest step [s] an error-controlled scheme may take; below it the run stops
             (the state, the time and the stiffest mode are named).
-        accuracy: Accuracy target [m] of the object's position, or ``None``. When set, ``coopctrl
-            run`` measures a short prefix of the run against a reference and runs the cheapest
-            setting (integrator, step or tolerances) that meets it (``coopctrl tradeoff --target``).
+        accuracy: Accuracy target [m] of the object's position error (maximum over the run), or
+            ``None``. When set, ``coopctrl run`` measures a short prefix of the run against the
+            reference (and the error's growth after it against a compiled run), runs the cheapest
+            setting (integrator, step or tolerances) predicted to meet it, and says which on one
+            line (``coopctrl tradeoff --target``; coopctrl.analysis.accuracy_target).
         seed: Seed of the sensor noise generator.
         max_deformation: Divergence bound on any interconnection deformation in [m], > 0.
         max_energy: Divergence bound on the total energy in [J], or ``None``.
