@@ -120,7 +120,11 @@ def main() -> None:
                         "fidelity_planar")
     parser.add_argument("--targets", default="1e-3,1e-4,1e-5,1e-6,1e-7")
     parser.add_argument("--duration", type=float, default=None, help="override simulation.duration [s]")
+    parser.add_argument("--quick", action="store_true", help="a smoke run: planar_two_arm_lift, target 1e-5, 0.3 s")
     args = parser.parse_args()
+    if args.quick:
+        args.scenes, args.targets, args.duration = "planar_two_arm_lift", "1e-5", 0.3
+    print(f"command: {' '.join(sys.argv)}")
     targets = [float(t) for t in args.targets.split(",")]
     all_ratios, all_results, per_scheme = [], [], {}
     for name in args.scenes.split(","):

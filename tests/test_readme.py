@@ -153,11 +153,15 @@ def test_out_of_range_value_is_refused_as_quoted(tmp_path):
 
 
 def test_tradeoff_default_integrator_count():
-    words = {3: "three", 4: "four", 5: "five", 6: "six", 7: "seven"}
-    assert f"default: all {words[len(INTEGRATORS)]} integrators" in README
+    """The README's count of the default grid's schemes: the fixed-step and the error-controlled ones."""
     from coopctrl.analysis.tradeoff import parse_integrators
+    from coopctrl.integrators import ERROR_CONTROLLED
 
-    assert len(parse_integrators(None)) == len(INTEGRATORS)
+    words = {3: "three", 4: "four", 5: "five", 6: "six", 7: "seven"}
+    text = " ".join(README.split())
+    assert f"default: all {words[len(INTEGRATORS)]} fixed-step integrators" in text
+    assert f"all {words[len(ERROR_CONTROLLED)]} error-controlled integrators" in text
+    assert len(parse_integrators(None)) == len(INTEGRATORS) + len(ERROR_CONTROLLED)
 
 
 def test_benchmarks_accept_quick_and_help_runs_nothing():

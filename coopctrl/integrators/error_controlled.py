@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from coopctrl import arguments
+import coopctrl.arguments as arguments
 from coopctrl.integrators.base import Integrator
 
 #: Step controllers: Gustafsson's PI controller (the default), scipy's elementary controller.
