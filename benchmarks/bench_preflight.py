@@ -41,7 +41,10 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=9, help="timed calls per scene after a warm-up (default 9)")
     parser.add_argument("--scenes", default="", help="comma-separated scene names (default: every shipped scene)")
+    parser.add_argument("--quick", action="store_true", help="a smoke run: spatial_two_puma_carry, 3 repeats")
     args = parser.parse_args(argv)
+    if args.quick:
+        args.repeats, args.scenes = 3, "spatial_two_puma_carry"
     if args.repeats < 1:
         parser.error(f"--repeats {args.repeats} is invalid: expected an integer >= 1")
     scenes = [s for s in args.scenes.split(",") if s] or SCENES
