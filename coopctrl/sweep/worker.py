@@ -91,47 +91,25 @@ def start_up() -> Iterator[None]:
     clock.arm(clock.timeout_s)
 
 
-#: The scene kinds whose kernels this process has loaded (:func:`_warm_up`).
-_warmed: set[tuple] = set()
-
-
-def _kind(scenario) -> tuple:
-    """What selects the compiled kernels' specialisation: the space, the arm models, the integrator, the
-    QP solver, whether the controllers run and whether torque limits bind."""
-    return (scenario.scene.space, tuple(a.model for a in scenario.arms), scenario.simulation.integrator,
-            scenario.load_distribution.solver, scenario.controllers.enabled, scenario.load_distribution.torque_limits)
-
-
-def _warm_up(scenario) -> None:
-    """Load (or compile) the compiled kernels of ``scenario``'s kind in this process, once per kind: a run
-    of one control period, whose outcome is ignored (the real run reports its own)."""
-    from dataclasses import replace
-
-    from coopctrl.simulator import simulate
-
-    kind = _kind(scenario)
-    if kind in _warmed:
-        return
+def _warm_up_failed(exc: Exception) -> None:
+    """The kernels' warm-up run failed with ``exc``: a timeout or a Ctrl-C goes on; any other error is
+    left to the real run, which meets it and reports it."""
     clock = getattr(_local, "clock", None)
-    try:
-        sim = scenario.simulation
-        simulate(replace(scenario, simulation=replace(sim, duration=sim.control_period)))
-        _warmed.add(kind)
-    except Exception as exc:  # noqa: BLE001 - the real run meets the same error and reports it; not so a
-        if (clock is not None and clock.fired) or interruption_in(exc) is not None:  # timeout or a Ctrl-C
-            raise
+    if (clock is not None and clock.fired) or interruption_in(exc) is not None:
+        raise exc
 
 
 def simulate_run(run: SweepRun) -> dict[str, Any]:
-    """Load the run's scenario (its data with the overrides), simulate it and return the summary. The
-    imports, the scenario and a one-period run that loads the compiled kernels are its start-up
+    """Load the run's scenario (its data with the overrides), simulate it and return the summary, the
+    same as :func:`~coopctrl.simulator.simulate`'s. The imports, the scenario, its closed loop (built, or
+    reused from an earlier run of this worker that differed only in the seed: :mod:`coopctrl.sweep.reuse`)
+    and, once per scene kind, a one-period run that loads the compiled kernels are its start-up
     (:func:`start_up`); the run is timed from its first tick."""
     with start_up():
-        from coopctrl.simulator import simulate
+        from coopctrl.sweep import reuse
 
-        scenario = run.scenario()
-        _warm_up(scenario)
-    return simulate(scenario).summary()
+        go = reuse.prepare(run.scenario(), _warm_up_failed)
+    return go()
 
 
 simulate_run.start_up_allowance_s = STARTUP_ALLOWANCE_S
