@@ -27,7 +27,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-#: Built loops a thread keeps (each holds its plant and work arrays: a few MB for the spatial scenes).
+#: Built loops a thread keeps (each holds its plant, its controllers and the compiled loop's work arrays).
 MAX_LOOPS = 4
 
 
@@ -117,13 +117,28 @@ def prepare(scenario, warm_up_failed: Callable[[Exception], None] | None = None)
     if x0 is not None and k not in _warmed:
         try:
             loop.run(x0, scenario.simulation.control_period)
-        except Exception as exc:  # noqa: BLE001 - handed to the caller
-            if warm_up_failed is not None:
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller
+            if not isinstance(exc, Exception) or warm_up_failed is None:
+                _forget(scenario)
+                raise
+            try:
                 warm_up_failed(exc)
+            except BaseException:
+                _forget(scenario)
+                raise
         with _warmed_lock:
             _warmed.add(k)
 
     def run() -> dict[str, Any]:
-        return run_result(scenario, loop, None if x0 is None else x0.copy()).summary()
+        try:
+            return run_result(scenario, loop, None if x0 is None else x0.copy()).summary()
+        except BaseException:  # a run stopped anywhere (a timeout, Ctrl-C, an error): build afresh next time
+            _forget(scenario)
+            raise
 
     return run
+
+
+def _forget(scenario) -> None:
+    """Drop the built loop of ``scenario``'s key from this thread's cache."""
+    _cache().pop(loop_key(scenario), None)

@@ -5,10 +5,10 @@ Both are module-level functions so that a process pool or a Dask cluster can pic
 
 A run is timed from its first tick, not from the worker's start-up. A run function may declare a
 start-up phase: it sets the attribute ``start_up_allowance_s`` [s] and does its set-up inside
-:func:`start_up` (imports, loading or compiling the numba kernels, building the scene). The start-up
+:func:`start_up` (imports, loading or compiling the kernels, building the scene). The start-up
 is then bounded by that allowance (:data:`STARTUP_ALLOWANCE_S` for :func:`simulate_run`), and the run
 timeout and the row's ``wall_time_s`` count from the end of the start-up. A fresh worker under load
-takes seconds to start (3.5 s measured: a 0.2 s run became a ``timeout``), and a cold numba cache
+takes seconds to start (3.5 s measured: a 0.2 s run became a ``timeout``), and a cold kernel cache
 compiles a scene kind in minutes; neither is the run's time. A run function without a start-up phase
 is timed from its call.
 """
@@ -30,7 +30,7 @@ from coopctrl.sweep.results import make_row
 RunFunction = Callable[[SweepRun], dict]
 
 #: Seconds a worker may take to start a run of :func:`simulate_run` before the run is stopped as a
-#: ``timeout``: the imports, the numba kernels loaded from their cache (seconds under load) or compiled
+#: ``timeout``: the imports, the compiled kernels loaded from their cache (seconds under load) or compiled
 #: on a cold cache (1 to 3 minutes per scene kind on a loaded machine), the scene built. Only with a run
 #: timeout; the run's own timeout starts after it.
 STARTUP_ALLOWANCE_S = 600.0
@@ -60,7 +60,7 @@ class _RunClock:
     def expired(self) -> str:
         """The reason of a timeout in the current phase."""
         if self.phase == "start-up":
-            return (f"the worker's start-up (imports, numba kernels, building the scene) went past its allowance of "
+            return (f"the worker's start-up (imports, compiled kernels, building the scene) went past its allowance of "
                     f"{self.allowance_s:g} s; the run never started")
         return f"run stopped after the run timeout of {self.timeout_s:g} s (--run-timeout)"
 
@@ -124,7 +124,7 @@ def _deadline(clock: _RunClock) -> Iterator[list[str]]:
     ``jobs = 1``); elsewhere (a Dask worker's thread) the run has no deadline. The alarm interrupts
     Python code, i.e. the closed loop between two control ticks; the library calls inside one tick are
     guarded against non-termination on validated input. Yields a list that holds the timeout's message
-    once it fired (the exception may surface wrapped, e.g. as numba's ``SystemError``).
+    once it fired (the exception may surface wrapped, e.g. as the JIT compiler's ``SystemError``).
     """
     if not clock.alarm:
         yield clock.fired
