@@ -85,10 +85,21 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
     wiring.check_scenario(scenario)
     progress = arguments.flag("progress", progress)
     loop = closed_loop(scenario)
+    # the metrics of every tick (run_result), then the kept samples with their node poses (finish_record)
+    return finish_record(run_result(scenario, loop, progress=progress), loop.plant, scenario.simulation.record_every)
+
+
+def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> SimulationResult:
+    """One run of ``loop``, the :func:`closed_loop` of ``scenario``, as its :class:`SimulationResult` of
+    every tick: what :func:`simulate` returns before it thins the record and adds the node poses (the
+    summary is the same). ``x0``: ``build.initial_state(scenario)``, or ``None`` to compute it here. A sweep
+    reuses one built loop and its start for the runs that differ only in the sensor noise seed
+    (:mod:`coopctrl.sweep.reuse`)."""
     plant = loop.plant
     sim = scenario.simulation
     try:
-        x0 = build.initial_state(scenario)
+        if x0 is None:
+            x0 = build.initial_state(scenario)
     except InfeasibleLoad as exc:  # the loaded start already needs a split that does not exist
         rec = loop.empty_record()
         rec.update(status="qp_failed", reason=f"at t = 0 s (loaded start): {exc}",
@@ -125,4 +136,4 @@ def simulate(scenario, progress: bool = False) -> SimulationResult:
         kinetic_energy=None if scenario.controllers.enabled else rec["kinetic_energy"],
         energy_conserving=(not scenario.controllers.enabled and all(
             sp.damping == 0 and sp.torsion_damping == 0 for sp in scenario.springs)))
-    return finish_record(result, plant, sim.record_every)  # metrics of every tick, then the kept samples
+    return result

@@ -75,6 +75,10 @@ def test_plan_applies_each_combination():
     got = [(s.simulation.integrator, s.springs[0].stiffness, s.simulation.duration) for s in (r.scenario() for r in plan.runs)]
     assert got == [("rk4", 1e4, 0.2), ("rk4", 3e4, 0.2), ("euler", 1e4, 0.2), ("euler", 3e4, 0.2)]
     assert plan.runs[3].columns == {"simulation.integrator": "euler", "springs[0].stiffness": 3e4}
+    # a planned run carries the scenario its validation built, equal to the one built again from its data
+    from dataclasses import replace
+
+    assert all(r.checked is not None and replace(r, checked=None).scenario() == r.scenario() for r in plan.runs)
 
 
 @pytest.mark.parametrize(

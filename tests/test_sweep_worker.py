@@ -91,22 +91,21 @@ def test_the_run_itself_still_has_its_timeout(run):
 
 
 def test_simulate_run_loads_the_kernels_in_its_start_up(run, monkeypatch):
-    """The default run function does its imports, the scenario and the kernels' warm-up inside the
-    start-up, and simulates in the run phase (no simulation here: both are recorded, not run)."""
-    import coopctrl.simulator
+    """The default run function does its imports, the scenario, its loop and the kernels' warm-up inside
+    the start-up (coopctrl.sweep.reuse.prepare), and simulates in the run phase (no simulation here:
+    both are recorded, not run)."""
+    from coopctrl.sweep import reuse
 
     phases = []
 
-    class _Result:
-        def summary(self):
-            return {"status": "ok", "reason": ""}
+    def prepare(scenario, warm_up_failed=None):
+        phases.append(("prepare", worker.current_phase()))
+        return lambda: phases.append(("simulate", worker.current_phase())) or {"status": "ok", "reason": ""}
 
-    monkeypatch.setattr(worker, "_warm_up", lambda scenario: phases.append(("warm-up", worker.current_phase())))
-    monkeypatch.setattr(coopctrl.simulator, "simulate",
-                        lambda scenario: phases.append(("simulate", worker.current_phase())) or _Result())
+    monkeypatch.setattr(reuse, "prepare", prepare)
     row = execute_run(worker.simulate_run, run, 5.0)
     assert row["status"] == "ok"
-    assert phases == [("warm-up", "start-up"), ("simulate", "run")]
+    assert phases == [("prepare", "start-up"), ("simulate", "run")]
     assert worker.current_phase() is None  # outside a run
 
 

@@ -4,8 +4,8 @@
   easiest to debug).
 - ``jobs > 1`` (default ``os.cpu_count()``): :class:`LocalProcessPool`, a process pool. Workers are
   started with ``spawn``: a fresh interpreter inherits no threads or locks from this process (which
-  may hold numba, BLAS, tqdm or Dask threads, and ``fork`` with threads can deadlock), and it behaves
-  the same on Linux, macOS and Windows. A worker's start-up costs about 0.85 s (imports, and the numba
+  may hold compiler, BLAS, tqdm or Dask threads, and ``fork`` with threads can deadlock), and it behaves
+  the same on Linux, macOS and Windows. A worker's start-up costs about 0.85 s (imports, and the compiled
   kernels loaded from their on-disk cache), paid once per worker; ``forkserver`` measured the same. It is
   not a run's time: a run's timeout and wall time start at its first tick (:mod:`coopctrl.sweep.worker`).
   Workers ignore SIGINT: Ctrl-C reaches the sweep, which stops them itself. Workers die with the sweep:

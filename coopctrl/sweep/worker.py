@@ -5,10 +5,10 @@ Both are module-level functions so that a process pool or a Dask cluster can pic
 
 A run is timed from its first tick, not from the worker's start-up. A run function may declare a
 start-up phase: it sets the attribute ``start_up_allowance_s`` [s] and does its set-up inside
-:func:`start_up` (imports, loading or compiling the numba kernels, building the scene). The start-up
+:func:`start_up` (imports, loading or compiling the kernels, building the scene). The start-up
 is then bounded by that allowance (:data:`STARTUP_ALLOWANCE_S` for :func:`simulate_run`), and the run
 timeout and the row's ``wall_time_s`` count from the end of the start-up. A fresh worker under load
-takes seconds to start (3.5 s measured: a 0.2 s run became a ``timeout``), and a cold numba cache
+takes seconds to start (3.5 s measured: a 0.2 s run became a ``timeout``), and a cold kernel cache
 compiles a scene kind in minutes; neither is the run's time. A run function without a start-up phase
 is timed from its call.
 """
@@ -30,7 +30,7 @@ from coopctrl.sweep.results import make_row
 RunFunction = Callable[[SweepRun], dict]
 
 #: Seconds a worker may take to start a run of :func:`simulate_run` before the run is stopped as a
-#: ``timeout``: the imports, the numba kernels loaded from their cache (seconds under load) or compiled
+#: ``timeout``: the imports, the compiled kernels loaded from their cache (seconds under load) or compiled
 #: on a cold cache (1 to 3 minutes per scene kind on a loaded machine), the scene built. Only with a run
 #: timeout; the run's own timeout starts after it.
 STARTUP_ALLOWANCE_S = 600.0
@@ -60,7 +60,7 @@ class _RunClock:
     def expired(self) -> str:
         """The reason of a timeout in the current phase."""
         if self.phase == "start-up":
-            return (f"the worker's start-up (imports, numba kernels, building the scene) went past its allowance of "
+            return (f"the worker's start-up (imports, compiled kernels, building the scene) went past its allowance of "
                     f"{self.allowance_s:g} s; the run never started")
         return f"run stopped after the run timeout of {self.timeout_s:g} s (--run-timeout)"
 
@@ -91,47 +91,25 @@ def start_up() -> Iterator[None]:
     clock.arm(clock.timeout_s)
 
 
-#: The scene kinds whose kernels this process has loaded (:func:`_warm_up`).
-_warmed: set[tuple] = set()
-
-
-def _kind(scenario) -> tuple:
-    """What selects the compiled kernels' specialisation: the space, the arm models, the integrator, the
-    QP solver, whether the controllers run and whether torque limits bind."""
-    return (scenario.scene.space, tuple(a.model for a in scenario.arms), scenario.simulation.integrator,
-            scenario.load_distribution.solver, scenario.controllers.enabled, scenario.load_distribution.torque_limits)
-
-
-def _warm_up(scenario) -> None:
-    """Load (or compile) the compiled kernels of ``scenario``'s kind in this process, once per kind: a run
-    of one control period, whose outcome is ignored (the real run reports its own)."""
-    from dataclasses import replace
-
-    from coopctrl.simulator import simulate
-
-    kind = _kind(scenario)
-    if kind in _warmed:
-        return
+def _warm_up_failed(exc: Exception) -> None:
+    """The kernels' warm-up run failed with ``exc``: a timeout or a Ctrl-C goes on; any other error is
+    left to the real run, which meets it and reports it."""
     clock = getattr(_local, "clock", None)
-    try:
-        sim = scenario.simulation
-        simulate(replace(scenario, simulation=replace(sim, duration=sim.control_period)))
-        _warmed.add(kind)
-    except Exception as exc:  # noqa: BLE001 - the real run meets the same error and reports it; not so a
-        if (clock is not None and clock.fired) or interruption_in(exc) is not None:  # timeout or a Ctrl-C
-            raise
+    if (clock is not None and clock.fired) or interruption_in(exc) is not None:
+        raise exc
 
 
 def simulate_run(run: SweepRun) -> dict[str, Any]:
-    """Load the run's scenario (its data with the overrides), simulate it and return the summary. The
-    imports, the scenario and a one-period run that loads the compiled kernels are its start-up
+    """Load the run's scenario (its data with the overrides), simulate it and return the summary, the
+    same as :func:`~coopctrl.simulator.simulate`'s. The imports, the scenario, its closed loop (built, or
+    reused from an earlier run of this worker that differed only in the seed: :mod:`coopctrl.sweep.reuse`)
+    and, once per scene kind, a one-period run that loads the compiled kernels are its start-up
     (:func:`start_up`); the run is timed from its first tick."""
     with start_up():
-        from coopctrl.simulator import simulate
+        from coopctrl.sweep import reuse
 
-        scenario = run.scenario()
-        _warm_up(scenario)
-    return simulate(scenario).summary()
+        go = reuse.prepare(run.scenario(), _warm_up_failed)
+    return go()
 
 
 simulate_run.start_up_allowance_s = STARTUP_ALLOWANCE_S
@@ -146,7 +124,7 @@ def _deadline(clock: _RunClock) -> Iterator[list[str]]:
     ``jobs = 1``); elsewhere (a Dask worker's thread) the run has no deadline. The alarm interrupts
     Python code, i.e. the closed loop between two control ticks; the library calls inside one tick are
     guarded against non-termination on validated input. Yields a list that holds the timeout's message
-    once it fired (the exception may surface wrapped, e.g. as numba's ``SystemError``).
+    once it fired (the exception may surface wrapped, e.g. as the JIT compiler's ``SystemError``).
     """
     if not clock.alarm:
         yield clock.fired
