@@ -59,8 +59,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from coopctrl.loop.integrate import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, _SQRT_EPS, first_rhs_into,
-                                     invert_into, rhs_into, _pinv_into)
+from coopctrl.loop.integrate import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, first_rhs_into,
+                                     invert_into, jacobian_into, rhs_into, _pinv_into)
 
 #: Step controllers (``settings[S_CONTROLLER]``).
 CONTROLLER_PI = 0
@@ -293,24 +293,9 @@ def embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out
 def _jacobian(plan, x, tau, P, status, ws, fx, out_int, x_fail):
     """``plan.J = df/dx`` at ``x`` (``fx = f(x)``) by forward differences (increments as
     :mod:`coopctrl.loop.integrate`). False on a right-hand-side failure (``x_fail`` set)."""
-    J, xp, fp = plan.J, plan.xp, plan.fp
-    n = x.shape[0]
     plan.memo[M_JACOBIANS] += 1.0
-    for c in range(n):
-        xp[c] = x[c]
-    for j in range(n):
-        xj = x[j]
-        d = _SQRT_EPS * max(abs(xj), 1.0)
-        xp[j] = xj + d
-        d = xp[j] - xj
-        rhs_into(xp, tau, P, status, ws, fp)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = xp
-            return False
-        for r in range(n):
-            J[r, j] = (fp[r] - fx[r]) / d
-        xp[j] = xj
+    if not jacobian_into(plan.J, x, tau, P, status, ws, fx, plan.xp, plan.fp, out_int, x_fail):
+        return False
     plan.memo[M_HAVE_J] = 1.0
     plan.memo[M_FRESH] = 1.0
     plan.memo[M_GH] = 0.0  # M is for the old J

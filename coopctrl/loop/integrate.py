@@ -383,14 +383,12 @@ def _pinv_into(A, M):
     M[:, :] = np.linalg.pinv(A)
 
 
-@njit(inline="always")
-def _refresh(plan, x, tau, P, status, ws, fx, gh, out_int, x_fail):
-    """``plan.M = (I - gh J)^-1`` with ``J`` the forward-difference Jacobian at ``x`` (``fx = f(x)``),
-    as ``DiagonallyImplicitRungeKutta._refresh``: column ``j`` is ``(f(x + d_j e_j) - fx) / d_j``.
-    Returns False on a right-hand-side failure (``x_fail`` set)."""
-    A, xp, fp = plan.A, plan.xp, plan.fp
+@njit(cache=True)
+def jacobian_into(J, x, tau, P, status, ws, fx, xp, fp, out_int, x_fail):
+    """``J = df/dx`` at ``x`` (``fx = f(x)``) by forward differences: column ``j`` is
+    ``(f(x + d_j e_j) - fx) / d_j`` with ``d_j = sqrt(eps) max(|x_j|, 1)`` rounded to a representable
+    increment; ``xp``, ``fp`` (nx,) work. Returns False on a right-hand-side failure (``x_fail`` set)."""
     n = x.shape[0]
-    plan.memo[2] += 1.0
     for c in range(n):
         xp[c] = x[c]
     for j in range(n):
@@ -404,8 +402,24 @@ def _refresh(plan, x, tau, P, status, ws, fx, gh, out_int, x_fail):
             x_fail[:] = xp
             return False
         for r in range(n):
-            A[r, j] = (1.0 if r == j else 0.0) - gh * ((fp[r] - fx[r]) / d)
+            J[r, j] = (fp[r] - fx[r]) / d
         xp[j] = xj
+    return True
+
+
+@njit(inline="always")
+def _refresh(plan, x, tau, P, status, ws, fx, gh, out_int, x_fail):
+    """``plan.M = (I - gh J)^-1`` with ``J`` the forward-difference Jacobian at ``x`` (``fx = f(x)``),
+    as ``DiagonallyImplicitRungeKutta._refresh``: column ``j`` is ``(f(x + d_j e_j) - fx) / d_j``.
+    Returns False on a right-hand-side failure (``x_fail`` set)."""
+    A = plan.A
+    n = x.shape[0]
+    plan.memo[2] += 1.0
+    if not jacobian_into(A, x, tau, P, status, ws, fx, plan.xp, plan.fp, out_int, x_fail):
+        return False
+    for r in range(n):
+        for j in range(n):
+            A[r, j] = (1.0 if r == j else 0.0) - gh * A[r, j]
     if not invert_into(A, plan.LU, plan.M):
         _pinv_into(A, plan.M)
     return True
