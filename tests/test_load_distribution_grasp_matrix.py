@@ -109,3 +109,20 @@ def test_ill_conditioned_pairs_give_nan_not_garbage():
     E = internal_force_basis(r, "planar")
     s = pair_tensions(E, E @ np.array([5.0, 5.0, 5.0]), np.full(3, 5.0))
     assert np.allclose(s, 5.0, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("space", SPACES)
+def test_pair_tensions_agree_with_an_svd(space):
+    """The compiled one-sided Jacobi of ``pair_tensions`` against numpy's SVD pseudo-inverse
+    (``tests/_pair_tensions_svd.py``) on random batches of 2 to 6 contacts (independent and dependent
+    pairs): forces of ~100 N, columns conditioned below 1e3, so 1e-9 N is rounding with a wide margin."""
+    from _pair_tensions_svd import svd_pair_tensions
+
+    rng = np.random.default_rng(11 + len(space))
+    for m in range(2, 7):
+        Es = np.stack([internal_force_basis(_contacts(rng, m, space), space) for _ in range(5)])
+        fs = rng.normal(0.0, 100.0, (5, Es.shape[1]))
+        desired = rng.uniform(0.0, 10.0, Es.shape[2])
+        expected = svd_pair_tensions(Es, fs, desired)
+        assert np.all(np.isfinite(expected))
+        assert np.max(np.abs(pair_tensions(Es, fs, desired) - expected)) < 1e-9

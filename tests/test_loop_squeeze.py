@@ -8,7 +8,8 @@ is the old ``E^+ f_int``), and the summary never reports a metric from an ill-co
 Issue 18: the squeeze is computed per tick in the compiled kernel (one-sided Jacobi rotations of the
 pair columns, no grasp matrix) instead of by a batched SVD after the run. :func:`_reference` below is
 that former post-processing, kept as the independent reference: the grasp matrix's pseudo-inverse for
-the internal part and the SVD of :func:`~coopctrl.load_distribution.grasp_matrix.pair_tensions`.
+the internal part and the SVD pair tensions (``tests/_pair_tensions_svd.py``: the public
+:func:`~coopctrl.load_distribution.grasp_matrix.pair_tensions` now runs the kernel's compiled Jacobi).
 """
 
 from __future__ import annotations
@@ -22,10 +23,11 @@ import pytest
 
 from coopctrl import load_scenario, simulator
 from coopctrl.load_distribution import grasp_matrix, internal_force_basis, internal_null_basis
-from coopctrl.load_distribution.grasp_matrix import pair_tensions
 from coopctrl.loop.squeeze import squeeze_series
 from coopctrl.results.summary import summarize
 from coopctrl.scenario import build
+
+from _pair_tensions_svd import svd_pair_tensions
 
 SCENES = Path(__file__).resolve().parent.parent / "scenarios"
 
@@ -58,7 +60,7 @@ def _reference(F, r_contacts, r_object, space: str, desired=None) -> np.ndarray:
                 E[n, k * i:k * i + r.shape[2], col] = t[col]
                 E[n, k * j:k * j + r.shape[2], col] = -t[col]
                 col += 1
-    return pair_tensions(E, f_int, desired)
+    return svd_pair_tensions(E, f_int, desired)
 
 
 def _random_run(rng, N: int, m: int, space: str = "planar"):

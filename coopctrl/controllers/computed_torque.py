@@ -4,17 +4,28 @@ from __future__ import annotations
 
 import numpy as np
 
-from coopctrl.controllers._kernels import node_torque, node_torque_redundant
+from coopctrl.controllers._kernels import control_work, node_torque, node_torque_redundant
+from coopctrl.controllers.laws import arm_torque_into, pose_error_into, posture_torque_into
 from plants.cooperative import ContactPoint
 from plants.errors import SingularJacobianError
 
 
+def _vector(name: str, value, size: int | None = None) -> np.ndarray:
+    a = np.ascontiguousarray(value, dtype=float)
+    if a.ndim != 1 or (size is not None and a.shape[0] != size):
+        want = f"({size},)" if size is not None else "(p,)"
+        raise ValueError(f"{name}: shape {a.shape}; expected {want}, a node pose or rate [m, rad]")
+    return a
+
+
 def pose_error(Y_target, Y, space: str) -> np.ndarray:
-    """``Y_target - Y`` with the angle components wrapped into [-pi, pi) [m, rad]."""
-    e = np.asarray(Y_target, dtype=float) - Y
-    k = 3 if space == "spatial" else 2
-    e[k:] = (e[k:] + np.pi) % (2.0 * np.pi) - np.pi
-    return e
+    """``Y_target - Y`` with the angle components wrapped into [-pi, pi) [m, rad]: the compiled
+    :func:`coopctrl.controllers.laws.pose_error_into` (the loop's own)."""
+    target = _vector("Y_target", Y_target)
+    Yc = _vector("Y", Y, target.shape[0])
+    out = np.empty(target.shape[0])
+    pose_error_into(target, Yc, 3 if space == "spatial" else 2, out)
+    return out
 
 
 #: Null-space posture task of a redundant arm: natural frequency [rad/s] and damping ratio [-].
@@ -52,14 +63,14 @@ class PostureTask:
         """Nothing to forget (kept for the controllers' ``reset``)."""
 
     def torque(self, terms):
-        """``tau_0`` [N m] at ``terms`` (its ``z``, ``dz``, ``H``), or ``None`` for a square arm."""
+        """``tau_0`` [N m] at ``terms`` (its ``z``, ``dz``, ``H``), or ``None`` for a square arm: the compiled
+        :func:`coopctrl.controllers.laws.posture_torque_into` (the loop's own)."""
         if not self.active:
             return None
-        q = terms.z[self.slice]
-        dq = terms.dz[self.slice]
-        n = self.n
-        m_bar = float(np.trace(terms.H[self.index, :n, :n])) / n
-        return m_bar * (self.Kp * (self.q_rest - q) - self.Kd * dq)
+        out = np.empty(self.n)
+        posture_torque_into(np.ascontiguousarray(terms.H[self.index]), np.ascontiguousarray(terms.z[self.slice]),
+                            np.ascontiguousarray(terms.dz[self.slice]), self.q_rest, self.n, self.Kp, self.Kd, out)
+        return out
 
 
 def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.ndarray:
@@ -110,3 +121,35 @@ def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.nd
     if not ok:
         raise SingularJacobianError(f"Jacobian of arm {i} ('{arm.name}')", float("inf"))
     return tau
+
+
+def arm_torque(plant, terms, i: int, a_cmd, posture: PostureTask) -> np.ndarray:
+    """Joint torques [N m] of arm ``i`` that give its node the acceleration ``a_cmd`` (p,) [m/s^2, rad/s^2]
+    at ``terms``, the null-space ``posture`` task of a redundant arm included: the compiled
+    :func:`coopctrl.controllers.laws.arm_torque_into`, the loop's own (the law of :func:`node_computed_torque`
+    with ``tau_posture = posture.torque(terms)``). Raises :class:`~plants.errors.SingularJacobianError` where
+    the arm's Jacobian is singular."""
+    k = i + 1
+    arm = plant.arms[i]
+    contact = isinstance(arm, ContactPoint)
+    n = arm.dof
+    p = plant.p
+    a = _vector("a_cmd", a_cmd, p)
+    wv, wm = control_work(max(n, p))
+    piv = np.empty(max(n, p), np.int64)
+    tp = np.empty(max(n, p))
+    tau = np.empty(max(n, p))
+    if posture.active:
+        q, dq, q_rest = terms.z[posture.slice], terms.dz[posture.slice], posture.q_rest
+        gain = np.array([posture.Kp, posture.Kd])
+    else:
+        q = dq = q_rest = np.zeros(n)
+        gain = np.zeros(2)
+    ok = arm_torque_into(contact, n, np.ascontiguousarray(terms.W[k]), np.ascontiguousarray(terms.w_free[k]),
+                         np.ascontiguousarray(terms.S[k]), np.ascontiguousarray(terms.H[i]),
+                         np.ascontiguousarray(terms.h[i]), np.ascontiguousarray(terms.J[i]),
+                         np.ascontiguousarray(terms.Jdq[i]), a, np.ascontiguousarray(q), np.ascontiguousarray(dq),
+                         np.ascontiguousarray(q_rest, dtype=float), gain, wv, wm, piv, tp, tau)
+    if not ok:
+        raise SingularJacobianError(f"Jacobian of arm {i} ('{arm.name}')", float("inf"))
+    return tau[:p if contact else n].copy()

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from coopctrl.controllers.computed_torque import PostureTask, node_computed_torque, pose_error
+from coopctrl.controllers.computed_torque import PostureTask, _vector, arm_torque
+from coopctrl.controllers.laws import follower_correction_into, tracking_acceleration_into
 from coopctrl.errors import ScenarioError
 
 
@@ -35,6 +36,10 @@ class FollowerForceController:
     interconnection, and the force loop below the motion loop (``omega_F < omega_m / 3``).
 
     With ``force_loop=False`` the follower only tracks the feedforward pose (position control).
+
+    The law is the loop's own, compiled once (:func:`coopctrl.controllers.laws.follower_correction_into`,
+    :func:`~coopctrl.controllers.laws.tracking_acceleration_into`,
+    :func:`~coopctrl.controllers.laws.arm_torque_into`): :meth:`torque` calls it.
 
     A redundant follower (7 joints in space) runs the same inner loop with the dynamically
     consistent inverse and the damped null-space posture task of :class:`PostureTask`, through
@@ -71,12 +76,14 @@ class FollowerForceController:
     def torque(self, terms, F_set, F_meas, Y_rigid, dY_ref, ddY_ref, Y0, dt: float) -> np.ndarray:
         """Follower torques [N m]; updates the integral of the force error over ``dt`` [s]."""
         k = self.index + 1
-        correction = F_set
-        if self.force_loop:
-            e = F_set - F_meas
-            self.integral += e * dt
-            np.clip(self.integral, -self.integral_limit, self.integral_limit, out=self.integral)
-            correction = F_set + self.kp * e + self.ki * self.integral
-        Y_cmd = Y_rigid + self.compliance.pose_increment(self.index, correction, Y0, Y_rigid)
-        a = ddY_ref + self.Kd * (dY_ref - terms.dY[k]) + self.Kp * pose_error(Y_cmd, terms.Y[k], self.plant.space)
-        return node_computed_torque(self.plant, terms, self.index, a, self.posture.torque(terms))
+        p = self.plant.p
+        correction = np.empty(p)
+        follower_correction_into(_vector("F_set", F_set, p), _vector("F_meas", F_meas, p), self.integral, float(dt),
+                                 self.kp, self.ki, float(self.integral_limit), self.force_loop, correction)
+        Y_rigid = _vector("Y_rigid", Y_rigid, p)
+        Y_cmd = self.compliance.pose_increment(self.index, correction, Y0, Y_rigid) + Y_rigid
+        a = np.empty(p)
+        tracking_acceleration_into(Y_cmd, np.ascontiguousarray(terms.Y[k]), _vector("dY_ref", dY_ref, p),
+                                   np.ascontiguousarray(terms.dY[k]), _vector("ddY_ref", ddY_ref, p), self.Kp, self.Kd,
+                                   3 if self.plant.space == "spatial" else 2, np.empty(p), a)
+        return arm_torque(self.plant, terms, self.index, a, self.posture)

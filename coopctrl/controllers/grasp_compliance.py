@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from coopctrl.controllers._kernels import pose_increment_planar, pose_increment_spatial
+from coopctrl.controllers._kernels import pose_work
+from coopctrl.controllers.laws import pose_increment_into
 from plants.frames import body_rate_map_inv, euler_zyx_from_rotation, rotation_zyx
 
 
@@ -119,11 +120,17 @@ class GraspCompliance:
     def pose_increment(self, i: int, F_world, Y0, Yi) -> np.ndarray:
         """Pose-coordinate increment of node i that changes its wrench on the object by ``F_world`` (linear).
 
-        Compiled in :func:`coopctrl.controllers._kernels.pose_increment_spatial` (``_planar``)."""
+        The loop's own law, compiled once: :func:`coopctrl.controllers.laws.pose_increment_into`."""
         F = np.ascontiguousarray(F_world, dtype=float)
-        if self.space == "planar":
-            return pose_increment_planar(self.C[i], F, float(Y0[2]))
-        out, ok = pose_increment_spatial(self.C[i], F, np.ascontiguousarray(Y0[3:6]), np.ascontiguousarray(Yi[3:6]))
+        Y0 = np.ascontiguousarray(Y0, dtype=float)
+        Yi = np.ascontiguousarray(Yi, dtype=float)
+        p = self.C.shape[1]
+        for name, a in (("F_world", F), ("Y0", Y0), ("Yi", Yi)):
+            if a.shape != (p,):
+                raise ValueError(f"{name}: shape {a.shape}; expected ({p},) [N, N m] or [m, rad]")
+        out = np.empty(p)
+        R, v = pose_work()
+        ok = pose_increment_into(self.space == "spatial", np.ascontiguousarray(self.C[i]), F, Y0, Yi, R, v, out)
         if not ok:
             body_rate_map_inv(Yi[3:6], f"contact node {i + 1}")  # raises EulerSingularityError
         return out

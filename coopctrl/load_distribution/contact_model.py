@@ -47,7 +47,7 @@ from plants.cooperative.loaded_state import body_rate_map_into
 from plants.frames import rotation_zyx_into
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True)
 def contact_normals_into(Y, spatial, nrm, R):
     """Write the inward unit normals ``n_i`` (module docstring) of the ``m = nrm.shape[0]`` contacts into
     ``nrm`` (m, 3) spatial or (m, 2) planar, from the node poses ``Y`` (m+1, p) [m, rad]; ``R`` (3, 3)
@@ -70,7 +70,7 @@ def contact_normals_into(Y, spatial, nrm, R):
             nrm[i, a] = nrm[i, a] / length
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True)
 def torque_model_into(spatial, Y, ddYn, W, w_free, H, h, J, Jdq, arm_kind, arm_dof, Jg, bias, Wa, rhs_t, qdd, piv,
                       wv, wm, R3):
     """Write the torque model ``tau_i = Jg_i^T F_i + bias_i`` (module docstring) of every arm.

@@ -711,7 +711,7 @@ def gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter):
     return status, iters
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True)
 def gi_active_inequalities(ws, n_eq):
     """Number of inequality rows in the active set that the last :func:`gi_solve` with workspace
     ``ws`` left (rows ``>= n_eq`` held at one of their bounds; the equality rows are not counted).

@@ -47,7 +47,8 @@ columns relative to the desired squeeze ``s_des``:
 
     s = s_{des} + E^+ (f_{int} - E s_{des}),
 
-with ``E^+`` the pseudo-inverse of the pair columns' numerical rank: the pair tensions nearest the
+with ``E^+`` the pseudo-inverse of the pair columns' numerical rank (a one-sided Jacobi singular value
+decomposition, :mod:`coopctrl.load_distribution.tensions`, the compiled tick's own): the pair tensions nearest the
 setpoint (least ``||s - s_des||``) whose linkage forces ``E s`` match ``f_int`` best. Where the pairs
 are independent, ``E^+ E = I`` and ``s = E^+ f_int`` (the unique pair tensions, whatever ``s_des``).
 The rank is read from the singular values ``sigma`` of ``E``: ``sigma / sigma_max <= PAIR_ZERO_RTOL``
@@ -244,7 +245,9 @@ def pair_tensions(E, F_internal, desired=None) -> np.ndarray:
     docstring): where the pairs are independent this is ``E^+ F_int``, the unique pair tensions;
     where they are dependent (planar m >= 4, spatial m >= 5 or coplanar contacts) it is the solution
     nearest ``s_des``. A sample whose pair columns are ill-conditioned (a singular value between
-    :data:`PAIR_ZERO_RTOL` and :data:`PAIR_KEEP_RTOL` of the largest) or not finite gets NaN.
+    :data:`PAIR_ZERO_RTOL` and :data:`PAIR_KEEP_RTOL` of the largest) or not finite gets NaN. The
+    compiled :func:`coopctrl.load_distribution.tensions.pair_tensions_into` (one-sided Jacobi), which
+    the loop's squeeze runs too.
 
     Args:
         E: Pair columns, (n, P) or (N, n, P) (:func:`internal_force_basis`).
@@ -268,20 +271,9 @@ def pair_tensions(E, F_internal, desired=None) -> np.ndarray:
     s = np.full((N, P), np.nan)
     if P == 0 or N == 0:
         return s[0] if single else s
-    good = np.all(np.isfinite(E.reshape(N, -1)), axis=1) & np.all(np.isfinite(f), axis=1)
-    Eg = E[good]
-    U, S, Vt = np.linalg.svd(Eg, full_matrices=False)
-    smax = S[:, :1]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel = np.where(smax > 0, S / smax, 0.0)
-        keep = rel > PAIR_KEEP_RTOL
-        ill = np.any((rel > PAIR_ZERO_RTOL) & ~keep, axis=1) | (smax[:, 0] <= 0)
-        inv = np.where(keep, 1.0 / np.where(keep, S, 1.0), 0.0)
-    resid = f[good] - np.einsum("sij,j->si", Eg, s_des)
-    coef = inv * np.einsum("sji,sj->si", U, resid)
-    sg = s_des[None, :] + np.einsum("sji,sj->si", Vt, coef)
-    sg[ill] = np.nan
-    s[good] = sg
+    from .tensions import pair_tensions_batch  # here: importing the package (scenario validation) loads no numba
+
+    pair_tensions_batch(np.ascontiguousarray(E), np.ascontiguousarray(f).reshape(N, n, 1), s_des, s)
     return s[0] if single else s
 
 

@@ -75,7 +75,6 @@ class LoadDistribution:
         self.solver = make_solver(config.solver, config.eps_abs, config.max_iter)
         self._last: LoadSplit | None = None
         self._failures = 0
-        self._tol_factor = 100.0 * config.eps_abs
         self._stats: list[QPStats] = []
         self._held: list[bool] = []
 
@@ -139,10 +138,11 @@ class LoadDistribution:
         if x is None or not np.all(np.isfinite(x)):
             ok, x = False, None
         if x is not None:
+            from .answer_check import answer_tolerance  # here: importing the package loads no numba
+
+            x = np.ascontiguousarray(x, dtype=float)
             viol, scale = pb.max_violation(x)
-            tol = self._tol_factor * (1.0 + scale)
-            if not viol <= min(tol, ANSWER_TOLERANCE_OF_LOAD):  # the load's cap is >= this (load >= 1):
-                tol = self.answer_tolerance(scale)                # only a doubtful answer needs it
+            tol = answer_tolerance(pb.lo, pb.hi, pb.k, viol, scale, self.config.eps_abs, ANSWER_TOLERANCE_OF_LOAD)
             if not viol <= tol:
                 violated = sorted(((v, k) for k, v in pb.violations(x).items() if v > tol), reverse=True)
                 ok = False
@@ -180,14 +180,12 @@ class LoadDistribution:
 
     def answer_tolerance(self, scale: float) -> float:
         """Largest violation [N, N m] a solver's answer may have (see the failure policy): the solver's
-        ``100 eps_abs (1 + scale)``, ``scale = max(|G F|, |C F|)``, capped by a fraction of the load."""
+        ``100 eps_abs (1 + scale)``, ``scale = max(|G F|, |C F|)``, capped by a fraction of the load: the
+        compiled :func:`coopctrl.load_distribution.answer_check.answer_tolerance`, the loop's own."""
+        from .answer_check import answer_tolerance
+
         pb = self.problem
-        load = max(1.0, float(np.max(np.abs(pb.w))) if pb.w.size else 0.0)
-        for bound in (pb.l, pb.u):
-            finite = np.abs(bound[np.isfinite(bound)])
-            if finite.size:
-                load = max(load, float(finite.max()))
-        return min(self._tol_factor * (1.0 + scale), ANSWER_TOLERANCE_OF_LOAD * load)
+        return answer_tolerance(pb.lo, pb.hi, pb.k, np.inf, float(scale), self.config.eps_abs, ANSWER_TOLERANCE_OF_LOAD)
 
     def _failure_cause(self, status: str, violated: list[tuple[float, str]], tol: float
                        ) -> tuple[str, tuple[str, ...], str, str | None]:
@@ -250,7 +248,14 @@ class LoadDistribution:
         return tuple(name for name in self._enabled_families() if self._exactly_feasible((name,)))
 
     def _active_families(self, z: np.ndarray) -> tuple[str, ...]:
+        """The families with a non-zero multiplier ``z`` (one per inequality row): the compiled
+        :func:`coopctrl.load_distribution.answer_check.binding_families`, the loop's own."""
+        from .answer_check import FAMILY_NAMES, binding_families
+
         pb = self.problem
-        thr = 1e-7 * (1.0 + float(np.abs(pb.g).max()))
-        za = np.abs(z)
-        return tuple(name for name, sl in pb.rows.items() if sl.stop > sl.start and za[sl].max() > thr)
+        rows = pb.rows
+        start = {name: (sl.start if sl.stop > sl.start else -1) for name, sl in rows.items()}
+        mask = binding_families(pb.g, np.ascontiguousarray(z, dtype=float), 0, pb.n, pb.n_in, pb.m,
+                                start.get("min_grip", -1), start.get("friction", -1), pb.n_facets,
+                                start.get("torque_limits", -1))
+        return tuple(name for bit, name in FAMILY_NAMES if mask & bit)
