@@ -22,7 +22,8 @@ The laws, by the names of the code:
   ``corr = F_cmd + kp e + ki integral`` [N, N m] (``corr = F_cmd`` with the force loop open);
 - :func:`pose_increment_into`: the node pose increment through the grasp compliance ``C``
   (:meth:`GraspCompliance.pose_increment <coopctrl.controllers.GraspCompliance.pose_increment>`);
-  the follower's target is ``Y_rigid + pose_increment(corr)``;
+  the follower's target is ``pose_increment(corr) + Y_rigid``;
+- :func:`follower_acceleration_into`: the two above and :func:`tracking_acceleration_into`;
 - :func:`posture_torque_into`: the null-space posture torque of a redundant arm,
   ``tau_0 = m_bar (Kp (q_rest - q) - Kd dq)``, ``m_bar = tr(H) / n`` [kg m^2] (``Kp`` [1/s^2], ``Kd`` [1/s]);
 - :func:`arm_torque_into`: the joint torques [N m] that give the node ``a_cmd``
@@ -99,7 +100,7 @@ def follower_correction_into(F_cmd, F_seen, integral, T, kp, ki, integral_limit,
     ``F_cmd`` (p,) the setpoint ``F_i^*`` [N, N m]; ``F_seen`` (p,) the measured wrench; ``integral`` (p,)
     the force-error integral ``I`` [N s, N m s]; ``T`` the control period [s]; ``kp`` [-], ``ki`` [1/s];
     ``integral_limit`` ``I_max`` [N s]. With ``force_loop`` False, ``corr = F_cmd`` and ``integral`` is
-    left alone. The follower's target pose is then ``Y_rigid + pose_increment(corr)``."""
+    left alone. The follower's target pose is then ``pose_increment(corr) + Y_rigid``."""
     for a in range(corr.shape[0]):
         corr[a] = F_cmd[a]
     if force_loop:
@@ -125,6 +126,23 @@ def pose_increment_into(spatial, C, F, Y0, Yi, R, v, out):
     if spatial:
         return pose_increment_spatial_into(C, F, Y0[3:6], Yi[3:6], R, v, out)
     pose_increment_planar_into(C, F, Y0[2], out)
+    return True
+
+
+@njit(cache=True)
+def follower_acceleration_into(spatial, C, corr, Y0, Y_rigid, Y, dY_ref, dY, ddY_ref, Kp, Kd, npos, R, v, target, err,
+                               a_cmd):
+    """The follower's commanded node acceleration into ``a_cmd`` (p,): its target
+    ``target = pose_increment(corr) + Y_rigid`` (:func:`pose_increment_into` of the PI's output ``corr``
+    [N, N m] through the grasp compliance ``C``, at the nominal object pose ``Y0`` and rigid nominal node pose
+    ``Y_rigid`` [m, rad]), then :func:`tracking_acceleration_into` toward it along the nominal rates
+    ``dY_ref`` and acceleration ``ddY_ref``. ``R``, ``v`` scratch of :func:`pose_increment_into`. Returns
+    False (``a_cmd`` not written) where the node's body-rate map is singular."""
+    if not pose_increment_into(spatial, C, corr, Y0, Y_rigid, R, v, target):
+        return False
+    for a in range(target.shape[0]):
+        target[a] += Y_rigid[a]
+    tracking_acceleration_into(target, Y, dY_ref, dY, ddY_ref, Kp, Kd, npos, err, a_cmd)
     return True
 
 
