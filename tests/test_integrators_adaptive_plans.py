@@ -1,4 +1,4 @@
-"""Error-controlled integration in the compiled loop (:mod:`coopctrl.loop.adaptive`): ``rk23``, ``rk45``
+"""Error-controlled integration in the compiled loop (:mod:`coopctrl.integrators.adaptive_plans`): ``rk23``, ``rk45``
 and ``trbdf2`` against scipy's ``solve_ivp`` (step for step), their orders against DOP853, the
 global error's proportionality to ``rtol``, the step statistics, and the stop below ``min_step``."""
 
@@ -14,7 +14,8 @@ from scipy.integrate import RK23, RK45, solve_ivp
 import coopctrl
 from coopctrl.errors import ScenarioError
 from coopctrl.integrators import BogackiShampine, DormandPrince, get_integrator
-from coopctrl.loop import adaptive, integrate
+import coopctrl.integrators.adaptive_plans as adaptive
+import coopctrl.integrators.compiled as integrate
 from coopctrl.scenario import build
 from coopctrl.simulator import closed_loop
 

@@ -1,6 +1,6 @@
 """Error-controlled schemes: ``rk23``, ``rk45`` and ``trbdf2``, their tableaux and tolerances.
 
-These run in the compiled loop only (:mod:`coopctrl.loop.adaptive` integrates a control period
+These run in the compiled loop only (:mod:`coopctrl.integrators.adaptive_plans` integrates a control period
 with them); the classes here hold what a run needs: the tableau, the tolerances and the step
 controller. The step is chosen by the error estimate, not by a stability limit:
 :meth:`ErrorControlled.predicted_max_step` is ``inf`` (an unstable step has a large error and is
@@ -28,13 +28,13 @@ from typing import Any
 import numpy as np
 
 import coopctrl.arguments as arguments
-from coopctrl.integrators.base import Integrator
+from coopctrl.integrators.base import FrozenSettings, Integrator
 
 #: Step controllers: Gustafsson's PI controller (the default), scipy's elementary controller.
 CONTROLLERS = ("pi", "elementary")
 
 
-class ErrorControlled(Integrator):
+class ErrorControlled(FrozenSettings, Integrator):
     """A scheme whose step inside each control period is chosen by its local error estimate.
 
     Args:
@@ -70,7 +70,7 @@ class ErrorControlled(Integrator):
 
     def step(self, f, t: float, x: np.ndarray, u: Any, h: float) -> np.ndarray:
         raise NotImplementedError(f"{self.name!r} is error-controlled: it runs in the compiled loop "
-                                  "(coopctrl.loop.adaptive), over a whole control period")
+                                  "(coopctrl.integrators.adaptive_plans), over a whole control period")
 
     def predicted_max_step(self, omega_max: float, damping_ratio: float = 0.0) -> float:
         """``inf``: the error estimate, not a stability limit, chooses the step."""
@@ -114,7 +114,7 @@ class DormandPrince(ErrorControlled):
 
 
 class TRBDF2(ErrorControlled):
-    """TR-BDF2, ``"trbdf2"``: L-stable, for stiff grasps (see :mod:`coopctrl.loop.adaptive`).
+    """TR-BDF2, ``"trbdf2"``: L-stable, for stiff grasps (see :mod:`coopctrl.integrators.adaptive_plans`).
 
     Newton's stages converge when the scaled correction is below ``newton_tol`` [-] (a fraction
     of the error tolerance; default 0.03, Hairer and Wanner's kappa) within ``max_iterations``.
