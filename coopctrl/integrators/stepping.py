@@ -59,8 +59,8 @@ class Stepper:
     """The plan of one scheme object and what it is for: the right-hand side (plant or Python ``f``)
     and the state size. A new ``f`` or size starts cold (a new plan), as does :meth:`reset`."""
 
-    __slots__ = ("f", "plant", "nx", "plan", "P", "ws", "status", "steps", "x_fail", "out_int", "out_float",
-                 "jacobians")
+    __slots__ = ("f", "plant", "nx", "period", "plan", "P", "ws", "status", "steps", "x_fail", "out_int",
+                 "out_float", "jacobians")
 
     def __init__(self):
         self.f = None
@@ -80,14 +80,15 @@ class Stepper:
         """Jacobian evaluations since construction or :meth:`reset` (the implicit plans count them)."""
         return int(self.jacobians + self._current())
 
-    def _prepare(self, scheme, f, nx: int):
-        if self.plan is not None and self.nx == nx and (self.f is f or self.f == f):
+    def _prepare(self, scheme, f, nx: int, period):
+        if (self.plan is not None and self.nx == nx and self.period == period
+                and (self.f is f or self.f == f)):
             return
         import coopctrl.integrators.compiled as compiled
 
         self.jacobians += self._current()
-        self.plan = compiled.make_plan(scheme, nx)
-        self.f, self.nx = f, nx
+        self.plan = compiled.make_plan(scheme, nx, period)
+        self.f, self.nx, self.period = f, nx, period
         self.plant = _plant_of(f)
         if self.plant is not None and self.plant.state_size == nx:
             self.P = self.plant.kernel_into[1][:-1]  # without the status array
@@ -111,7 +112,8 @@ class Stepper:
         if not (h > 0.0 and math.isfinite(h)):
             raise ValueError(f"h = {h!r} is invalid: expected a finite step > 0 [s]")
         t = float(t)
-        self._prepare(scheme, f, x.shape[0])
+        adaptive = getattr(scheme, "adaptive", False)  # an error-controlled plan is made for its interval h
+        self._prepare(scheme, f, x.shape[0], h if adaptive else None)
         self.steps[0] = h
         self.status[:] = 0
         if self.plant is not None:
@@ -121,6 +123,10 @@ class Stepper:
                 raise TypeError(f"u = {u!r} is invalid: expected the plant's {self.plant.input_size} joint torques [N m]")
             code = compiled.advance_period(self.plan, x, tau, self.P, self.status, self.ws, t, self.steps,
                                            self.x_fail, self.out_int, self.out_float)
+        elif adaptive:
+            raise NotImplementedError(f"{scheme.name!r} is error-controlled: it steps a cooperative plant's rhs "
+                                      "(compiled, coopctrl.integrators.adaptive_plans) or runs in the loop; for "
+                                      "another f(t, x, u) use scipy.integrate.solve_ivp")
         else:
             code = compiled.zoh_advance(self.plan, x, u, self.P, self.status, None, None, t, self.steps,
                                         self.x_fail, self.out_int, self.out_float)
@@ -128,10 +134,23 @@ class Stepper:
             return x
         if code == compiled.STEP_NEWTON_FAILED:
             raise compiled.newton_failure(scheme.name, self.steps, self.out_int, self.out_float)
+        if code == compiled.STEP_TOO_SMALL:
+            raise _step_too_small(scheme, self.plant, self.x_fail, self.out_float)
         if code == compiled.STEP_PLANT_ERROR and self.plant is not None:
             f(t, self.x_fail.copy(), u)  # the plant's own exception for the state it failed at
         raise RuntimeError(f"{scheme.name}: the right-hand side failed at t = {t:.6g} s (code {int(code)}, "
                            f"status {self.status.tolist()})")
+
+
+def _step_too_small(scheme, plant, x_fail, out_float):
+    """The :class:`~coopctrl.errors.StepTooSmall` of an error-controlled step below ``min_step``, naming
+    the stiffest mode at the state it stopped at (as the loop does)."""
+    from coopctrl.errors import StepTooSmall
+    from coopctrl.loop.stiffest_mode import stiffest_mode
+
+    mode, omega = stiffest_mode(plant, x_fail)
+    pose = tuple(float(v) for v in x_fail[plant.nz - plant.p:plant.nz])
+    return StepTooSmall(float(out_float[1]), float(out_float[0]), scheme.min_step, scheme.name, mode, omega, pose)
 
 
 class CompiledScheme(FrozenSettings, Integrator):
