@@ -14,6 +14,11 @@ With damping ratio ``zeta`` (``predicted_max_step(omega, zeta)``): explicit Eule
 symplectic Euler ``h omega <= 2 / (zeta + sqrt(1 + zeta^2))``, RK4 2.6 to 2.96. On a linearization
 ``dx/dt = A x`` (every mode, coupled and damped), ``max_stable_step(A)``; see
 :mod:`coopctrl.integrators.base` and :mod:`coopctrl.analysis.stability`.
+
+Each scheme's arithmetic is written once, in :mod:`coopctrl.integrators.compiled` (fixed-step) and
+:mod:`coopctrl.integrators.adaptive_plans` (error-controlled): the loop's kernel compiles it, and
+``step`` of the classes here runs it (:mod:`coopctrl.integrators.stepping`). The classes are the
+schemes' configuration: name, order, stability, settings (frozen once built).
 """
 
 from __future__ import annotations
@@ -37,8 +42,9 @@ INTEGRATORS: dict[str, type[Integrator]] = {
     "implicit_midpoint": ImplicitMidpoint,
     "implicit_euler": ImplicitEuler,
 }
-#: Error-controlled schemes (:mod:`coopctrl.integrators.error_controlled`): name -> class. They run in
-#: the compiled loop only; :func:`get_integrator` builds them too.
+#: Error-controlled schemes (:mod:`coopctrl.integrators.error_controlled`): name -> class. They run
+#: compiled, over a control period (in the loop, or ``step`` on a plant's ``rhs``); :func:`get_integrator`
+#: builds them too.
 ERROR_CONTROLLED: dict[str, type[ErrorControlled]] = {
     "rk23": BogackiShampine,
     "rk45": DormandPrince,

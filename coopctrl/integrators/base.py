@@ -99,6 +99,18 @@ def spectral_radius(M: np.ndarray) -> float:
     return float(np.max(np.abs(np.linalg.eigvals(M)))) if M.size else 0.0
 
 
+class FrozenSettings:
+    """Mixin of the built-in schemes: each public setting (``rtol``, ``max_iterations``, ...) is set once,
+    validated, by the constructor, and never changed afterwards (a run's plan is made from them). A
+    different setting is a new object: ``get_integrator(name, rtol=...)``."""
+
+    def __setattr__(self, name: str, value) -> None:
+        if not name.startswith("_") and name in self.__dict__:
+            raise AttributeError(f"{type(self).__name__}.{name} is a frozen setting (now {self.__dict__[name]!r}): "
+                                 f"make a new scheme, get_integrator({getattr(self, 'name', '')!r}, {name}=...)")
+        object.__setattr__(self, name, value)
+
+
 class Integrator(ABC):
     """One fixed-step scheme for ``dx/dt = f(t, x, u)`` with ``u`` held over the step.
 

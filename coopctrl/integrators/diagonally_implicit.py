@@ -8,10 +8,10 @@ import math
 import numpy as np
 
 from coopctrl.errors import DivergenceError
-from coopctrl.integrators.base import MARGINAL_REAL_PART, Integrator, check_damping_ratio, check_omega_max
+from coopctrl.integrators.base import MARGINAL_REAL_PART, check_damping_ratio, check_omega_max
+from coopctrl.integrators.stepping import CompiledScheme
 
 _EPS = np.finfo(float).eps
-_SQRT_EPS = math.sqrt(_EPS)
 
 
 class NewtonConvergenceError(DivergenceError):
@@ -44,7 +44,7 @@ class NewtonConvergenceError(DivergenceError):
         )
 
 
-class DiagonallyImplicitRungeKutta(Integrator):
+class DiagonallyImplicitRungeKutta(CompiledScheme):
     """A singly diagonally implicit Runge-Kutta scheme (SDIRK), each stage solved by simplified Newton.
 
     With the Butcher tableau ``(A, b, c)``, ``A`` lower triangular with the same diagonal entry
@@ -62,9 +62,9 @@ class DiagonallyImplicitRungeKutta(Integrator):
 
     Each stage equation ``G(k_i) = k_i - f(t + c_i h, S_i + gamma h k_i, u) = 0`` (``S_i`` the known
     part) is solved by **simplified Newton** with the iteration matrix ``M = (I - gamma h J)^-1``,
-    ``J = df/dx``: the same matrix for every stage, since ``gamma`` is. ``J`` is the plant's analytic
-    ``jac(t, x, u)`` when ``f`` (or the object ``f`` is bound to) has one, else forward finite
-    differences (``2 n`` extra calls of ``f``). ``M`` is kept across iterations, stages and steps
+    ``J = df/dx``: the same matrix for every stage, since ``gamma`` is. ``J`` is by forward finite
+    differences (``n`` extra calls of ``f``; increment ``d_j = sqrt(eps) max(|x_j|, 1)``, rounded to a
+    representable one), as in the loop's kernel. ``M`` is kept across iterations, stages and steps
     while Newton converges fast (contraction rate at most ``reuse_rate``); it is refreshed at the
     current iterate when convergence slows, and when ``f``, ``h`` or the state size change. Each stage
     starts from its slope of the previous step (the first stage of a cold start from ``f(t, x, u)``,
@@ -81,7 +81,8 @@ class DiagonallyImplicitRungeKutta(Integrator):
     :attr:`stability_numerator` (``s`` stages). The built-in schemes are A-stable
     (``|R(z)| <= 1`` on the closed left half-plane), so :meth:`predicted_max_step` is ``math.inf``.
 
-    The cached iteration matrix and stage slopes are the only state; :meth:`reset` drops them. Use
+    The step is :mod:`coopctrl.integrators.compiled` (the loop's kernel runs the same functions). The
+    cached iteration matrix and stage slopes are the only state; :meth:`reset` drops them. Use
     one instance per simulation.
 
     Args:
@@ -117,9 +118,7 @@ class DiagonallyImplicitRungeKutta(Integrator):
         self.atol = float(atol)
         self.max_iterations = int(max_iterations)
         self.reuse_rate = float(reuse_rate)
-        #: Number of Jacobian evaluations since construction or :meth:`reset` (diagnostics).
-        self.jacobian_evaluations = 0
-        self.reset()
+        super().__init__()
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -145,11 +144,10 @@ class DiagonallyImplicitRungeKutta(Integrator):
         return (f"{type(self).__name__}(rtol={self.rtol!r}, atol={self.atol!r}, "
                 f"max_iterations={self.max_iterations!r}, reuse_rate={self.reuse_rate!r})")
 
-    def reset(self) -> None:
-        self._M = None  # (I - gamma h J)^-1
-        self._f = None
-        self._h = None
-        self._k = None  # last converged stage slopes (predictors)
+    @property
+    def jacobian_evaluations(self) -> int:
+        """Number of Jacobian evaluations since construction or :meth:`reset` (diagnostics)."""
+        return self._stepper.jacobian_evaluations()
 
     # ------------------------------------------------------------------ linear stability
     def predicted_max_step(self, omega_max: float, damping_ratio: float = 0.0) -> float:
@@ -168,101 +166,3 @@ class DiagonallyImplicitRungeKutta(Integrator):
         counts as 0), else ``0.0`` (``|R(h lambda)| > 1`` for small ``h``, as the exact flow grows)."""
         lam = complex(lam)
         return math.inf if lam.real <= MARGINAL_REAL_PART * abs(lam) else 0.0
-
-    # ------------------------------------------------------------------ Newton
-    def _jacobian(self, f, t, x, u, fx):
-        jac = getattr(f, "jac", None)
-        if jac is None:
-            jac = getattr(getattr(f, "__self__", None), "jac", None)
-        self.jacobian_evaluations += 1
-        if jac is not None:
-            return np.asarray(jac(t, x, u), dtype=float)
-        n = x.shape[0]
-        J = np.empty((n, n))
-        xp = x.copy()
-        for j in range(n):
-            xj = x[j]
-            d = _SQRT_EPS * max(abs(xj), 1.0)
-            xp[j] = xj + d
-            d = xp[j] - xj  # exactly representable increment
-            J[:, j] = (f(t, xp, u) - fx) / d
-            xp[j] = xj
-        return J
-
-    def _refresh(self, f, t, x, u, fx, h):
-        n = x.shape[0]
-        A = np.eye(n)
-        A -= (self.gamma * h) * self._jacobian(f, t, x, u, fx)
-        try:
-            self._M = np.linalg.inv(A)
-        except np.linalg.LinAlgError:
-            self._M = np.linalg.pinv(A)
-        self._f = f
-        self._h = h
-
-    def step(self, f, t, x, u, h):
-        M = self._M
-        if M is None or self._h != h or M.shape[0] != x.shape[0] or not (self._f is f or self._f == f):
-            M = None
-            predictors = None  # cold start
-        else:
-            predictors = self._k
-        gh = self.gamma * h
-        fresh = False  # M was evaluated during this step
-        slow = False  # some stage converged slower than reuse_rate
-        tol = self.atol + self.rtol * float(np.abs(x).max())
-        slopes = []
-        for i, (row, c) in enumerate(zip(self.tableau, self.nodes)):
-            ts = t + c * h
-            known = x.copy()  # S_i = x + h sum_{j<i} a_ij k_j
-            for a, kj in zip(row[:-1], slopes):
-                if a != 0.0:
-                    known += (a * h) * kj
-            if predictors is not None:
-                k = predictors[i].copy()
-            else:
-                k = f(t, x, u) if i == 0 else slopes[-1].copy()  # explicit slope as predictor
-            previous = math.inf
-            rate = 0.0
-            total = 0
-            while True:
-                xs = k * gh
-                xs += known
-                fs = f(ts, xs, u)
-                if M is None:
-                    self._refresh(f, ts, xs, u, fs, h)
-                    M = self._M
-                    fresh = True
-                    previous = math.inf
-                dk = M @ (k - fs)
-                k -= dk
-                total += 1
-                correction = h * float(np.abs(dk).max())
-                if correction <= tol or correction <= tol + self.rtol * h * float(np.abs(k).max()):
-                    break
-                if not math.isfinite(correction):
-                    if fresh:
-                        self.reset()
-                        raise NewtonConvergenceError(t, correction, total, h, self.name)
-                    k = f(t, x, u)  # the stale matrix threw the iterate away: restart
-                    M = None
-                    continue
-                rate = correction / previous
-                if fresh and rate > 0.5 and correction <= _SQRT_EPS * max(float(np.abs(x).max()),
-                                                                           h * float(np.abs(k).max())):
-                    break  # stagnating at the round-off floor of f: as converged as it can be
-                if total >= self.max_iterations:
-                    self.reset()
-                    raise NewtonConvergenceError(t, correction, total, h, self.name)
-                if rate > self.reuse_rate:
-                    M = None  # slow: re-evaluate the Jacobian at the current iterate
-                previous = correction
-            slow = slow or not (total <= 2 or rate <= self.reuse_rate)
-            slopes.append(k)
-        if slow:
-            self._M = None  # slow this step: refresh at the start of the next one
-        self._k = slopes
-        x_next = x.copy()
-        for b, k in zip(self.weights, slopes):
-            x_next += (b * h) * k
-        return x_next

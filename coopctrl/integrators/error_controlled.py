@@ -1,8 +1,8 @@
 """Error-controlled schemes: ``rk23``, ``rk45`` and ``trbdf2``, their tableaux and tolerances.
 
-These run in the compiled loop only (:mod:`coopctrl.loop.adaptive` integrates a control period
-with them); the classes here hold what a run needs: the tableau, the tolerances and the step
-controller. The step is chosen by the error estimate, not by a stability limit:
+These run compiled (:mod:`coopctrl.integrators.adaptive_plans` integrates a control period with them:
+in the loop, and in :meth:`ErrorControlled.step` on a cooperative plant's ``rhs``); the classes here
+hold what a run needs: the tableau, the tolerances and the step controller. The step is chosen by the error estimate, not by a stability limit:
 :meth:`ErrorControlled.predicted_max_step` is ``inf`` (an unstable step has a large error and is
 rejected; a stiff mode makes an explicit pair take many small steps, which the run's step
 statistics show, and ``trbdf2`` is L-stable).
@@ -28,13 +28,14 @@ from typing import Any
 import numpy as np
 
 import coopctrl.arguments as arguments
-from coopctrl.integrators.base import Integrator
+import coopctrl.integrators.stepping as stepping
+from coopctrl.integrators.base import FrozenSettings, Integrator
 
 #: Step controllers: Gustafsson's PI controller (the default), scipy's elementary controller.
 CONTROLLERS = ("pi", "elementary")
 
 
-class ErrorControlled(Integrator):
+class ErrorControlled(FrozenSettings, Integrator):
     """A scheme whose step inside each control period is chosen by its local error estimate.
 
     Args:
@@ -61,6 +62,7 @@ class ErrorControlled(Integrator):
         if controller not in CONTROLLERS:
             raise arguments.invalid("controller", controller, f"one of {', '.join(map(repr, CONTROLLERS))}")
         self.controller = controller
+        self._stepper = stepping.Stepper()
 
     def tolerances(self, nz: int, control_period: float) -> np.ndarray:
         """``atol_c`` of the state ``x = (z, dz)``: ``atol`` on the ``nz`` positions, ``atol_velocity``
@@ -69,8 +71,19 @@ class ErrorControlled(Integrator):
         return np.concatenate([np.full(nz, self.atol), np.full(nz, v)])
 
     def step(self, f, t: float, x: np.ndarray, u: Any, h: float) -> np.ndarray:
-        raise NotImplementedError(f"{self.name!r} is error-controlled: it runs in the compiled loop "
-                                  "(coopctrl.loop.adaptive), over a whole control period")
+        """The state at ``t + h`` [s] from ``x`` at ``t``, ``u`` held, ``h`` being one control period: the
+        compiled period of :mod:`coopctrl.integrators.adaptive_plans` on a cooperative plant's ``rhs``
+        (the step it chose carries over to the next call with the same ``f`` and ``h``; :meth:`reset`
+        forgets it). Another ``f`` raises ``NotImplementedError`` (use :func:`scipy.integrate.solve_ivp`).
+
+        Raises:
+            StepTooSmall: when a step below ``min_step`` would be needed (:class:`~coopctrl.errors.StepTooSmall`).
+        """
+        return self._stepper.step(self, f, t, x, u, h)
+
+    def reset(self) -> None:
+        """Forget the step carried from one call to the next."""
+        self._stepper.reset()
 
     def predicted_max_step(self, omega_max: float, damping_ratio: float = 0.0) -> float:
         """``inf``: the error estimate, not a stability limit, chooses the step."""
@@ -114,7 +127,7 @@ class DormandPrince(ErrorControlled):
 
 
 class TRBDF2(ErrorControlled):
-    """TR-BDF2, ``"trbdf2"``: L-stable, for stiff grasps (see :mod:`coopctrl.loop.adaptive`).
+    """TR-BDF2, ``"trbdf2"``: L-stable, for stiff grasps (see :mod:`coopctrl.integrators.adaptive_plans`).
 
     Newton's stages converge when the scaled correction is below ``newton_tol`` [-] (a fraction
     of the error tolerance; default 0.03, Hairer and Wanner's kappa) within ``max_iterations``.

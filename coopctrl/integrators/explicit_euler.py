@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-from coopctrl.integrators.base import Integrator, check_damping_ratio, check_omega_max
+from coopctrl.integrators.base import check_damping_ratio, check_omega_max
+from coopctrl.integrators.stepping import CompiledScheme
 
 
-class ExplicitEuler(Integrator):
+class ExplicitEuler(CompiledScheme):
     """Explicit Euler, order 1.
 
     .. math::
@@ -21,18 +22,12 @@ class ExplicitEuler(Integrator):
     ``h omega <= 2 zeta`` (``zeta <= 1``) or ``h omega <= 2 / (zeta + sqrt(zeta^2 - 1))``
     (``zeta > 1``, set by the faster real eigenvalue).
 
-    One call of ``f`` per step.
+    One call of ``f`` per step; :meth:`step` runs :mod:`coopctrl.integrators.compiled`.
     """
 
     name = "euler"
     order = 1
     stability_polynomial = (1.0, 1.0)
-
-    def step(self, f, t, x, u, h):
-        dx = f(t, x, u)
-        dx *= h
-        dx += x
-        return dx
 
     def predicted_max_step(self, omega_max: float, damping_ratio: float = 0.0) -> float:
         """Largest stable step [s] on the oscillator ``(omega_max [rad/s], damping_ratio [-])``

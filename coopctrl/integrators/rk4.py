@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 
-from coopctrl.integrators.base import Integrator, check_damping_ratio, check_omega_max
+from coopctrl.integrators.base import check_damping_ratio, check_omega_max
+from coopctrl.integrators.stepping import CompiledScheme
 
 #: Stability limit of RK4 on the imaginary axis: ``|R(i y)| <= 1`` iff ``|y| <= 2 sqrt(2)``.
 RK4_IMAGINARY_AXIS_LIMIT = 2.0 * math.sqrt(2.0)
@@ -12,7 +13,7 @@ RK4_IMAGINARY_AXIS_LIMIT = 2.0 * math.sqrt(2.0)
 RK4_REAL_AXIS_LIMIT = 2.785293563405282
 
 
-class RungeKutta4(Integrator):
+class RungeKutta4(CompiledScheme):
     """Classic Runge-Kutta, order 4.
 
     .. math::
@@ -21,7 +22,8 @@ class RungeKutta4(Integrator):
         k_3 = f(t + h/2, x + h k_2 / 2), \\; k_4 = f(t + h, x + h k_3), \\\\
         x_{k+1} = x_k + h (k_1 + 2 k_2 + 2 k_3 + k_4) / 6
 
-    with ``u`` held over the step (four calls of ``f``).
+    with ``u`` held over the step (four calls of ``f``; :meth:`step` runs
+    :mod:`coopctrl.integrators.compiled`).
 
     Stability: ``R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24``. On the **imaginary** axis (undamped
     oscillator, ``z = i h omega``) ``|R(i y)|^2 = 1 - y^6/72 + y^8/576``, so the scheme is
@@ -38,27 +40,6 @@ class RungeKutta4(Integrator):
     name = "rk4"
     order = 4
     stability_polynomial = (1.0, 1.0, 1.0 / 2.0, 1.0 / 6.0, 1.0 / 24.0)
-
-    def step(self, f, t, x, u, h):
-        h2 = 0.5 * h
-        t2 = t + h2
-        k1 = f(t, x, u)
-        y = k1 * h2
-        y += x
-        k2 = f(t2, y, u)
-        y = k2 * h2
-        y += x
-        k3 = f(t2, y, u)
-        y = k3 * h
-        y += x
-        k4 = f(t + h, y, u)
-        k2 += k3
-        k2 *= 2.0
-        k2 += k1
-        k2 += k4
-        k2 *= h / 6.0
-        k2 += x
-        return k2
 
     def predicted_max_step(self, omega_max: float, damping_ratio: float = 0.0) -> float:
         """Largest stable step [s] on the oscillator ``(omega_max [rad/s], damping_ratio [-])``."""

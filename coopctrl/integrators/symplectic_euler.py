@@ -6,10 +6,11 @@ import math
 
 import numpy as np
 
-from coopctrl.integrators.base import Integrator, check_damping_ratio, check_omega_max, matrix_max_step
+from coopctrl.integrators.base import check_damping_ratio, check_omega_max, matrix_max_step
+from coopctrl.integrators.stepping import CompiledScheme
 
 
-class SymplecticEuler(Integrator):
+class SymplecticEuler(CompiledScheme):
     """Semi-implicit (symplectic) Euler, order 1.
 
     With ``x = (z, dz)`` split by halves and ``ddz`` the second half of ``f``:
@@ -19,7 +20,8 @@ class SymplecticEuler(Integrator):
         \\dot z_{k+1} = \\dot z_k + h\\, \\ddot z(t_k, z_k, \\dot z_k, u_k), \\qquad
         z_{k+1} = z_k + h\\, \\dot z_{k+1}
 
-    ``f`` is called once per step; its first half (``dz``) is not used, the new velocity is.
+    ``f`` is called once per step; its first half (``dz``) is not used, the new velocity is
+    (:meth:`step` runs :mod:`coopctrl.integrators.compiled`).
 
     Stability: for an undamped oscillator ``ddz = -omega^2 z`` the one-step matrix is
     ``[[1 - h^2 omega^2, h], [-h omega^2, 1]]`` with determinant 1 and trace
@@ -44,18 +46,6 @@ class SymplecticEuler(Integrator):
 
     name = "symplectic_euler"
     order = 1
-
-    def step(self, f, t, x, u, h):
-        n = x.shape[0] // 2
-        ddz = f(t, x, u)[n:]
-        x_next = np.empty_like(x)
-        dz_next = x_next[n:]
-        np.multiply(ddz, h, out=dz_next)
-        dz_next += x[n:]
-        z_next = x_next[:n]
-        np.multiply(dz_next, h, out=z_next)
-        z_next += x[:n]
-        return x_next
 
     def predicted_max_step(self, omega_max: float, damping_ratio: float = 0.0) -> float:
         """``2 / (omega (zeta + sqrt(1 + zeta^2)))`` [s] for the oscillator ``(omega_max [rad/s],

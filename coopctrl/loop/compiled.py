@@ -30,7 +30,7 @@ import numpy as np
 from coopctrl.errors import DivergenceError, InfeasibleLoad, StepTooSmall
 from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
-from coopctrl.loop import integrate as I
+import coopctrl.integrators.compiled as I
 from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace

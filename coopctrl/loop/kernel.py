@@ -70,8 +70,8 @@ from coopctrl.load_distribution.assembly import (
 from coopctrl.load_distribution.contact_model import contact_normals_into, torque_model_into
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities, gi_solve
-from coopctrl.loop.integrate import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
-from coopctrl.loop.integrate import STEP_TOO_SMALL as STEP_TOO_SMALL_CODE
+from coopctrl.integrators.compiled import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
+from coopctrl.integrators.compiled import STEP_TOO_SMALL as STEP_TOO_SMALL_CODE
 from coopctrl.loop.squeeze import pair_squeeze_into
 from coopctrl.loop.stages import compile_stage
 from coopctrl.loop.energy import plant_energy

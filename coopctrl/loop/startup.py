@@ -74,7 +74,7 @@ def family_of(integrator: str) -> str:
     if not isinstance(integrator, str):
         raise TypeError(f"integrator = {integrator!r} is invalid: expected an integrator name (str)")
     import coopctrl.loop.compiled as compiled
-    import coopctrl.loop.integrate as integrate
+    import coopctrl.integrators.compiled as integrate
 
     method = compiled.METHODS.get(integrator)
     if method == integrate.METHOD_ADAPTIVE:

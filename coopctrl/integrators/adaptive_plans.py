@@ -25,7 +25,7 @@ is advanced with the higher order (local extrapolation), ``e = h sum_j E_j k_j``
 
 With ``controller = CONTROLLER_ELEMENTARY`` the accepted factor is ``safety |e|^(-1/k)`` (scipy's
 ``RK23``/``RK45``): the same steps as :func:`scipy.integrate.solve_ivp` on a period, which
-``tests/test_loop_adaptive.py`` checks step for step. ``CONTROLLER_FIXED`` takes every step of
+``tests/test_integrators_adaptive_plans.py`` checks step for step. ``CONTROLLER_FIXED`` takes every step of
 ``h = memo[2]`` without control (the order tests).
 
 TR-BDF2 (:class:`TRBDF2Plan`; Hosea and Shampine, *Applied Numerical Mathematics* 20, 1996): the
@@ -41,7 +41,7 @@ L-stable and stiffly accurate (order 2); the error estimate ``e = M h sum_j (b_j
 with the third-order weights ``bh = ((1 - w) / 3, (3 w + 1) / 3, d / 3)``, filtered by
 ``M = (I - d h J)^-1`` (Shampine's filter: the stiff components' estimate stays bounded). Each
 implicit stage is solved by simplified Newton with ``M``; the Jacobian ``J`` (forward differences,
-as :mod:`coopctrl.loop.integrate`) is kept from step to step and tick to tick and re-evaluated only
+as :mod:`coopctrl.integrators.compiled`) is kept from step to step and tick to tick and re-evaluated only
 when Newton converges slowly. To keep ``M`` too, the period is cut into ``n`` equal steps
 ``h = T / n``: ``n`` (and the rest of the period's plan) changes only when the controller's step
 leaves ``[h, 1.5 h]``, so a steady run inverts ``I - d h J`` once.
@@ -59,8 +59,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from coopctrl.loop.integrate import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, first_rhs_into,
-                                     invert_into, jacobian_into, rhs_into, _pinv_into)
+from coopctrl.integrators.compiled import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, first_rhs_into,
+                                           invert_into, jacobian_into, rhs_into, _pinv_into)
 
 #: Step controllers (``settings[S_CONTROLLER]``).
 CONTROLLER_PI = 0
@@ -292,7 +292,7 @@ def embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out
 @njit(cache=True)
 def _jacobian(plan, x, tau, P, status, ws, fx, out_int, x_fail):
     """``plan.J = df/dx`` at ``x`` (``fx = f(x)``) by forward differences (increments as
-    :mod:`coopctrl.loop.integrate`). False on a right-hand-side failure (``x_fail`` set)."""
+    :mod:`coopctrl.integrators.compiled`). False on a right-hand-side failure (``x_fail`` set)."""
     plan.memo[M_JACOBIANS] += 1.0
     if not jacobian_into(plan.J, x, tau, P, status, ws, fx, plan.xp, plan.fp, out_int, x_fail):
         return False

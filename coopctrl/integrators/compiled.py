@@ -1,31 +1,39 @@
-"""The plant's zero-order-hold advance over one control period, compiled: the five integrators.
+"""The fixed-step integrators' arithmetic, written once: compiled in the loop, and behind
+:meth:`Integrator.step <coopctrl.integrators.Integrator.step>` of the five built-in schemes.
 
 :func:`zoh_advance` integrates ``dx/dt = f(x, tau)`` over one control period with ``tau`` held,
 one step of the chosen scheme per entry ``h_s`` [s] of ``steps`` (``T / substeps`` each, or the
 free step of :meth:`ClosedLoop.set_step <coopctrl.closed_loop.ClosedLoop.set_step>`: ``floor(T / h)``
-steps and a remainder), with the same arithmetic as the Python integrators of
-:mod:`coopctrl.integrators`:
+steps and a remainder); the classes of :mod:`coopctrl.integrators` are its configuration:
 
 - an :class:`ExplicitPlan` for ``"euler"``, ``"symplectic_euler"`` and ``"rk4"`` (the scheme is a
-  run-time code: the three share one compiled loop), element by element the operations of
-  :class:`~coopctrl.integrators.ExplicitEuler`, :class:`~coopctrl.integrators.SymplecticEuler` and
-  :class:`~coopctrl.integrators.RungeKutta4`;
+  run-time code: the three share one compiled loop): :func:`explicit_period`, the steps stated in
+  :func:`_explicit_step`;
 - an :class:`ImplicitPlan` for ``"implicit_midpoint"`` and ``"implicit_euler"``: the singly diagonally
   implicit Runge-Kutta step of
   :class:`~coopctrl.integrators.diagonally_implicit.DiagonallyImplicitRungeKutta` (its tableau in the
-  plan), each stage ``G(k_i) = k_i - f(S_i + gamma h k_i) = 0`` solved by simplified Newton with
-  ``M = (I - gamma h J)^-1``: the same forward-difference Jacobian (increment
-  ``d_j = sqrt(eps) max(|x_j|, 1)``, rounded to a representable one; the cooperative plant has no
-  analytic ``jac`` for the Python integrator to use instead), the same predictors, convergence
-  test, round-off stop, Jacobian reuse (``reuse_rate``) and failure (:data:`STEP_NEWTON_FAILED`,
-  which :mod:`coopctrl.loop.compiled` turns into the same
+  plan; :func:`implicit_period`), each stage ``G(k_i) = k_i - f(S_i + gamma h k_i) = 0`` solved by
+  simplified Newton with ``M = (I - gamma h J)^-1``: the forward-difference Jacobian
+  (:func:`jacobian_into`, increment ``d_j = sqrt(eps) max(|x_j|, 1)`` rounded to a representable
+  one), predictors, convergence test, round-off stop, Jacobian reuse (``reuse_rate``) and failure
+  (:data:`STEP_NEWTON_FAILED`, which :func:`newton_failure` turns into
   :class:`~coopctrl.integrators.NewtonConvergenceError`). ``M`` and the stage slopes are kept from
-  step to step, tick to tick, as the Python integrator keeps them; a new plan starts cold.
+  step to step, tick to tick; a new plan starts cold.
+
+One source, two ways to run it. The scheme functions (:func:`explicit_period`, :func:`implicit_period`,
+:func:`jacobian_into` and the steps they call) are ``numba.extending.register_jitable``: numba compiles
+them into their callers (the loop's kernel, :func:`advance_period`), and Python runs the same
+functions as they are when :meth:`Integrator.step <coopctrl.integrators.Integrator.step>` steps a
+right-hand side numba cannot call (any Python ``f(t, x, u)``; ``P`` is then a
+:class:`coopctrl.integrators.stepping.PythonRightHandSide` and :func:`rhs_into` calls it at the stage
+time set by :func:`at_time`). A cooperative plant's ``rhs`` is stepped compiled
+(:func:`advance_period`). ``tests/_integrator_oracle.py`` keeps the former numpy arithmetic as an
+independent check, itself checked against :func:`scipy.integrate.solve_ivp`.
 
 The scheme family is chosen when numba types the call (the plan's namedtuple class): a scene that
 integrates with RK4 never compiles the Newton code. Every work array is in the plan, made once per
 run by :func:`make_plan`: a step allocates nothing (the singular-matrix fallback
-``numpy.linalg.pinv`` of the Python integrator aside).
+``numpy.linalg.pinv`` aside).
 
 The plant's right-hand side is ``rhs_into`` of :mod:`plants.cooperative` (spatial or planar, chosen by
 the type of the plant's arrays ``P``). numba's disk cache is keyed on every kernel source
@@ -39,7 +47,7 @@ from collections import namedtuple
 
 import numpy as np
 from numba import njit, types
-from numba.extending import overload
+from numba.extending import overload, register_jitable
 
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
@@ -50,13 +58,13 @@ METHOD_SYMPLECTIC_EULER = 1
 METHOD_RK4 = 2
 #: The diagonally implicit Runge-Kutta schemes (an :class:`ImplicitPlan`; the tableau says which).
 METHOD_SDIRK = 3
-#: The error-controlled schemes (:mod:`coopctrl.loop.adaptive`: an ``EmbeddedPlan`` or a ``TRBDF2Plan``).
+#: The error-controlled schemes (:mod:`coopctrl.integrators.adaptive_plans`: an ``EmbeddedPlan`` or a ``TRBDF2Plan``).
 METHOD_ADAPTIVE = 4
 
 #: Results of :func:`zoh_advance`.
 STEP_OK = 0  #: the period is integrated
 STEP_PLANT_ERROR = 1  #: the right-hand side failed (``status`` holds its code, ``x_fail`` the state it was called at)
-STEP_TOO_SMALL = 3  #: an error-controlled step fell below ``min_step`` (:mod:`coopctrl.loop.adaptive`; ``out_float = (step [s], time [s])``)
+STEP_TOO_SMALL = 3  #: an error-controlled step fell below ``min_step`` (:mod:`coopctrl.integrators.adaptive_plans`; ``out_float = (step [s], time [s])``)
 STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``out_int[2:4]``, ``out_float``: see :func:`zoh_advance`)
 
 _EPS = float(np.finfo(float).eps)
@@ -71,7 +79,7 @@ ExplicitPlan = namedtuple("ExplicitPlan", "method k1 k2 k3 k4 y")
 #: ``M`` ``(nx, nx)`` the iteration matrix ``(I - gamma h J)^-1``, ``A`` and ``LU`` ``(nx, nx)`` work;
 #: ``slopes`` and ``predictors`` ``(s, nx)``; ``known``, ``k``, ``xs``, ``fs``, ``dk``, ``xp``, ``fp``
 #: ``(nx,)`` work; ``memo`` float64 ``(3,)`` = (``M`` is kept: 1.0 / 0.0, the step ``h`` [s] it was made
-#: for, Jacobian evaluations so far: ``jacobian_evaluations`` of the Python integrator).
+#: for, Jacobian evaluations so far: ``jacobian_evaluations`` of the scheme object).
 ImplicitPlan = namedtuple("ImplicitPlan", "settings tableau weights nodes M A LU slopes predictors "
                                           "known k xs fs dk xp fp memo")
 
@@ -84,7 +92,7 @@ def make_plan(integrator, nx: int, period: float | None = None, ticks: int = 1):
             :class:`~coopctrl.integrators.SymplecticEuler`, :class:`~coopctrl.integrators.RungeKutta4`,
             a :class:`~coopctrl.integrators.DiagonallyImplicitRungeKutta` (implicit midpoint,
             implicit Euler; its Newton settings are read now) or an
-            :class:`~coopctrl.integrators.ErrorControlled` scheme (:mod:`coopctrl.loop.adaptive`).
+            :class:`~coopctrl.integrators.ErrorControlled` scheme (:mod:`coopctrl.integrators.adaptive_plans`).
         nx: State size ``2 nz``.
         period: The control period ``T`` [s] (the error-controlled schemes integrate ``[t, t + T]``).
         ticks: Ticks of the run (the error-controlled schemes' step statistics have a row each).
@@ -96,15 +104,16 @@ def make_plan(integrator, nx: int, period: float | None = None, ticks: int = 1):
                                       SymplecticEuler)
 
     if isinstance(integrator, ErrorControlled):
-        from coopctrl.loop.adaptive import adaptive_plan
+        import coopctrl.integrators.adaptive_plans as adaptive_plans
 
         if period is None:
             raise TypeError("make_plan: an error-controlled scheme needs the control period [s]")
-        return adaptive_plan(integrator, nx, period, ticks)
+        return adaptive_plans.adaptive_plan(integrator, nx, period, ticks)
 
     explicit = {ExplicitEuler: METHOD_EULER, SymplecticEuler: METHOD_SYMPLECTIC_EULER, RungeKutta4: METHOD_RK4}
-    if type(integrator) in explicit:
-        return ExplicitPlan(np.int64(explicit[type(integrator)]), *(np.zeros(nx) for _ in range(5)))
+    for cls, method in explicit.items():
+        if isinstance(integrator, cls):
+            return ExplicitPlan(np.int64(method), *(np.zeros(nx) for _ in range(5)))
     if not isinstance(integrator, DiagonallyImplicitRungeKutta) or not integrator.tableau:
         raise TypeError(f"integrator {type(integrator).__name__!r} has no compiled step")
     s = len(integrator.tableau)
@@ -119,8 +128,8 @@ def make_plan(integrator, nx: int, period: float | None = None, ticks: int = 1):
 
 
 def newton_failure(scheme: str, steps, out_int, out_float):
-    """The :class:`~coopctrl.integrators.NewtonConvergenceError` the Python integrator raises, from the
-    outputs of a :func:`zoh_advance` that returned :data:`STEP_NEWTON_FAILED` on the period ``steps``."""
+    """The :class:`~coopctrl.integrators.NewtonConvergenceError` of a :func:`zoh_advance` that returned
+    :data:`STEP_NEWTON_FAILED` on the period ``steps``, from its outputs."""
     from coopctrl.integrators import NewtonConvergenceError
 
     return NewtonConvergenceError(float(out_float[1]), float(out_float[0]), int(out_int[3]),
@@ -132,8 +141,29 @@ def rhs_into(x, tau, P, status, ws, dx):
     """The plant's right-hand side into ``dx`` (the allocation-free ``rhs_into`` of
     ``plants.cooperative``), compiled for the spatial or the planar kernel by the type of ``P``'s
     bases (``(m, 4, 4)`` spatial, ``(m, 3)`` planar). ``P`` = ``CooperativePlant._args`` without the
-    status array."""
-    raise NotImplementedError("called from numba only")
+    status array.
+
+    Called from Python (the scheme functions run as they are): ``P`` is a
+    :class:`~coopctrl.integrators.stepping.PythonRightHandSide` (a Python ``f(t, x, u)``), or the
+    plant's kernel arrays (their compiled ``rhs_into_packed``)."""
+    if isinstance(P, tuple):
+        (_sk if P[5].ndim == 3 else _pk).rhs_into_packed(x, tau, P, status, ws, dx)
+    else:
+        P.evaluate(x, tau, status, dx)
+
+
+def at_time(P, t):
+    """The time [s] of the next :func:`rhs_into` calls: a Python ``f(t, x, u)`` is called at the stage
+    time (``P.t = t``); the plant is autonomous, so compiled this is nothing."""
+    if not isinstance(P, tuple):
+        P.t = t
+
+
+@overload(at_time)
+def _at_time_typed(P, t):
+    def impl(P, t):
+        pass
+    return impl
 
 
 @overload(rhs_into)
@@ -149,8 +179,8 @@ def _rhs_into_typed(x, tau, P, status, ws, dx):
 def first_rhs_into(x, tau, P, status, ws, terms, dx):
     """:func:`rhs_into` at the state whose control terms ``terms`` holds: a spatial plant finishes the
     right-hand side from them (``rhs_from_terms_into``: no second arm pass, the same bits); a planar
-    plant, or ``terms = None``, evaluates it afresh."""
-    raise NotImplementedError("called from numba only")
+    plant, or ``terms = None``, evaluates it afresh (from Python too)."""
+    rhs_into(x, tau, P, status, ws, dx)
 
 
 @overload(first_rhs_into)
@@ -190,37 +220,29 @@ def zoh_advance(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, o
 
     Returns:
         :data:`STEP_OK`, :data:`STEP_PLANT_ERROR` or :data:`STEP_NEWTON_FAILED`.
+
+    Called from Python (an explicit or implicit plan), the same scheme functions run as they are: the
+    step of :meth:`Integrator.step <coopctrl.integrators.Integrator.step>` on a Python ``f``.
     """
-    raise NotImplementedError("called from numba only")
+    if type(plan) is ImplicitPlan:
+        return implicit_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float)
+    if type(plan) is ExplicitPlan:
+        return explicit_period(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int)
+    raise TypeError(f"plan is a {type(plan).__name__}: from Python, zoh_advance steps an ExplicitPlan or an "
+                    "ImplicitPlan (the error-controlled plans run compiled: advance_period)")
 
 
 @overload(zoh_advance)
 def _zoh_advance_typed(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
     if getattr(plan, "instance_class", None) is ImplicitPlan:
         def impl(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
-            ts = t
-            for si in range(steps.shape[0]):
-                hs = steps[si]
-                code, iterations, correction = _sdirk_step(plan, x, tau, P, status, ws, ts, hs, x_fail, out_int)
-                if code == STEP_NEWTON_FAILED:
-                    out_int[2] = si
-                    out_int[3] = iterations
-                    out_float[0] = correction
-                    out_float[1] = ts
-                if code != STEP_OK:
-                    return code
-                ts += hs
-            return STEP_OK
+            return implicit_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float)
         return impl
     if getattr(plan, "instance_class", None) is ExplicitPlan:
         def impl(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
-            for si in range(steps.shape[0]):
-                code = _explicit_step(plan, x, tau, P, status, ws, terms, si == 0, steps[si], x_fail, out_int)
-                if code != STEP_OK:
-                    return code
-            return STEP_OK
+            return explicit_period(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int)
         return impl
-    from coopctrl.loop import adaptive as _adaptive
+    import coopctrl.integrators.adaptive_plans as _adaptive
 
     if getattr(plan, "instance_class", None) is _adaptive.EmbeddedPlan:
         def impl(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
@@ -235,19 +257,41 @@ def _zoh_advance_typed(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out
 
 @njit(cache=True)
 def advance_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
-    """:func:`zoh_advance` callable from Python (tests, one-step checks against the Python integrators)."""
+    """:func:`zoh_advance` compiled, callable from Python with the plant's kernel arrays ``P``
+    (:meth:`Integrator.step <coopctrl.integrators.Integrator.step>` on a plant's ``rhs``, tests)."""
     return zoh_advance(plan, x, tau, P, status, ws, None, t, steps, x_fail, out_int, out_float)
 
 
 # ---------------------------------------------------------------------------------------------- explicit
-@njit(inline="always")
-def _explicit_step(plan, x, tau, P, status, ws, terms, first, hs, x_fail, out_int):
-    """One step of ``plan.method``, the Python integrators' arithmetic element by element; the first
-    step of a period (``first``) takes its first right-hand side from ``terms`` (:func:`first_rhs_into`)."""
+@register_jitable(inline="always")
+def explicit_period(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int):
+    """An :class:`ExplicitPlan` over the steps ``steps`` [s] from ``t`` [s] (:func:`zoh_advance`)."""
+    ts = t
+    for si in range(steps.shape[0]):
+        hs = steps[si]
+        code = _explicit_step(plan, x, tau, P, status, ws, terms, si == 0, ts, hs, x_fail, out_int)
+        if code != STEP_OK:
+            return code
+        ts += hs
+    return STEP_OK
+
+
+@register_jitable(inline="always")
+def _explicit_step(plan, x, tau, P, status, ws, terms, first, t, hs, x_fail, out_int):
+    """One step of ``plan.method`` from ``t`` [s]:
+
+    - euler: ``x' = x + h f(t, x)``;
+    - symplectic_euler: ``dz' = dz + h ddz(t, x)``, then ``z' = z + h dz'``;
+    - rk4: ``k1 = f(t, x)``, ``k2 = f(t + h/2, x + h/2 k1)``, ``k3 = f(t + h/2, x + h/2 k2)``,
+      ``k4 = f(t + h, x + h k3)``, ``x' = x + h/6 ((k2 + k3) 2 + k1 + k4)``.
+
+    The first step of a period (``first``) takes its first right-hand side from ``terms``
+    (:func:`first_rhs_into`)."""
     k1, k2, k3, k4, y = plan.k1, plan.k2, plan.k3, plan.k4, plan.y
     nx = x.shape[0]
     nz = nx // 2
     method = plan.method
+    at_time(P, t)
     if method == METHOD_RK4:
         h2 = 0.5 * hs
         if first:
@@ -260,6 +304,7 @@ def _explicit_step(plan, x, tau, P, status, ws, terms, first, hs, x_fail, out_in
             return STEP_PLANT_ERROR
         for c in range(nx):
             y[c] = k1[c] * h2 + x[c]
+        at_time(P, t + h2)
         rhs_into(y, tau, P, status, ws, k2)
         out_int[7] += 1
         if status[0] != 0:
@@ -274,6 +319,7 @@ def _explicit_step(plan, x, tau, P, status, ws, terms, first, hs, x_fail, out_in
             return STEP_PLANT_ERROR
         for c in range(nx):
             y[c] = k3[c] * hs + x[c]
+        at_time(P, t + hs)
         rhs_into(y, tau, P, status, ws, k4)
         out_int[7] += 1
         if status[0] != 0:
@@ -373,8 +419,8 @@ def invert_into(A, LU, M):
 
 @njit(cache=True)
 def _pinv_into(A, M):
-    """``M = pinv(A)`` (the Python integrator's fallback for a singular ``I - gamma h J``); NaN when
-    ``A`` is not finite (Newton then fails on a non-finite correction, as the Python step does)."""
+    """``M = pinv(A)`` (the fallback for a singular ``I - gamma h J``); NaN when ``A`` is not finite
+    (Newton then fails on a non-finite correction)."""
     for r in range(A.shape[0]):
         for c in range(A.shape[1]):
             if not math.isfinite(A[r, c]):
@@ -383,7 +429,7 @@ def _pinv_into(A, M):
     M[:, :] = np.linalg.pinv(A)
 
 
-@njit(cache=True)
+@register_jitable
 def jacobian_into(J, x, tau, P, status, ws, fx, xp, fp, out_int, x_fail):
     """``J = df/dx`` at ``x`` (``fx = f(x)``) by forward differences: column ``j`` is
     ``(f(x + d_j e_j) - fx) / d_j`` with ``d_j = sqrt(eps) max(|x_j|, 1)`` rounded to a representable
@@ -407,10 +453,10 @@ def jacobian_into(J, x, tau, P, status, ws, fx, xp, fp, out_int, x_fail):
     return True
 
 
-@njit(inline="always")
+@register_jitable(inline="always")
 def _refresh(plan, x, tau, P, status, ws, fx, gh, out_int, x_fail):
-    """``plan.M = (I - gh J)^-1`` with ``J`` the forward-difference Jacobian at ``x`` (``fx = f(x)``),
-    as ``DiagonallyImplicitRungeKutta._refresh``: column ``j`` is ``(f(x + d_j e_j) - fx) / d_j``.
+    """``plan.M = (I - gh J)^-1`` with ``J`` the forward-difference Jacobian at ``x`` (``fx = f(x)``):
+    column ``j`` is ``(f(x + d_j e_j) - fx) / d_j``.
     Returns False on a right-hand-side failure (``x_fail`` set)."""
     A = plan.A
     n = x.shape[0]
@@ -425,9 +471,29 @@ def _refresh(plan, x, tau, P, status, ws, fx, gh, out_int, x_fail):
     return True
 
 
-@njit(cache=True)
+@register_jitable
+def implicit_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
+    """An :class:`ImplicitPlan` over the steps ``steps`` [s] from ``t`` [s] (:func:`zoh_advance`)."""
+    ts = t
+    for si in range(steps.shape[0]):
+        hs = steps[si]
+        code, iterations, correction = _sdirk_step(plan, x, tau, P, status, ws, ts, hs, x_fail, out_int)
+        if code == STEP_NEWTON_FAILED:
+            out_int[2] = si
+            out_int[3] = iterations
+            out_float[0] = correction
+            out_float[1] = ts
+        if code != STEP_OK:
+            return code
+        ts += hs
+    return STEP_OK
+
+
+@register_jitable
 def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
-    """One step of ``DiagonallyImplicitRungeKutta.step`` on ``x`` in place.
+    """One step of the diagonally implicit Runge-Kutta scheme of
+    :class:`~coopctrl.integrators.DiagonallyImplicitRungeKutta` on ``x`` in place (its docstring states
+    the stages, the simplified Newton iteration, the Jacobian reuse and the stopping tests).
 
     Returns ``(code, iterations, correction)``: :data:`STEP_OK`, :data:`STEP_PLANT_ERROR` or
     :data:`STEP_NEWTON_FAILED` with the failed stage's iterations and last correction
@@ -464,6 +530,7 @@ def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
             for c in range(n):
                 k[c] = predictors[i, c]
         elif i == 0:  # explicit slope as predictor
+            at_time(P, t)
             rhs_into(x, tau, P, status, ws, k)
             out_int[7] += 1
             if status[0] != 0:
@@ -478,6 +545,7 @@ def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
         while True:
             for c in range(n):
                 xs[c] = k[c] * gh + known[c]
+            at_time(P, ts)
             rhs_into(xs, tau, P, status, ws, fs)
             out_int[7] += 1
             if status[0] != 0:
@@ -506,6 +574,7 @@ def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
                 if fresh:
                     memo[0] = 0.0
                     return STEP_NEWTON_FAILED, total, correction
+                at_time(P, t)
                 rhs_into(x, tau, P, status, ws, k)  # the stale matrix threw the iterate away: restart
                 out_int[7] += 1
                 if status[0] != 0:

@@ -1,4 +1,4 @@
-"""Error-controlled integration in the compiled loop (:mod:`coopctrl.loop.adaptive`): ``rk23``, ``rk45``
+"""Error-controlled integration in the compiled loop (:mod:`coopctrl.integrators.adaptive_plans`): ``rk23``, ``rk45``
 and ``trbdf2`` against scipy's ``solve_ivp`` (step for step), their orders against DOP853, the
 global error's proportionality to ``rtol``, the step statistics, and the stop below ``min_step``."""
 
@@ -14,7 +14,8 @@ from scipy.integrate import RK23, RK45, solve_ivp
 import coopctrl
 from coopctrl.errors import ScenarioError
 from coopctrl.integrators import BogackiShampine, DormandPrince, get_integrator
-from coopctrl.loop import adaptive, integrate
+import coopctrl.integrators.adaptive_plans as adaptive
+import coopctrl.integrators.compiled as integrate
 from coopctrl.scenario import build
 from coopctrl.simulator import closed_loop
 
@@ -98,6 +99,9 @@ def test_a_period_matches_scipy_step_for_step(scene, name, method, request):
     assert evals == sol.nfev == int(stats[adaptive.STAT_RHS])
     assert len(sol.t) - 1 >= 10  # the comparison covers many controlled steps, not one
     np.testing.assert_allclose(x, sol.y[:, -1], rtol=0, atol=1e-10)
+    # the public step over the period on the plant's rhs is that compiled period, bit for bit
+    same = get_integrator(name, rtol=1e-6, atol=1e-8, atol_velocity=1e-6, controller="elementary")
+    np.testing.assert_array_equal(same.step(p.plant.rhs, 0.0, p.x, p.tau, T), x)
 
 
 @pytest.mark.parametrize("name,order", [("rk23", 3), ("rk45", 5), ("trbdf2", 2)])
@@ -227,5 +231,20 @@ def test_python_api_checks_the_tolerances():
         get_integrator("rk45", rtol=1.0)
     with pytest.raises(TypeError, match="atol"):
         get_integrator("rk23", atol="small")
-    with pytest.raises(NotImplementedError, match="compiled loop"):
-        get_integrator("rk45").step(None, 0.0, np.zeros(2), None, 1e-3)
+    # a Python function (not a plant's rhs) has no compiled period: scipy's solve_ivp is the tool there
+    with pytest.raises(NotImplementedError, match="'rk45' is error-controlled.*solve_ivp"):
+        get_integrator("rk45").step(lambda t, x, u: -x, 0.0, np.zeros(2), None, 1e-3)
+
+
+def test_public_step_below_min_step_names_the_stiffest_mode(planar):
+    """The public step stops as the loop does: rk45 at rtol 1e-10 needs steps of ~0.6 ms on the planar
+    plant (measured 0.58 ms), below a min_step of 1 ms: StepTooSmall with the step, the bound, the time
+    and the stiffest mode at the state it stopped at."""
+    from coopctrl.errors import StepTooSmall
+
+    scheme = get_integrator("rk45", rtol=1e-10, atol=1e-12, min_step=1e-3)
+    with pytest.raises(StepTooSmall) as info:
+        scheme.step(planar.plant.rhs, 0.0, planar.x, planar.tau, 0.02)
+    err = info.value
+    assert err.step < err.min_step == 1e-3 and err.time == 0.0 and err.integrator == "rk45"
+    assert err.omega > 0.0 and err.mode and "the stiffest mode there is" in str(err)

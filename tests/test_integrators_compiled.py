@@ -1,6 +1,8 @@
-"""The compiled plant integration (:mod:`coopctrl.loop.integrate`): the five integrators, the implicit
-ones with their Newton iteration in the kernel, against the Python integrators of
-:mod:`coopctrl.integrators`, one step at a time and over whole closed-loop runs."""
+"""The integrators' one source (:mod:`coopctrl.integrators.compiled`): the five integrators, the implicit
+ones with their Newton iteration in the kernel, against the numpy oracle of ``tests/_integrator_oracle.py``
+(itself checked against scipy in ``tests/test_integrator_oracle.py``) one step at a time; the public
+``Integrator.step`` (compiled on a plant, run by Python on any ``f``) against the kernel; and whole
+closed-loop runs against the Python tick with the plant stepped outside the kernel."""
 
 from __future__ import annotations
 
@@ -16,8 +18,9 @@ import numpy as np
 import pytest
 
 import coopctrl
+import coopctrl.integrators.compiled as integrate
+from _integrator_oracle import SDIRK, oracle_step
 from coopctrl.integrators import DiagonallyImplicitRungeKutta, ImplicitEuler, NewtonConvergenceError, get_integrator
-from coopctrl.loop import integrate
 from coopctrl.loop.compiled import compiled_unsupported
 from coopctrl.scenario import build
 from coopctrl.simulator import closed_loop
@@ -26,7 +29,7 @@ ROOT = Path(__file__).resolve().parent.parent
 SCENARIOS = ROOT / "scenarios"
 IMPLICIT = ("implicit_midpoint", "implicit_euler")
 COMPILED = {"load_distribution.solver": "compiled"}
-#: The reference path: the Python tick with the Python integrator (and proxsuite at eps_abs 1e-9).
+#: The reference path: the Python tick with the oracle's integrator (and proxsuite at eps_abs 1e-9).
 REFERENCE = {"load_distribution.solver": "proxsuite", "load_distribution.eps_abs": 1e-9}
 ARRAYS = ("t", "x", "tau", "F_measured", "F_commanded", "F_external", "F_internal", "r_contacts")
 #: The correction in a Newton failure message: ``(last correction 3.56e-12)``.
@@ -63,8 +66,9 @@ class _Plant:
             states.append(x.copy())
         return codes, states, plan, out_int, out_float
 
-    def python_steps(self, integrator, h: float, n: int):
-        """The same with ``integrator.step`` on the plant's ``rhs``: states and right-hand-side calls."""
+    def python_steps(self, step, h: float, n: int):
+        """The same with ``step(f, t, x, u, h)`` (the oracle's, or a scheme's public ``step``) on the
+        plant's ``rhs`` wrapped in a counting Python function: states and right-hand-side calls."""
         calls = [0]
         rhs = self.plant.rhs
 
@@ -74,7 +78,7 @@ class _Plant:
 
         x, states = self.x.copy(), []
         for _ in range(n):
-            x = integrator.step(f, 0.0, x, self.tau, h)
+            x = step(f, 0.0, x, self.tau, h)
             states.append(x)
         return states, calls[0]
 
@@ -83,6 +87,7 @@ class _SDIRK2(DiagonallyImplicitRungeKutta):
     """Two-stage L-stable SDIRK (Alexander 1977), gamma = 1 - 1/sqrt(2), as in tests/test_integrators.py:
     the kernel's multi-stage path (the known part of a later stage, a stage's predictor from the
     previous one). Not registered, so a loop never runs it compiled; the plan takes any tableau."""
+    # a user's subclass with a tableau only: its step is the compiled source too
 
     name = "sdirk2"
     order = 2
@@ -97,14 +102,23 @@ def planar():
 
 
 @pytest.mark.parametrize("name", ["euler", "symplectic_euler", "rk4"])
-def test_explicit_steps_are_the_python_arithmetic(planar, name):
-    """The explicit schemes repeat the Python integrators' operations element by element: bit-identical."""
+def test_explicit_steps_are_the_oracle_arithmetic(planar, name):
+    """The explicit schemes repeat the oracle's numpy operations element by element: bit-identical. The
+    public ``step`` gives the kernel's bits too, compiled on the plant's ``rhs`` and run by Python on a
+    Python function of it."""
     codes, states, _, out_int, _ = planar.kernel_steps(get_integrator(name), 1e-3, 3)
-    expected, calls = planar.python_steps(get_integrator(name), 1e-3, 3)
+    expected, calls = planar.python_steps(oracle_step(get_integrator(name)), 1e-3, 3)
     assert codes == [integrate.STEP_OK] * 3
     for got, want in zip(states, expected):
         np.testing.assert_array_equal(got, want)
     assert out_int[7] == calls
+    interpreted, interpreted_calls = planar.python_steps(get_integrator(name).step, 1e-3, 3)
+    assert interpreted_calls == calls
+    scheme, x = get_integrator(name), planar.x.copy()
+    for got, want in zip(interpreted, states):
+        np.testing.assert_array_equal(got, want)
+        x = scheme.step(planar.plant.rhs, 0.0, x, planar.tau, 1e-3)
+        np.testing.assert_array_equal(x, want)
 
 
 @pytest.mark.parametrize("scene, name, h, steps, jacobians", [
@@ -115,7 +129,7 @@ def test_explicit_steps_are_the_python_arithmetic(planar, name):
     ("stiff_grasp_extreme", "implicit_euler", 3e-3, 6, 4),
     ("planar_two_arm_lift", _SDIRK2, 1e-3, 4, 1),
 ])
-def test_implicit_steps_match_the_python_integrator(scene, name, h, steps, jacobians):
+def test_implicit_steps_match_the_oracle(scene, name, h, steps, jacobians):
     """Several implicit steps from one seeded state, the Newton state (matrix, predictors) kept between them.
 
     The same iteration path: the same number of right-hand-side calls (Jacobian columns included) and
@@ -129,18 +143,26 @@ def test_implicit_steps_match_the_python_integrator(scene, name, h, steps, jacob
     Measured: 6e-17 (planar), 3.5e-13 m (stiff, 6 steps) against bounds of 7e-12 and 1.1e-11.
     """
     case = _Plant(scene)
-    ki, pi = (name(), name()) if isinstance(name, type) else (get_integrator(name), get_integrator(name))
+    new = name if isinstance(name, type) else (lambda: get_integrator(name))
+    ki, pi = new(), new()
+    oracle = SDIRK(pi)
     codes, states, plan, out_int, _ = case.kernel_steps(ki, h, steps)
-    expected, calls = case.python_steps(pi, h, steps)
+    expected, calls = case.python_steps(oracle.step, h, steps)
     assert codes == [integrate.STEP_OK] * steps
     assert out_int[7] == calls
-    assert plan.memo[2] == pi.jacobian_evaluations == jacobians
+    assert plan.memo[2] == oracle.jacobian_evaluations == jacobians
     tol = pi.atol + pi.rtol * max(np.abs(x).max() for x in expected)
     diff = max(np.abs(a - b).max() for a, b in zip(states, expected))
     assert diff <= steps * tol, (diff, steps * tol)
+    # the public step on the plant's rhs is the kernel: the same bits and the same Jacobians
+    x = case.x.copy()
+    for want in states:
+        x = pi.step(case.plant.rhs, 0.0, x, case.tau, h)
+        np.testing.assert_array_equal(x, want)
+    assert pi.jacobian_evaluations == jacobians
 
 
-def test_newton_failure_is_the_python_exception():
+def test_newton_failure_is_the_oracle_exception():
     """Two Newton iterations at h = 50 ms from a state moving fast: both paths give up at the same
     stage with a correction far above the tolerance (6e-4 against 1e-12); the same exception class,
     time, step, iterations, and the same message (the correction compared to 1e-9 relative: the
@@ -150,7 +172,7 @@ def test_newton_failure_is_the_python_exception():
     h = 0.05
     codes, _, _, out_int, out_float = case.kernel_steps(ImplicitEuler(max_iterations=2), h, 1)
     with pytest.raises(NewtonConvergenceError) as info:
-        case.python_steps(ImplicitEuler(max_iterations=2), h, 1)
+        case.python_steps(SDIRK(ImplicitEuler(max_iterations=2)).step, h, 1)
     want = info.value
     assert codes == [integrate.STEP_NEWTON_FAILED]
     got = integrate.newton_failure("implicit_euler", np.array([h]), out_int, out_float)
@@ -163,22 +185,27 @@ def test_newton_failure_is_the_python_exception():
 
 
 class _Outside:
-    """The Python integrator ``inner`` stepping the plant between kernel calls (the kernel's plant block
-    is bypassed: :func:`coopctrl.loop.compiled.integrator_outside`), under the inner scheme's name."""
+    """A user-defined integrator: the oracle of the scheme ``inner`` stepping the plant between kernel
+    calls (the kernel's plant block is bypassed: :func:`coopctrl.loop.compiled.integrator_outside`),
+    under the inner scheme's name."""
 
     def __init__(self, inner):
         self.inner = inner
+        self.oracle = SDIRK(inner)
 
     def __getattr__(self, name):
         return getattr(self.inner, name)
 
     def step(self, f, t, x, u, h):
-        return self.inner.step(f, t, x, u, h)
+        return self.oracle.step(f, t, x, u, h)
+
+    def reset(self):
+        self.oracle.reset()
 
 
 def _run_both(name, integrator, duration, step=None, **overrides):
     """The compiled path (compiled QP, compiled integrator) and the reference path (proxsuite, and the
-    Python integrator stepping the plant outside the kernel), both through the same tick."""
+    oracle stepping the plant outside the kernel), both through the same tick."""
     runs = []
     for solver in (COMPILED, REFERENCE):
         scene = _scene(name, **solver, **overrides)
@@ -194,11 +221,11 @@ def _run_both(name, integrator, duration, step=None, **overrides):
     ("spatial_two_puma_carry", 0.05, None),
     ("planar_two_arm_lift", 0.1, None),
     # the free step: two steps of 0.4 ms and a remainder of 0.2 ms per period; the step changes within
-    # the period, so every step starts cold (a new matrix), as in the Python integrator
+    # the period, so every step starts cold (a new matrix), as in the oracle
     ("planar_two_arm_lift", 0.05, 4e-4),
 ])
 def test_compiled_implicit_run_agrees_with_the_reference_path(name, scene, duration, step):
-    """Compiled against the Python tick with the Python integrator: contact forces within 1e-6 N and the
+    """Compiled against the Python tick with the oracle stepping the plant: contact forces within 1e-6 N and the
     object within 1e-9 m (the bounds of the explicit schemes in tests/test_loop.py). The plant steps
     agree to the Newton tolerance (1e-12 relative, see above) and the QPs to proxsuite's eps_abs 1e-9;
     the loop carries these differences along. Measured: 8e-12 N and 3e-16 m (carry, 0.1 s)."""
@@ -274,7 +301,7 @@ _ALLOC_SCRIPT = textwrap.dedent("""
     from numba.core.runtime import rtsys
     import coopctrl
     from coopctrl.integrators import get_integrator
-    from coopctrl.loop import integrate
+    import coopctrl.integrators.compiled as integrate
     from coopctrl.scenario import build
     from coopctrl.simulator import closed_loop
 

@@ -1,0 +1,170 @@
+"""``step`` of the five built-in fixed-step schemes: the one source of :mod:`coopctrl.integrators.compiled`.
+
+A scheme object (:class:`~coopctrl.integrators.RungeKutta4`, ...) is configuration: its name, its
+Newton settings. :func:`step` advances a state by one step ``h`` [s] with the scheme's plan
+(:func:`~coopctrl.integrators.compiled.make_plan`: work arrays and, for the implicit schemes, the
+Newton matrix and stage slopes kept from step to step), through the functions the loop's kernel runs:
+
+- ``f`` the ``rhs`` of a cooperative plant (a :class:`plants.cooperative.CooperativePlant`): compiled,
+  :func:`~coopctrl.integrators.compiled.advance_period` on the plant's kernel arrays;
+- any other Python ``f(t, x, u) -> dx``: compiled code cannot call it, so Python runs the same scheme
+  functions (:func:`~coopctrl.integrators.compiled.zoh_advance`, ``register_jitable``) with ``f``
+  wrapped in a :class:`PythonRightHandSide`.
+
+Both give the bits of the loop's kernel for the same scheme, state and step.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from coopctrl.integrators.base import FrozenSettings, Integrator
+
+
+class PythonRightHandSide:
+    """A Python ``f(t, x, u) -> dx`` in place of a plant's kernel arrays ``P`` for the scheme functions
+    run by Python: :func:`~coopctrl.integrators.compiled.rhs_into` calls :meth:`evaluate`, at the time
+    ``t`` [s] :func:`~coopctrl.integrators.compiled.at_time` set (the stage time)."""
+
+    __slots__ = ("f", "t")
+
+    def __init__(self, f):
+        self.f = f
+        self.t = 0.0
+
+    def evaluate(self, x, u, status, dx):
+        """``dx = f(t, x, u)`` (``f`` gets a copy of ``x``: the schemes reuse their work arrays)."""
+        out = np.asarray(self.f(self.t, x.copy(), u), dtype=float)
+        if out.shape != dx.shape:
+            raise ValueError(f"f(t, x, u) returned shape {out.shape}: expected {dx.shape}, the state's shape "
+                             "(dz, ddz)")
+        dx[:] = out
+
+
+def _plant_of(f):
+    """The cooperative plant whose own ``rhs`` ``f`` is, else ``None``."""
+    owner = getattr(f, "__self__", None)
+    if owner is None or getattr(f, "__name__", None) != "rhs":
+        return None
+    from plants.cooperative import CooperativePlant
+
+    if isinstance(owner, CooperativePlant) and type(owner).rhs is CooperativePlant.rhs:
+        return owner
+    return None
+
+
+class Stepper:
+    """The plan of one scheme object and what it is for: the right-hand side (plant or Python ``f``)
+    and the state size. A new ``f`` or size starts cold (a new plan), as does :meth:`reset`."""
+
+    __slots__ = ("f", "plant", "nx", "period", "plan", "P", "ws", "status", "steps", "x_fail", "out_int",
+                 "out_float", "jacobians")
+
+    def __init__(self):
+        self.f = None
+        self.plan = None
+        self.jacobians = 0.0  # Jacobian evaluations of the plans before the current one
+
+    def reset(self) -> None:
+        self.f = None
+        self.plan = None
+        self.jacobians = 0.0
+
+    def _current(self) -> float:
+        memo = getattr(self.plan, "memo", None)  # an ImplicitPlan's memo[2] counts its Jacobians
+        return float(memo[2]) if memo is not None and memo.shape[0] == 3 else 0.0
+
+    def jacobian_evaluations(self) -> int:
+        """Jacobian evaluations since construction or :meth:`reset` (the implicit plans count them)."""
+        return int(self.jacobians + self._current())
+
+    def _prepare(self, scheme, f, nx: int, period):
+        if (self.plan is not None and self.nx == nx and self.period == period
+                and (self.f is f or self.f == f)):
+            return
+        import coopctrl.integrators.compiled as compiled
+
+        self.jacobians += self._current()
+        self.plan = compiled.make_plan(scheme, nx, period)
+        self.f, self.nx, self.period = f, nx, period
+        self.plant = _plant_of(f)
+        if self.plant is not None and self.plant.state_size == nx:
+            self.P = self.plant.kernel_into[1][:-1]  # without the status array
+            self.ws = self.plant.workspace()
+        else:
+            self.plant, self.P, self.ws = None, PythonRightHandSide(f), None
+        self.status = np.zeros(2, np.int64)
+        self.steps = np.zeros(1)
+        self.x_fail = np.zeros(nx)
+        self.out_int = np.zeros(8, np.int64)
+        self.out_float = np.zeros(2)
+
+    def step(self, scheme, f, t, x, u, h) -> np.ndarray:
+        """One step of ``scheme`` (see :meth:`Integrator.step <coopctrl.integrators.Integrator.step>`)."""
+        import coopctrl.integrators.compiled as compiled
+
+        x = np.array(x, dtype=float)  # a new array, advanced in place: the caller's is not modified
+        if x.ndim != 1:
+            raise ValueError(f"x has shape {x.shape}: expected a 1-D state (z, dz)")
+        h = float(h)
+        if not (h > 0.0 and math.isfinite(h)):
+            raise ValueError(f"h = {h!r} is invalid: expected a finite step > 0 [s]")
+        t = float(t)
+        adaptive = getattr(scheme, "adaptive", False)  # an error-controlled plan is made for its interval h
+        self._prepare(scheme, f, x.shape[0], h if adaptive else None)
+        self.steps[0] = h
+        self.status[:] = 0
+        if self.plant is not None:
+            tau = np.ascontiguousarray(u, dtype=float) if u is not None else None
+            if tau is None or tau.shape != (self.plant.input_size,):
+                f(t, x, u)  # the plant names the bad input
+                raise TypeError(f"u = {u!r} is invalid: expected the plant's {self.plant.input_size} joint torques [N m]")
+            code = compiled.advance_period(self.plan, x, tau, self.P, self.status, self.ws, t, self.steps,
+                                           self.x_fail, self.out_int, self.out_float)
+        elif adaptive:
+            raise NotImplementedError(f"{scheme.name!r} is error-controlled: it steps a cooperative plant's rhs "
+                                      "(compiled, coopctrl.integrators.adaptive_plans) or runs in the loop; for "
+                                      "another f(t, x, u) use scipy.integrate.solve_ivp")
+        else:
+            code = compiled.zoh_advance(self.plan, x, u, self.P, self.status, None, None, t, self.steps,
+                                        self.x_fail, self.out_int, self.out_float)
+        if code == compiled.STEP_OK:
+            return x
+        if code == compiled.STEP_NEWTON_FAILED:
+            raise compiled.newton_failure(scheme.name, self.steps, self.out_int, self.out_float)
+        if code == compiled.STEP_TOO_SMALL:
+            raise _step_too_small(scheme, self.plant, self.x_fail, self.out_float)
+        if code == compiled.STEP_PLANT_ERROR and self.plant is not None:
+            f(t, self.x_fail.copy(), u)  # the plant's own exception for the state it failed at
+        raise RuntimeError(f"{scheme.name}: the right-hand side failed at t = {t:.6g} s (code {int(code)}, "
+                           f"status {self.status.tolist()})")
+
+
+def _step_too_small(scheme, plant, x_fail, out_float):
+    """The :class:`~coopctrl.errors.StepTooSmall` of an error-controlled step below ``min_step``, naming
+    the stiffest mode at the state it stopped at (as the loop does)."""
+    from coopctrl.errors import StepTooSmall
+    from coopctrl.loop.stiffest_mode import stiffest_mode
+
+    mode, omega = stiffest_mode(plant, x_fail)
+    pose = tuple(float(v) for v in x_fail[plant.nz - plant.p:plant.nz])
+    return StepTooSmall(float(out_float[1]), float(out_float[0]), scheme.min_step, scheme.name, mode, omega, pose)
+
+
+class CompiledScheme(FrozenSettings, Integrator):
+    """A built-in scheme: :meth:`step` runs :mod:`coopctrl.integrators.compiled` (see the module). The
+    scheme's plan (its Newton state) is kept from step to step for the same ``f`` and state size;
+    :meth:`reset` drops it. Use one instance per simulation. Its settings are frozen
+    (:class:`~coopctrl.integrators.base.FrozenSettings`)."""
+
+    def __init__(self):
+        self._stepper = Stepper()
+
+    def step(self, f, t, x, u, h):
+        return self._stepper.step(self, f, t, x, u, h)
+
+    def reset(self) -> None:
+        """Forget the plan kept between steps (the implicit schemes' Newton matrix and stage slopes)."""
+        self._stepper.reset()
