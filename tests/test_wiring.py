@@ -43,8 +43,11 @@ def test_building_and_running_attaches_nothing(overrides, status):
     loop = coopctrl.simulator.closed_loop(scenario)
     built = set(vars(loop))
     assert not hasattr(loop, "scenario")
-    rec = loop.run(build.initial_state(scenario), scenario.simulation.duration)
+    x0 = build.initial_state(scenario)
+    given = x0.copy()
+    rec = loop.run(x0, scenario.simulation.duration)
     assert rec["status"] == status
+    assert (x0 == given).all()  # the start state given is unchanged
     result = coopctrl.simulator.run_result(scenario, loop)  # the run and the diagnosis of simulate
     assert result.status == status
     after = set(vars(loop))
