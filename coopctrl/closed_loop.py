@@ -298,7 +298,8 @@ class ClosedLoop:
 
     def _stop_reason(self, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
                      saturation: dict) -> tuple[str, str]:
-        """:func:`coopctrl.loop.diagnosis.stop_reason` of this loop (the Python and compiled ticks call it)."""
+        """:func:`coopctrl.loop.diagnosis.stop_reason` of this loop (the Python and compiled ticks call it): the
+        loop's own reason, with the stop's raw facts recorded as ``rec["stop"]`` for a diagnosis after the run."""
         return diagnosis.stop_reason(self, exc, k, k_done, rec, x, x_good, t_good, x0, events, saturation)
 
     # ------------------------------------------------------------------ post-processing

@@ -1,8 +1,10 @@
-"""``simulate(scenario)``: build the closed loop of a scenario, run it, and return its result.
+"""``simulate(scenario)``: build the closed loop of a scenario, run it, diagnose a failure, and return
+its result.
 
-The loop is wired by :mod:`coopctrl.wiring`; :func:`closed_loop` adds the failure analysis of the
-analysis layer (:func:`coopctrl.analysis.diagnosis.diagnose_failure`), which the loop cannot import
-(:mod:`coopctrl.loop.diagnosis`): this module is where the two are composed.
+:func:`closed_loop` is the one builder (:func:`coopctrl.wiring.closed_loop`, the same function). The
+failure analysis of the analysis layer (:func:`coopctrl.analysis.diagnosis.diagnose_record`), which the
+loop cannot import (:mod:`coopctrl.loop.diagnosis`) and which needs the scenario, runs after the run, on
+the facts the run's stop recorded (``LoopRecord.stop``): this module is where the two are composed.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from coopctrl.errors import InfeasibleLoad
 from coopctrl.results import SimulationResult
 from coopctrl.results.thinning import finish_record
 from coopctrl.scenario import build
+from coopctrl.wiring import closed_loop  # noqa: F401 - the one builder, under its public name
 
 
 def integration_statistics(steps, control_period: float) -> dict | None:
@@ -30,22 +33,6 @@ def integration_statistics(steps, control_period: float) -> dict | None:
             "rejected_share": rejected / (accepted + rejected) if accepted + rejected else 0.0,
             "rhs_evaluations": int(steps[:, 2].sum()), "smallest_step_s": smallest,
             "mean_step_s": covered / accepted if accepted else float("nan")}
-
-
-def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform_step: bool = False,
-                controllers=None) -> ClosedLoop:
-    """The :class:`ClosedLoop` of a scenario (:func:`coopctrl.wiring.closed_loop`, same arguments), with
-    the failure analysis wired in: a divergence's causes are checked against the closed loop's predicted
-    step limit (:func:`coopctrl.analysis.diagnosis.diagnose_failure`; see :mod:`coopctrl.loop.diagnosis`).
-
-    The analysis layer builds its own loops with :func:`coopctrl.wiring.closed_loop` (it stands above the
-    loop and below this module, which composes the two).
-    """
-    from coopctrl.analysis.diagnosis import diagnose_failure
-
-    wiring.check_arguments(scenario, integrator, step, uniform_step, controllers)
-    return wiring.closed_loop(scenario, integrator=integrator, step=step, uniform_step=uniform_step,
-                              controllers=controllers, failure_causes=diagnose_failure)
 
 
 #: Recorded signals whose values (and sums of squares: the RMS metrics) must be finite in an ok run;
@@ -95,6 +82,8 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
     summary is the same). ``x0``: ``build.initial_state(scenario)``, or ``None`` to compute it here. A sweep
     reuses one built loop and its start for the runs that differ only in the sensor noise seed
     (:mod:`coopctrl.sweep.reuse`)."""
+    from coopctrl.analysis.diagnosis import diagnose_record
+
     plant = loop.plant
     sim = scenario.simulation
     try:
@@ -106,6 +95,7 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
                    events=[(0.0, "qp_failed", str(exc))])
     else:
         rec = loop.run(x0, sim.duration, progress=progress)
+        diagnose_record(scenario, loop, rec)  # a divergence's causes, with the scenario (after the run)
     if rec["status"] == "ok":
         cause = non_finite_signal(rec, controlled=scenario.controllers.enabled)
         if cause is not None:

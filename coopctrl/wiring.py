@@ -1,9 +1,11 @@
 """Wire the closed loop of a scenario: every part built from the scenario and connected explicitly.
 
-:func:`closed_loop` is the one place where a :class:`~coopctrl.scenario.Scenario` becomes a
-:class:`~coopctrl.closed_loop.ClosedLoop` (plant, trajectory, grasp compliance, leader and followers,
-sensors, load distribution, integrator). The analysis layer builds its loops here;
-:func:`coopctrl.simulator.closed_loop` adds the failure analysis, which stands above the loop.
+:func:`closed_loop` is the one builder: the one place where a :class:`~coopctrl.scenario.Scenario`
+becomes a :class:`~coopctrl.closed_loop.ClosedLoop` (plant, trajectory, grasp compliance, leader and
+followers, sensors, load distribution, integrator). Users meet it as :func:`coopctrl.simulator.closed_loop`
+(the same function). Nothing is attached to the built loop: the failure analysis, which needs the
+scenario, runs after the run, in :func:`coopctrl.simulator.simulate`
+(:func:`coopctrl.analysis.diagnosis.diagnose_record`).
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ def check_scenario(scenario, name: str = "scenario") -> None:
 
 
 def check_arguments(scenario, integrator=None, step=None, uniform_step: bool = False, controllers=None,
-                    failure_causes=None) -> None:
+                    trajectory=None) -> None:
     """The argument checks of :func:`closed_loop` (``TypeError``/``ValueError`` naming the argument), made
     before anything is built."""
     from coopctrl.integrators import INTEGRATORS
@@ -47,15 +49,19 @@ def check_arguments(scenario, integrator=None, step=None, uniform_step: bool = F
             raise arguments.invalid("step", step, f"0 < step <= simulation.control_period = {T:g} s")
     arguments.flag("uniform_step", uniform_step)
     arguments.callable_or_none("controllers", controllers, "None or f(leader, followers) -> (leader, followers)")
-    arguments.callable_or_none("failure_causes", failure_causes,
-                               "None or f(loop, evidence, k_done, t_fail, x_back, t_back, x0) -> Diagnosis")
+    if trajectory is not None and not callable(getattr(trajectory, "evaluate", None)):
+        raise arguments.invalid("trajectory", trajectory, "None or a trajectory with evaluate(t) -> (Y, dY, ddY) "
+                                "(as coopctrl.trajectory.MinimumJerkTrajectory)", TypeError)
 
 
 def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform_step: bool = False,
-                controllers=None, failure_causes=None) -> ClosedLoop:
-    """The :class:`ClosedLoop` of a scenario, every part built and wired explicitly.
+                controllers=None, trajectory=None, leader_law=None) -> ClosedLoop:
+    """The :class:`ClosedLoop` of a scenario, every part built and wired explicitly: the one builder.
 
-    Tuning and analysis build a loop with other parts instead of patching a built one:
+    Tuning and analysis build a loop with other parts instead of patching a built one. Nothing is
+    attached to the loop afterwards; a divergence's scenario-aware diagnosis runs after the run, in
+    :func:`coopctrl.simulator.simulate` (``loop.run`` alone names the failure with the loop's own,
+    open-loop, diagnosis: :mod:`coopctrl.loop.diagnosis`).
 
     Args:
         scenario: The :class:`~coopctrl.scenario.Scenario`.
@@ -66,16 +72,20 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
         controllers: ``f(leader, followers) -> (leader, followers)``, applied to the scenario's
             controllers before they are wired (e.g. wrapped by the probes of
             :mod:`coopctrl.tuning.loop_probes`).
-        failure_causes: The loop's ``failure_causes`` part (:mod:`coopctrl.loop.diagnosis`); ``None``: the
-            open-loop diagnosis.
+        trajectory: A nominal object trajectory (``evaluate(t) -> (Y, dY, ddY)``) instead of the
+            scenario's ``trajectory.via`` (e.g. the scenario's read from a later time: the closed-loop
+            linearization, :mod:`coopctrl.analysis.closed_loop_stability`).
+        leader_law: A user control law for the leader, passed to the
+            :class:`~coopctrl.closed_loop.ClosedLoop` (``None``: the shipped computed-torque law).
 
     Raises:
         TypeError, ValueError: An argument of the wrong type or value (the message names it).
     """
-    check_arguments(scenario, integrator, step, uniform_step, controllers, failure_causes)
+    check_arguments(scenario, integrator, step, uniform_step, controllers, trajectory)
     plant = build.build_plant(scenario)
     space, m = scenario.space, len(scenario.arms)
-    trajectory = build.trajectory(scenario)
+    if trajectory is None:
+        trajectory = build.trajectory(scenario)
     compliance = GraspCompliance(plant)
     ctrl = scenario.controllers
     leader = LeaderController(plant, scenario.leader, ctrl.leader.natural_frequency, ctrl.leader.damping_ratio)
@@ -100,8 +110,8 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
                       followers, sensors, integrator, sim.control_period, sim.substeps,
                       scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
                       torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
-                      enabled=scenario.controllers.enabled, failure_causes=failure_causes)
+                      enabled=scenario.controllers.enabled,
+                      **({"leader_law": leader_law} if leader_law is not None else {}))
     if step is not None:
         loop.set_step(step, uniform=uniform_step)
-    loop.scenario = scenario  # for the failure diagnosis (coopctrl.analysis.diagnosis: the closed-loop step limit)
     return loop

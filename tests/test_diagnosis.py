@@ -97,13 +97,11 @@ def test_held_split_is_named():
 
 def test_a_failure_at_the_first_tick_is_diagnosed_without_recursion():
     """Soft grasps (1e2 N/m): the loaded start already deforms beyond the bound. The closed-loop limit is
-    linearized on a loop that refuses that state without diagnosing it again (it would recurse), and the
-    reason says the step is not the cause and why the start fails."""
-    from coopctrl.analysis.closed_loop_stability import LoopLinearizer
-
+    linearized on loops that refuse that state with their own reason (the closed-loop diagnosis runs in
+    simulate, after the run, and never inside a run: it cannot recurse), and the reason says the step is
+    not the cause and why the start fails."""
     scenario = load("planar_two_arm_lift", **{"springs[0].stiffness": 1e2, "springs[1].stiffness": 1e2,
                                               "simulation.duration": 0.02})
-    assert LoopLinearizer(scenario).loop.closed_loop_diagnosis is False
     result = simulate(scenario)
     assert result.status == "diverged"
     assert "diverged at t = 0 s: deformation" in result.reason and "too soft" in result.reason

@@ -87,3 +87,31 @@ def test_without_the_failure_analysis_the_static_instability_is_still_named():
     rec = loop.run(build.initial_state(scenario), 0.1)
     assert rec["status"] == "diverged"
     assert "statically unstable" in rec["reason"] and "try a step" not in rec["reason"]
+
+
+def test_a_stop_records_its_facts_for_a_diagnosis_after_the_run():
+    """The run's stop carries its raw facts (``rec["stop"]``): the same facts give the loop's reason again,
+    and causes found after the run (simulate's, with the scenario) replace the loop's own."""
+    scenario = load("planar_two_arm_lift")
+    loop = closed_loop(scenario)
+    x0 = build.initial_state(scenario)
+    loop.run(x0, 0.0)  # the open-loop step limit is predicted about the state the last run started from
+    rec, sat = _evidence(loop, x0)
+    events = []
+    status, reason = diagnosis.stop_reason(loop, DivergenceError(0.002, "deformation of contact 0 [m]", 0.5), 2, 3,
+                                           rec, x0, x0, 0.001, x0, events, sat)
+    stop = rec["stop"]
+    assert status == stop.status == "diverged" and stop.causes_decide and (stop.tick, stop.ticks_done) == (2, 3)
+    assert events[stop.event][2] == reason
+    assert diagnosis.rediagnose(loop, stop, diagnosis.open_loop_causes) == reason
+
+    def later(*evidence):
+        return diagnosis.Diagnosis(("a cause found after the run",), False, math.inf)
+
+    again = diagnosis.rediagnose(loop, stop, later)
+    assert "deformation of contact 0" in again
+    assert again.endswith("cause: a cause found after the run") and "closed loop's stable range" in again
+    # a QP failure's reason does not depend on the divergence's causes: nothing to diagnose again
+    diagnosis.stop_reason(loop, InfeasibleLoad("infeasible", ("min_grip",), "no split"), 2, 3, rec, x0, x0, 0.002,
+                          x0, [], sat)
+    assert rec["stop"].status == "qp_failed" and diagnosis.rediagnose(loop, rec["stop"], later) is None

@@ -10,6 +10,7 @@ from __future__ import annotations
 import pytest
 
 import coopctrl.simulator
+import coopctrl.wiring
 from coopctrl.sweep import TIMING_COLUMNS, SweepGrid, execute_run, plan_sweep, reuse, simulate_run
 from coopctrl.sweep.results import METRICS
 from test_cli import REPO
@@ -32,13 +33,13 @@ def _metrics(row: dict) -> dict:
 
 def test_a_reused_loop_gives_the_row_of_a_fresh_simulate_bit_for_bit(plan, monkeypatch):
     builds = []
-    real = coopctrl.simulator.closed_loop
-    monkeypatch.setattr(coopctrl.simulator, "closed_loop", lambda scenario, **kw: builds.append(1) or real(scenario, **kw))
+    real = coopctrl.wiring.closed_loop  # the one builder (coopctrl.simulator.closed_loop is the same function)
+    monkeypatch.setattr(coopctrl.wiring, "closed_loop", lambda scenario, **kw: builds.append(1) or real(scenario, **kw))
     reuse.clear()
     rows = [execute_run(simulate_run, run) for run in plan.runs]  # run 2 and 3 reuse the loops of 0 and 1
     again = execute_run(simulate_run, plan.runs[0])  # back to seed 3 on a loop that ran seed 8 last
     assert len(builds) == 2  # one loop per force_ki: the seed is a run input
-    monkeypatch.setattr(coopctrl.simulator, "closed_loop", real)
+    monkeypatch.setattr(coopctrl.wiring, "closed_loop", real)
     for run, row in zip(plan.runs, rows):
         fresh = coopctrl.simulator.simulate(run.scenario()).summary()
         assert row["status"] == fresh["status"] == "ok", row["reason"]

@@ -24,7 +24,7 @@ from coopctrl.simulator import closed_loop
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.frequency import frequency_response
 from coopctrl.tuning.leader_error_model import error_poles
-from coopctrl.tuning.loop_probes import probed_closed_loop
+from coopctrl.tuning.loop_probes import probe_errors, probed_closed_loop
 
 SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
 PLANAR = SCENARIOS / "planar_two_arm_lift.toml"
@@ -120,6 +120,24 @@ def test_probes_with_zero_signals_do_not_change_the_loop():
     assert np.array_equal(plain["x"], probed["x"]) and np.array_equal(plain["tau"], probed["tau"])
 
 
+def test_probe_errors_are_read_from_the_record():
+    """``probe_errors``: ``F* + r - F_meas`` per follower and tick. The first tick's split and measurement
+    come before the setpoint step can act, so its error is the plain loop's plus the step ``r``."""
+    s = load(PLANAR, **{"simulation.duration": 0.05})
+    x0 = s.initial_state()
+    loop, _, followers = probed_closed_loop(s)
+    i = sorted(followers)[0]
+    followers[i].setpoint_offset[0] = 2.0
+    rec = loop.run(x0, 0.05)
+    errors = probe_errors(rec, loop)
+    assert sorted(errors) == sorted(followers) and errors[i].shape == (len(rec["t"]), loop.plant.p)
+    plain = closed_loop(s).run(x0, 0.05)
+    plain_error = plain["F_commanded"][0, i] - plain["F_measured"][0, i]
+    # 1e-9 N: the two sums round differently (forces of tens of N, double precision: ~1e-14 N)
+    np.testing.assert_allclose(errors[i][0], plain_error + followers[i].setpoint_offset, rtol=0, atol=1e-9)
+    assert abs(errors[i][-1, 0] - (plain["F_commanded"][-1, i, 0] - plain["F_measured"][-1, i, 0] + 2.0)) > 1e-6
+
+
 # ---------------------------------------------------------------------- leader loop
 def test_leader_dominant_poles_are_the_designed_error_poles(planar):
     """The full closed loop has the two poles of the sampled error model of the leader's gains
@@ -193,7 +211,7 @@ def _run_perturbed(model, component, gain=1.0, delay=0, duration=1.0, step=0.1):
     f.measurement_delay[c] = delay
     f.setpoint_offset[c] = step
     rec = loop.run(model.operating_point.x, duration, integrals={1: model.operating_point.integrals[1]})
-    return rec["status"], np.array(f.errors)[:, c]
+    return rec["status"], probe_errors(rec, loop)[1][:, c]
 
 
 @pytest.mark.parametrize("model, component", [("planar", "Fx"), ("spatial", "Mx")])

@@ -67,14 +67,21 @@ STEP_INTEGRAL = 1e-6
 
 
 class _ShiftedTrajectory:
-    """A trajectory read ``t0`` [s] later: ``evaluate(t) = inner.evaluate(t + t0)``."""
+    """A trajectory read ``t0`` [s] later: ``evaluate(t) = inner.evaluate(t + t0)`` (``sample`` likewise);
+    its via ``times`` are the inner ones less ``t0``, its ``poses`` the inner ones (the same path, which the
+    loop checks against the Euler-angle band when it is built)."""
 
     def __init__(self, inner, t0: float):
         self.inner = inner
         self.t0 = float(t0)
+        self.times = np.asarray(inner.times, dtype=float) - self.t0
+        self.poses = inner.poses
 
     def evaluate(self, t):
         return self.inner.evaluate(t + self.t0)
+
+    def sample(self, t):
+        return self.inner.sample(np.asarray(t, dtype=float) + self.t0)
 
 
 def _exact_sensors(scenario):
@@ -267,9 +274,11 @@ class LoopLinearizer:
         from coopctrl.wiring import closed_loop
 
         self.scenario = scenario
-        self.loop = closed_loop(_exact_sensors(scenario))
-        # a tick that fails here is only refused (ArithmeticError), never diagnosed: the diagnosis linearizes too
-        self.loop.closed_loop_diagnosis = False
+        self._exact = _exact_sensors(scenario)
+        # a tick that fails here is only refused (ArithmeticError): the loop's own reason, never the
+        # closed-loop diagnosis (coopctrl.analysis.diagnosis, which runs in simulate and linearizes too)
+        self.loop = closed_loop(self._exact)
+        self._at = (None, None)  # (t, the loop on the trajectory read from t): built once per instant
         self.trajectory = self.loop.trajectory
         self.plant = self.loop.plant
         self.T = self.loop.T
@@ -282,17 +291,35 @@ class LoopLinearizer:
         return self.p * len(self.pi)
 
     def controller(self, x, integral, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """``(tau, I')``: one tick of the loop's controller at ``(x, I)`` and time ``t`` [s]."""
-        loop, p = self.loop, self.p
-        loop.trajectory = _ShiftedTrajectory(self.trajectory, t)
-        # the integrals enter as the run's starting loop state (a run starts from a fresh LoopState: values
-        # written into the controllers beforehand would be reset)
+        """``(tau, I')``: one tick of the loop's controller at ``(x, I)`` and time ``t`` [s]: a run of no
+        duration of the scenario's loop built on its trajectory read from ``t``
+        (:func:`~coopctrl.wiring.closed_loop` with ``trajectory``), ``I`` its followers' starting integrals
+        and ``I'`` their integrals at the end of the run."""
+        p = self.p
+        loop = self._loop_at(t)
+        # the integrals enter as the run's starting loop state (a run starts from a fresh LoopState)
         start = {i: integral[p * k:p * (k + 1)] for k, i in enumerate(self.pi)}
         rec = loop.run(np.asarray(x, dtype=float), 0.0, integrals=start)
         if rec["status"] != "ok":
             raise ArithmeticError(f"the controller failed at t = {t:.6g} s: {rec['reason']}")
-        new = np.concatenate([loop.followers[i].integral for i in self.pi]) if self.pi else np.zeros(0)
+        if not self.pi:
+            return rec["tau"][0].copy(), np.zeros(0)
+        final = rec.get("final_state")
+        if final is not None:  # the followers' integrals at the end of the run, (m, p) [N s, N m s]
+            new = np.concatenate([np.asarray(final.integrals[i], dtype=float) for i in self.pi])
+        else:  # until engine merges: the run wrote them back into the controllers
+            new = np.concatenate([loop.followers[i].integral for i in self.pi])
         return rec["tau"][0].copy(), new
+
+    def _loop_at(self, t: float):
+        """The scenario's loop (exact sensors) on its trajectory read from ``t`` [s], built once per instant
+        (a linearization asks for one instant many times)."""
+        from coopctrl.wiring import closed_loop
+
+        t = float(t)
+        if self._at[0] != t:
+            self._at = (t, closed_loop(self._exact, trajectory=_ShiftedTrajectory(self.trajectory, t)))
+        return self._at[1]
 
     def linearize(self, x, integral=None, t: float = 0.0) -> LoopLinearization:
         """:class:`LoopLinearization` about ``(x, I)`` at ``t`` [s] (``I`` default 0)."""
@@ -369,7 +396,6 @@ def nominal_run(scenario, x0, duration: float | None = None) -> dict:
     T = scenario.simulation.control_period
     limit = linear_modes(build_plant(exact), x0).predicted_max_step(rk4)
     loop = closed_loop(exact, integrator=rk4, step=min(T, 0.25 * limit) if 0.0 < limit < math.inf else T)
-    loop.closed_loop_diagnosis = False
     return loop.run(np.asarray(x0, dtype=float), scenario.simulation.duration if duration is None else duration)
 
 

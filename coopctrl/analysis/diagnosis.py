@@ -1,10 +1,11 @@
 """Why a run failed: each possible cause checked against the evidence of the run.
 
-:func:`diagnose_failure` is the ``failure_causes`` part that :func:`coopctrl.simulator.closed_loop` wires
-into the loop: :func:`coopctrl.loop.diagnosis.stop_reason` calls it when a run diverges (outside the
-Euler-angle singularity, which the loop names itself). It lives here, above the loop, because it
-linearizes the closed loop (:mod:`~coopctrl.analysis.closed_loop_stability`), which builds loops. The
-causes, in the order they are reported:
+:func:`diagnose_record` runs after a run, in :func:`coopctrl.simulator.simulate`: when the run diverged
+(outside the Euler-angle singularity, which the loop names itself), it explains the stop the run recorded
+(``LoopRecord.stop``, :class:`coopctrl.loop.diagnosis.Stop`) anew with :func:`diagnose_failure` and the
+scenario, and writes that reason into the record. It lives here, above the loop, because it linearizes
+the closed loop of the scenario (:mod:`~coopctrl.analysis.closed_loop_stability`), which builds loops;
+nothing is attached to the loop for it. The causes, in the order they are reported:
 
 - **static instability**: the object's translational stiffness with the contacts held has a negative
   eigenvalue at the start (:func:`coopctrl.loop.diagnosis.static_instability`; a squeezed
@@ -32,7 +33,7 @@ import numpy as np
 from coopctrl.io.number_text import numbers_text
 from coopctrl.loop.diagnosis import Diagnosis, held_split_cause, static_instability
 
-__all__ = ["SATURATION_SHARE", "Diagnosis", "closed_loop_limit", "diagnose_failure", "held_split_cause",
+__all__ = ["SATURATION_SHARE", "Diagnosis", "closed_loop_limit", "diagnose_failure", "diagnose_record", "held_split_cause",
            "saturation_cause", "saturation_precedes_blow_up", "unreachable_cause"]
 
 #: Share of the ticks run [-] with clipped torques from which saturation is named as a cause.
@@ -96,15 +97,14 @@ def unreachable_cause(loop, t: float) -> str:
     return ""
 
 
-def closed_loop_limit(loop, states) -> float:
+def closed_loop_limit(loop, states, scenario=None) -> float:
     """The smallest predicted closed-loop step limit [s] of ``loop``'s integrator over ``states``
-    (``(x, t)`` pairs; ``nan`` when no linearization succeeded, ``inf`` when none is below ``T``).
-    A loop with ``closed_loop_diagnosis = False`` (the stability trials, which fail by design and only
-    need to know that they failed) skips it: ``nan``, and the open-loop prediction decides."""
+    (``(x, t)`` pairs; ``nan`` when no linearization succeeded, ``inf`` when none is below ``T``), on the
+    closed loop of ``scenario`` (the one ``loop`` was built from). Without a scenario, or for a passive
+    loop: ``nan``, and the open-loop prediction decides."""
     from coopctrl.analysis.closed_loop_stability import LoopLinearizer
 
-    scenario = getattr(loop, "scenario", None)
-    if scenario is None or not loop.enabled or not getattr(loop, "closed_loop_diagnosis", True):
+    if scenario is None or not loop.enabled:
         return math.nan
     try:
         lin = LoopLinearizer(scenario)
@@ -122,8 +122,11 @@ def closed_loop_limit(loop, states) -> float:
     return best
 
 
-def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back: float, x0) -> Diagnosis:
-    """The causes of a failed run (module docstring), from its record ``rec`` up to tick ``k_done``."""
+def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back: float, x0,
+                     scenario=None) -> Diagnosis:
+    """The causes of a failed run (module docstring), from its evidence ``rec`` up to tick ``k_done``; the
+    step is judged against the closed-loop limit of ``scenario``'s loop (:func:`closed_loop_limit`;
+    without a scenario, against the open-loop prediction)."""
     causes = []
     why = static_instability(loop, x0)
     if why:
@@ -133,7 +136,7 @@ def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back
         if reach:
             causes.append(reach)
     if loop.enabled:
-        limit = closed_loop_limit(loop, [(np.asarray(x0, dtype=float), 0.0), (x_back, t_back)])
+        limit = closed_loop_limit(loop, [(np.asarray(x0, dtype=float), 0.0), (x_back, t_back)], scenario)
     else:  # no controller: the loop is the plant, whose prediction is the open-loop one
         limit = math.nan
     if math.isnan(limit):
@@ -155,6 +158,29 @@ def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back
         if held:
             causes.append(held)
     return Diagnosis(tuple(causes), bool(step_is_cause), limit)
+
+
+def diagnose_record(scenario, loop, rec) -> None:
+    """After a run of ``loop``, the :func:`~coopctrl.simulator.closed_loop` of ``scenario``: when its stop
+    (``rec["stop"]``) is a divergence whose reason depends on its causes, that reason found anew with
+    :func:`diagnose_failure` on ``scenario`` (the closed-loop step limit), written into ``rec["reason"]``
+    and the stop's event. Nothing else changes (the loop and the scenario are only read)."""
+    from coopctrl.loop.diagnosis import rediagnose
+
+    stop = rec.get("stop")
+    if stop is None:
+        return
+
+    def causes(loop_, evidence, k_done, t_fail, x_back, t_back, x0):
+        return diagnose_failure(loop_, evidence, k_done, t_fail, x_back, t_back, x0, scenario=scenario)
+
+    reason = rediagnose(loop, stop, causes)
+    if reason is None:
+        return
+    events = rec["events"]
+    t, kind, _ = events[stop.event]
+    events[stop.event] = (t, kind, reason)
+    rec["reason"] = reason
 
 
 def _joint_names(loop) -> list[str]:

@@ -151,7 +151,7 @@ def preflight(scenario, loop=None) -> PreflightReport:
     from plants.errors import UnreachablePoseError
 
     if loop is None:
-        from coopctrl.simulator import closed_loop
+        from coopctrl.wiring import closed_loop
 
         loop = closed_loop(scenario)
     plant = loop.plant

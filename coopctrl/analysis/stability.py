@@ -14,7 +14,7 @@ at instants of a nominal run, and the largest ``h`` whose spectral radius stays 
 own (:mod:`coopctrl.analysis.closed_loop_stability`), is the closed-loop prediction; ``inf`` when
 ``h = T`` is stable (no limit below the control period).
 
-**Measured.** The scenario's own closed loop (controllers, sensors, QP: :func:`coopctrl.simulator.closed_loop`)
+**Measured.** The scenario's own closed loop (controllers, sensors, QP: :func:`coopctrl.wiring.closed_loop`)
 is run from the same state over a short horizon with a free plant step ``h``
 (:meth:`ClosedLoop.set_step`), the controller still at its period ``T``. A trial step is *stable*
 when the run ends with status ``"ok"`` and the elastic energy of the interconnections (every
@@ -402,7 +402,7 @@ def _run(scenario, x0, integrator: str, h: float, horizon: float) -> dict:
     scheme = get_integrator(integrator)
     T = scenario.simulation.control_period
     loop = closed_loop(scenario, integrator=scheme, step=min(h, T), uniform_step=not commutes(scheme))
-    loop.closed_loop_diagnosis = False  # a trial only needs to know that it failed (coopctrl.analysis.diagnosis)
+    # a trial only needs to know that it failed: the loop's own reason, no closed-loop diagnosis (simulate's)
     return loop.run(x0, horizon)
 
 

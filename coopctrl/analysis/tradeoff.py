@@ -12,7 +12,7 @@ with ``atol = ATOL_PER_RTOL * rtol`` [m] (the ratio of the defaults ``atol = 1e-
 What is compared
 ----------------
 Every run starts from the same state with a **new** closed loop
-(:func:`coopctrl.simulator.closed_loop`): fresh follower PI integrators, a fresh QP warm start and
+(:func:`coopctrl.wiring.closed_loop`): fresh follower PI integrators, a fresh QP warm start and
 a sensor noise generator seeded with ``simulation.seed``. The controller is sampled at the same
 instants ``t_k = k T`` in every run (the reference restarts its adaptive solver at each of them),
 so the difference from the reference at ``t_k`` is the integration error alone, fed back through
@@ -295,9 +295,9 @@ def run_loop(scenario, x0, integrator: Integrator, substeps: int, duration: floa
         substeps: Plant steps per control period, >= 1 (an error-controlled scheme ignores it).
         duration: Simulated time [s]; default ``simulation.duration``.
     """
-    from coopctrl.simulator import closed_loop
-
+    from coopctrl.analysis.diagnosis import diagnose_record
     from coopctrl.loop.compiled import compiled_unsupported
+    from coopctrl.wiring import closed_loop
 
     step = scenario.simulation.control_period / int(substeps)
     loop = closed_loop(scenario, integrator=integrator, step=step)
@@ -309,6 +309,7 @@ def run_loop(scenario, x0, integrator: Integrator, substeps: int, duration: floa
         raise RuntimeError(f"the closed loop took {loop.substeps} substeps for T/{substeps}")
     duration = scenario.simulation.duration if duration is None else float(duration)
     rec = loop.run(np.asarray(x0, dtype=float), duration)
+    diagnose_record(scenario, loop, rec)  # a failed run's causes, as simulate finds them
     plant = loop.plant
     p, nz, npos = plant.p, plant.nz, loop.npos
     x = rec["x"]
@@ -625,7 +626,7 @@ def run_tradeoff(scenario, integrators: Sequence[str] | None = None, substeps: S
     """
     from coopctrl.errors import InfeasibleLoad
     from coopctrl.scenario import build
-    from coopctrl.simulator import closed_loop
+    from coopctrl.wiring import closed_loop
     from plants.errors import PlantError
 
     names = parse_integrators(list(integrators) if integrators is not None else None)

@@ -4,10 +4,10 @@ actual :class:`~coopctrl.closed_loop.ClosedLoop` and record what the followers s
 They let the linear models and the checks against the nonlinear loop use the loop exactly as
 ``coopctrl run`` runs it (same plant, QP, controllers, ZOH and integrator). The compiled tick reads
 a probe's signals (leader ``offset``; follower ``setpoint_offset``, ``pi_output``, ``error_gain``,
-``measurement_delay``) as inputs of the run, constant over it, and fills ``errors`` from the record
-(:mod:`coopctrl.loop.compiled`); :meth:`LeaderProbe.torque` and :meth:`FollowerProbe.torque` state
-the same arithmetic for one tick in Python. With every injected signal at zero, a probe returns the
-torques of the controller it wraps.
+``measurement_delay``) as inputs of the run, constant over it; the followers' errors of a run are read
+from its record (:func:`probe_errors`), never written back into the probes. :meth:`LeaderProbe.torque`
+and :meth:`FollowerProbe.torque` state the same arithmetic for one tick in Python. With every injected
+signal at zero, a probe returns the torques of the controller it wraps.
 """
 
 from __future__ import annotations
@@ -15,6 +15,26 @@ from __future__ import annotations
 from collections import deque
 
 import numpy as np
+
+
+def probe_errors(record, loop) -> dict[int, np.ndarray]:
+    """Each follower's force error of a run, ``F* + r - F_meas`` at every recorded tick (true, undelayed):
+    arm index -> (N, p) [N, N m].
+
+    ``F*`` and ``F_meas`` are the record's ``F_commanded`` and ``F_measured`` (N, m, p); ``r`` is the
+    follower's :attr:`FollowerProbe.setpoint_offset` (zero for a follower without a probe).
+
+    Args:
+        record: The :class:`~coopctrl.loop.record.LoopRecord` of a run of ``loop``.
+        loop: The :class:`~coopctrl.closed_loop.ClosedLoop` that ran it (its followers, probed or not).
+    """
+    out = {}
+    for i, c in loop.followers.items():
+        if isinstance(c, FollowerProbe):
+            out[i] = (record["F_commanded"][:, i] + c.setpoint_offset) - record["F_measured"][:, i]
+        else:
+            out[i] = record["F_commanded"][:, i] - record["F_measured"][:, i]
+    return out
 
 
 class LeaderProbe:
@@ -54,7 +74,8 @@ class FollowerProbe:
             (both ``k_p`` and ``k_i``) multiplied by ``g`` (1 = unchanged).
         measurement_delay: ``d`` (p,) integers >= 0, extra delay of the measured force
             per component in control periods (0 = none).
-        errors: ``F^* + r - F_meas`` of every tick since :meth:`clear` (true, undelayed) [N, N m].
+        errors: ``F^* + r - F_meas`` of every tick :meth:`torque` ran since :meth:`clear` (true,
+            undelayed) [N, N m]; a run of the loop leaves it alone: :func:`probe_errors` reads a run's.
     """
 
     def __init__(self, follower):

@@ -14,16 +14,18 @@ event:
   suggested step only when the step is the cause. When the step limit that decides it belongs to a mode
   stiffened by the Euler-angle chart, that is named instead (:func:`chart_stiffening`).
 
-Where the dependency runs. The divergence's causes are checked against the closed loop's predicted step
-limit, which linearizes a loop built from the scenario (:mod:`coopctrl.analysis.closed_loop_stability`):
-the analysis layer, which builds loops and so stands above them. The loop therefore imports nothing of
-``coopctrl.analysis``: the causes come from the loop's ``failure_causes`` part, a function
-``(loop, evidence, k_done, t_fail, x_back, t_back, x0) -> Diagnosis`` wired by whoever builds the loop
-(:func:`coopctrl.simulator.closed_loop` wires :func:`coopctrl.analysis.diagnosis.diagnose_failure`).
-A loop built without it (``failure_causes=None``) still names the failure, the static instability and
-the held QP splits, and judges the step by the plant's open-loop prediction
-(:meth:`ClosedLoop.predicted_max_step <coopctrl.closed_loop.ClosedLoop.predicted_max_step>`). The
-diagnosis runs after the run, in Python, on the recorded states.
+The run's stop carries its raw facts. :func:`stop_reason` records them in the record, as a
+:class:`Stop` (``LoopRecord.stop``): the exception, the tick, the state a few ticks before the failure,
+the start, the Euler-chart finding and the evidence (saturation, events). The loop's own reason judges a
+divergence's causes by what the loop knows: the static instability, the held QP splits, and the step
+against the plant's open-loop predicted limit (:func:`open_loop_causes`; or the loop's ``failure_causes``
+part when it was built with one). The closed loop's predicted step limit needs the scenario: it
+linearizes a loop built from it (:mod:`coopctrl.analysis.closed_loop_stability`), the analysis layer,
+which builds loops and so stands above them. The loop therefore imports nothing of ``coopctrl.analysis``
+and holds no scenario: :func:`coopctrl.simulator.simulate` diagnoses the stop afterwards
+(:func:`coopctrl.analysis.diagnosis.diagnose_record`, through :func:`rediagnose` with
+:func:`coopctrl.analysis.diagnosis.diagnose_failure`), and a loop run alone (a stability trial) keeps its
+own reason. The diagnosis runs after the run, in Python, on the recorded states.
 """
 
 from __future__ import annotations
@@ -66,6 +68,41 @@ class Diagnosis:
     causes: tuple[str, ...]
     step_is_cause: bool
     closed_loop_limit_s: float
+
+
+@dataclass(frozen=True, eq=False)
+class Stop:
+    """The raw facts of a run's stop, recorded as ``LoopRecord.stop`` so that a diagnosis that knows more
+    than the loop (the scenario's closed-loop step limit) can explain it after the run (:func:`rediagnose`).
+
+    Attributes:
+        status: ``"diverged"`` or ``"qp_failed"``.
+        error: The exception that stopped the run.
+        tick: The tick ``k`` that failed [-]; ticks_done: ``k_done``, the ticks recorded [-].
+        time_s: ``k T`` [s].
+        x0: The start state; x_back: the recorded state :data:`DIAGNOSIS_TICKS_BACK` ticks before the
+            failure (the start when none was recorded), at ``t_back`` [s]; ``None`` for a stop whose
+            reason does not depend on the causes (the Euler-angle singularity, a QP failure).
+        chart: The Euler-angle chart's stiffening phrase (:func:`chart_stiffening`; ``""``: none).
+        evidence: The saturation so far (``saturated_ticks``, ``saturated_joint_ticks``,
+            ``saturation_first_time_s``, ``saturated_last_tick``) and ``events`` up to the stop.
+        event: Index of the stop's own event in the record's ``events``.
+        causes_decide: True when the reason depends on the divergence's causes (a divergence away from
+            the Euler-angle singularity): the stops :func:`rediagnose` explains anew.
+    """
+
+    status: str
+    error: BaseException
+    tick: int
+    ticks_done: int
+    time_s: float
+    x0: np.ndarray
+    x_back: np.ndarray | None
+    t_back: float
+    chart: str
+    evidence: dict
+    event: int
+    causes_decide: bool
 
 
 def _integrator_name(loop) -> str:
@@ -184,12 +221,12 @@ def open_loop_causes(loop, evidence: dict, k_done: int, t_fail: float, x_back, t
 
 
 def divergence_reason(loop, exc, t_fail: float, x_back, x0, chart: str = "", evidence: dict | None = None,
-                      k_done: int = 0, t_back: float = 0.0) -> str:
+                      k_done: int = 0, t_back: float = 0.0, causes=None) -> str:
     """One line: what left its bounds and when, then its causes checked against the run's ``evidence``
-    (the loop's ``failure_causes``, else :func:`open_loop_causes`), and step advice only when the step is
-    the cause (its closed-loop predicted limit at the start and at ``x_back``, a few ticks before the
-    failure)."""
-    causes_of = getattr(loop, "failure_causes", None) or open_loop_causes
+    (``causes``, else the loop's ``failure_causes``, else :func:`open_loop_causes`), and step advice only
+    when the step is the cause (its closed-loop predicted limit at the start and at ``x_back``, a few ticks
+    before the failure)."""
+    causes_of = causes or getattr(loop, "failure_causes", None) or open_loop_causes
     try:
         diag = causes_of(loop, evidence or {}, k_done, t_fail, x_back, t_back, x0)
     except Exception:  # noqa: BLE001 - the diagnosis must never replace the failure it explains
@@ -231,10 +268,22 @@ def divergence_reason(loop, exc, t_fail: float, x_back, x0, chart: str = "", evi
     return reason
 
 
+def rediagnose(loop, stop: Stop, causes) -> str | None:
+    """The reason of the stop ``stop`` of a run of ``loop`` with the divergence's causes found by ``causes``
+    (``(loop, evidence, k_done, t_fail, x_back, t_back, x0) -> Diagnosis``), or ``None`` when that
+    reason does not depend on them (:attr:`Stop.causes_decide`). Run after the run (the loop is not
+    touched; :func:`coopctrl.analysis.diagnosis.diagnose_record` writes the reason into the record)."""
+    if not stop.causes_decide:
+        return None
+    return divergence_reason(loop, stop.error, stop.time_s, stop.x_back, stop.x0, stop.chart,
+                             evidence=dict(stop.evidence), k_done=stop.ticks_done, t_back=stop.t_back, causes=causes)
+
+
 def stop_reason(loop, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
                 saturation: dict) -> tuple[str, str]:
     """``(status, reason)`` of a run of ``loop`` stopped at tick ``k`` by ``exc`` (after ``k_done`` recorded
-    ticks), with its event appended to ``events``: the diagnosis, shared by the Python and compiled ticks.
+    ticks), with its event appended to ``events`` and its raw facts recorded as ``rec["stop"]``
+    (:class:`Stop`): the loop's own diagnosis, shared by the Python and compiled ticks.
 
     ``rec`` holds the recorded states ``x`` and times ``t``; ``x`` is the failing state, ``x_good`` the
     last state that passed the checks (at ``t_good`` [s]), ``x0`` the start; ``saturation``:
@@ -245,6 +294,9 @@ def stop_reason(loop, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x
     spatial = loop.space == "spatial"
     T = loop.T
     near = margin_cos(2.0 * EULER_PITCH_MARGIN_DEG)  # a failure this close is blamed on the singularity
+    x_start = np.array(x0, dtype=float)
+    facts = dict(error=exc, tick=int(k), ticks_done=int(k_done), time_s=k * T, x0=x_start, x_back=None, t_back=0.0,
+                 chart="", evidence=dict(saturation, events=tuple(events)), causes_decide=False)
     if isinstance(exc, NearSingularity):
         status, reason = "diverged", singularity_reason(exc.hit)
         events.append((exc.hit.time, "euler_singularity", reason))
@@ -259,13 +311,13 @@ def stop_reason(loop, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x
         else:
             # the advice is taken a few ticks before the failure: the last good state may already be wild
             back = max(0, k_done - 1 - DIAGNOSIS_TICKS_BACK)
-            x_start = np.asarray(x0, dtype=float)
-            x_back = rec["x"][back] if k_done else x_start
+            x_back = np.array(rec["x"][back], dtype=float) if k_done else x_start
             t_back = float(rec["t"][back]) if k_done else 0.0
             chart = chart_stiffening(loop, x_back, t_back, x_start) if spatial else ""
             evidence = dict(saturation, events=events)
             reason = divergence_reason(loop, exc, k * T, x_back, x_start, chart, evidence=evidence, k_done=k_done,
                                        t_back=t_back)
+            facts.update(x_back=x_back, t_back=t_back, chart=chart, causes_decide=True)
             events.append((getattr(exc, "time", k * T), "euler_singularity" if chart else "diverged", reason))
     elif isinstance(exc, InfeasibleLoad):
         held = held_split_cause(events)
@@ -273,4 +325,5 @@ def stop_reason(loop, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x
         events.append((k * T, "qp_failed", str(exc)))
     else:
         raise TypeError(f"stop_reason: {type(exc).__name__} is not a stop of the loop") from exc
+    rec["stop"] = Stop(status=status, event=len(events) - 1, **facts)
     return status, reason

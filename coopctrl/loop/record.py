@@ -50,7 +50,9 @@ class LoopRecord:
             (``None`` when an integrator outside the kernel steps the plant); integration_steps: (N, 4)
             per tick of an error-controlled integrator (``rk23``, ``rk45``, ``trbdf2``): accepted steps,
             rejected steps, right-hand-side evaluations, smallest accepted step [s] (``None`` for a
-            fixed-step integrator).
+            fixed-step integrator); stop: the raw facts of a failed run's stop
+            (:class:`~coopctrl.loop.diagnosis.Stop`; ``None`` when the run did not stop early), which
+            :func:`coopctrl.simulator.simulate` diagnoses after the run.
 
     Item access (``record["x"]``, ``record.get``, ``record.update``, ``record.items()``) reads and writes
     the same fields, for code written against the former dict.
@@ -86,6 +88,7 @@ class LoopRecord:
     saturated_last_tick: int = -1
     rhs_evaluations: int | None = None
     integration_steps: np.ndarray | None = None
+    stop: object | None = None
 
     def __repr__(self) -> str:
         """A few lines: status, ticks and timing (never the arrays: ``record.x`` has them)."""

@@ -74,7 +74,7 @@ def _built(scenario) -> _Built:
     """The built loop of ``scenario``'s key in this thread, built now if new."""
     from coopctrl.errors import InfeasibleLoad
     from coopctrl.scenario import build
-    from coopctrl.simulator import closed_loop
+    from coopctrl.wiring import closed_loop
 
     key = loop_key(scenario)
     cache = _cache()
@@ -111,7 +111,6 @@ def prepare(scenario, warm_up_failed: Callable[[Exception], None] | None = None)
     # the run inputs of this run; the rest of the built loop is the key's (a run starts from a fresh
     # loop state: its noise streams restart from sensors.seed, see ClosedLoop.run)
     loop.sensors = SensorSuite(s.joints.config, s.forces.config, s.object.config, scenario.simulation.seed)
-    loop.scenario = scenario  # as the builder attaches it (the failure diagnosis reads it)
     x0 = entry.x0
     k = kind(scenario)
     if x0 is not None and k not in _warmed:

@@ -4,15 +4,16 @@ closed loop with its leader and followers wrapped, so test signals enter the loo
 
 from __future__ import annotations
 
-from coopctrl.controllers.probes import FollowerProbe, LeaderProbe
+from coopctrl.controllers.probes import FollowerProbe, LeaderProbe, probe_errors
 
-__all__ = ["FollowerProbe", "LeaderProbe", "probed_closed_loop"]
+__all__ = ["FollowerProbe", "LeaderProbe", "probe_errors", "probed_closed_loop"]
 
 
 def probed_closed_loop(scenario):
     """``(loop, leader_probe, follower_probes)``: the scenario's closed loop built with its leader and
-    every follower wrapped by a probe (:func:`coopctrl.simulator.closed_loop` with ``controllers``)."""
-    from coopctrl.simulator import closed_loop
+    every follower wrapped by a probe (:func:`coopctrl.wiring.closed_loop` with ``controllers``); a run's
+    follower errors: :func:`probe_errors`."""
+    from coopctrl.wiring import closed_loop
 
     def wrap(leader, followers):
         return (leader if isinstance(leader, LeaderProbe) else LeaderProbe(leader),

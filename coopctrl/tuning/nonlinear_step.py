@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from coopctrl.compact_repr import compact_repr
+from coopctrl.controllers.probes import probe_errors
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.errors import TuningError
 from coopctrl.tuning.loop_probes import probed_closed_loop
@@ -108,6 +109,7 @@ def simulate_step(model, input: str, amplitude: float, duration: float, force_kp
     else:
         followers[int(prefix[3:]) - 1].setpoint_offset[names.component_index(model.space, comp)] = amplitude
     rec = loop.run(op.x, duration, integrals=integrals)
+    errors = probe_errors(rec, loop)
     n = len(rec["t"])
     plant = loop.plant
     nz = plant.nz
@@ -115,7 +117,7 @@ def simulate_step(model, input: str, amplitude: float, duration: float, force_kp
     for k in range(n):
         xk = rec["x"][k]
         y[k, :nf_out] = np.concatenate([xk[nz - p:nz], plant.node_poses(xk)[p:], rec["F_measured"][k].reshape(-1)])
-        y[k, nf_out:] = np.concatenate([followers[i].errors[k] for i in model.followers]) if model.followers else []
+        y[k, nf_out:] = np.concatenate([errors[i][k] for i in model.followers]) if model.followers else []
     y -= op.outputs
     U = np.zeros((sys.ninputs, n))
     U[c] = amplitude

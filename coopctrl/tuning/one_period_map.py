@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from coopctrl.compact_repr import compact_repr
+from coopctrl.controllers.probes import probe_errors
 from coopctrl.tuning import signal_names as names
 from coopctrl.tuning.errors import TuningError
 from coopctrl.tuning.loop_probes import probed_closed_loop
@@ -104,8 +105,9 @@ class OnePeriodMap:
         x0 = rec["x"][0]
         Y = self.plant.node_poses(x0)
         nz = self.plant.nz
+        errors = probe_errors(rec, self.loop)
         y = np.concatenate([x0[nz - p:nz], Y[p:], rec["F_measured"][0].reshape(-1)]
-                           + [self.followers[i].errors[0] for i in self.follower_indices])
+                           + [errors[i][0] for i in self.follower_indices])
         return rec["x"][1].copy(), y, rec["tau"][0].copy()
 
     # ------------------------------------------------------------------ Jacobians
