@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import ScenarioError
@@ -89,7 +89,8 @@ def _read_table(path: str | Path) -> dict[str, Any]:
     return read_scene_table(path)
 
 
-def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[str, Any] | None = None) -> SweepPlan:
+def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[str, Any] | None = None,
+               on_base: Callable[[SweepRun], None] | None = None) -> SweepPlan:
     """Validate the scenario with every combination of overrides and return the runs; nothing is simulated.
     A grid has at most :data:`~coopctrl.sweep.grid.MAX_RUNS` runs (counted before any is expanded).
 
@@ -101,6 +102,9 @@ def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[
         scenario_path: A scenario ``.toml`` file, or ``None`` for the built-in default scene.
         grid: The swept axes.
         sets: Fixed overrides ``{path: value}`` applied to every run before the grid's (``--set``).
+        on_base: Called with the base run (index -1: the scenario with ``sets``, no grid value) once the file,
+            ``sets`` and the grid's paths are valid, before the combinations are (the sweep starts its
+            workers there, so that their start-up overlaps this validation).
 
     Raises:
         ScenarioError: The file, a ``--set`` or one combination is invalid; the message names the
@@ -121,6 +125,8 @@ def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[
         if also is not None:
             raise GridError(f"{path}=...", f"a path that is not also fixed by --set {also}=...")
     set_items = tuple(sets.items())
+    if on_base is not None:
+        on_base(SweepRun(-1, (), set_items, source, data, base))
     runs = []
     for index, combination in enumerate(grid.combinations()):
         run = SweepRun(index, tuple(combination.items()), set_items, source, data)

@@ -146,14 +146,32 @@ def run_sweep(
         raise ValueError("run_sweep: give either an executor or jobs/scheduler, not both")
     if run_timeout_s is not None and not (run_timeout_s > 0 and run_timeout_s < float("inf")):
         raise SweepError(f"--run-timeout = {run_timeout_s!r} is invalid: expected a finite number of seconds > 0")
-    plan = plan_sweep(scenario_path, grid, sets)
     owned = executor is None
+    if owned and scheduler is None and jobs is None:
+        jobs = os.cpu_count() or 1
+    if owned and isinstance(jobs, int) and jobs > len(grid):
+        jobs = max(len(grid), 1)  # no idle workers to start
+    started_pool: list[Executor] = []
+
+    def start_workers(base: SweepRun) -> None:
+        """A local pool of this sweep starts now, each worker with its start-up (:func:`~coopctrl.sweep.worker.warm_up`:
+        imports, the compiled kernels, the base scenario's loop), while this process validates the runs."""
+        warm = getattr(run_function, "warm_up", None)
+        if not owned or scheduler is not None or warm is None or not isinstance(jobs, int) or jobs < 2:
+            return
+        pool = make_executor(jobs, None)
+        started_pool.append(pool)
+        for _ in range(jobs):
+            pool.submit(execute_run, warm, base, run_timeout_s)
+
+    try:
+        plan = plan_sweep(scenario_path, grid, sets, on_base=start_workers)
+    except BaseException:
+        for pool in started_pool:
+            pool.interrupt()
+        raise
     if owned:
-        if scheduler is None and jobs is None:
-            jobs = os.cpu_count() or 1
-        if isinstance(jobs, int) and jobs > len(plan.runs):
-            jobs = len(plan.runs)  # no idle workers to start
-        executor = make_executor(jobs, scheduler)
+        executor = started_pool[0] if started_pool else make_executor(jobs, scheduler)
     # Serial: submit one run at a time so that rows stream. Otherwise keep every worker busy with one
     # more run queued each; an executor of unknown size gets every run at once.
     workers = getattr(executor, "workers", None)
