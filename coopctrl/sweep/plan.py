@@ -90,7 +90,7 @@ def _read_table(path: str | Path) -> dict[str, Any]:
 
 
 def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[str, Any] | None = None,
-               on_base: Callable[[SweepRun], None] | None = None) -> SweepPlan:
+               on_first_run: Callable[[SweepRun], None] | None = None) -> SweepPlan:
     """Validate the scenario with every combination of overrides and return the runs; nothing is simulated.
     A grid has at most :data:`~coopctrl.sweep.grid.MAX_RUNS` runs (counted before any is expanded).
 
@@ -102,9 +102,8 @@ def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[
         scenario_path: A scenario ``.toml`` file, or ``None`` for the built-in default scene.
         grid: The swept axes.
         sets: Fixed overrides ``{path: value}`` applied to every run before the grid's (``--set``).
-        on_base: Called with the base run (index -1: the scenario with ``sets``, no grid value) once the file,
-            ``sets`` and the grid's paths are valid, before the combinations are (the sweep starts its
-            workers there, so that their start-up overlaps this validation).
+        on_first_run: Called with run 0 once it is valid, before the other combinations are validated (the
+            sweep starts its workers there on run 0's scene, so that their start-up overlaps this validation).
 
     Raises:
         ScenarioError: The file, a ``--set`` or one combination is invalid; the message names the
@@ -125,8 +124,6 @@ def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[
         if also is not None:
             raise GridError(f"{path}=...", f"a path that is not also fixed by --set {also}=...")
     set_items = tuple(sets.items())
-    if on_base is not None:
-        on_base(SweepRun(-1, (), set_items, source, data, base))
     runs = []
     for index, combination in enumerate(grid.combinations()):
         run = SweepRun(index, tuple(combination.items()), set_items, source, data)
@@ -136,4 +133,6 @@ def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[
             where = f"{source or 'default scene'}, run {index} ({grid.describe(combination)})"
             raise ScenarioError(err.path, err.value, err.allowed, where) from None
         runs.append(replace(run, checked=checked))
+        if index == 0 and on_first_run is not None:
+            on_first_run(runs[0])
     return SweepPlan(base.name, source, grid, set_items, tuple(runs))

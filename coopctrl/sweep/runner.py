@@ -153,19 +153,19 @@ def run_sweep(
         jobs = max(len(grid), 1)  # no idle workers to start
     started_pool: list[Executor] = []
 
-    def start_workers(base: SweepRun) -> None:
+    def start_workers(first: SweepRun) -> None:
         """A local pool of this sweep starts now, each worker with its start-up (:func:`~coopctrl.sweep.worker.warm_up`:
-        imports, the compiled kernels, the base scenario's loop), while this process validates the runs."""
+        imports, the compiled kernels and the loop of run 0's scene), while this process validates the other runs."""
         warm = getattr(run_function, "warm_up", None)
         if not owned or scheduler is not None or warm is None or not isinstance(jobs, int) or jobs < 2:
             return
         pool = make_executor(jobs, None)
         started_pool.append(pool)
         for _ in range(jobs):
-            pool.submit(execute_run, warm, base, run_timeout_s)
+            pool.submit(execute_run, warm, first, run_timeout_s)
 
     try:
-        plan = plan_sweep(scenario_path, grid, sets, on_base=start_workers)
+        plan = plan_sweep(scenario_path, grid, sets, on_first_run=start_workers)
     except BaseException:
         for pool in started_pool:
             pool.interrupt()
