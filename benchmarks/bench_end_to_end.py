@@ -23,7 +23,9 @@ default 200; ``--jobs J``, default 2), in this process as the CLI, timed from it
 (the workers' start-up included, as a user waits for it): carries per minute ``= 60 N / wall``. A scene
 whose run is not ok (it diverges, or pre-flight refuses it) is not swept: its carries would be failures.
 
-Medians over the repeats are printed per scene with the ratios simulate/ticks and CLI/ticks, and for
+Beside the wall times, the process CPU time of the ticks, ``simulate()``, the CLI run and pre-flight (and of
+the sweep with its workers, per run): on a shared machine the wall time grows with the load, the CPU time
+much less. Medians over the repeats are printed per scene with the ratios simulate/ticks and CLI/ticks, and for
 ``spatial_two_puma_carry`` the targets of issue 18 with a verdict each. ``--profile SCENE`` instead
 prints the top 25 cumulative entries of cProfile over one in-process ``coopctrl run SCENE -q`` (after a
 warm-up run), so that a missed target comes with its profile.
@@ -39,6 +41,7 @@ import json
 import os
 import platform
 import pstats
+import resource
 import statistics
 import sys
 import time
@@ -67,6 +70,7 @@ class KernelClock:
 
     def __init__(self):
         self.total = 0.0
+        self.cpu = 0.0  # the same calls' process CPU time [s]
         self.installed = self._install()
 
     def _install(self) -> bool:
@@ -82,11 +86,12 @@ class KernelClock:
             kernel = resolve(dispatcher, args)
 
             def timed(*a):
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.process_time()
                 try:
                     return kernel(*a)
                 finally:
                     clock.total += time.perf_counter() - t0
+                    clock.cpu += time.process_time() - c0
 
             return timed
 
@@ -95,6 +100,7 @@ class KernelClock:
 
     def reset(self) -> None:
         self.total = 0.0
+        self.cpu = 0.0
 
 
 @contextlib.contextmanager
@@ -105,14 +111,27 @@ def _quiet():
         yield out, err
 
 
+def _cpu_with_children() -> float:
+    """CPU time [s] of this process and of its ended children (a sweep's workers once it stopped them)."""
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
+
+
+#: CPU time [s] of the last :func:`_cli` call (this process and the children it ended).
+_last_cpu = [0.0]
+
+
 def _cli(argv: list[str]) -> tuple[float, int, str, str]:
-    """``(wall [s], exit code, stdout, stderr)`` of ``coopctrl.cli.main(argv)`` in this process."""
+    """``(wall [s], exit code, stdout, stderr)`` of ``coopctrl.cli.main(argv)`` in this process (its CPU time
+    in ``_last_cpu[0]``)."""
     from coopctrl.cli import main
 
     with _quiet() as (out, err):
+        c0 = _cpu_with_children()
         t0 = time.perf_counter()
         code = main(argv)
         wall = time.perf_counter() - t0
+        _last_cpu[0] = _cpu_with_children() - c0
     if code in (130, 143):  # the CLI handled Ctrl-C or SIGTERM and returned: the benchmark stops too
         raise SystemExit(code)
     return wall, code, out.getvalue(), err.getvalue()
@@ -141,7 +160,8 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
     _cli(["run", path, "-q"])
     preflight(scenario)
     ticks = len(rec["t"])
-    series = {k: [] for k in ("ticks", "loop_run", "simulate", "cli", "cli_json", "preflight", "rt")}
+    series = {k: [] for k in ("ticks", "loop_run", "simulate", "cli", "cli_json", "preflight", "rt",
+                              "ticks_cpu", "simulate_cpu", "cli_cpu", "preflight_cpu")}
     cli_code, cli_err, status = 0, "", rec["status"]
     for _ in range(repeats):
         clock.reset()
@@ -150,11 +170,14 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
         wall = time.perf_counter() - t0
         series["loop_run"].append(wall)
         series["ticks"].append(clock.total if clock.installed else wall)
-        t0 = time.perf_counter()
+        series["ticks_cpu"].append(clock.cpu if clock.installed else float("nan"))
+        c0, t0 = time.process_time(), time.perf_counter()
         coopctrl.simulate(scenario)
         series["simulate"].append(time.perf_counter() - t0)
+        series["simulate_cpu"].append(time.process_time() - c0)
         wall, cli_code, _, cli_err = _cli(["run", path, "-q"])
         series["cli"].append(wall)
+        series["cli_cpu"].append(_last_cpu[0])
         wall, _, out, _ = _cli(["run", path, "--json"])
         series["cli_json"].append(wall)
         try:
@@ -162,9 +185,10 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
         except ValueError:  # pre-flight refused the task: no summary
             rt = None
         series["rt"].append(float("nan") if rt is None else float(rt))
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         preflight(scenario)
         series["preflight"].append(time.perf_counter() - t0)
+        series["preflight_cpu"].append(time.process_time() - c0)
     med = {k: statistics.median(v) for k, v in series.items()}
     sweep = None
     if sweep_runs > 0 and status != "ok":  # its carries would be failures (a diverging run also costs its diagnosis)
@@ -175,7 +199,7 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
         rows = json.loads(out)["rows"] if code == 0 else []
         failed = sum(1 for r in rows if r.get("status") != "ok")
         sweep = {"runs": sweep_runs, "wall": wall, "per_min": 60.0 * sweep_runs / wall, "failed": failed,
-                 "code": code, "error": _last_line(err) if code else ""}
+                 "code": code, "error": _last_line(err) if code else "", "cpu": _last_cpu[0]}
     simulated = max(ticks - 1, 1) * scenario.simulation.control_period
     return {"name": name, "status": status, "ticks_n": ticks, "simulated": simulated, "med": med, "sweep": sweep,
             "cli_code": cli_code, "cli_err": _last_line(cli_err), "repeats": repeats}
@@ -220,6 +244,12 @@ def print_scene(r: dict, clock_installed: bool, jobs: int) -> None:
     row("real-time factor coopctrl run prints", "-" if rt != rt else f"{rt:10.1f} x", "", ">= 75x" if carry else "",
         (_verdict(rt >= TARGET_RT) if rt == rt else "MISSED (no summary)") if carry else "")
     row("real-time factor of the ticks alone", f"{r['simulated'] / ticks:10.1f} x")
+    tc = med["ticks_cpu"]
+    if tc == tc and tc > 0:  # CPU time: what a quiet machine's wall time would be (the load inflates the wall)
+        row("CPU: ticks", _ms(tc), "1.00x")
+        row("CPU: simulate()", _ms(med["simulate_cpu"]), f"{med['simulate_cpu'] / tc:.2f}x")
+        row("CPU: CLI run -q", _ms(med["cli_cpu"]), f"{med['cli_cpu'] / tc:.2f}x")
+        row("CPU: pre-flight alone", _ms(med["preflight_cpu"]), f"{med['preflight_cpu'] / tc:.2f}x")
     sw = r["sweep"]
     if sw is not None:
         if "skipped" in sw:
@@ -229,6 +259,8 @@ def print_scene(r: dict, clock_installed: bool, jobs: int) -> None:
         else:
             note = f"; {sw['failed']} of {sw['runs']} runs not ok" if sw["failed"] else ""
             row(f"sweep of {sw['runs']} runs --jobs {jobs}", f"{sw['wall']:10.2f} s")
+            row("  CPU per run (sweep and workers)", _ms(sw["cpu"] / sw["runs"]),
+                f"{sw['cpu'] / sw['runs'] / tc:.2f}x" if tc == tc and tc > 0 else "")
             row("  carries a minute", f"{sw['per_min']:12.0f}", "", ">= 2500 a minute" if carry else "",
                 (_verdict(sw["per_min"] >= TARGET_CARRIES_PER_MIN) + note) if carry else note.lstrip("; "))
 
