@@ -2,6 +2,7 @@
 
 Run: python benchmarks/bench_end_to_end.py [--repeats N] [--sweep-runs N] [--jobs N] [--scenes a,b] [--quick]
      python benchmarks/bench_end_to_end.py --profile spatial_two_puma_carry
+     python benchmarks/bench_end_to_end.py --profile-sweep spatial_two_puma_carry
 
 For every shipped scene (``scenarios/*.toml``), after a warm-up of each measure (the numba kernels
 compiled or loaded first, never timed), ``repeats`` rounds each time, side by side in that order:
@@ -28,7 +29,8 @@ the sweep with its workers, per run): on a shared machine the wall time grows wi
 much less. Medians over the repeats are printed per scene with the ratios simulate/ticks and CLI/ticks, and for
 ``spatial_two_puma_carry`` the targets of issue 18 with a verdict each. ``--profile SCENE`` instead
 prints the top 25 cumulative entries of cProfile over one in-process ``coopctrl run SCENE -q`` (after a
-warm-up run), so that a missed target comes with its profile.
+warm-up run), so that a missed target comes with its profile; ``--profile-sweep SCENE`` the same over an
+in-process sweep of 40 runs with ``--jobs 1`` (a worker's per-run cost).
 """
 
 from __future__ import annotations
@@ -296,6 +298,26 @@ def profile_cli(name: str, top: int = 25) -> None:
     stats.sort_stats("cumulative").print_stats(top)
 
 
+def profile_sweep(name: str, runs: int = 40, top: int = 25) -> None:
+    """cProfile of one in-process ``coopctrl sweep NAME --grid simulation.seed=0,...,runs-1 --jobs 1`` after a
+    warm-up sweep of 2 runs: with ``--jobs 1`` the runs execute in this process, each as a worker runs it
+    (:func:`coopctrl.sweep.worker.execute_run`), so the profile shows a worker's per-run cost (without the
+    process pool's pickling, about 0.4 ms a run)."""
+    from coopctrl.cli import main
+
+    path = str(REPO / "scenarios" / f"{name}.toml")
+    _cli(["sweep", path, "--grid", "simulation.seed=0,1", "--jobs", "1", "--json"])  # warm-up: kernels, built loop
+    seeds = ",".join(str(s) for s in range(runs))
+    profiler = cProfile.Profile()
+    with _quiet():
+        t0 = time.perf_counter()
+        code = profiler.runcall(main, ["sweep", path, "--grid", f"simulation.seed={seeds}", "--jobs", "1", "--json"])
+        wall = time.perf_counter() - t0
+    print(f"profile of `coopctrl sweep {name} --grid simulation.seed=0,...,{runs - 1} --jobs 1` in process (exit {code}, "
+          f"{wall:.2f} s under the profiler, {wall / runs * 1e3:.1f} ms a run); top {top} by cumulative time:")
+    pstats.Stats(profiler, stream=sys.stdout).sort_stats("cumulative").print_stats(top)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="timed rounds per scene after a warm-up (default 5)")
@@ -305,13 +327,15 @@ def main(argv=None) -> int:
     parser.add_argument("--scenes", default="", help="comma-separated scene names (default: every shipped scene)")
     parser.add_argument("--profile", metavar="SCENE", help="only profile one in-process `coopctrl run SCENE -q` (cProfile, "
                         "top 25 cumulative) and exit")
+    parser.add_argument("--profile-sweep", metavar="SCENE", help="only profile an in-process sweep of 40 runs of SCENE "
+                        "with --jobs 1 (a worker's per-run cost; cProfile, top 25 cumulative) and exit")
     args = parser.parse_args(argv)
     if args.repeats < 1 or args.sweep_runs < 0 or args.jobs < 1:
         parser.error("--repeats and --jobs must be >= 1, --sweep-runs >= 0")
     if args.quick:
         args.repeats, args.sweep_runs = 1, min(args.sweep_runs, 4)
     scenes = [s for s in args.scenes.split(",") if s] or SCENES
-    unknown = [s for s in scenes + ([args.profile] if args.profile else []) if s not in SCENES]
+    unknown = [s for s in scenes + [p for p in (args.profile, args.profile_sweep) if p] if s not in SCENES]
     if unknown:
         parser.error(f"unknown scene(s) {', '.join(unknown)}: expected names of scenarios/*.toml ({', '.join(SCENES)})")
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}")
@@ -319,6 +343,9 @@ def main(argv=None) -> int:
           f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     if args.profile:
         profile_cli(args.profile)
+        return 0
+    if args.profile_sweep:
+        profile_sweep(args.profile_sweep)
         return 0
     clock = KernelClock()
     if not clock.installed:
