@@ -3,6 +3,8 @@
 Guarantees:
 
 - Nothing runs unless every combination's scenario is valid (:func:`~coopctrl.sweep.plan.plan_sweep`).
+  Meanwhile a local pool's workers start up on run 0's scene (imports, the compiled kernels, its built
+  loop: :func:`~coopctrl.sweep.worker.warm_up`); a bad combination stops them before any run.
 - A failed run (divergence, infeasible QP, any exception) is a row with its status and reason; it
   never loses the other rows. If a worker process dies (a crash, the out-of-memory killer), the
   runs in flight on that pool become ``error`` rows naming ``BrokenProcessPool`` and the remaining
