@@ -270,7 +270,7 @@ def print_scene(r: dict, clock_installed: bool, jobs: int) -> None:
 def print_overview(results: list[dict]) -> None:
     """One line per scene: the medians and the two ratios."""
     print(f"\n{'scene':28s} {'status':8s} {'ticks':>5s} {'us/tick':>7s} {'ticks ms':>8s} {'sim ms':>8s} {'CLI ms':>8s} "
-          f"{'pre ms':>7s} {'sim/t':>6s} {'CLI/t':>6s} {'RT':>6s} {'carries/min':>11s}")
+          f"{'pre ms':>7s} {'sim/t':>6s} {'CLI/t':>6s} {'RT':>6s} {'carries/min':>11s} {'CPU sim/t':>9s} {'CPU CLI/t':>9s}")
     for r in results:
         med, n, ticks = r["med"], r["ticks_n"], r["med"]["ticks"]
         sw = r["sweep"]
@@ -278,7 +278,8 @@ def print_overview(results: list[dict]) -> None:
         rt = "-" if med["rt"] != med["rt"] else f"{med['rt']:.1f}"
         print(f"{r['name']:28s} {r['status']:8s} {n:5d} {ticks / n * 1e6:7.1f} {ticks * 1e3:8.1f} "
               f"{med['simulate'] * 1e3:8.1f} {med['cli'] * 1e3:8.1f} {med['preflight'] * 1e3:7.1f} "
-              f"{med['simulate'] / ticks:5.2f}x {med['cli'] / ticks:5.2f}x {rt:>6s} {per_min:>11s}", flush=True)
+              f"{med['simulate'] / ticks:5.2f}x {med['cli'] / ticks:5.2f}x {rt:>6s} {per_min:>11s} "
+              f"{med['simulate_cpu'] / med['ticks_cpu']:8.2f}x {med['cli_cpu'] / med['ticks_cpu']:8.2f}x", flush=True)
 
 
 def profile_cli(name: str, top: int = 25) -> None:
