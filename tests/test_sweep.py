@@ -81,17 +81,6 @@ def test_plan_applies_each_combination():
     assert all(r.checked is not None and replace(r, checked=None).scenario() == r.scenario() for r in plan.runs)
 
 
-def test_plan_hands_run_0_over_before_it_validates_the_other_combinations():
-    # the sweep starts its workers on run 0 while the other combinations are validated; a bad combination
-    # still refuses the sweep (it is validated after the hand-over)
-    seen = []
-    sets = {"simulation.duration": "0.3"}
-    with pytest.raises(Exception, match="run 1"):
-        plan_sweep(LIFT, SweepGrid.parse(["simulation.control_period=0.001,0.5"]), sets, on_first_run=seen.append)
-    assert [r.index for r in seen] == [0] and seen[0].scenario().simulation.control_period == 0.001
-    assert seen[0].scenario().simulation.duration == 0.3
-
-
 @pytest.mark.parametrize(
     "argument, needle",
     [

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any, Mapping
 
 from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import ScenarioError
@@ -89,8 +89,7 @@ def _read_table(path: str | Path) -> dict[str, Any]:
     return read_scene_table(path)
 
 
-def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[str, Any] | None = None,
-               on_first_run: Callable[[SweepRun], None] | None = None) -> SweepPlan:
+def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[str, Any] | None = None) -> SweepPlan:
     """Validate the scenario with every combination of overrides and return the runs; nothing is simulated.
     A grid has at most :data:`~coopctrl.sweep.grid.MAX_RUNS` runs (counted before any is expanded).
 
@@ -102,8 +101,6 @@ def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[
         scenario_path: A scenario ``.toml`` file, or ``None`` for the built-in default scene.
         grid: The swept axes.
         sets: Fixed overrides ``{path: value}`` applied to every run before the grid's (``--set``).
-        on_first_run: Called with run 0 once it is valid, before the other combinations are validated (the
-            sweep starts its workers there on run 0's scene, so that their start-up overlaps this validation).
 
     Raises:
         ScenarioError: The file, a ``--set`` or one combination is invalid; the message names the
@@ -133,6 +130,4 @@ def plan_sweep(scenario_path: str | Path | None, grid: SweepGrid, sets: Mapping[
             where = f"{source or 'default scene'}, run {index} ({grid.describe(combination)})"
             raise ScenarioError(err.path, err.value, err.allowed, where) from None
         runs.append(replace(run, checked=checked))
-        if index == 0 and on_first_run is not None:
-            on_first_run(runs[0])
     return SweepPlan(base.name, source, grid, set_items, tuple(runs))

@@ -3,8 +3,6 @@
 Guarantees:
 
 - Nothing runs unless every combination's scenario is valid (:func:`~coopctrl.sweep.plan.plan_sweep`).
-  Meanwhile a local pool's workers start up on run 0's scene (imports, the compiled kernels, its built
-  loop: :func:`~coopctrl.sweep.worker.warm_up`); a bad combination stops them before any run.
 - A failed run (divergence, infeasible QP, any exception) is a row with its status and reason; it
   never loses the other rows. If a worker process dies (a crash, the out-of-memory killer), the
   runs in flight on that pool become ``error`` rows naming ``BrokenProcessPool`` and the remaining
@@ -148,32 +146,14 @@ def run_sweep(
         raise ValueError("run_sweep: give either an executor or jobs/scheduler, not both")
     if run_timeout_s is not None and not (run_timeout_s > 0 and run_timeout_s < float("inf")):
         raise SweepError(f"--run-timeout = {run_timeout_s!r} is invalid: expected a finite number of seconds > 0")
+    plan = plan_sweep(scenario_path, grid, sets)
     owned = executor is None
-    if owned and scheduler is None and jobs is None:
-        jobs = os.cpu_count() or 1
-    if owned and isinstance(jobs, int) and jobs > len(grid):
-        jobs = max(len(grid), 1)  # no idle workers to start
-    started_pool: list[Executor] = []
-
-    def start_workers(first: SweepRun) -> None:
-        """A local pool of this sweep starts now, each worker with its start-up (:func:`~coopctrl.sweep.worker.warm_up`:
-        imports, the compiled kernels and the loop of run 0's scene), while this process validates the other runs."""
-        warm = getattr(run_function, "warm_up", None)
-        if not owned or scheduler is not None or warm is None or not isinstance(jobs, int) or jobs < 2:
-            return
-        pool = make_executor(jobs, None)
-        started_pool.append(pool)
-        for _ in range(jobs):
-            pool.submit(execute_run, warm, first, run_timeout_s)
-
-    try:
-        plan = plan_sweep(scenario_path, grid, sets, on_first_run=start_workers)
-    except BaseException:
-        for pool in started_pool:
-            pool.interrupt()
-        raise
     if owned:
-        executor = started_pool[0] if started_pool else make_executor(jobs, scheduler)
+        if scheduler is None and jobs is None:
+            jobs = os.cpu_count() or 1
+        if isinstance(jobs, int) and jobs > len(plan.runs):
+            jobs = len(plan.runs)  # no idle workers to start
+        executor = make_executor(jobs, scheduler)
     # Serial: submit one run at a time so that rows stream. Otherwise keep every worker busy with one
     # more run queued each; an executor of unknown size gets every run at once.
     workers = getattr(executor, "workers", None)

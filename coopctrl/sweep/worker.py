@@ -112,22 +112,7 @@ def simulate_run(run: SweepRun) -> dict[str, Any]:
     return go()
 
 
-def warm_up(run: SweepRun) -> dict[str, Any]:
-    """The start-up of :func:`simulate_run` alone (imports, the kind's compiled kernels, the loop of
-    ``run``'s key built and kept for the runs that reuse it), without the run: what a fresh worker does
-    while the sweep still validates its runs (:func:`~coopctrl.sweep.runner.run_sweep`). Its outcome is
-    not a row: an error here is met again, and reported, by the runs."""
-    with start_up():
-        from coopctrl.sweep import reuse
-
-        reuse.prepare(run.scenario(), _warm_up_failed)
-    return {"status": "ok", "reason": ""}
-
-
-warm_up.start_up_allowance_s = STARTUP_ALLOWANCE_S
 simulate_run.start_up_allowance_s = STARTUP_ALLOWANCE_S
-#: What a worker of a process pool runs once before its runs (see :func:`warm_up`).
-simulate_run.warm_up = warm_up
 
 
 @contextmanager
