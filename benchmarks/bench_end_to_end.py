@@ -2,6 +2,7 @@
 
 Run: python benchmarks/bench_end_to_end.py [--repeats N] [--sweep-runs N] [--jobs N] [--scenes a,b] [--quick]
      python benchmarks/bench_end_to_end.py --profile spatial_two_puma_carry
+     python benchmarks/bench_end_to_end.py --profile-sweep spatial_two_puma_carry
 
 For every shipped scene (``scenarios/*.toml``), after a warm-up of each measure (the numba kernels
 compiled or loaded first, never timed), ``repeats`` rounds each time, side by side in that order:
@@ -23,10 +24,13 @@ default 200; ``--jobs J``, default 2), in this process as the CLI, timed from it
 (the workers' start-up included, as a user waits for it): carries per minute ``= 60 N / wall``. A scene
 whose run is not ok (it diverges, or pre-flight refuses it) is not swept: its carries would be failures.
 
-Medians over the repeats are printed per scene with the ratios simulate/ticks and CLI/ticks, and for
+Beside the wall times, the process CPU time of the ticks, ``simulate()``, the CLI run and pre-flight (and of
+the sweep with its workers, per run): on a shared machine the wall time grows with the load, the CPU time
+much less. Medians over the repeats are printed per scene with the ratios simulate/ticks and CLI/ticks, and for
 ``spatial_two_puma_carry`` the targets of issue 18 with a verdict each. ``--profile SCENE`` instead
 prints the top 25 cumulative entries of cProfile over one in-process ``coopctrl run SCENE -q`` (after a
-warm-up run), so that a missed target comes with its profile.
+warm-up run), so that a missed target comes with its profile; ``--profile-sweep SCENE`` the same over an
+in-process sweep of 40 runs with ``--jobs 1`` (a worker's per-run cost).
 """
 
 from __future__ import annotations
@@ -39,6 +43,7 @@ import json
 import os
 import platform
 import pstats
+import resource
 import statistics
 import sys
 import time
@@ -67,6 +72,7 @@ class KernelClock:
 
     def __init__(self):
         self.total = 0.0
+        self.cpu = 0.0  # the same calls' process CPU time [s]
         self.installed = self._install()
 
     def _install(self) -> bool:
@@ -82,11 +88,12 @@ class KernelClock:
             kernel = resolve(dispatcher, args)
 
             def timed(*a):
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.process_time()
                 try:
                     return kernel(*a)
                 finally:
                     clock.total += time.perf_counter() - t0
+                    clock.cpu += time.process_time() - c0
 
             return timed
 
@@ -95,6 +102,7 @@ class KernelClock:
 
     def reset(self) -> None:
         self.total = 0.0
+        self.cpu = 0.0
 
 
 @contextlib.contextmanager
@@ -105,14 +113,27 @@ def _quiet():
         yield out, err
 
 
+def _cpu_with_children() -> float:
+    """CPU time [s] of this process and of its ended children (a sweep's workers once it stopped them)."""
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
+
+
+#: CPU time [s] of the last :func:`_cli` call (this process and the children it ended).
+_last_cpu = [0.0]
+
+
 def _cli(argv: list[str]) -> tuple[float, int, str, str]:
-    """``(wall [s], exit code, stdout, stderr)`` of ``coopctrl.cli.main(argv)`` in this process."""
+    """``(wall [s], exit code, stdout, stderr)`` of ``coopctrl.cli.main(argv)`` in this process (its CPU time
+    in ``_last_cpu[0]``)."""
     from coopctrl.cli import main
 
     with _quiet() as (out, err):
+        c0 = _cpu_with_children()
         t0 = time.perf_counter()
         code = main(argv)
         wall = time.perf_counter() - t0
+        _last_cpu[0] = _cpu_with_children() - c0
     if code in (130, 143):  # the CLI handled Ctrl-C or SIGTERM and returned: the benchmark stops too
         raise SystemExit(code)
     return wall, code, out.getvalue(), err.getvalue()
@@ -141,7 +162,8 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
     _cli(["run", path, "-q"])
     preflight(scenario)
     ticks = len(rec["t"])
-    series = {k: [] for k in ("ticks", "loop_run", "simulate", "cli", "cli_json", "preflight", "rt")}
+    series = {k: [] for k in ("ticks", "loop_run", "simulate", "cli", "cli_json", "preflight", "rt",
+                              "ticks_cpu", "simulate_cpu", "cli_cpu", "preflight_cpu")}
     cli_code, cli_err, status = 0, "", rec["status"]
     for _ in range(repeats):
         clock.reset()
@@ -150,11 +172,14 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
         wall = time.perf_counter() - t0
         series["loop_run"].append(wall)
         series["ticks"].append(clock.total if clock.installed else wall)
-        t0 = time.perf_counter()
+        series["ticks_cpu"].append(clock.cpu if clock.installed else float("nan"))
+        c0, t0 = time.process_time(), time.perf_counter()
         coopctrl.simulate(scenario)
         series["simulate"].append(time.perf_counter() - t0)
+        series["simulate_cpu"].append(time.process_time() - c0)
         wall, cli_code, _, cli_err = _cli(["run", path, "-q"])
         series["cli"].append(wall)
+        series["cli_cpu"].append(_last_cpu[0])
         wall, _, out, _ = _cli(["run", path, "--json"])
         series["cli_json"].append(wall)
         try:
@@ -162,9 +187,10 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
         except ValueError:  # pre-flight refused the task: no summary
             rt = None
         series["rt"].append(float("nan") if rt is None else float(rt))
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         preflight(scenario)
         series["preflight"].append(time.perf_counter() - t0)
+        series["preflight_cpu"].append(time.process_time() - c0)
     med = {k: statistics.median(v) for k, v in series.items()}
     sweep = None
     if sweep_runs > 0 and status != "ok":  # its carries would be failures (a diverging run also costs its diagnosis)
@@ -175,7 +201,7 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
         rows = json.loads(out)["rows"] if code == 0 else []
         failed = sum(1 for r in rows if r.get("status") != "ok")
         sweep = {"runs": sweep_runs, "wall": wall, "per_min": 60.0 * sweep_runs / wall, "failed": failed,
-                 "code": code, "error": _last_line(err) if code else ""}
+                 "code": code, "error": _last_line(err) if code else "", "cpu": _last_cpu[0]}
     simulated = max(ticks - 1, 1) * scenario.simulation.control_period
     return {"name": name, "status": status, "ticks_n": ticks, "simulated": simulated, "med": med, "sweep": sweep,
             "cli_code": cli_code, "cli_err": _last_line(cli_err), "repeats": repeats}
@@ -220,6 +246,12 @@ def print_scene(r: dict, clock_installed: bool, jobs: int) -> None:
     row("real-time factor coopctrl run prints", "-" if rt != rt else f"{rt:10.1f} x", "", ">= 75x" if carry else "",
         (_verdict(rt >= TARGET_RT) if rt == rt else "MISSED (no summary)") if carry else "")
     row("real-time factor of the ticks alone", f"{r['simulated'] / ticks:10.1f} x")
+    tc = med["ticks_cpu"]
+    if tc == tc and tc > 0:  # CPU time: what a quiet machine's wall time would be (the load inflates the wall)
+        row("CPU: ticks", _ms(tc), "1.00x")
+        row("CPU: simulate()", _ms(med["simulate_cpu"]), f"{med['simulate_cpu'] / tc:.2f}x")
+        row("CPU: CLI run -q", _ms(med["cli_cpu"]), f"{med['cli_cpu'] / tc:.2f}x")
+        row("CPU: pre-flight alone", _ms(med["preflight_cpu"]), f"{med['preflight_cpu'] / tc:.2f}x")
     sw = r["sweep"]
     if sw is not None:
         if "skipped" in sw:
@@ -229,6 +261,8 @@ def print_scene(r: dict, clock_installed: bool, jobs: int) -> None:
         else:
             note = f"; {sw['failed']} of {sw['runs']} runs not ok" if sw["failed"] else ""
             row(f"sweep of {sw['runs']} runs --jobs {jobs}", f"{sw['wall']:10.2f} s")
+            row("  CPU per run (sweep and workers)", _ms(sw["cpu"] / sw["runs"]),
+                f"{sw['cpu'] / sw['runs'] / tc:.2f}x" if tc == tc and tc > 0 else "")
             row("  carries a minute", f"{sw['per_min']:12.0f}", "", ">= 2500 a minute" if carry else "",
                 (_verdict(sw["per_min"] >= TARGET_CARRIES_PER_MIN) + note) if carry else note.lstrip("; "))
 
@@ -236,7 +270,7 @@ def print_scene(r: dict, clock_installed: bool, jobs: int) -> None:
 def print_overview(results: list[dict]) -> None:
     """One line per scene: the medians and the two ratios."""
     print(f"\n{'scene':28s} {'status':8s} {'ticks':>5s} {'us/tick':>7s} {'ticks ms':>8s} {'sim ms':>8s} {'CLI ms':>8s} "
-          f"{'pre ms':>7s} {'sim/t':>6s} {'CLI/t':>6s} {'RT':>6s} {'carries/min':>11s}")
+          f"{'pre ms':>7s} {'sim/t':>6s} {'CLI/t':>6s} {'RT':>6s} {'carries/min':>11s} {'CPU sim/t':>9s} {'CPU CLI/t':>9s}")
     for r in results:
         med, n, ticks = r["med"], r["ticks_n"], r["med"]["ticks"]
         sw = r["sweep"]
@@ -244,7 +278,8 @@ def print_overview(results: list[dict]) -> None:
         rt = "-" if med["rt"] != med["rt"] else f"{med['rt']:.1f}"
         print(f"{r['name']:28s} {r['status']:8s} {n:5d} {ticks / n * 1e6:7.1f} {ticks * 1e3:8.1f} "
               f"{med['simulate'] * 1e3:8.1f} {med['cli'] * 1e3:8.1f} {med['preflight'] * 1e3:7.1f} "
-              f"{med['simulate'] / ticks:5.2f}x {med['cli'] / ticks:5.2f}x {rt:>6s} {per_min:>11s}", flush=True)
+              f"{med['simulate'] / ticks:5.2f}x {med['cli'] / ticks:5.2f}x {rt:>6s} {per_min:>11s} "
+              f"{med['simulate_cpu'] / med['ticks_cpu']:8.2f}x {med['cli_cpu'] / med['ticks_cpu']:8.2f}x", flush=True)
 
 
 def profile_cli(name: str, top: int = 25) -> None:
@@ -264,6 +299,26 @@ def profile_cli(name: str, top: int = 25) -> None:
     stats.sort_stats("cumulative").print_stats(top)
 
 
+def profile_sweep(name: str, runs: int = 40, top: int = 25) -> None:
+    """cProfile of one in-process ``coopctrl sweep NAME --grid simulation.seed=0,...,runs-1 --jobs 1`` after a
+    warm-up sweep of 2 runs: with ``--jobs 1`` the runs execute in this process, each as a worker runs it
+    (:func:`coopctrl.sweep.worker.execute_run`), so the profile shows a worker's per-run cost (without the
+    process pool's pickling, about 0.4 ms a run)."""
+    from coopctrl.cli import main
+
+    path = str(REPO / "scenarios" / f"{name}.toml")
+    _cli(["sweep", path, "--grid", "simulation.seed=0,1", "--jobs", "1", "--json"])  # warm-up: kernels, built loop
+    seeds = ",".join(str(s) for s in range(runs))
+    profiler = cProfile.Profile()
+    with _quiet():
+        t0 = time.perf_counter()
+        code = profiler.runcall(main, ["sweep", path, "--grid", f"simulation.seed={seeds}", "--jobs", "1", "--json"])
+        wall = time.perf_counter() - t0
+    print(f"profile of `coopctrl sweep {name} --grid simulation.seed=0,...,{runs - 1} --jobs 1` in process (exit {code}, "
+          f"{wall:.2f} s under the profiler, {wall / runs * 1e3:.1f} ms a run); top {top} by cumulative time:")
+    pstats.Stats(profiler, stream=sys.stdout).sort_stats("cumulative").print_stats(top)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="timed rounds per scene after a warm-up (default 5)")
@@ -273,13 +328,15 @@ def main(argv=None) -> int:
     parser.add_argument("--scenes", default="", help="comma-separated scene names (default: every shipped scene)")
     parser.add_argument("--profile", metavar="SCENE", help="only profile one in-process `coopctrl run SCENE -q` (cProfile, "
                         "top 25 cumulative) and exit")
+    parser.add_argument("--profile-sweep", metavar="SCENE", help="only profile an in-process sweep of 40 runs of SCENE "
+                        "with --jobs 1 (a worker's per-run cost; cProfile, top 25 cumulative) and exit")
     args = parser.parse_args(argv)
     if args.repeats < 1 or args.sweep_runs < 0 or args.jobs < 1:
         parser.error("--repeats and --jobs must be >= 1, --sweep-runs >= 0")
     if args.quick:
         args.repeats, args.sweep_runs = 1, min(args.sweep_runs, 4)
     scenes = [s for s in args.scenes.split(",") if s] or SCENES
-    unknown = [s for s in scenes + ([args.profile] if args.profile else []) if s not in SCENES]
+    unknown = [s for s in scenes + [p for p in (args.profile, args.profile_sweep) if p] if s not in SCENES]
     if unknown:
         parser.error(f"unknown scene(s) {', '.join(unknown)}: expected names of scenarios/*.toml ({', '.join(SCENES)})")
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}")
@@ -287,6 +344,9 @@ def main(argv=None) -> int:
           f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     if args.profile:
         profile_cli(args.profile)
+        return 0
+    if args.profile_sweep:
+        profile_sweep(args.profile_sweep)
         return 0
     clock = KernelClock()
     if not clock.installed:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections import Counter
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -155,7 +156,7 @@ def summarize(result: "SimulationResult") -> dict[str, Any]:
             "internal_force_error_unavailable": internal_unavailable,
             "max_torque_ratio": torque_ratio,
             "qp_solves": len(r.qp_status),
-            "qp_failures": sum(qp_failed(s) for s in r.qp_status),
+            "qp_failures": sum(count for s, count in Counter(r.qp_status).items() if qp_failed(s)),  # per distinct status
             "qp_solve_time_median_us": float(np.median(times)) * 1e6 if times.size else None,
             "qp_active_constraints": dict(r.qp_active_constraints),
             "qp_time_share": (r.qp_time_s / wall) if wall and math.isfinite(r.qp_time_s) else None,

@@ -58,13 +58,11 @@ def thin(result: "SimulationResult", record_every: int) -> "SimulationResult":
 
 
 def node_poses(result: "SimulationResult", plant) -> np.ndarray:
-    """``Y_nodes`` (N, m, p) of ``result``'s states: each arm's node pose (docs/model.md §2)."""
-    n, m, p = result.t.shape[0], result.arms, result.pose_size
-    out = np.full((n, m, p), np.nan)
-    for k in range(n):
-        if np.all(np.isfinite(result.x[k])):
-            out[k] = np.asarray(plant.node_poses(result.x[k]), dtype=float).reshape(m + 1, p)[1:]
-    return out
+    """``Y_nodes`` (N, m, p) of ``result``'s states: each arm's node pose (docs/model.md §2), in one
+    compiled pass (:func:`coopctrl.results.node_poses.node_poses_of`)."""
+    from coopctrl.results.node_poses import node_poses_of
+
+    return node_poses_of(result.x, plant)
 
 
 def finish_record(result: "SimulationResult", plant, record_every: int = 1) -> "SimulationResult":
