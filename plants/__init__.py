@@ -6,7 +6,8 @@ Stateless: every function takes (t, x, u) or (Y, dY) and returns arrays. Subpack
 - :mod:`plants.arms` - serial chains (DH tables), ``puma560()``, ``planar3r()``;
 - :mod:`plants.elastic` - nodes, interconnections, the elastic system (113, 115) and its
   immobile linear model (4.5);
-- :mod:`plants.cooperative` - the cooperative system ``Gamma z'' + phi = (tau, 0)`` (177, 183).
+- :mod:`plants.cooperative` - the cooperative system ``Gamma z'' + phi = (tau, 0)`` (177, 183);
+- :mod:`plants.kernels` - the compiled (numba) kernels by public name, for compiled callers.
 
 This package never imports :mod:`coopctrl`.
 """

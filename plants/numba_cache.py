@@ -71,16 +71,25 @@ def cache_base() -> Path:
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "coopctrl" / "numba"
 
 
+def keyed_directory(top: Path | None = None) -> Path:
+    """The cache directory of the source tree ``top`` (this package's tree by default):
+    ``cache_base() / "coopctrl-<digest>"``, or ``cache_base()`` itself when it already is that directory
+    (a child process inherits the ``NUMBA_CACHE_DIR`` that :func:`configure` set). Creates nothing."""
+    top = Path(__file__).resolve().parent.parent if top is None else Path(top)
+    base = cache_base()
+    name = f"coopctrl-{cache_key(top)}"
+    return base if base.name == name else base / name
+
+
 def configure(top: Path | None = None) -> str:
     """Point numba's cache at the directory of this source tree's digest; return that directory.
     Idempotent: the first call in a process decides."""
     global _configured
     if _configured is not None:
         return _configured
-    top = Path(__file__).resolve().parent.parent if top is None else Path(top)
     base = cache_base()
-    name = f"coopctrl-{cache_key(top)}"
-    directory = base if base.name == name else base / name  # a child process inherits the keyed directory
+    directory = keyed_directory(top)
+    name = directory.name
     try:
         directory.mkdir(parents=True, exist_ok=True)
         os.utime(directory)

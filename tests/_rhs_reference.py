@@ -13,12 +13,18 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from plants.arms._chain_kernels import chain_arm_terms as spatial_arm_terms
-from plants.arms._planar_kernels import planar_arm_terms
-from plants.cooperative._linalg import cholesky_solve
-from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
-from plants.elastic import _planar_kernels as _pe
-from plants.elastic._spatial_kernels import interconnection_terms, node_terms, solve_node_rotation
+from plants.kernels import (
+    STATUS_EULER_SINGULAR,
+    STATUS_OK,
+    STATUS_SINGULAR_MASS,
+    cholesky_solve,
+    interconnection_terms,
+    node_terms,
+    planar_arm_terms,
+    planar_interconnection_terms,
+    solve_node_rotation,
+)
+from plants.kernels import chain_arm_terms as spatial_arm_terms
 
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
@@ -230,7 +236,7 @@ def planar_rhs_old(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases
     for k in range(N):
         w[k, 0] = -node_params[k, 0] * gravity[0]
         w[k, 1] = -node_params[k, 0] * gravity[1]
-    st = _pe.interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    st = planar_interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
     if st != STATUS_OK:
         status[0] = st
         return dx

@@ -26,7 +26,7 @@ def _write_old(target):
 @pytest.mark.parametrize("exchange", [True, False], ids=["renameat2", "rename-aside"])
 def test_replaces_the_whole_folder(tmp_path, monkeypatch, exchange):
     if not exchange:
-        monkeypatch.setattr(atomic_dir, "_exchange", lambda a, b: False)
+        monkeypatch.setattr(atomic_dir, "exchange_directories", lambda a, b: False)
     target = tmp_path / "out"
     _write_old(target)
     with atomic_directory(target) as folder:

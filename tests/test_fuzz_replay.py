@@ -46,11 +46,11 @@ class Structure(HTMLParser):
 
     def __init__(self):
         super().__init__(convert_charrefs=True)
-        self.tags, self.title, self.scripts, self._in = [], "", [], None
+        self.tags, self.title, self.scripts, self.inside = [], "", [], None
 
     def handle_starttag(self, tag, attrs):
         self.tags.append(("start", tag, tuple(name for name, _ in attrs)))
-        self._in = tag
+        self.inside = tag
         if tag == "script":
             self.scripts.append("")
 
@@ -59,12 +59,12 @@ class Structure(HTMLParser):
 
     def handle_endtag(self, tag):
         self.tags.append(("end", tag))
-        self._in = None
+        self.inside = None
 
     def handle_data(self, data):
-        if self._in == "title":
+        if self.inside == "title":
             self.title += data
-        elif self._in == "script":
+        elif self.inside == "script":
             self.scripts[-1] += data
 
     def handle_comment(self, data):

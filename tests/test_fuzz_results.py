@@ -166,7 +166,7 @@ def test_scenario_edited_after_the_run(copy, capsys):
 
 def test_out_whose_result_npz_is_a_directory_is_refused_before_simulating(tmp_path, capsys, monkeypatch):
     (tmp_path / "d" / "result.npz").mkdir(parents=True)
-    monkeypatch.setattr(cli.run, "_simulate_function", lambda: pytest.fail("simulated before checking --out"))
+    monkeypatch.setattr(cli.run, "simulate_function", lambda: pytest.fail("simulated before checking --out"))
     code, out, err = run_cli(["run", "planar_two_arm_lift", "--out", tmp_path / "d"], capsys)
     line = one_line(err)
     assert code == 2 and "--out" in line and "'result.npz' is not a regular file" in line
@@ -175,7 +175,7 @@ def test_out_whose_result_npz_is_a_directory_is_refused_before_simulating(tmp_pa
 def test_out_holding_other_files_is_refused_and_kept(tmp_path, capsys, monkeypatch):
     (tmp_path / "d").mkdir()
     (tmp_path / "d" / "notes.txt").write_text("mine")
-    monkeypatch.setattr(cli.run, "_simulate_function", lambda: pytest.fail("simulated before checking --out"))
+    monkeypatch.setattr(cli.run, "simulate_function", lambda: pytest.fail("simulated before checking --out"))
     code, _, err = run_cli(["run", "planar_two_arm_lift", "--out", tmp_path / "d"], capsys)
     assert code == 2 and "'notes.txt'" in one_line(err)
     assert (tmp_path / "d" / "notes.txt").read_text() == "mine"

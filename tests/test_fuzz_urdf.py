@@ -24,10 +24,10 @@ from coopctrl.errors import ScenarioError
 from coopctrl.io import dumps_toml
 from coopctrl.scenario import load_scenario
 from coopctrl.scenario.arm import MAX_DH_JOINTS
-from coopctrl.scenario.build import _pose_matrix, make_arm
+from coopctrl.scenario.build import pose_matrix, make_arm
 from plants.arms import from_urdf
 from plants.arms.named_robots import NAMED_ROBOTS, urdf_path
-from plants.arms.puma560 import _PUMA_TABLE
+from plants.arms.puma560 import PUMA_TABLE
 from plants.errors import ParameterError
 from plants.urdf_reader import MAX_CHAIN_JOINTS
 
@@ -191,12 +191,12 @@ def test_from_urdf_accepts_a_tool_pose_of_six_numbers():
     node frame as the scene builder's 4x4 of that pose (exact rotation formulas: rounding level)."""
     pose = [0.01, -0.02, 0.1, 0.2, -0.3, 0.4]
     arm = from_urdf(urdf_path("ur5e"), "base_link", "tool0", pose)
-    by_matrix = from_urdf(urdf_path("ur5e"), "base_link", "tool0", _pose_matrix(pose))
+    by_matrix = from_urdf(urdf_path("ur5e"), "base_link", "tool0", pose_matrix(pose))
     assert np.allclose(arm.tool, by_matrix.tool, rtol=0, atol=1e-14)
 
 
 def _dh_rows():
-    return [[a, alpha, d, 0.0, m, *rc, *inertia] for a, alpha, d, m, rc, inertia, *_ in _PUMA_TABLE]
+    return [[a, alpha, d, 0.0, m, *rc, *inertia] for a, alpha, d, m, rc, inertia, *_ in PUMA_TABLE]
 
 
 def test_hostile_dh_rows_are_refused_or_valid(tmp_path):

@@ -26,6 +26,10 @@ So the verdict of every problem is known exactly, with a margin, and no solver's
 from __future__ import annotations
 
 import math
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -486,31 +490,45 @@ def _solve_n_times(P, g, M, lo, hi, n_eq, x, z, ws, times):
         gi_solve(P, g, M, lo, hi, n_eq, x, z, ws, i == 0, TOL, 1000)
 
 
+_ALLOCATIONS = """
+import sys
+sys.path.insert(0, {tests!r})
+import numpy as np
+from numba import njit
+from numba.core.runtime import rtsys
+from test_goldfarb_idnani import _solve_n_times, generate, gi_workspace
+
+allocating = njit(lambda k: np.empty(k))
+allocating(3)  # compiled (and numba's runtime started) before counting
+a0 = rtsys.get_allocation_stats().alloc
+allocating(3)
+print(rtsys.get_allocation_stats().alloc - a0)  # the counter is on: this allocation is counted
+
+b = generate("spatial", 3, "degenerate", 1, 5)
+n, rows = b["n"], b["M"].shape[1]
+args = (b["P"][0], b["g"][0], b["M"][0], b["lo"][0], b["hi"][0], b["k"], np.zeros(n), np.zeros(rows),
+        gi_workspace(n, rows))
+_solve_n_times(*args, 1)  # compile or load
+for times in (1, 200):
+    before = rtsys.get_allocation_stats().alloc
+    _solve_n_times(*args, times)
+    print(rtsys.get_allocation_stats().alloc - before)
+"""
+
+
 def test_no_allocation_per_solve():
     """Called from a numba loop, a solve allocates nothing (numba's allocation counter: the
-    loop's own argument handling costs the same for 1 solve as for 200)."""
-    nrt = pytest.importorskip("numba.core.runtime._nrt_python")
-    if not hasattr(nrt, "memsys_enable_stats"):
-        pytest.skip("this numba has no allocation statistics")
-    from numba.core.runtime import rtsys
-
-    b = generate("spatial", 3, "degenerate", 1, 5)
-    n, rows = b["n"], b["M"].shape[1]
-    args = (b["P"][0], b["g"][0], b["M"][0], b["lo"][0], b["hi"][0], b["k"], np.zeros(n), np.zeros(rows),
-            gi_workspace(n, rows))
-    _solve_n_times(*args, 1)  # compile or load
-    was_on = nrt.memsys_stats_enabled()
-    nrt.memsys_enable_stats()
-    try:
-        counts = []
-        for times in (1, 200):
-            before = rtsys.get_allocation_stats().alloc
-            _solve_n_times(*args, times)
-            counts.append(rtsys.get_allocation_stats().alloc - before)
-    finally:
-        if not was_on:
-            nrt.memsys_disable_stats()
-    assert counts[0] == counts[1], counts
+    loop's own argument handling costs the same for 1 solve as for 200). The counter is numba's
+    public one (``NUMBA_NRT_STATS=1``, read when numba's runtime starts: so in a process of its own)."""
+    tests = Path(__file__).resolve().parent
+    env = dict(os.environ, NUMBA_NRT_STATS="1",
+               PYTHONPATH=os.pathsep.join([str(tests.parent), os.environ.get("PYTHONPATH", "")]))
+    out = subprocess.run([sys.executable, "-c", _ALLOCATIONS.format(tests=str(tests))], env=env,
+                         capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-3000:]
+    probe, *counts = [int(line) for line in out.stdout.split()]
+    assert probe >= 1, "numba's allocation counter did not count an allocation"
+    assert len(counts) == 2 and counts[0] == counts[1], counts
 
 
 @pytest.mark.parametrize("space", ["planar", "spatial"])

@@ -72,13 +72,10 @@ def test_an_edited_callee_in_another_file_is_used_by_the_next_run(tmp_path):
 
 
 def test_a_child_process_keeps_the_keyed_directory(tmp_path, monkeypatch):
-    import numba
-
-    monkeypatch.setattr(numba.config, "CACHE_DIR", numba.config.CACHE_DIR)  # restored after the test
     base = tmp_path / "numba"
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(base))
-    monkeypatch.setattr(numba_cache, "_configured", None)
-    directory = Path(numba_cache.configure(REPO))
+    directory = numba_cache.keyed_directory(REPO)
     assert directory.parent == base and directory.name.startswith("coopctrl-")
-    monkeypatch.setattr(numba_cache, "_configured", None)
-    assert Path(numba_cache.configure(REPO)) == directory  # NUMBA_CACHE_DIR now names it: not nested again
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(directory))  # as configure() leaves it for a child process
+    assert numba_cache.keyed_directory(REPO) == directory  # NUMBA_CACHE_DIR now names it: not nested again
+    assert not base.exists()  # the path alone: nothing created

@@ -63,8 +63,8 @@ def one_clean_line(err: str) -> str:
 def test_out_refused_before_any_work(command, place, tmp_path, capsys, monkeypatch):
     (tmp_path / "existing-file").write_text("keep me")
     out = place if place.startswith("/") else tmp_path / place
-    monkeypatch.setattr(cli.run, "_simulate_function", lambda: pytest.fail("simulated before checking --out"))
-    monkeypatch.setattr(cli.sweep, "_run_function", lambda: pytest.fail("swept before checking --out"))
+    monkeypatch.setattr(cli.run, "simulate_function", lambda: pytest.fail("simulated before checking --out"))
+    monkeypatch.setattr(cli.sweep, "worker_function", lambda: pytest.fail("swept before checking --out"))
     code, stdout, err = run_cli([*command, "--out", out], capsys)
     assert code == 2 and stdout == ""
     assert "--out" in one_clean_line(err) and str(out) in err
@@ -198,7 +198,7 @@ def test_a_library_failing_in_its_clean_up_after_ctrl_c_is_still_ctrl_c(capsys, 
         except KeyboardInterrupt:
             raise ValueError("Can't close the ZIP file while there is an open writing handle on it")
 
-    monkeypatch.setattr(cli.run, "_simulate_function", lambda: zip_failure)
+    monkeypatch.setattr(cli.run, "simulate_function", lambda: zip_failure)
     code, _, err = run_cli(["run", LIFT, "--out", tmp_path / "o"], capsys)
     assert code == 130 and one_clean_line(err) == "coopctrl: interrupted"
 
@@ -275,11 +275,11 @@ def test_overflowing_values_end_in_one_line(command):
 _LAPACK_ON_STDOUT = textwrap.dedent("""
     import os, sys
     import coopctrl.cli.run as run
-    real = run._simulate_function()
+    real = run.simulate_function()
     def simulate(*args, **kw):
         os.write(1, b" ** On entry to DLASCL parameter number  4 had an illegal value\\n")  # as LAPACK does, from C
         return real(*args, **kw)
-    run._simulate_function = lambda: simulate
+    run.simulate_function = lambda: simulate
     from coopctrl.cli import main
     sys.exit(main(sys.argv[1:]))
 """)
@@ -374,7 +374,7 @@ def _stuck_run(run):
 
 
 def test_run_timeout_makes_a_timeout_row(capsys, monkeypatch):
-    monkeypatch.setattr(cli.sweep, "_run_function", lambda: _stuck_run)
+    monkeypatch.setattr(cli.sweep, "worker_function", lambda: _stuck_run)
     code, out, err = run_cli(["sweep", LIFT, "--grid", "simulation.seed=0,1,2", "--jobs", "1", "--run-timeout", "0.5",
                               "--json"], capsys)
     assert code == 0, err

@@ -123,7 +123,7 @@ def test_record_every_10_gives_files_ten_times_smaller_and_the_same_metrics(tmp_
 
 
 def test_record_every_out_of_range_is_refused_before_any_work(capsys, monkeypatch):
-    monkeypatch.setattr(cli.run, "_simulate_function", lambda: pytest.fail("simulated a refused run"))
+    monkeypatch.setattr(cli.run, "simulate_function", lambda: pytest.fail("simulated a refused run"))
     for value in ("0", "1000001", "2.5"):
         code, out, err = run_cli(["run", LIFT, "--record-every", value], capsys)
         assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err

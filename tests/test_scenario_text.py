@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from coopctrl import cli
-from coopctrl.cli._core import _one_line
+from coopctrl.cli import one_line
 from coopctrl.errors import ScenarioError
 from coopctrl.io import dumps_toml
 from coopctrl.scenario import Scenario, scenario_from_dict
@@ -43,7 +43,7 @@ def test_printable_escapes_everything_a_terminal_acts_on():
 
 
 def test_cli_error_lines_are_escaped():
-    assert _one_line("bad \x1b]0;x\x07 value\nsecond line") == "bad \\x1b]0;x\\x07 value second line"
+    assert one_line("bad \x1b]0;x\x07 value\nsecond line") == "bad \\x1b]0;x\\x07 value second line"
 
 
 def test_terminal_escape_in_the_name_is_refused(tmp_path, capsys):

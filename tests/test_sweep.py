@@ -129,7 +129,7 @@ def _recording(calls):
 )
 def test_every_combination_is_validated_before_any_run(grid, needles, monkeypatch, capsys):
     calls = []
-    monkeypatch.setattr(cli.sweep, "_run_function", lambda: _recording(calls))
+    monkeypatch.setattr(cli.sweep, "worker_function", lambda: _recording(calls))
     args = ["sweep", str(LIFT), "--set", "simulation.duration=0.3", "--jobs", "1"]
     assert cli.main(args + [a for g in grid for a in ("--grid", g)]) == 2
     err = capsys.readouterr().err.splitlines()
@@ -297,7 +297,7 @@ def test_cli_interrupt_exits_130_and_keeps_rows(monkeypatch, capsys, tmp_path):
             raise KeyboardInterrupt
         return fake_summary(run)
 
-    monkeypatch.setattr(cli.sweep, "_run_function", lambda: interrupt_at_run_2)
+    monkeypatch.setattr(cli.sweep, "worker_function", lambda: interrupt_at_run_2)
     args = ["sweep", str(LIFT), "--grid", "simulation.seed=0,1,2,3,4", "--jobs", "1", "--out", str(tmp_path), "-q"]
     assert cli.main(args) == 130
     err = capsys.readouterr().err

@@ -15,7 +15,7 @@ import time
 import pytest
 
 from coopctrl import cli
-from coopctrl.cli._core import Terminated
+from coopctrl.cli import Terminated
 
 from test_cli import REPO
 from test_sweep import LIFT, fake_summary
@@ -55,7 +55,7 @@ def test_a_signal_inside_a_save_keeps_both_files_of_the_last_whole_save(tmp_path
         return real_fsync(fd)
 
     monkeypatch.setattr(results.os, "fsync", fsync)
-    monkeypatch.setattr(cli.sweep, "_run_function", lambda: fake_summary)
+    monkeypatch.setattr(cli.sweep, "worker_function", lambda: fake_summary)
     code = cli.main(["sweep", str(LIFT), "--grid", "simulation.seed=0,1,2,3,4,5", "--jobs", "1", "-q", "--out", str(out)])
     capsys.readouterr()
     assert code in (130, 143)

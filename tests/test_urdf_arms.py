@@ -91,7 +91,7 @@ def _sym(H):
 
 def test_puma_chain_kernel_matches_dh_kernel():
     """The DH arm converted to general joints gives the DH kernel's terms (exact conversion)."""
-    from plants.arms._chain_kernels import chain_arm_terms
+    from plants.kernels import chain_arm_terms
 
     arm = puma560(viscous_friction=True, motor_inertia=True)
     rng = np.random.default_rng(3)
@@ -180,7 +180,7 @@ def test_missing_urdf_file(tmp_path):
 
 def test_dynamics_damping_and_friction_enter_h(tmp_path):
     """``<dynamics damping friction>``: ``h`` gains ``damping dq + friction tanh(dq / v_s)``."""
-    from plants.arms._chain_kernels import COULOMB_SMOOTHING
+    from plants.kernels import COULOMB_SMOOTHING
 
     plain = tmp_path / "plain.urdf"
     plain.write_text(_RP_URDF)

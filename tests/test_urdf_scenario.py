@@ -16,7 +16,7 @@ from coopctrl.io import dumps_toml
 from coopctrl.scenario import load_scenario
 from coopctrl.scenario.build import make_arm
 from plants.arms import from_urdf
-from plants.arms.puma560 import _PUMA_TABLE
+from plants.arms.puma560 import PUMA_TABLE
 from plants.frames import euler_zyx_from_rotation
 
 REPO = Path(__file__).resolve().parent.parent
@@ -25,7 +25,7 @@ REL = 1e-9  # both sides are exact rigid-body algorithms: rounding-level agreeme
 
 def _dh_rows():
     """The Puma 560 as a scene's DH table rows (a, alpha, d, offset, mass, rc, I)."""
-    return [[a, alpha, d, 0.0, m, *rc, *inertia] for a, alpha, d, m, rc, inertia, *_ in _PUMA_TABLE]
+    return [[a, alpha, d, 0.0, m, *rc, *inertia] for a, alpha, d, m, rc, inertia, *_ in PUMA_TABLE]
 
 
 def _fixed(a, alpha, d):

@@ -20,7 +20,7 @@ import sys
 from typing import Sequence
 
 from coopctrl.cli._core import (PROG, SUBCOMMANDS, Terminated, UsageError, _Parser, _one_line,  # noqa: F401 (API)
-                                parse_sets, resolve_scenario, scenarios_dir, subcommand)
+                                one_line, parse_sets, resolve_scenario, scenarios_dir, subcommand)
 from coopctrl.errors import CoopctrlError, DivergenceError, InfeasibleLoad, interruption_in
 
 # Each module registers its subcommand on import, in the order of ``--help``.

@@ -141,12 +141,15 @@ def _load(args):
     return scenario
 
 
-def _one_line(text) -> str:
+def one_line(text) -> str:
     """``text`` on one line, with any remaining control character or lone surrogate escaped (a message
     quoting user input must not drive the terminal)."""
     from coopctrl.scenario.text import printable
 
     return printable(" ".join(str(text).splitlines()).strip())
+
+
+_one_line = one_line  # the name the subcommand modules import
 
 
 def output_directory(text: str) -> Path:

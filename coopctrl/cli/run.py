@@ -32,8 +32,9 @@ def _record_every(text: str) -> int:
                                          "(keep every N-th control tick)") from None
 
 
-def _simulate_function():
-    """The simulator (imported lazily: it pulls in numpy, numba and the solvers)."""
+def simulate_function():
+    """The simulator ``run`` calls (imported lazily: it pulls in numpy, numba and the solvers); a test
+    replaces this function to observe or fake the simulation."""
     from coopctrl.simulator import simulate
 
     return simulate
@@ -82,7 +83,7 @@ def cmd_run(args) -> int:
                 return 1
             if not args.quiet:
                 print(f"{PROG}: simulation.accuracy = {choice.target_m:.3g} m: {choice.sentence()}", file=sys.stderr)
-        simulate = _simulate_function()
+        simulate = simulate_function()
         progress = not (args.quiet or args.json) and sys.stderr.isatty()
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
             result = simulate(scenario, progress=progress)

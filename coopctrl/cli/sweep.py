@@ -9,8 +9,9 @@ from coopctrl.cli._core import (PROG, _add_set_option, float_range, int_range, o
                                 resolve_scenario, stdout_to_stderr, subcommand)
 
 
-def _run_function():
-    """The function each run executes (tests replace it; imported lazily: it pulls in the simulator)."""
+def worker_function():
+    """The function each run of the sweep executes (imported lazily: it pulls in the simulator); a test
+    replaces this function to observe or fake the runs."""
     from coopctrl.sweep.worker import simulate_run
 
     return simulate_run
@@ -50,7 +51,7 @@ def cmd_sweep(args) -> int:
     sets = parse_sets(args.sets)
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     path = resolve_scenario(args.scenario) if args.scenario else None
-    run_function = _run_function()
+    run_function = worker_function()
     # the first runs of a kind compile its kernels for tens of seconds: the sweep says so first (the ticker
     # only where no progress bar shares its line, and until the first row)
     from coopctrl.cli.first_run import announce_sweep

@@ -29,7 +29,7 @@ def _temporary_prefix(target: Path) -> str:
     return f".{target.name}.coopctrl-"
 
 
-def _exchange(a: str, b: str) -> bool:
+def exchange_directories(a: str, b: str) -> bool:
     """Swap the directories ``a`` and ``b`` in one step; False when the system cannot."""
     try:
         libc = ctypes.CDLL(None, use_errno=True)
@@ -135,7 +135,7 @@ def _put_in_place(folder: str, target: Path) -> None:
         except OSError as exc:
             if exc.errno not in (errno.EEXIST, errno.ENOTEMPTY):
                 raise
-        if _exchange(folder, str(target)):  # ``folder`` now holds the old result
+        if exchange_directories(folder, str(target)):  # ``folder`` now holds the old result
             shutil.rmtree(folder, ignore_errors=True)
             _PENDING.discard(folder)
             return

@@ -21,7 +21,10 @@ from plants.frames import rotation_zyx
 _CACHE: dict[int, tuple] = {}
 
 
-def _pose_matrix(pose) -> np.ndarray:
+def pose_matrix(pose) -> np.ndarray:
+    """The 4x4 homogeneous transform ``[[R(A), p], [0, 1]]`` of a spatial ``pose = (p, A)`` (an arm's
+    ``base`` or ``tool``): position ``p`` [m] and ZYX Euler angles ``A`` [rad], ``R(A)`` as
+    :func:`plants.frames.rotation_zyx`."""
     T = np.eye(4)
     T[:3, :3] = rotation_zyx(np.asarray(pose[3:], dtype=float))
     T[:3, 3] = pose[:3]
@@ -35,7 +38,7 @@ def make_arm(scenario, k: int):
     if cfg.model == "contact_point":
         return ContactPoint(space, name=f"arms[{k}]")
     if cfg.model == "puma560":
-        arm = puma560(base=_pose_matrix(cfg.base), tool=GRIPPER_TOOL, name=f"arms[{k}]")
+        arm = puma560(base=pose_matrix(cfg.base), tool=GRIPPER_TOOL, name=f"arms[{k}]")
     elif cfg.model == "planar3r":
         arm = planar3r(base=np.asarray(cfg.base, dtype=float), gravity=(0.0, -scenario.scene.gravity), name=f"arms[{k}]")
     else:
@@ -56,9 +59,9 @@ def _spatial_arm(scenario, k: int):
     reported as the scenario field they come from (``arms[k].urdf``, ``.tip_link``, ``.dh``)."""
     cfg = scenario.arms[k]
     where = f"arms[{k}]"
-    base = _pose_matrix(cfg.base)
+    base = pose_matrix(cfg.base)
     gravity = (0.0, 0.0, -scenario.scene.gravity)
-    tool = None if cfg.tool is None else _pose_matrix(cfg.tool)
+    tool = None if cfg.tool is None else pose_matrix(cfg.tool)
     q_rest = None if cfg.q_rest is None else np.asarray(cfg.q_rest, dtype=float)
     try:
         if cfg.model == "dh":

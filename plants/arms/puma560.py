@@ -15,7 +15,8 @@ from plants.arms.serial_arm import SerialArm
 # the COM (Ixx, Iyy, Izz, Ixy, Iyz, Ixz) [kg m^2], motor inertia Jm [kg m^2], gear ratio G,
 # motor viscous friction B [N m s/rad] (referred to the motor).
 _HALF_PI = np.pi / 2
-_PUMA_TABLE = (
+#: The Puma 560's DH and inertial parameters, one row per link (columns as above).
+PUMA_TABLE = (
     # a,      alpha,     d,       m,    rc,                        I,                                      Jm,      G,        B
     (0.0, _HALF_PI, 0.67183, 0.0, (0.0, 0.0, 0.0), (0.0, 0.35, 0.0, 0.0, 0.0, 0.0), 200e-6, -62.6111, 1.48e-3),
     (0.4318, 0.0, 0.0, 17.4, (-0.3638, 0.006, 0.2275), (0.13, 0.524, 0.539, 0.0, 0.0, 0.0), 200e-6, 107.815, 0.817e-3),
@@ -50,7 +51,7 @@ def puma560(base=None, tool=None, motor_inertia: bool = False, viscous_friction:
     Torque limits are :data:`PUMA560_TAU_MAX`, joint limits :data:`PUMA560_Q_LIMITS`.
     """
     links = []
-    for i, (a, alpha, d, m, rc, inertia, Jm, G, B) in enumerate(_PUMA_TABLE):
+    for i, (a, alpha, d, m, rc, inertia, Jm, G, B) in enumerate(PUMA_TABLE):
         links.append(
             DHLink.named(
                 f"links[{i}]",
