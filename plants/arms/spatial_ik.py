@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from plants.arms._dls_ik import damped_least_squares
 from plants.arms._validation import check_vector
@@ -65,6 +64,8 @@ class SpatialInverseKinematics:
             T, Jg = self.tip_transform(q)
             e = np.empty(6)
             e[:3] = p_target - T[:3, 3]
+            from scipy.spatial.transform import Rotation  # here: its import costs a third of a second
+
             e[3:] = Rotation.from_matrix(R_target @ T[:3, :3].T).as_rotvec()
             return e, Jg
 
