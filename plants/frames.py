@@ -37,7 +37,7 @@ from plants.errors import EulerSingularityError
 EULER_SINGULARITY_COS = 1e-6
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rotation_zyx_into(A, R):
     """Write ``R(A) = Rz(psi) Ry(theta) Rx(phi)`` for ``A = (psi, theta, phi)`` [rad] into ``R`` (3x3)."""
     cps, sps = math.cos(A[0]), math.sin(A[0])
@@ -62,14 +62,14 @@ def rotation_zyx(A):
     return R
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rotation_zyx_partials_into(A, dpsi, dth, dph):
     """Write ``(dR/dpsi, dR/dtheta, dR/dphi)`` of :func:`rotation_zyx` (exact) into three 3x3 arrays."""
     _partials_from_trig(math.cos(A[0]), math.sin(A[0]), math.cos(A[1]), math.sin(A[1]),
                         math.cos(A[2]), math.sin(A[2]), dpsi, dth, dph)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rotation_zyx_and_partials_into(A, R, dR):
     """:func:`rotation_zyx_into` and :func:`rotation_zyx_partials_into` (into ``dR[0..2]``) with one
     evaluation of the six sines and cosines."""
@@ -175,7 +175,7 @@ def body_rate_map_dot(A, dA):
     return Ld
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def body_rate_map_inverse(A, Linv):
     """Write ``L(A)^-1`` into ``Linv`` (3x3); return False (and leave it) at a singularity.
 

@@ -146,7 +146,7 @@ def chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
     return chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk):
     """Fill ``H`` (n x n), ``h`` (n), ``Y`` (6), ``J`` (6 x n) and ``Jdq`` (6) in place; allocates nothing.
 

@@ -53,7 +53,7 @@ def planar_arm_terms(q, dq, links, base, tool, gravity, H, h, Y, J, Jdq):
     return planar_arm_terms_into(q, dq, links, base, tool, gravity, H, h, Y, J, Jdq, wk)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def planar_arm_terms_into(q, dq, links, base, tool, gravity, H, h, Y, J, Jdq, wk):
     """Fill ``H`` (n x n), ``h`` (n), ``Y`` (3), ``J`` (3 x n), ``Jdq`` (3) in place; return 0.
 

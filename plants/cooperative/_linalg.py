@@ -11,7 +11,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def cholesky_solve(A, b, x):
     """Solve ``A x = b`` for symmetric positive-definite ``A`` (n x n, overwritten by its factor).
 

@@ -67,7 +67,7 @@ def make_workspace(arm_dof, node_count):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _arm_pass(z, dz, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
               Y, dY, H_all, h_all, J_all, Jdq_all, wk):
     """Arm terms written straight into the stacked arrays and node rows ``Y[1:]``, ``dY[1:]``."""
@@ -90,7 +90,7 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, links_all, links_off, bases, tool
                 dY[i + 1, a] = dz[o + a]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs_into(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
              node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
     """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing. Same arguments as the spatial
@@ -158,7 +158,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tool
     dx[2 * nz - 1] = -w[0, 2] / node_params[0, 1]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs_into_packed(x, tau, P, status, ws, dx):
     """:func:`rhs_into` with the plant's packed arrays as one tuple ``P`` (``arm_kind .. immobile``: the
     first 13 of ``CooperativePlant.kernel_into[1]``, without ``status``).
@@ -182,7 +182,7 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, to
     return dx
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_state_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity, status, ws):
     """Node poses ``ws.Y`` (N, 3), rates ``ws.dY`` and the arm terms into ``ws``; allocates nothing."""
     nz = x.shape[0] // 2
@@ -225,7 +225,7 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     return S, Fw, ok
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe):
     """:func:`interconnection_kernel` into ``S`` (N, 3) and ``Fw`` (m, 3); ``Fe`` (N, 3) is work space.
     Allocates nothing; returns True (the plane has no Euler singularity)."""
@@ -277,7 +277,7 @@ def make_control_workspace(arm_dof, node_count):
                                   np.zeros((N, 3)), np.zeros((m, 3)), np.zeros((N, 3)))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def control_terms_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases, tools, gravity,
                        node_params, edge_index, edge_params, Y_ref, immobile, status, cws):
     """Planar :func:`plants.cooperative._spatial_kernel.control_terms_into`; allocates nothing."""
@@ -295,7 +295,7 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases,
     interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def control_terms_packed(x, P, status, cws):
     """:func:`control_terms_into` with the packed arrays as one tuple ``P`` (see :func:`rhs_into_packed`)."""
     control_terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],

@@ -23,13 +23,12 @@ Allocation-free entry points (issue 10): ``rhs_into`` (the right-hand side into 
 ``make_workspace`` / ``make_control_workspace`` (namedtuples of preallocated arrays, documented
 below). ``rhs_kernel`` and ``node_state_kernel`` are thin wrappers that make a workspace per call.
 
-Compilation (issue 10: speed and start-up). The kernels are compiled with numba's public options only
-(``cache=True``, ``inline``), so numba's reference counting is on: each call of a compiled kernel
-that takes arrays, and each array taken out of the workspace tuple, may cost an atomic increment and
-decrement of the array's reference count (numba removes most, not all, of them). They call the arm,
-node and edge kernels (each compiled and cached once) rather than inlining them: inlining made each
-entry point compile its own copy of the chain kernel (tens of seconds on a cold cache) and gained
-about 5 % per call.
+Compilation (issue 10: speed and start-up). The allocation-free kernels here and their callees are
+compiled with ``_nrt=False``: without numba's reference counting, which otherwise costs an atomic
+increment and decrement per array argument and per view on every call (about a third of the
+right-hand side). They call the arm, node and edge kernels (each compiled and cached once) rather
+than inlining them: inlining made each entry point compile its own copy of the chain kernel (tens of
+seconds on a cold cache) and gained about 5 % per call.
 """
 
 from __future__ import annotations
@@ -139,7 +138,7 @@ def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
                 dY[i + 1, a] = dz[o + a]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _accelerations_into(x, tau, arm_kind, arm_dof, q_off, node_params, Y_ref, immobile, status, ws, dx):
     """The accelerations ``dx[nz:]`` from the terms in ``ws`` (``Y``, ``H``, ``h``, ``J``, ``Jdq``, ``Wr``
     and ``w``, the node forces with every interconnection): each arm's ``(H + J^T W J) ddq = tau - h -
@@ -235,7 +234,7 @@ def _accelerations_into(x, tau, arm_kind, arm_dof, q_off, node_params, Y_ref, im
         dx[2 * nz - 3 + a] = o3[a]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
              node_params, edge_index, edge_params, Y_ref, immobile, status, ws, dx):
     """Write ``dx = f(x, tau)`` into ``dx``; allocates nothing (all work arrays are in ``ws``).
@@ -290,7 +289,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
     _accelerations_into(x, tau, arm_kind, arm_dof, q_off, node_params, Y_ref, immobile, status, ws, dx)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs_into_packed(x, tau, P, status, ws, dx):
     """:func:`rhs_into` with the plant's packed arrays as one tuple ``P`` (``arm_kind .. immobile``: the
     first 13 of ``CooperativePlant.kernel_into[1]``, without ``status``).
@@ -314,7 +313,7 @@ def rhs_kernel(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
     return dx
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws):
     """Node poses ``ws.Y`` (N, 6) and rates ``ws.dY`` (N, 6) of a state, plus the arm terms ``ws.H``,
     ``ws.h``, ``ws.J``, ``ws.Jdq`` (see :class:`SpatialWorkspace`); allocates nothing."""
@@ -367,7 +366,7 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     return S, Fw, ok
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
     """:func:`interconnection_kernel` into ``S`` (N, 6) and ``Fw`` (m, 6) (both overwritten); returns ``ok``.
 
@@ -380,7 +379,7 @@ def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw,
     return _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
     """:func:`interconnection_into` with ``frames`` already holding every node's frames (mobile model;
     :func:`plants.elastic._spatial_kernels.node_frames_into` or ``node_frames_terms_into``)."""
@@ -448,7 +447,7 @@ def make_control_workspace(arm_dof, node_count):
                                    np.zeros((N, 6)), np.zeros((m, 6)), np.zeros((N, 6)))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
                        node_params, edge_index, edge_params, Y_ref, immobile, status, cws):
     """Every term of :class:`plants.cooperative.ControlTerms` at state ``x`` into ``cws``; allocates nothing.
@@ -482,7 +481,7 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools
         status[1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def control_terms_packed(x, P, status, cws):
     """:func:`control_terms_into` with the packed arrays as one tuple ``P`` (see :func:`rhs_into_packed`)."""
     control_terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
@@ -490,7 +489,7 @@ def control_terms_packed(x, P, status, cws):
 
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs_from_terms_into(x, tau, P, status, cws, dx):
     """``dx = f(x, tau)`` reusing the terms :func:`control_terms_packed` left in ``cws`` for the same state
     ``x`` (the arms' ``H``, ``h``, ``J``, ``Jdq``, the nodes' frames, ``Wr`` and ``w_free``): only the

@@ -19,7 +19,7 @@ from plants.elastic._layout import (DAMPING_BOOK, ELEMENT_CENTRAL, ELEMENT_MATRI
 from plants.elastic._spatial_kernels import COINCIDENT_FRACTION, linear_matrix_edge, wrap_angle
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def matrix_edge(Y, dY, i, j, p, F, rates):
     """One matrix element in the plane (co-rotational, docs/model.md s.3 [ours]): the element
     frame turns with node i, ``theta_e = theta_i + alpha``; node j's deformation in it is
@@ -61,7 +61,7 @@ def matrix_edge(Y, dY, i, j, p, F, rates):
     return 0.5 * (d0 * g0 + d1 * g1 + d2 * g2)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def elastic_edges(Y, edge_index, edge_params, F):
     """Add ``dPi/dY`` of every interconnection into ``F``; return ``(Pi, status)``.
 
@@ -125,7 +125,7 @@ def elastic_edges(Y, edge_index, edge_params, F):
     return Pi, STATUS_OK
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def damping_edges(Y, dY, edge_index, edge_params, F):
     """Add ``dD/d(dY)`` (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
 
@@ -194,7 +194,7 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
     return D
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     """Immobile unloaded state (4.5): add ``K y + D dy`` per edge into ``F``; return ``Pi``."""
     Pi = 0.0
@@ -220,7 +220,7 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     return Pi
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
     """Add every interconnection's part of ``w`` into ``w`` (planar); returns a status code."""
     if immobile:

@@ -47,7 +47,7 @@ def wrap_angle(a):
     return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
     """One matrix element (co-rotational; docs/model.md s.3 [ours]) between nodes i and j.
 
@@ -191,7 +191,7 @@ def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
     return E
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def linear_matrix_edge(Y, dY, Y_ref, i, j, p, F, col, n, angles_from):
     """The matrix element in the immobile model (4.5): with ``y = (Y_i - Y_ref_i, Y_j - Y_ref_j)``
     (angles from coordinate ``angles_from`` on wrapped), add ``K_lin y + D_lin dy`` into ``F``
@@ -226,7 +226,7 @@ def elastic_edges(Y, edge_index, edge_params, F):
     return elastic_edges_into(Y, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
     """Add ``dPi/dY`` (120-121) of every interconnection into ``F``; return ``(Pi, status)``.
 
@@ -348,7 +348,7 @@ def body_rate_matrix(A, L):
     L[2, 0], L[2, 1], L[2, 2] = cph * cth, -sph, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_frames_into(Y, frames):
     """Every node k's ``R(A_k)`` (block 0), ``dR/dpsi, dR/dtheta, dR/dphi`` (1-3) and ``L(A_k)`` (4)
     into ``frames`` (N, NODE_FRAME_BLOCKS, 3, 3): evaluated once per node rather than once per edge end."""
@@ -357,7 +357,7 @@ def node_frames_into(Y, frames):
         body_rate_matrix(Y[k, 3:6], frames[k, 4])
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_frames_terms_into(Y, dY, node_params, gravity, frames, Wr, w):
     """:func:`node_frames_into` and :func:`node_terms_into` of the mobile model (``immobile`` False) in
     one pass, with one evaluation of each node's six sines and cosines (instead of 14): ``frames``
@@ -388,7 +388,7 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
     return damping_edges_into(Y, dY, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
     """Add ``dD/d(dY)`` of the dampers (110-111) into ``F``; return the Rayleigh function ``D`` [W/2].
 
@@ -512,7 +512,7 @@ def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
     return D
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     """Immobile unloaded state (4.5): add ``K y + D dy`` per edge into ``F``; return ``Pi``.
 
@@ -542,7 +542,7 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     return Pi
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_rotational_terms(A, dA, I, Wr, g):
     """Rotational inertia ``Wr = L^T I L`` (105, 114) and gyroscopic term ``g`` of one node.
 
@@ -588,7 +588,7 @@ def node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w):
     return node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, np.empty(EDGE_SCRATCH_SHAPE))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, scratch):
     """Per-node inertia and the non-interconnection part of ``w`` (113).
 
@@ -620,7 +620,7 @@ def node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, scratch
     return STATUS_OK
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def solve_node_rotation(A, I, b, out):
     """Solve ``(L^T I L) x = b`` for one node as ``x = L^-1 I^-1 L^-T b``; False if singular."""
     cth = math.cos(A[1])
@@ -647,7 +647,7 @@ def interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w):
                                       np.empty(EDGE_SCRATCH_SHAPE), np.empty((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3)))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, w, scratch, frames):
     """Add every interconnection's part of ``w`` (113) into ``w``: ``dPi/dY + dD/d(dY)``, or the
     immobile model's ``K y + D dy``. Returns a status code. Allocates nothing: ``scratch`` is a
