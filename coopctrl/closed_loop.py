@@ -116,7 +116,6 @@ class ClosedLoop:
         #: The QP plans torques within ``TORQUE_HEADROOM`` of each limit, leaving the rest for
         #: the feedback terms; the applied torques are saturated at the limit (actuators).
         self._qp_tau_max = qp_torque_limits(plant)
-        self._x_ref = None
         self._modes_cache: dict[int, tuple] = {}
         if self.space == "spatial":  # a nominal path through the Euler singularity is bad input
             check_nominal_path(trajectory, self.grasps)
@@ -168,15 +167,20 @@ class ClosedLoop:
         self.substeps = n
         self._steps = (h,) * n + ((rest,) if rest > 1e-9 * self.T else ())
 
+    @property
+    def steps(self) -> tuple[float, ...]:
+        """The plant steps of one control period [s] (they sum to ``T``; see :meth:`set_step`)."""
+        return self._steps
+
     def modes(self, x=None):
-        """:class:`~coopctrl.integrators.modes.ModalAnalysis` of the plant about ``x`` (default: the state
-        the last run started from; ``ValueError`` before any run); cached per state."""
+        """:class:`~coopctrl.integrators.modes.ModalAnalysis` of the plant about ``x``, a state of the plant
+        (a run keeps nothing on the loop, so there is no default: ``None`` raises ``ValueError``); cached
+        per state."""
         from coopctrl.integrators.modes import linear_modes
 
         if x is None:
-            if self._x_ref is None:
-                raise ValueError("no state to linearize about: pass x, or run the loop first")
-            x = self._x_ref
+            raise ValueError("x = None: no state to linearize about; pass x, a state of the plant "
+                             "(e.g. coopctrl.scenario.build.initial_state(scenario))")
         x = self._state("x", x)
         key = hash(x.tobytes())
         hit = self._modes_cache.get(key)
@@ -206,13 +210,9 @@ class ClosedLoop:
             return None
         return 0.5 * min(limit, 2.0 * self.T)
 
-    def _step_advice(self, x_fail=None) -> tuple[float | None, str]:
-        """:func:`coopctrl.loop.diagnosis.step_advice` of this loop."""
-        return diagnosis.step_advice(self, x_fail)
-
-    def numerically_stable_step(self) -> bool:
-        """True if the integration step is within the chosen integrator's predicted limit."""
-        return self.h <= self.predicted_max_step()
+    def numerically_stable_step(self, x) -> bool:
+        """True if the integration step is within the chosen integrator's predicted limit at ``x``."""
+        return self.h <= self.predicted_max_step(x)
 
     def diagnose(self, x) -> str:
         """Why a run at state ``x`` (the loaded start) cannot stay bounded, if the physics says so

@@ -155,5 +155,6 @@ def test_valid_arguments_still_pass_the_checks(planar):
     from coopctrl.wiring import check_arguments
 
     check_arguments(scenario, integrator="rk4", step=np.float64(loop.T / 2), uniform_step=np.bool_(True))
-    assert loop._state("x0", list(x0)).shape == x0.shape
-    assert loop._integrals({np.int64(sorted(loop.followers)[0]): [0.0] * loop.plant.p}) is not None
+    assert loop.run(list(x0), 0.0)["x"].shape == (1, x0.shape[0])  # a list state
+    first = np.int64(sorted(loop.followers)[0])  # a numpy integer arm index
+    assert loop.run(x0, 0.0, integrals={first: [0.0] * loop.plant.p})["status"] == "ok"

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from coopctrl.controllers._kernels import node_torque_redundant
+from coopctrl.controllers.computed_torque import node_torque_redundant
 from coopctrl.scenario import load_scenario
 from coopctrl.scenario.build import initial_state
 from coopctrl.simulator import closed_loop

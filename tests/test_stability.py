@@ -197,12 +197,12 @@ def test_set_step_splits_the_period():
     loop = closed_loop(planar_contact_points())
     T = loop.T
     loop.set_step(0.3 * T)
-    assert loop._steps[:3] == (0.3 * T,) * 3 and loop._steps[3] == pytest.approx(0.1 * T)
-    assert sum(loop._steps) == pytest.approx(T, rel=1e-12)
+    assert loop.steps[:3] == (0.3 * T,) * 3 and loop.steps[3] == pytest.approx(0.1 * T)
+    assert sum(loop.steps) == pytest.approx(T, rel=1e-12)
     loop.set_step(0.3 * T, uniform=True)
-    assert loop._steps == (T / 4,) * 4 and loop.h == T / 4
+    assert loop.steps == (T / 4,) * 4 and loop.h == T / 4
     loop.set_step(T / 4)
-    assert loop._steps == (T / 4,) * 4  # a divisor: no remainder step
+    assert loop.steps == (T / 4,) * 4  # a divisor: no remainder step
     for bad in (0.0, -1e-3, 1.5 * T, math.nan):
         with pytest.raises(ValueError, match="step"):
             loop.set_step(bad)
@@ -512,7 +512,7 @@ def test_the_real_loop_grows_the_predicted_mode_at_the_predicted_rate():
     loop's modal amplitude grows at the predicted rate, to 1 % (measured: 5 digits); at 0.99 h* the least
     stable mode decays."""
     from coopctrl.analysis.closed_loop_stability import LoopLinearizer, ModeProbe
-    from coopctrl.analysis.stability import _run
+    from coopctrl.analysis.stability import run_trial
     from coopctrl.tuning.operating_point import hold_scenario
 
     scenario = hold_scenario(load_scenario(REPO / "scenarios" / "stiff_grasp_extreme.toml",
@@ -526,8 +526,8 @@ def test_the_real_loop_grows_the_predicted_mode_at_the_predicted_rate():
     for factor in (1.005, 0.99):
         h = factor * h_star
         v, w, mu = probe.mode(scheme, h)
-        base = _run(scenario, x0, "rk4", h, 0.1)
-        seeded = _run(scenario, x0 + probe.seed(v, 1e-7), "rk4", h, 0.1)
+        base = run_trial(scenario, x0, "rk4", h, 0.1)
+        seeded = run_trial(scenario, x0 + probe.seed(v, 1e-7), "rk4", h, 0.1)
         assert base["status"] == seeded["status"] == "ok"
         rate = probe.growth_rate(base["t"], probe.amplitude(base, seeded, w))
         predicted = math.log(abs(mu)) / T

@@ -304,11 +304,8 @@ class LoopLinearizer:
             raise ArithmeticError(f"the controller failed at t = {t:.6g} s: {rec['reason']}")
         if not self.pi:
             return rec["tau"][0].copy(), np.zeros(0)
-        final = rec.get("final_state")
-        if final is not None:  # the followers' integrals at the end of the run, (m, p) [N s, N m s]
-            new = np.concatenate([np.asarray(final.integrals[i], dtype=float) for i in self.pi])
-        else:  # until engine merges: the run wrote them back into the controllers
-            new = np.concatenate([loop.followers[i].integral for i in self.pi])
+        final = rec["final_state"]  # the followers' integrals at the end of the run, (m, p) [N s, N m s]
+        new = np.concatenate([np.asarray(final.integrals[i], dtype=float) for i in self.pi])
         return rec["tau"][0].copy(), new
 
     def _loop_at(self, t: float):

@@ -140,7 +140,7 @@ def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back
     else:  # no controller: the loop is the plant, whose prediction is the open-loop one
         limit = math.nan
     if math.isnan(limit):
-        limit_open = loop.predicted_max_step()
+        limit_open = loop.predicted_max_step(x0)
         if x_back is not None and np.all(np.isfinite(x_back)):
             try:
                 limit_open = min(limit_open, loop.predicted_max_step(x_back))

@@ -395,7 +395,7 @@ def effective_step(scheme, h: float, control_period: float) -> float:
     return control_period / max(1, math.ceil(control_period / h * (1.0 - 1e-12)))
 
 
-def _run(scenario, x0, integrator: str, h: float, horizon: float) -> dict:
+def run_trial(scenario, x0, integrator: str, h: float, horizon: float) -> dict:
     """One closed-loop trial: the scenario's loop with ``integrator`` at plant step ``h`` [s]."""
     from coopctrl.wiring import closed_loop
 
@@ -485,11 +485,11 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
         span = horizon
         if modes is not None and longest is not None and longest > horizon:
             span = growth_horizon(modes, scheme, h, T, horizon, longest, closed_loop_predicted)
-        rec = _run(scenario, x0, integrator, h, span)
+        rec = run_trial(scenario, x0, integrator, h, span)
         mode = probe.mode(scheme, h) if probe is not None and rec["status"] == "ok" else None
         if mode is not None:
             v, w, _ = mode
-            twin = _run(scenario, x0 + probe.seed(v, TWIN_PERTURBATION), integrator, h, span)
+            twin = run_trial(scenario, x0 + probe.seed(v, TWIN_PERTURBATION), integrator, h, span)
             verdict = trial_verdict(plant, rec, ref_energy)
             if verdict[0] and twin["status"] != "ok":
                 verdict = False, f"the twin run (start moved along the least stable mode): {twin['reason']}"
@@ -501,7 +501,7 @@ def measure_max_step(scenario, integrator: str, predicted: float, ref_energy: np
         elif probe is not None:  # the step moves no mode of the loop: the run and the energy bound decide
             verdict = trial_verdict(plant, rec, ref_energy)
         else:
-            twin = (_run(scenario, seeded_start(x0, plant.nz, TWIN_PERTURBATION, seed=1), integrator, h, span)
+            twin = (run_trial(scenario, seeded_start(x0, plant.nz, TWIN_PERTURBATION, seed=1), integrator, h, span)
                     if scenario.controllers.enabled and rec["status"] == "ok" else None)
             verdict = trial_verdict(plant, rec, ref_energy, twin)
         if progress:
@@ -618,7 +618,7 @@ def stability_report(scenario, integrators=None, measure: bool = True, resolutio
         horizon = max(trial_horizon(T, p) for p in predicted.values())
         # the trials may run as long as the scenario (growth_horizon): the reference covers that
         longest = max(horizon, scenario.simulation.control_steps * T)
-        ref_rec = _run(scenario, x0, REFERENCE_INTEGRATOR, h_ref, longest)
+        ref_rec = run_trial(scenario, x0, REFERENCE_INTEGRATOR, h_ref, longest)
         ref_energy = elastic_energy(plant, ref_rec)
         reference = {"integrator": REFERENCE_INTEGRATOR, "step_s": h_ref, "status": ref_rec["status"],
                      "reason": ref_rec["reason"], "horizon_s": longest,

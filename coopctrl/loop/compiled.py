@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import time as _time
+import weakref
 
 import numpy as np
 
@@ -214,12 +215,17 @@ class CompiledLoop:
                 lead_off, r, v, g, d)
 
 
+#: Each loop's compiled constants, built at its first run (kept here, not on the loop: a run attaches
+#: nothing to what it was given), dropped with the loop.
+_COMPILED_LOOPS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
 def _compiled(loop) -> CompiledLoop:
-    c = getattr(loop, "_compiled_cache", None)
-    key = (tuple(loop._steps), getattr(loop.integrator, "name", None), id(loop.integrator))
+    c = _COMPILED_LOOPS.get(loop)
+    key = (tuple(loop.steps), getattr(loop.integrator, "name", None), id(loop.integrator))
     if c is None or c[0] != key:
         c = (key, CompiledLoop(loop))
-        loop._compiled_cache = c
+        _COMPILED_LOOPS[loop] = c
     return c[1]
 
 
@@ -370,7 +376,6 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     m, p = plant.arm_count, plant.p
     npos = 3 if cl.spatial else 2
     x0 = np.array(x0, dtype=float)
-    loop._x_ref = x0.copy()
     state = LoopState.start(x0, plant.input_size, m, p, cl.n, p + cl.n_in)
     for i, value in (integrals or {}).items():
         state.integrals[i] = value
@@ -546,15 +551,14 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     if saturated:
         events.append((sat_first, "torque_saturation",
                        f"commanded torques clipped at their limits on {saturated} ticks from t = {sat_first:.4g} s"))
-    _probe_errors(loop, rec)
-    for i, c in loop.followers.items():  # the controllers' integrals as the run left them (read by analysis code)
-        _inner(c).integral[:] = state.integrals[i]
+    # the loop state at the end (the followers' integrals are read by analysis code); the run wrote into
+    # its own arrays only, so the controllers, x0 and the loop are as they were given
     rec.update(status=status, reason=reason, events=events, wall_time_s=wall, startup_s=startup,
                qp_time_s=qp_time if ld is not None or passive else math.nan,
                qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings,
                rhs_evaluations=None if cl.plant_outside else int(out_int[7]),
                integration_steps=plan.stats[:k_done].copy() if hasattr(plan, "stats") else None,
-               **saturation)
+               final_state=state, **saturation)
     return rec
 
 
@@ -569,16 +573,6 @@ def _moment_arms(M, m: int, p: int, npos: int) -> np.ndarray:
         else:
             r[i] = (M[2, c + 1], -M[2, c])
     return r
-
-
-def _probe_errors(loop, rec) -> None:
-    """Each tuning probe's ``errors``: ``F* + r - F_meas`` of every recorded tick (true, undelayed) [N, N m]."""
-    from coopctrl.controllers.probes import FollowerProbe
-
-    for i, c in loop.followers.items():
-        if isinstance(c, FollowerProbe):
-            E = (rec["F_commanded"][:, i] + c.setpoint_offset) - rec["F_measured"][:, i]
-            c.errors[:] = list(E)
 
 
 def _trajectory_samples(trajectory, times, p: int) -> np.ndarray:

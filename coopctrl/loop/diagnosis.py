@@ -139,12 +139,12 @@ def static_instability(loop, x) -> str:
     return ""
 
 
-def step_advice(loop, x_fail=None) -> tuple[float | None, str]:
+def step_advice(loop, x0, x_fail=None) -> tuple[float | None, str]:
     """``(suggested step [s], advice)`` after a failure at step ``h``: when ``h`` exceeds the predicted
     limit at the start state or at a state ``x_fail`` shortly before the failure, half the smaller
     limit (which is below ``h``); otherwise no step and a sentence saying the step is not the likely
     cause."""
-    limits = [loop.predicted_max_step()]
+    limits = [loop.predicted_max_step(x0)]
     if x_fail is not None and np.all(np.isfinite(x_fail)):
         try:
             limits.append(loop.predicted_max_step(x_fail))
@@ -217,7 +217,7 @@ def open_loop_causes(loop, evidence: dict, k_done: int, t_fail: float, x_back, t
     """The causes a loop finds without the closed-loop stability analysis: the static instability at the
     start, the held QP splits, and the step judged against the plant's open-loop predicted limit."""
     causes = [c for c in (static_instability(loop, x0), held_split_cause(evidence.get("events", ()))) if c]
-    return Diagnosis(tuple(causes), bool(loop.h > loop.predicted_max_step()), math.nan)
+    return Diagnosis(tuple(causes), bool(loop.h > loop.predicted_max_step(x0)), math.nan)
 
 
 def divergence_reason(loop, exc, t_fail: float, x_back, x0, chart: str = "", evidence: dict | None = None,
@@ -230,9 +230,9 @@ def divergence_reason(loop, exc, t_fail: float, x_back, x0, chart: str = "", evi
     try:
         diag = causes_of(loop, evidence or {}, k_done, t_fail, x_back, t_back, x0)
     except Exception:  # noqa: BLE001 - the diagnosis must never replace the failure it explains
-        diag = Diagnosis((), loop.h > loop.predicted_max_step(), math.nan)
+        diag = Diagnosis((), loop.h > loop.predicted_max_step(x0), math.nan)
     if diag.step_is_cause:
-        step, advice = step_advice(loop, x_back)
+        step, advice = step_advice(loop, x0, x_back)
         if step is None and advice.startswith("the step h"):  # within the open-loop limit: half the closed-loop one
             step, advice = 0.5 * min(diag.closed_loop_limit_s, 2.0 * loop.T), ""
     else:
@@ -241,7 +241,7 @@ def divergence_reason(loop, exc, t_fail: float, x_back, x0, chart: str = "", evi
         shown = (f"the closed loop's stable range (its linearization has no limit below the control period "
                  f"{loop.T:g} s)" if limit == math.inf else
                  f"{name}'s predicted closed-loop stability limit {limit:.3g} s" if not math.isnan(limit) else
-                 f"{name}'s predicted stability limit {loop.predicted_max_step():.3g} s")
+                 f"{name}'s predicted stability limit {loop.predicted_max_step(x0):.3g} s")
         step, advice = None, f"the step h = {loop.h:.3g} s is within {shown}, so the step is not the likely cause"
     if isinstance(exc, DivergenceError):
         if type(exc) is DivergenceError:

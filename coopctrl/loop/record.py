@@ -52,7 +52,10 @@ class LoopRecord:
             rejected steps, right-hand-side evaluations, smallest accepted step [s] (``None`` for a
             fixed-step integrator); stop: the raw facts of a failed run's stop
             (:class:`~coopctrl.loop.diagnosis.Stop`; ``None`` when the run did not stop early), which
-            :func:`coopctrl.simulator.simulate` diagnoses after the run.
+            :func:`coopctrl.simulator.simulate` diagnoses after the run; final_state: the
+            :class:`~coopctrl.loop.state.LoopState` at the end of the run (the plant state, held torques, the
+            followers' force-error integrals ``integrals`` (m, p) [N s, N m s], the last feasible split),
+            in arrays of the run's own: the controllers and the state the run was given are unchanged.
 
     Item access (``record["x"]``, ``record.get``, ``record.update``, ``record.items()``) reads and writes
     the same fields, for code written against the former dict.
@@ -89,6 +92,7 @@ class LoopRecord:
     rhs_evaluations: int | None = None
     integration_steps: np.ndarray | None = None
     stop: object | None = None
+    final_state: object = None
 
     def __repr__(self) -> str:
         """A few lines: status, ticks and timing (never the arrays: ``record.x`` has them)."""
