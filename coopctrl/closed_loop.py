@@ -78,12 +78,15 @@ class ClosedLoop:
         failure_causes: Optional ``(loop, evidence, k_done, t_fail, x_back, t_back, x0) -> Diagnosis``:
             the causes of a divergence checked against the closed loop's predicted step limit (wired by
             :func:`coopctrl.simulator.closed_loop`; see :mod:`coopctrl.loop.diagnosis`).
+        leader_law: Optional :class:`~coopctrl.controllers.leader_law.LeaderLaw`: the leader node's
+            commanded acceleration from its pose error, compiled into the tick in place of the computed-torque
+            law with the leader's gains (``None``); see :mod:`coopctrl.controllers.leader_law`.
     """
 
     def __init__(self, plant, trajectory, grasps, load_distribution, compliance, leader, followers, sensors,
                  integrator, control_period: float, substeps: int, squeeze_desired, max_deformation: float,
                  max_energy: float | None = None, torque_limits: bool = False, name: str = "scenario",
-                 enabled: bool = True, step: float | None = None, failure_causes=None):
+                 enabled: bool = True, step: float | None = None, failure_causes=None, leader_law=None):
         self.plant = plant
         self.trajectory = trajectory
         self.grasps = np.asarray(grasps, dtype=float)
@@ -106,6 +109,12 @@ class ClosedLoop:
         self.name = name
         self.enabled = bool(enabled)
         self.failure_causes = failure_causes
+        from coopctrl.controllers.leader_law import LeaderLaw
+
+        if leader_law is not None and not isinstance(leader_law, LeaderLaw):
+            raise TypeError(f"leader_law = {leader_law!r}: expected a coopctrl.controllers.leader_law.LeaderLaw "
+                            "(e.g. object_impedance(...)) or None (the leader's computed torque)")
+        self.leader_law = leader_law
         self.space = plant.space
         self.npos = 3 if self.space == "spatial" else 2
         el = plant.elastic

@@ -76,7 +76,8 @@ def test_energy_and_elastic_split_are_compiled_only_for_runs_that_use_them(passi
     # the stages by their functions' names (the kernel's own, not part of the API)
     assert {f.__name__ for f in compiled} == {"_advance_stage", "_terms_stage", "_qp_rows", "_qp_answer", "_control",
                                               "_energy_stage" if passive else "_no_energy_stage",
-                                              "_elastic_stage" if elastic else "_no_elastic_stage"}
+                                              "_elastic_stage" if elastic else "_no_elastic_stage",
+                                              "computed_torque_law"}  # the leader's law (the shipped one)
     assert np.all(np.isfinite(rec["energy"])) == passive  # recorded only by the passive run (NaN otherwise)
 
 

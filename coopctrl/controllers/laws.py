@@ -66,6 +66,14 @@ def tracking_acceleration_into(target, Y, dY_ref, dY, ddY_ref, Kp, Kd, npos, err
     [m/s^2, rad/s^2]; ``Kp`` [1/s^2], ``Kd`` [1/s]; ``err`` (p,) receives ``e``. With an exact model the
     node error obeys ``e'' + Kd e' + Kp e = 0``."""
     pose_error_into(target, Y, npos, err)
+    acceleration_from_error_into(err, dY_ref, dY, ddY_ref, Kp, Kd, a_cmd)
+
+
+@njit(cache=True)
+def acceleration_from_error_into(err, dY_ref, dY, ddY_ref, Kp, Kd, a_cmd):
+    """``a_cmd = ddY_ref + Kd (dY_ref - dY) + Kp err`` (p,) [m/s^2, rad/s^2] from the pose error ``err``
+    [m, rad] (:func:`tracking_acceleration_into` after its :func:`pose_error_into`; the leader's
+    computed-torque law, :func:`coopctrl.controllers.leader_law.computed_torque_law`)."""
     for a in range(a_cmd.shape[0]):
         a_cmd[a] = ddY_ref[a] + Kd * (dY_ref[a] - dY[a]) + Kp * err[a]
 

@@ -210,9 +210,15 @@ class CompiledLoop:
         if np.any(d < 0):
             raise ValueError(f"FollowerProbe.measurement_delay = {d.tolist()}: expected integers >= 0 [ticks]")
         nodes = m + 1
+        from coopctrl.controllers.leader_law import computed_torque
+
+        leader = _inner(loop.leader)
+        law = loop.leader_law if loop.leader_law is not None else computed_torque(leader.Kp, leader.Kd)
+        with pointers_in_use():
+            law_stage, law_params = K.leader_law_stage(law, p)
         return (switches, reals, np.zeros((nodes, p)), np.zeros((nodes, p)), rec["energy"], rec["kinetic_energy"],
                 self.K_obj, np.zeros((n, n)), np.zeros((n, p)), np.zeros((p, p)), np.zeros((p, 2 * p)),
-                lead_off, r, v, g, d)
+                lead_off, r, v, g, d, law_stage, law_params)
 
 
 #: Each loop's compiled constants, built at its first run (kept here, not on the loop: a run attaches

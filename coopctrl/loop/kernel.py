@@ -51,14 +51,11 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from coopctrl.controllers._kernels import (
-    node_torque_into,
-    node_torque_redundant_into,
-    pose_increment_planar_into,
-    pose_increment_spatial_into,
-    WORK_MATRICES,
-    WORK_VECTORS,
-)
+from coopctrl.controllers._kernels import WORK_MATRICES, WORK_VECTORS
+from coopctrl.controllers.laws import (arm_torque_into, follower_acceleration_into, follower_correction_into,
+                                       leader_target_into, pose_error_into, pose_increment_into)
+from coopctrl.load_distribution.answer_check import (FAMILY_FRICTION, FAMILY_MIN_GRIP, FAMILY_TORQUE, answer_ok,
+                                                     binding_families)
 from coopctrl.load_distribution.assembly import (
     fill_friction_rows,
     fill_grasp_rows,
@@ -112,10 +109,9 @@ OPT_PROBES = 4      #: the followers' tuning probes (setpoint offset, PI output,
 OPT_EXTERNAL_PLANT = 5  #: stop after each tick's record with :data:`PLANT_EXTERNAL` (an integrator outside the kernel)
 
 
-#: Bits of the QP family masks (the record's ``qp_binding``), in the row order of the problem.
-FAMILY_MIN_GRIP = 1
-FAMILY_FRICTION = 2
-FAMILY_TORQUE = 4
+#: Bits of the QP family masks (the record's ``qp_binding``), in the row order of the problem (defined
+#: with the answer check, :mod:`coopctrl.load_distribution.answer_check`).
+FAMILY_MIN_GRIP, FAMILY_FRICTION, FAMILY_TORQUE = FAMILY_MIN_GRIP, FAMILY_FRICTION, FAMILY_TORQUE
 
 
 def _terms(x, P, status, cws):
@@ -191,24 +187,6 @@ def required_wrench(spatial, mass, inertia, gravity, Y0, dY0, ddY0, out, v, R):
         out[3 + a] = R[a, 0] * tb[0] + R[a, 1] * tb[1] + R[a, 2] * tb[2]
 
 
-@njit(cache=True)
-def _pose_error(target, Y, npos, out):
-    for a in range(target.shape[0]):
-        e = target[a] - Y[a]
-        if a >= npos:
-            e = (e + np.pi) % (2.0 * np.pi) - np.pi
-        out[a] = e
-
-
-@njit(cache=True)
-def _pose_increment(spatial, C, F, Y0, Yi, R, v, out):
-    """The node pose increment of :class:`~coopctrl.controllers.GraspCompliance` into ``out``; ok."""
-    if spatial:
-        return pose_increment_spatial_into(C, F, Y0[3:6], Yi[3:6], R, v, out)
-    pose_increment_planar_into(C, F, Y0[2], out)
-    return True
-
-
 @njit(cache=True, _nrt=False)
 def _guards(spatial, x, Y, rho, band, max_deformation, R3, d):
     """Stage of a tick: the guards on the state (non-finite, Euler band, deformation); ``(code, contact, deformation)``."""
@@ -277,7 +255,8 @@ def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind
     torque_limits = row_tau >= 0
     need_normals = row_grip >= 0 or row_fric >= 0
     (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
-    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d) = opts
+    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d, leader_law,
+     law_params) = opts
     elastic = switches[OPT_ELASTIC] != 0
     for a in range(p):
         lo[a] = wN[a]
@@ -336,58 +315,20 @@ def _qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, 
     code, qit = gi_solve(Hq, gq, Mq, lo, hi, p, xq, zq, ws, first or P_changed, eps_abs, max_iter)
     flags[3] += 1
     qs = code
-    okqp = code == 0
-    for c in range(n):
-        if not math.isfinite(xq[c]):
-            okqp = False
-    viol_mask = 0
-    if code != 3 and okqp:
-        viol = -np.inf
-        scale = 0.0
-        for r in range(Mq.shape[0]):
-            s = 0.0
-            for c in range(n):
-                s += Mq[r, c] * xq[c]
-            v = max(lo[r] - s, s - hi[r])
-            if v > viol:
-                viol = v
-            if abs(s) > scale:
-                scale = abs(s)
-        tol = 100.0 * eps_abs * (1.0 + scale)
-        if not viol <= min(tol, answer_rho):  # LoadDistribution.answer_tolerance: capped by the load
-            load = 1.0
-            for r in range(Mq.shape[0]):
-                if r < p or math.isfinite(lo[r]):
-                    load = max(load, abs(lo[r]))
-                if r >= p and math.isfinite(hi[r]):
-                    load = max(load, abs(hi[r]))
-            tol = min(tol, answer_rho * load)
-        if not viol <= tol:
-            okqp = False
+    okqp = code == 0 and answer_ok(Mq, lo, hi, xq, n, p, eps_abs, answer_rho)
     if not okqp:
         return code, qit, False, 0
     flags[1] = 0
-    qb = 0
-    if n_in > 0:
-        gmax = 0.0
-        for c in range(n):
-            if abs(gq[c]) > gmax:
-                gmax = abs(gq[c])
-        thr = 1e-7 * (1.0 + gmax)
-        for r in range(n_in):
-            if abs(zq[p + r]) > thr:
-                if row_grip >= 0 and row_grip <= r < row_grip + m:
-                    qb |= FAMILY_MIN_GRIP
-                elif row_fric >= 0 and row_fric <= r < row_fric + m * n_fric:
-                    qb |= FAMILY_FRICTION
-                elif row_tau >= 0 and r >= row_tau:
-                    qb |= FAMILY_TORQUE
+    qb = binding_families(gq, zq, p, n, n_in, m, row_grip, row_fric, n_fric, row_tau)
     return code, qit, True, qb
 
 
-def _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti):
+def _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti, leader_law, law_params):
     """Stage of a tick: the leader's and the followers' controllers into ``tau`` (before saturation);
-    ``(code, arm)``, ``code`` :data:`DONE` or the event."""
+    ``(code, arm)``, ``code`` :data:`DONE` or the event. The leader's node acceleration is its law's
+    (``leader_law`` with its constants ``law_params``, :mod:`coopctrl.controllers.leader_law`: the
+    computed torque with the leader's gains unless the user gave another), from the pose error to its
+    target."""
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
     npos = 3 if spatial else 2
@@ -399,7 +340,7 @@ def _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, 
     force_loop = ctrl[7] != 0.0
     integral_limit = ctrl[8]
     kl = leader + 1
-    okp = _pose_increment(spatial, C_comp[leader], F_set[leader], Y0N, Yn[kl], R3, pv, inc)
+    okp = pose_increment_into(spatial, C_comp[leader], F_set[leader], Y0N, Yn[kl], R3, pv, inc)
     if not okp:
         return POSE_INCREMENT_SINGULAR, leader
     for i in range(0 if passive else m):  # a passive run keeps tau = 0
@@ -407,46 +348,16 @@ def _control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, 
         ni = arm_dof[i]
         o = q_off[i]
         if i == leader:
-            for a in range(p):
-                Yv[a] = Yn[kl, a] + inc[a] + lead_off[a]
-            _pose_error(Yv, Ym[kl], npos, err)
-            for a in range(p):
-                a_cmd[a] = ddYn[kl, a] + Kd_l * (dYn[kl, a] - dYm[kl, a]) + Kp_l * err[a]
+            leader_target_into(Yn[kl], inc, lead_off, Yv)
+            pose_error_into(Yv, Ym[kl], npos, err)
+            leader_law(err, dYn[kl], dYm[kl], ddYn[kl], npos, law_params, a_cmd)
         else:
-            for a in range(p):
-                corr[a] = F_cmd[i, a]
-            if force_loop:
-                for a in range(p):
-                    e = F_cmd[i, a] - F_seen[i, a]
-                    v = integ[i, a] + e * T
-                    if v < -integral_limit:
-                        v = -integral_limit
-                    elif v > integral_limit:
-                        v = integral_limit
-                    integ[i, a] = v
-                    corr[a] = F_cmd[i, a] + kp_f * e + ki_f * v
-            okp = _pose_increment(spatial, C_comp[i], corr, Y0N, Yn[ki], R3, pv, Yv)
-            if not okp:
+            follower_correction_into(F_cmd[i], F_seen[i], integ[i], T, kp_f, ki_f, integral_limit, force_loop, corr)
+            if not follower_acceleration_into(spatial, C_comp[i], corr, Y0N, Yn[ki], Ym[ki], dYn[ki], dYm[ki], ddYn[ki],
+                                              Kp_f, Kd_f, npos, R3, pv, Yv, err, a_cmd):
                 return POSE_INCREMENT_SINGULAR, i
-            for a in range(p):
-                Yv[a] += Yn[ki, a]
-            _pose_error(Yv, Ym[ki], npos, err)
-            for a in range(p):
-                a_cmd[a] = ddYn[ki, a] + Kd_f * (dYn[ki, a] - dYm[ki, a]) + Kp_f * err[a]
-        contact = arm_kind[i] != 0
-        if not contact and ni > p:
-            # null-space posture task toward q_rest (PostureTask)
-            tr = 0.0
-            for c in range(ni):
-                tr += Hm[i, c, c]
-            m_bar = tr / ni
-            for c in range(ni):
-                tp[c] = m_bar * (post_gain[0] * (q_rest[i, c] - zx[o + c]) - post_gain[1] * zx[nz + o + c])
-            okt = node_torque_redundant_into(Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd, tp, ni,
-                                             wv, wm, piv, ti)
-        else:
-            okt = node_torque_into(Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd, contact, ni,
-                                   wv, wm, piv, ti)
+        okt = arm_torque_into(arm_kind[i] != 0, ni, Wm[ki], wm_free[ki], Sm[ki], Hm[i], hm[i], Jm[i], Jdqm[i], a_cmd,
+                              zx[o:o + ni], zx[nz + o:nz + o + ni], q_rest[i], post_gain, wv, wm, piv, tp, ti)
         if not okt:
             return SINGULAR_JACOBIAN, i
         for c in range(ni):
@@ -483,6 +394,15 @@ def tick_workspace(spatial: bool, m: int, nx: int, nu: int, arm_dof) -> TickWork
         ti=e(nmax), obj_inertia=e(3 if spatial else 1))
 
 
+def leader_law_stage(law, p: int):
+    """The leader law ``law`` (:class:`~coopctrl.controllers.leader_law.LeaderLaw`) compiled for the tick
+    (:func:`~coopctrl.loop.stages.compile_stage`: a ``cfunc`` kept in numba's cache) with its constants
+    as a float array: ``(stage, params)``. Its argument types are the tick's (``p`` pose components)."""
+    f64v = np.zeros(p)
+    stage = compile_stage(law.function, types.void, f64v, f64v, f64v, f64v, types.int64, law.param_array, f64v)
+    return stage, law.param_array
+
+
 def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, opts, ws, tw, ctrl, posture, C_comp, x,
                 tau, integ, flags, x_fail, out_int, out_float) -> tuple:
     """The stages :func:`run_ticks` calls through their addresses (its ``stages``), compiled for the
@@ -503,7 +423,7 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     Y0N = traj[0, 0]
     Mq, lo, hi, Hq, gq, xq, zq = qp_arrays[:7]
     switches, _, eF, eDY0 = opts[:4]
-    lead_off = opts[11]
+    lead_off, leader_law, law_params = opts[11], opts[16], opts[17]
     # the plant's period advance with numba's runtime (the implicit schemes' pinv fallback allocates)
     advance = compile_stage(_advance_stage, i64, plan, x, tau, P, tw.status, pws, cws, f64, steps, x_fail, out_int,
                             out_float, runtime=True)
@@ -520,7 +440,7 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     control = compile_stage(_control, types.UniTuple(i64, 2), b1, b1, ctrl, posture, C_comp, arm_kind, arm_dof, q_off,
                             f64, tw.F_set, tw.F_cmd, tw.F_seen, Y0N, tw.Yn, tw.dYn, tw.ddYn, Y, dY, H, h, J, Jdq, W, w_free,
                             S, x, lead_off, integ, tau, tw.R3, tw.pv, tw.inc, tw.Yv, tw.err, tw.a_cmd, tw.corr, tw.tp, tw.wv,
-                            tw.wm, tw.piv, tw.ti)
+                            tw.wm, tw.piv, tw.ti, leader_law, law_params)
     energy = compile_stage(_energy_stage if switches[OPT_ENERGY] != 0 else _no_energy_stage, types.Tuple((f64, f64, i64)),
                            x, P, cws, eF, eDY0)
     return advance, terms, qp_rows, qp_answer, control, energy, elastic
@@ -553,13 +473,14 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
     ``hold_status[1:4]``.
 
     ``opts = (switches, reals, energy_scratch, zero_rates, rec_energy, rec_kinetic, K_obj, K, KGt, Rb,
-    work, leader_offset, r, v, g, d)``: ``switches`` int64 (``OPT_*``); ``reals = (max_energy [J],)``;
+    work, leader_offset, r, v, g, d, leader_law, law_params)``: ``switches`` int64 (``OPT_*``); ``reals = (max_energy [J],)``;
     ``energy_scratch``, ``zero_rates`` (N, p); ``rec_energy``, ``rec_kinetic`` (N,) the energy record
     [J]; the elastic split's ``K_obj`` (m, p, p) object-frame grasp stiffness [N/m, N m/rad] and its
     work arrays ``K`` (n, n), ``KGt`` (n, p), ``Rb`` (p, p), ``work`` (p, 2p); the tuning probes:
     ``leader_offset`` (p,) added to the leader's target [m, rad] and, per arm (m, p), the followers'
     setpoint offset ``r`` and PI output ``v`` [N, N m], error gain ``g`` [-] and measurement delay
-    ``d`` (int64, ticks) (:class:`~coopctrl.tuning.loop_probes.FollowerProbe`).
+    ``d`` (int64, ticks) (:class:`~coopctrl.tuning.loop_probes.FollowerProbe`); ``leader_law``, ``law_params``:
+    the leader's law (a compiled function, :func:`leader_law_stage`) and its constants.
 
     ``tw``: the tick's work arrays (:func:`tick_workspace`); ``sq``: the squeeze's desired values and work
     arrays (:func:`coopctrl.loop.squeeze.squeeze_workspace`).
@@ -598,7 +519,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
     torque_limits = row_tau >= 0
     need_normals = row_grip >= 0 or row_fric >= 0
     (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
-    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d) = opts
+    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d, leader_law,
+     law_params) = opts
     passive = switches[OPT_PASSIVE] != 0
     energy_on = switches[OPT_ENERGY] != 0
     energy_guard = switches[OPT_ENERGY] == 2
@@ -775,7 +697,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
                     F_cmd[i, a] = F_set[i, a]
                     F_seen[i, a] = Fm[i, a]
         # ---- controllers: the leader on its nominal deformed node
-        ccode, carm = control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti)
+        ccode, carm = control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti, leader_law, law_params)
         if ccode != DONE:
             out_int[0] = ccode
             out_int[2] = carm
