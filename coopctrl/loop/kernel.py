@@ -109,9 +109,8 @@ OPT_PROBES = 4      #: the followers' tuning probes (setpoint offset, PI output,
 OPT_EXTERNAL_PLANT = 5  #: stop after each tick's record with :data:`PLANT_EXTERNAL` (an integrator outside the kernel)
 
 
-#: Bits of the QP family masks (the record's ``qp_binding``), in the row order of the problem (defined
-#: with the answer check, :mod:`coopctrl.load_distribution.answer_check`).
-FAMILY_MIN_GRIP, FAMILY_FRICTION, FAMILY_TORQUE = FAMILY_MIN_GRIP, FAMILY_FRICTION, FAMILY_TORQUE
+# The bits of the QP family masks (the record's ``qp_binding``), FAMILY_MIN_GRIP, FAMILY_FRICTION and
+# FAMILY_TORQUE, are imported above from the answer check (coopctrl.load_distribution.answer_check).
 
 
 def _terms(x, P, status, cws):
