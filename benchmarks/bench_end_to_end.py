@@ -17,7 +17,8 @@ compiled or loaded first, never timed), ``repeats`` rounds each time, side by si
 * **CLI**: ``coopctrl.cli.main(["run", SCENE, "-q"])`` in this process: loading the scene file, the
   record's memory check, pre-flight, the run and its summary; no output folder;
 * **RT**: the real-time factor ``coopctrl run`` prints, from ``main(["run", SCENE, "--json"])``;
-* **pre-flight**: ``coopctrl.analysis.preflight.preflight(scenario)`` alone, as ``coopctrl run`` calls it.
+* **pre-flight**: ``coopctrl.analysis.preflight.preflight(scenario, loop)`` alone, as ``coopctrl run`` calls
+  it: on the closed loop it then runs (built once for both; its build is timed with the run).
 
 Then one ``coopctrl sweep SCENE --grid simulation.seed=0,...,N-1 --jobs J --json`` (``--sweep-runs N``,
 default 200; ``--jobs J``, default 2), in this process as the CLI, timed from its call to its return
@@ -160,7 +161,7 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
     rec = loop.run(x0, duration)
     coopctrl.simulate(scenario)
     _cli(["run", path, "-q"])
-    preflight(scenario)
+    preflight(scenario, loop)
     ticks = len(rec["t"])
     series = {k: [] for k in ("ticks", "loop_run", "simulate", "cli", "cli_json", "preflight", "rt",
                               "ticks_cpu", "simulate_cpu", "cli_cpu", "preflight_cpu")}
@@ -188,7 +189,7 @@ def measure_scene(name: str, repeats: int, sweep_runs: int, jobs: int, clock: Ke
             rt = None
         series["rt"].append(float("nan") if rt is None else float(rt))
         c0, t0 = time.process_time(), time.perf_counter()
-        preflight(scenario)
+        preflight(scenario, loop)
         series["preflight"].append(time.perf_counter() - t0)
         series["preflight_cpu"].append(time.process_time() - c0)
     med = {k: statistics.median(v) for k, v in series.items()}

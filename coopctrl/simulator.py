@@ -59,19 +59,30 @@ def non_finite_signal(rec: dict, controlled: bool = True) -> str | None:
     return None
 
 
-def simulate(scenario, progress: bool = False) -> SimulationResult:
+def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None) -> SimulationResult:
     """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`.
 
     A run whose recorded signals are not finite, or too large for finite metrics (a sensor noise of
     1e300 N), is never ``ok``: its status is ``diverged`` with the signal named.
 
+    Args:
+        scenario: The :class:`~coopctrl.scenario.Scenario` to run.
+        progress: Show a progress bar on the terminal.
+        loop: ``closed_loop(scenario)`` when the caller has already built it (``coopctrl run`` builds it
+            once, for pre-flight and the run; a run changes nothing of it), else ``None`` to build it here.
+
     Raises:
         TypeError: ``scenario`` is not a :class:`~coopctrl.scenario.Scenario` (a path, a dict: load it
-            first), or ``progress`` is not a bool.
+            first), ``progress`` is not a bool, or ``loop`` is not a :class:`ClosedLoop` of this scenario's
+            plant size.
     """
     wiring.check_scenario(scenario)
     progress = arguments.flag("progress", progress)
-    loop = closed_loop(scenario)
+    if loop is None:
+        loop = closed_loop(scenario)
+    elif not isinstance(loop, ClosedLoop) or loop.plant.state_size != scenario.state_size:
+        raise TypeError(f"loop={loop!r} is not closed_loop(scenario) of this scenario: pass the loop built "
+                        "from it, or None to build it here")
     # the metrics of every tick (run_result), then the kept samples with their node poses (finish_record)
     return finish_record(run_result(scenario, loop, progress=progress), loop.plant, scenario.simulation.record_every)
 

@@ -58,11 +58,14 @@ def cmd_run(args) -> int:
     from coopctrl.cli.first_run import announce
 
     notice = announce([scenario], ticker=not args.quiet)
+    loop = None  # built once, for pre-flight and the run
     try:
         if not args.no_preflight:  # an impossible task is refused before the first tick (exit 1)
             from coopctrl.analysis.preflight import preflight
+            from coopctrl.wiring import closed_loop
 
-            report = preflight(scenario)
+            loop = closed_loop(scenario)
+            report = preflight(scenario, loop)
             if not report.ok:
                 if notice is not None:
                     notice.close()
@@ -76,6 +79,7 @@ def cmd_run(args) -> int:
             try:
                 with stdout_to_stderr(args.json):
                     scenario, choice = choose_setting(scenario)
+                loop = None  # the chosen setting is another scenario: its own loop
             except ArithmeticError as err:  # TargetUnreachable, ReferenceFailed: nothing to run at that accuracy
                 if notice is not None:
                     notice.close()
@@ -86,7 +90,7 @@ def cmd_run(args) -> int:
         simulate = simulate_function()
         progress = not (args.quiet or args.json) and sys.stderr.isatty()
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
-            result = simulate(scenario, progress=progress)
+            result = simulate(scenario, progress=progress, loop=loop)
             if notice is not None:
                 notice.close()
             with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so

@@ -32,6 +32,7 @@ from coopctrl.errors import DivergenceError, InfeasibleLoad, StepTooSmall
 from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 import coopctrl.integrators.compiled as I
+import coopctrl.loop.argument_types as argument_types
 from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace
@@ -363,8 +364,7 @@ def _entry_point(dispatcher, args: tuple):
     overloads = getattr(dispatcher, "overloads", None)
     if overloads is None:
         return dispatcher
-    signature = tuple(dispatcher.typeof_pyval(a) for a in args)
-    compiled = overloads.get(signature)
+    compiled = overloads.get(argument_types.signature_of(args))  # numba's types, remembered (argument_types)
     return dispatcher if compiled is None else compiled.entry_point
 
 
@@ -452,8 +452,11 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     # cache here (about 0.1 s once per process), start-up that is not the loop's wall time
     t_load = _time.perf_counter()
     with pointers_in_use():
-        advance(0, 0)
-        run_ticks = _entry_point(run_ticks, (*head, 0, 0, *args))
+        entry = _entry_point(run_ticks, (*head, 0, 0, *args))
+        if entry is run_ticks:  # not yet loaded for these types in this process: numba types and loads it here
+            advance(0, 0)
+            entry = _entry_point(run_ticks, (*head, 0, 0, *args))
+        run_ticks = entry
     out_int[0] = out_int[1] = 0
     # the kind is warm now (its stamp, once per process: start-up too, like the listeners it tells)
     S.started(S.kind_of_run(cl.spatial, S.family_of(loop.integrator.name) if not cl.plant_outside else "explicit"), _time.perf_counter() - t_load + stages_startup + setup)

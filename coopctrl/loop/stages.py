@@ -19,8 +19,10 @@ from __future__ import annotations
 import contextlib
 import warnings
 
-from numba import cfunc, typeof, types
+from numba import cfunc, types
 from numba.core.errors import NumbaExperimentalFeatureWarning
+
+import coopctrl.loop.argument_types as argument_types
 
 #: The stages compiled in this process, by (function, signature).
 _COMPILED: dict = {}
@@ -39,7 +41,7 @@ def compile_stage(function, restype: types.Type, *args, runtime: bool = False):
     Returns:
         The compiled ``cfunc`` (the same object for the same function and types in this process).
     """
-    signature = restype(*(a if isinstance(a, types.Type) else typeof(a) for a in args))
+    signature = restype(*(a if isinstance(a, types.Type) else argument_types.argument_type(a) for a in args))
     key = (function, signature, runtime)
     compiled = _COMPILED.get(key)
     if compiled is None:
