@@ -543,20 +543,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         if isinstance(val, np.ndarray):
             rec[key] = val[:k_done]
     families = [name for name in ("min_grip", "friction", "torque_limits") if name in cl.rows]
-    statuses, bindings, counts = [], [], {}
     if passive:  # no QP ran: no split, no status
         for key in ("F_commanded", "F_external", "F_internal"):
             rec[key][:] = np.nan
-    for i in range(0 if passive else k_done):
-        if i in held:
-            st, fam = held[i]
-        else:
-            st = _QP_STATUS[qs[i]]
-            fam = tuple(name for name in families if qb[i] & bits[name])
-        statuses.append(st)
-        bindings.append("+".join(fam))
-        for name in fam:
-            counts[name] = counts.get(name, 0) + 1
+    statuses, bindings, counts = _qp_columns(qs[:0 if passive else k_done], qb, held, families, bits)
     if saturated:
         events.append((sat_first, "torque_saturation",
                        f"commanded torques clipped at their limits on {saturated} ticks from t = {sat_first:.4g} s"))
@@ -569,6 +559,31 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                integration_steps=plan.stats[:k_done].copy() if hasattr(plan, "stats") else None,
                final_state=state, **saturation)
     return rec
+
+
+def _qp_columns(qs, qb, held: dict, families: list, bits: dict) -> tuple[list, list, dict]:
+    """Per tick ``i < len(qs)``: the QP status name (``_QP_STATUS[qs[i]]``), the binding families joined by
+    ``+`` (the bits ``qb[i]`` of ``families``), and per family the ticks on which it was binding, keyed in
+    the order of each family's first binding tick; a tick in ``held`` (tick -> (status, families)) has
+    the status and families held there instead."""
+    n = len(qs)
+    statuses = np.array(_QP_STATUS, dtype=object)[qs].tolist()
+    names = np.array(["+".join(f for f in families if c & bits[f]) for c in range(8)], dtype=object)
+    mask = sum(bits[f] for f in families)
+    codes = qb[:n] & mask
+    bindings = names[codes].tolist()
+    binding = {f: (codes & bits[f]) != 0 for f in families}
+    for i, (st, fam) in held.items():
+        if i < n:
+            statuses[i] = st
+            bindings[i] = "+".join(fam)
+            for f in fam:
+                binding.setdefault(f, np.zeros(n, dtype=bool))
+            for f, b in binding.items():
+                b[i] = f in fam
+    first = {f: int(np.argmax(b)) for f, b in binding.items() if b.any()}
+    counts = {f: int(np.count_nonzero(binding[f])) for f in sorted(first, key=first.get)}
+    return statuses, bindings, counts
 
 
 def _moment_arms(M, m: int, p: int, npos: int) -> np.ndarray:
