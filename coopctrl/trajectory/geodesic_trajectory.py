@@ -112,16 +112,21 @@ class GeodesicTrajectory:
     in direction; ``d/dt`` of the body components is the body component of ``d omega / dt`` since
     ``omega x omega = 0``). Rates and accelerations vanish at every via (rest to rest), before
     ``t = 0`` (first pose held) and after :attr:`duration` (last pose held). A relative rotation of
-    exactly ``pi`` has two geodesics: the one whose axis has its largest component positive is taken
-    (:func:`quaternion.shortest`); a zero rotation stays still.
+    ``pi`` (within ``2e-12`` rad) has two geodesics: the one whose axis has its largest component
+    positive is taken (:func:`quaternion.shortest`); a zero rotation stays still (``log`` and ``exp``
+    are exact there).
 
     **Euler view** (:meth:`sample`, :meth:`evaluate`, the interface of :class:`MinimumJerkTrajectory`):
     ``Y = (r, A)`` with the book's ZYX angles ``A = (psi, theta, phi)`` of ``R(t)``,
     ``dA = L(A)^-1 omega_b`` and ``ddA = L(A)^-1 (alpha_b - dL(A, dA) dA)`` (plants.frames). ``A`` is the
     continuous branch starting at the first via's angles (as written, when written as angles), so a
     later via's angles may differ from the written ones by whole turns, or be the other family
-    ``(psi + pi, pi - theta, phi + pi)``. Inside :data:`EULER_VIEW_MARGIN_DEG` of pitch +-90 deg the view
-    does not exist and raises :class:`EulerViewError` (:meth:`euler_band_entry` finds where a path enters).
+    ``(psi + pi, pi - theta, phi + pi)``. The branch is tracked at construction on 1025 points of each
+    segment (each the representative nearest the previous one); at a time ``t`` the angles of ``R(t)``
+    are the representative nearest the tracked ones interpolated to ``t``, so they are exact and
+    continuous wherever the view exists (past the band, the family the tracking reached). Inside
+    :data:`EULER_VIEW_MARGIN_DEG` of pitch +-90 deg the view does not exist and raises
+    :class:`EulerViewError` (:meth:`euler_band_entry` finds where a path enters).
 
     Args:
         times: Via times [s], shape ``(k,)``, strictly increasing, ``times[0] = 0``.
@@ -133,9 +138,10 @@ class GeodesicTrajectory:
             on its geodesic already).
 
     Attributes:
-        positions: ``(k, 3)`` via positions [m]. quaternions: ``(k, 4)`` unit via quaternions,
-        signs chosen so that consecutive ones have a non-negative product. rotation_vectors:
-        ``(segments, 3)`` the ``phi_i`` [rad].
+        positions: ``(k, 3)`` via positions [m].
+        quaternions: ``(k, 4)`` unit via quaternions ``(w, x, y, z)``, each signed as the previous
+            segment ends (``q_i exp(phi_i)``), so that :meth:`sample_rotation` is continuous in sign.
+        rotation_vectors: ``(segments, 3)`` the ``phi_i`` [rad], in ``R_i``'s axes.
 
     Raises:
         ScenarioError: (a ``ValueError``) naming the field (``times[2]``, ``poses[1]``, ``space``).
