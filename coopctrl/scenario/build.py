@@ -150,11 +150,30 @@ def unloaded_state(scenario) -> np.ndarray:
 
 
 def trajectory(scenario):
-    """The object's nominal :class:`~coopctrl.trajectory.MinimumJerkTrajectory` through ``trajectory.via``."""
-    from coopctrl.trajectory import MinimumJerkTrajectory
+    """The object's nominal trajectory through ``trajectory.via``: a
+    :class:`~coopctrl.trajectory.MinimumJerkTrajectory`, or with ``trajectory.orientation = "geodesic"`` in a
+    spatial scene a :class:`~coopctrl.trajectory.GeodesicTrajectory`, whose Euler view (what the loop
+    runs on) must stay out of the band around pitch +-90 deg (else bad input naming the via that ends the
+    segment entering it)."""
+    import coopctrl.trajectory as trajectories
 
     via = scenario.trajectory.via
-    return MinimumJerkTrajectory([v.time for v in via], [v.pose for v in via], scenario.space)
+    times, poses = [v.time for v in via], [v.pose for v in via]
+    if scenario.trajectory.orientation == "euler" or scenario.space != "spatial":
+        return trajectories.MinimumJerkTrajectory(times, poses, scenario.space)
+    path = trajectories.GeodesicTrajectory(times, poses)
+    entry = path.euler_band_entry()
+    if entry is not None:
+        segment, t, pitch = entry
+        k = segment + 1 if len(via) > 1 else 0
+        margin = trajectories.EULER_VIEW_MARGIN_DEG
+        raise ScenarioError(
+            f"trajectory.via[{k}].pose", list(via[k].pose),
+            f"a geodesic path whose ZYX pitch stays at least {margin:g} deg away from +-90 deg: the object reaches "
+            f"pitch {pitch:.2f} deg at t = {t:.4g} s, where the loop's Euler coordinates do not exist; keep |pitch| "
+            f"below {90.0 - margin:g} deg or re-orient the object frame so that the large rotation is a yaw or a roll",
+            scenario.source)
+    return path
 
 
 def initial_state(scenario) -> np.ndarray:

@@ -5,8 +5,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from coopctrl.errors import ScenarioError
-from coopctrl.scenario.checks import field_scope, instance, number, vector
+from coopctrl.scenario.checks import choice, field_scope, instance, number, vector
 from coopctrl.scenario.schema import key, limits
+
+#: ``trajectory.orientation``: the book's component-wise ZYX angles, or minimum jerk on the rotation group.
+ORIENTATIONS = ("euler", "geodesic")
 
 
 @dataclass(frozen=True)
@@ -34,9 +37,14 @@ class TrajectoryConfig:
     Attributes:
         via: Via points with strictly increasing times; the first is at time 0 and is the
             initial object pose. Between two vias the motion is minimum-jerk (rest to rest).
+        orientation: How the object turns between two vias: ``"euler"`` (the book's: each ZYX angle
+            minimum-jerk on its own, not wrapped) or ``"geodesic"`` (the shorter rotation about a fixed
+            axis, minimum-jerk in its angle: ``coopctrl.trajectory.GeodesicTrajectory``; the via angles
+            then only name rotations). A planar rotation is one angle: both move it the same way.
     """
 
     via: tuple[ViaPoint, ...]
+    orientation: str = key("euler", allowed=ORIENTATIONS)
 
     def __post_init__(self) -> None:
         if not isinstance(self.via, (list, tuple)) or not self.via:
@@ -44,6 +52,7 @@ class TrajectoryConfig:
         for k, point in enumerate(self.via):
             instance(f"via[{k}]", point, ViaPoint)
         object.__setattr__(self, "via", tuple(self.via))
+        object.__setattr__(self, "orientation", choice("orientation", self.orientation, ORIENTATIONS))
         if self.via[0].time != 0.0:
             with field_scope("via[0]"):
                 raise ScenarioError("time", self.via[0].time, "0 (the first via is the initial pose)")

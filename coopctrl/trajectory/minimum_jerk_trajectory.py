@@ -39,7 +39,9 @@ class MinimumJerkTrajectory:
     [m], Euler angles ZYX ``(psi, theta, phi)`` in [rad], docs/model.md s.2) is interpolated
     separately; the angles are not wrapped (the path follows the numerical difference of the
     given angles). Before ``t = 0`` the first pose is held, after :attr:`duration` the last one,
-    both with zero velocity and acceleration.
+    both with zero velocity and acceleration. :class:`~coopctrl.trajectory.GeodesicTrajectory` turns
+    the object on the rotation group instead (the shorter rotation about a fixed axis, through pitch
+    +-90 deg too), with the same interface as an Euler view.
 
     Args:
         times: Via-point times [s], shape ``(k,)``, strictly increasing, ``times[0] = 0``.
