@@ -602,11 +602,11 @@ def _moment_arms(M, m: int, p: int, npos: int) -> np.ndarray:
 def _trajectory_samples(trajectory, times, p: int) -> np.ndarray:
     """``(Y, dY, ddY)`` of the nominal object motion at ``times``, stacked (3, N, p) [m, rad, per s, per s^2]:
     ``sample`` (vectorized) when the trajectory has it, else ``evaluate`` tick by tick."""
-    from coopctrl.trajectory import MinimumJerkTrajectory
+    from coopctrl.trajectory import GeodesicTrajectory, MinimumJerkTrajectory
 
     if not len(times):
         return np.zeros((3, 0, p))
-    if type(trajectory) is MinimumJerkTrajectory:
+    if type(trajectory) in (MinimumJerkTrajectory, GeodesicTrajectory):  # their sample() is evaluate() at every time
         return np.ascontiguousarray(np.stack(trajectory.sample(times)))
     out = np.empty((3, len(times), p))
     for k, t in enumerate(times):
