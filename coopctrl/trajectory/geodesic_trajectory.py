@@ -14,6 +14,7 @@ from coopctrl.trajectory.minimum_jerk_trajectory import (
     PEAK_ACCELERATION_FACTOR,
     PEAK_ACCELERATION_TAUS,
     PEAK_VELOCITY_FACTOR,
+    checked_times,
 )
 
 #: Distance [deg] from pitch +-90 deg inside which the Euler view is refused (the loop's band,
@@ -164,7 +165,7 @@ class GeodesicTrajectory:
         if self.space != "spatial":
             raise ScenarioError("space", self.space, "'spatial' (a planar rotation is one angle: "
                                 "MinimumJerkTrajectory interpolates it on its geodesic already)")
-        times = _times(self.times)
+        times = checked_times(self.times)
         rows = _rows(self.poses, times.shape[0])
         k = times.shape[0]
         positions = np.array([row[:3] for row in rows])
@@ -316,27 +317,6 @@ def _dL_dA(A, dA) -> np.ndarray:
     return np.stack((-cth * dth * dps,
                      (cph * cth * dph - sph * sth * dth) * dps - sph * dph * dth,
                      (-sph * cth * dph - cph * sth * dth) * dps - cph * dph * dth), axis=1)
-
-
-def _times(value) -> np.ndarray:
-    """The validated via times [s] (as :class:`MinimumJerkTrajectory`)."""
-    try:
-        times = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ScenarioError("times", value, "a 1-D sequence of numbers [s]") from None
-    if times.ndim != 1 or times.shape[0] < 1:
-        raise ScenarioError("times", f"<array of shape {times.shape}>", "a non-empty 1-D array [s]")
-    bad = np.flatnonzero(~np.isfinite(times))
-    if bad.size:
-        raise ScenarioError(f"times[{bad[0]}]", float(times[bad[0]]), "a finite time [s]")
-    if times[0] != 0.0:
-        raise ScenarioError("times[0]", float(times[0]), "0.0 (the trajectory starts at t = 0 s)")
-    bad = np.flatnonzero(np.diff(times) <= 0.0)
-    if bad.size:
-        i = int(bad[0]) + 1
-        raise ScenarioError(f"times[{i}]", float(times[i]),
-                            f"strictly increasing times: > times[{i - 1}] = {times[i - 1]!r}")
-    return times
 
 
 def _rows(value, k: int) -> list[np.ndarray]:

@@ -22,6 +22,32 @@ PEAK_ACCELERATION_FACTOR = 10.0 / math.sqrt(3.0)
 PEAK_ACCELERATION_TAUS = ((3.0 - math.sqrt(3.0)) / 6.0, (3.0 + math.sqrt(3.0)) / 6.0)
 
 
+def checked_times(value) -> np.ndarray:
+    """The via-point times [s] of a trajectory, validated: a non-empty 1-D array of finite, strictly
+    increasing times starting at 0 (a copy).
+
+    Raises:
+        ScenarioError: naming the field (``times``, ``times[2]``), the value and what is allowed.
+    """
+    try:
+        times = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ScenarioError("times", value, "a 1-D sequence of numbers [s]") from None
+    if times.ndim != 1 or times.shape[0] < 1:
+        raise ScenarioError("times", f"<array of shape {times.shape}>", "a non-empty 1-D array [s]")
+    bad = np.flatnonzero(~np.isfinite(times))
+    if bad.size:
+        raise ScenarioError(f"times[{bad[0]}]", float(times[bad[0]]), "a finite time [s]")
+    if times[0] != 0.0:
+        raise ScenarioError("times[0]", float(times[0]), "0.0 (the trajectory starts at t = 0 s)")
+    bad = np.flatnonzero(np.diff(times) <= 0.0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise ScenarioError(f"times[{i}]", float(times[i]),
+                            f"strictly increasing times: > times[{i - 1}] = {times[i - 1]!r}")
+    return times
+
+
 @dataclass(frozen=True, eq=False)
 class MinimumJerkTrajectory:
     """Rest-to-rest quintic segments through via poses, component-wise on the pose coordinates.
@@ -66,22 +92,7 @@ class MinimumJerkTrajectory:
         if self.space not in POSE_SIZE:
             raise ScenarioError("space", self.space, "'spatial' or 'planar'")
         size = POSE_SIZE[self.space]
-        try:
-            times = np.array(self.times, dtype=float)
-        except (TypeError, ValueError):
-            raise ScenarioError("times", self.times, "a 1-D sequence of numbers [s]") from None
-        if times.ndim != 1 or times.shape[0] < 1:
-            raise ScenarioError("times", f"<array of shape {times.shape}>", "a non-empty 1-D array [s]")
-        bad = np.flatnonzero(~np.isfinite(times))
-        if bad.size:
-            raise ScenarioError(f"times[{bad[0]}]", float(times[bad[0]]), "a finite time [s]")
-        if times[0] != 0.0:
-            raise ScenarioError("times[0]", float(times[0]), "0.0 (the trajectory starts at t = 0 s)")
-        bad = np.flatnonzero(np.diff(times) <= 0.0)
-        if bad.size:
-            i = int(bad[0]) + 1
-            raise ScenarioError(f"times[{i}]", float(times[i]),
-                                f"strictly increasing times: > times[{i - 1}] = {times[i - 1]!r}")
+        times = checked_times(self.times)
         try:
             poses = np.array(self.poses, dtype=float)
         except (TypeError, ValueError):
