@@ -19,8 +19,8 @@ def test_to_pandas_names_units_and_values(space, m):
     joints = m * dof
     pairs = m * (m - 1) // 2
     # pose + nominal + velocity, q, qd, tau, four wrench families, squeeze + desired, qp iterations/time,
-    # energy (no node poses: the synthetic result has none)
-    expected_columns = 3 * p + 3 * joints + 4 * m * p + 2 * pairs + 3
+    # energy (no node poses: the synthetic result has none); spatial: the object's quaternion (4 columns)
+    expected_columns = 3 * p + 3 * joints + 4 * m * p + 2 * pairs + 3 + (4 if space == "spatial" else 0)
     assert df.shape == (r.t.size, expected_columns)
     np.testing.assert_array_equal(df.index.to_numpy(), r.t)
     units = df.attrs["units"]

@@ -216,3 +216,26 @@ def test_plot_writes_nonempty_pngs(tmp_path, space, m, limits):
         data = p.read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 1000
     assert not [p for p in os.listdir(tmp_path) if p.endswith(".tmp")]
+
+
+def test_object_quaternion_is_the_rotation_of_Y0_continuous_through_pitch_90():
+    """result.object_quaternion (issue 20): the ZYX rotation of Y0 as (w, x, y, z), checked against scipy's
+    Rotation, unit, and continuous (no sign jump) along a turn of the pitch from 0 to 120 deg; planar: None."""
+    from dataclasses import replace
+
+    from scipy.spatial.transform import Rotation
+
+    r = synthetic("spatial", 2)
+    n = r.t.size
+    Y0 = r.Y0.copy()
+    Y0[:, 3] = np.linspace(-3.0, 3.0, n)           # psi through +-pi, where the angle would jump
+    Y0[:, 4] = np.linspace(0.0, np.radians(120.0), n)  # theta through 90 deg
+    Y0[:, 5] = np.linspace(0.5, -0.5, n)
+    q = replace(r, Y0=Y0).object_quaternion
+    ref = Rotation.from_euler("ZYX", Y0[:, 3:6]).as_quat()[:, [3, 0, 1, 2]]  # scipy is (x, y, z, w)
+    assert q.shape == (n, 4)
+    np.testing.assert_allclose(np.abs(np.einsum("ij,ij->i", q, ref)), 1.0, atol=1e-12)  # the same rotation, +-q
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-12)
+    # continuity: neighbouring samples differ by a small rotation, never by a sign flip (|dq| ~ 2 here)
+    assert np.max(np.linalg.norm(np.diff(q, axis=0), axis=1)) < 0.1
+    assert synthetic("planar", 2).object_quaternion is None

@@ -10,6 +10,8 @@ poses and ``(fx, fz, my)`` wrenches in the x-z plane.
 Signals, per sample (N at the control rate):
 
 - ``Y0_<c>`` / ``Y0_nominal_<c>``: object pose and its nominal trajectory [m] or [rad];
+- ``Y0_qw``, ``Y0_qx``, ``Y0_qy``, ``Y0_qz`` (spatial): the object's rotation as a unit quaternion [-]
+  (``SimulationResult.object_quaternion``, sign-continuous);
 - ``Y0d_<c>``: object velocity, the rate of its pose coordinates [m/s] or [rad/s];
 - ``node_arm<i>_<c>``: the node (end-effector) pose of arm i [m] or [rad];
 - ``q_arm<i>_j<k>`` [rad], ``qd_arm<i>_j<k>`` [rad/s]: joint angles and rates;
@@ -73,6 +75,9 @@ def signals(result: "SimulationResult") -> list[tuple[str, str, np.ndarray]]:
     out: list[tuple[str, str, np.ndarray]] = []
     for prefix, Y in (("Y0", r.Y0), ("Y0_nominal", r.Y0_nominal)):
         out += [(f"{prefix}_{c}", pose_unit(c), Y[:, k]) for k, c in enumerate(pose_names(p))]
+    quaternion = r.object_quaternion
+    if quaternion is not None:
+        out += [(f"Y0_q{c}", "-", quaternion[:, k]) for k, c in enumerate("wxyz")]
     joints = joint_labels(r)
     nq = len(joints)
     if r.x.shape[1] == 2 * nq + 2 * p:  # x = col(q, Y0, q', Y0')

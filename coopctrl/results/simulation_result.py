@@ -187,6 +187,22 @@ class SimulationResult:
         return 3 if self.space == "planar" else 6
 
     @property
+    def object_quaternion(self) -> np.ndarray | None:
+        """The object's rotation as unit quaternions ``(w, x, y, z)`` [-], shape (N, 4), of the ZYX angles of
+        ``Y0`` (``R = Rz(psi) Ry(theta) Rx(phi)``), each sample's sign chosen nearest the previous one so
+        that the signal is continuous (``q`` and ``-q`` are one rotation); ``None`` for a planar result."""
+        if self.pose_size != 6:
+            return None
+        from coopctrl.trajectory.quaternion import from_zyx
+
+        q = from_zyx(self.Y0[:, 3:6])
+        if q.shape[0] > 1:  # flip where the next sample points away: the running product of the signs
+            flips = np.sign(np.einsum("ij,ij->i", q[1:], q[:-1]))
+            flips[flips == 0.0] = 1.0
+            q[1:] *= np.cumprod(flips)[:, None]
+        return q
+
+    @property
     def arms(self) -> int:
         """m: number of contacts."""
         return int(self.F_measured.shape[1])
