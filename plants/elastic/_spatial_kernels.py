@@ -206,8 +206,8 @@ def geodesic_rotation_edge(i, j, p, F, scratch, frames):
     docs/model.md s.3 [ours]); adds its generalized forces into ``F`` and returns its energy.
 
     .. math::
-        \Delta = R_i^T R_j R_0^T, \quad e = \log(\Delta), \quad
-        \Pi = \tfrac12 e^T C_A e, \quad C_A = \mathrm{diag}(cA_\phi, cA_\theta, cA_\psi)
+        \\Delta = R_i^T R_j R_0^T, \\quad e = \\log(\\Delta), \\quad
+        \\Pi = \\tfrac12 e^T C_A e, \\quad C_A = \\mathrm{diag}(cA_\\phi, cA_\\theta, cA_\\psi)
 
     ``R_0`` the rest relative rotation ``R_i0^T R_j0`` (columns 18-26 of ``p``), ``e`` [rad] the
     rotation vector of node j against its rest rotation, in node i's frame (axes x, y, z: the book's
@@ -216,8 +216,8 @@ def geodesic_rotation_edge(i, j, p, F, scratch, frames):
     (``J_r`` the right Jacobian of SO(3)), so with ``g = C_A e`` and ``h = J_r^-T g``:
 
     .. math::
-        \tau_j = R_0^T h, \quad \tau_i = -\Delta h, \qquad
-        \partial \Pi / \partial A_k = L_k^T \tau_k
+        \\tau_j = R_0^T h, \\quad \\tau_i = -\\Delta h, \\qquad
+        \\partial \\Pi / \\partial A_k = L_k^T \\tau_k
 
     (body torques ``tau_k`` [N m] mapped to the angles of node k's chart by ``L_k``). It depends on
     the rotations only, so on no chart; it is invariant under rigid motions of the pair (4.7).
