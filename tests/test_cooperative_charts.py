@@ -58,6 +58,10 @@ def test_the_same_state_in_other_charts_gives_the_same_book_coordinates():
             assert rel(a, b) <= EXACT_RTOL
         assert p.energy(xx) == pytest.approx(plant.energy(x), rel=EXACT_RTOL)
         assert rel(p.contact_wrenches(xx), plant.contact_wrenches(x)) <= EXACT_RTOL
+        assert rel(p.control_terms(xx).Fw, plant.control_terms(x).Fw) <= EXACT_RTOL
+    # identity charts are the book's plant: the same packed rows, the same right-hand side bits
+    assert not plant.charted and not plant.with_charts(np.stack([np.eye(3)] * 3)).charted
+    assert np.array_equal(plant.with_charts(np.stack([np.eye(3)] * 3)).rhs(0.0, x, tau), plant.rhs(0.0, x, tau))
     # the book's rotation form depends on the chart: refused with the reason
     book_plant, _ = two_pumas(rotation_form="book")
     with pytest.raises(ParameterError, match="arm_charts = 'own'.*rotation_form = 'book'.*'geodesic'"):

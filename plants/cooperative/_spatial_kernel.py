@@ -14,7 +14,10 @@ linear in m. An arm of kind ``ARM_CONTACT_POINT`` is an actuated node without ar
 its coordinates are the node pose itself (``J = I``, ``H = h = 0``).
 
 The interconnections' forces, dampers included (frame invariant by default, docs/model.md s.3), come from
-the kernels of :mod:`plants.elastic`. numba keys a cached function on its own file; the cache directory
+the kernels of :mod:`plants.elastic`. Rotation charts (docs/model.md s.2): rows of ``node_params`` wider
+than ``NODE_CHART_KIND`` carry each node's chart (the object's and contact points' stored, an arm of kind
+``ARM_SERIAL_OWN_CHART`` in its own), applied to the node frames after they are evaluated; with the
+book's 4-column rows nothing else runs. numba keys a cached function on its own file; the cache directory
 is keyed on every kernel source (:mod:`plants.numba_cache`), so a change to a kernel called from another
 file recompiles this one too.
 
@@ -87,7 +90,7 @@ SpatialWorkspace = namedtuple("SpatialWorkspace", (
     "o3",     # (3,) its solution
     "chain",  # (n + 1, CHAIN_WORK_WIDTH) work rows of plants.arms._chain_kernels.chain_arm_terms_into
     "edge",   # EDGE_SCRATCH_SHAPE scratch of the plants.elastic._spatial_kernels *_into kernels
-    "frames", # (N, NODE_FRAME_BLOCKS, 3, 3) every node's R, dR/dA, L (plants.elastic node_frames_into)
+    "frames", # (N, NODE_FRAME_BLOCKS, 3, 3) every node's R, dR/dA, L (plants.elastic node_frames_into) and chart
 ))
 
 
@@ -375,7 +378,8 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     the generalized force the interconnections apply to node i), and ``Fw`` (m, 6) the wrench
     ``(f, n)`` [N, N m] that the edges between the object and contact i apply to the object,
     force at the contact node and couple, world frame. ``ok`` is False at an Euler singularity
-    of the object. New arrays; see :func:`interconnection_into`.
+    of the object. New arrays; see :func:`interconnection_into`. The nodes' angles are the book's
+    world angles (identity charts); a plant in charts gets these terms from :func:`control_terms_into`.
     """
     N = Y.shape[0]
     S = np.empty((N, 6))

@@ -437,7 +437,8 @@ class CooperativePlant:
 
     # ------------------------------------------------------------------ energy
     def elastic_potential(self, Y) -> float:
-        """``Pi(Y)`` [J] of the interconnections (see :class:`ElasticSystem`)."""
+        """``Pi(Y)`` [J] of the interconnections (see :class:`ElasticSystem`), ``Y`` in the elastic system's
+        charts (an arm's node in its own chart has none stored: :meth:`energy` takes the state)."""
         return self.elastic.elastic_potential(Y)
 
     def elastic_force(self, Y) -> np.ndarray:
