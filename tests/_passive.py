@@ -18,7 +18,7 @@ def integrate_passive(plant, x0, rhs, recentre, chart_cos, duration, segment):
     """``(times, states, plants)`` at the ends of segments of ``segment`` [s] over ``duration`` [s].
 
     ``rhs(plant, t, x)``: the plant's right-hand side; ``recentre(plant, x) -> (plant, x)``;
-    ``chart_cos(plant, x)``: the smallest ``|cos theta|`` of the charted nodes' angles."""
+    ``chart_cos(plant, x)``: the smallest ``|cos theta|`` of the charted nodes' angles (``plant.chart_cos``)."""
     t, x = 0.0, np.asarray(x0, dtype=float).copy()
     times, states, plants = [t], [x.copy()], [plant]
     while t < duration - 1e-12:

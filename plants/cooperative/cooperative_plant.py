@@ -207,6 +207,15 @@ class CooperativePlant:
             C[k], x[a], x[da] = _charts.recentre(C[k], x[a], x[da])
         return self.with_charts(C), x
 
+    def chart_cos(self, x) -> float:
+        """The smallest ``|cos theta|`` of the object's and contact points' angles in their stored charts
+        at ``x`` (arms' nodes in their own charts are always at ``A = 0``): below ~0.7 (45 deg from the
+        chart) an integrator calls :meth:`recentred` between steps."""
+        x = self._state(x)
+        if self.space != "spatial":
+            return 1.0
+        return float(min(abs(np.cos(x[sl][4])) for _, sl in self._free_nodes()))
+
     def _frames_state(self, x):
         """``(Y, dY, J, Jdq, frames)`` at ``x`` with every node's frames in its chart."""
         st = np.zeros(2, dtype=np.int64)

@@ -209,6 +209,14 @@ class ElasticSystem:
             C[k], Y[k, 3:6], dY[k, 3:6] = _charts.recentre(C[k], Y[k, 3:6], dY[k, 3:6])
         return self.with_charts(C), x
 
+    def chart_cos(self, x) -> float:
+        """The smallest ``|cos theta|`` of the nodes' angles in their charts at ``x = (Y, dY)`` (or ``Y``):
+        below ~0.7 (45 deg from the chart) an integrator calls :meth:`recentred` between steps."""
+        Y = np.asarray(x, dtype=float).reshape(-1)[:self.size].reshape(self.node_count, self.p)
+        if self.space != "spatial":
+            return 1.0
+        return float(np.min(np.abs(np.cos(Y[:, 4]))))
+
     def book_coordinates(self, x, dx):
         """``(Y, dY, ddY)`` of every node in the book's coordinates (world ZYX Euler angles), flat
         ``((m + 1) 6,)`` each, from the state ``x = (Y, dY)`` and its rate ``dx = (dY, ddY)`` (as
