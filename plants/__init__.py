@@ -3,6 +3,8 @@
 Stateless: every function takes (t, x, u) or (Y, dY) and returns arrays. Subpackages:
 
 - :mod:`plants.frames` - ZYX Euler angles, ``R(A)``, ``L(A)`` and its derivative;
+- :mod:`plants.charts` - rotation charts: the angles taken about a constant rotation, re-centring,
+  and the book's world angles back;
 - :mod:`plants.arms` - serial chains (DH tables), ``puma560()``, ``planar3r()``;
 - :mod:`plants.elastic` - nodes, interconnections, the elastic system (113, 115) and its
   immobile linear model (4.5);

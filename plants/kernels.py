@@ -9,7 +9,8 @@ Arms (docs/model.md s.4):
 
 * :func:`chain_arm_terms` - ``H``, ``h``, ``Y = Phi(q)``, ``J`` and ``dJ dq`` of a general serial chain
   (URDF and DH arms alike); :data:`COULOMB_SMOOTHING` [m/s or rad/s] is the rate scale of its smooth
-  Coulomb friction ``coulomb * tanh(dq / COULOMB_SMOOTHING)``;
+  Coulomb friction ``coulomb * tanh(dq / COULOMB_SMOOTHING)``; :func:`chain_arm_terms_own_chart` the same
+  with the node's angles in its own chart (``A = 0``, the chart ``R_tip(q)`` returned; docs/model.md s.2);
 * :func:`planar_arm_terms` - the same for a planar arm.
 
 Elastic system (docs/model.md s.3):
@@ -25,7 +26,7 @@ Linear algebra: :func:`cholesky_solve` - ``A x = b`` for a symmetric positive-de
 
 from __future__ import annotations
 
-from plants.arms._chain_kernels import COULOMB_SMOOTHING, chain_arm_terms
+from plants.arms._chain_kernels import COULOMB_SMOOTHING, chain_arm_terms, chain_arm_terms_own_chart
 from plants.arms._planar_kernels import planar_arm_terms
 from plants.cooperative._linalg import cholesky_solve
 from plants.elastic._layout import STATUS_COINCIDENT_NODES, STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
@@ -34,6 +35,6 @@ from plants.elastic._spatial_kernels import interconnection_terms, node_terms, s
 
 __all__ = [
     "COULOMB_SMOOTHING", "STATUS_COINCIDENT_NODES", "STATUS_EULER_SINGULAR", "STATUS_OK", "STATUS_SINGULAR_MASS",
-    "chain_arm_terms", "cholesky_solve", "interconnection_terms", "node_terms", "planar_arm_terms",
+    "chain_arm_terms", "chain_arm_terms_own_chart", "cholesky_solve", "interconnection_terms", "node_terms", "planar_arm_terms",
     "planar_interconnection_terms", "solve_node_rotation",
 ]

@@ -143,11 +143,19 @@ def _link_frame(p, row, qk, c):
 def chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
     """:func:`chain_arm_terms_into` with a work array of its own (one allocation per call)."""
     wk = np.empty((q.shape[0] + 1, CHAIN_WORK_WIDTH))
-    return chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
+    return chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk, False, np.empty((3, 3)))
+
+
+@njit(cache=True)
+def chain_arm_terms_own_chart(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, chart):
+    """:func:`chain_arm_terms_into` with the node in its own chart (``own_chart`` True): ``Y[3:6] = 0``,
+    ``chart`` (3x3) receives the node's world rotation ``R_tip(q)``; one allocation per call."""
+    wk = np.empty((q.shape[0] + 1, CHAIN_WORK_WIDTH))
+    return chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk, True, chart)
 
 
 @njit(cache=True, _nrt=False)
-def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk):
+def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk, own_chart, chart):
     """Fill ``H`` (n x n), ``h`` (n), ``Y`` (6), ``J`` (6 x n) and ``Jdq`` (6) in place; allocates nothing.
 
     Args:
@@ -164,6 +172,11 @@ def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
         Jdq: Out: ``dJ/dt dq`` [m/s^2, rad/s^2].
         wk: Work array, float64 ``(n_rows, CHAIN_WORK_WIDTH)`` with ``n_rows >= n + 1`` (one row
             per body, base included; rows past ``n`` are not touched); overwritten.
+        own_chart: False: the node's angles are the book's world ZYX Euler angles of ``R_tip``.
+            True: they are taken in the node's own chart for this evaluation (docs/model.md s.2,
+            rotation charts): ``C = R_tip(q)``, ``A = 0``, so ``L(0)`` is a permutation and the
+            angular rows ``dA = L(0)^-1 R_tip^T omega_world`` (body rates) exist at every pose.
+        chart: Out (``own_chart`` True): the chart ``C = R_tip(q)`` (3x3); untouched otherwise.
 
     Returns:
         0 on success; 1 if the tip's Euler angles are at the singularity of ``L`` (then the
@@ -359,11 +372,20 @@ def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
     py = e[_O + 1] + Rn[3] * tool[0, 3] + Rn[4] * tool[1, 3] + Rn[5] * tool[2, 3]
     pz = e[_O + 2] + Rn[6] * tool[0, 3] + Rn[7] * tool[1, 3] + Rn[8] * tool[2, 3]
     Y[0], Y[1], Y[2] = px, py, pz
-    cth = math.sqrt(t21 * t21 + t22 * t22)
-    sth = -t20
-    Y[3] = math.atan2(t10, t00)
-    Y[4] = math.atan2(sth, cth)
-    Y[5] = math.atan2(t21, t22)
+    if own_chart:
+        Y[3] = 0.0
+        Y[4] = 0.0
+        Y[5] = 0.0
+        cth, sth = 1.0, 0.0
+        chart[0, 0], chart[0, 1], chart[0, 2] = t00, t01, t02
+        chart[1, 0], chart[1, 1], chart[1, 2] = t10, t11, t12
+        chart[2, 0], chart[2, 1], chart[2, 2] = t20, t21, t22
+    else:
+        cth = math.sqrt(t21 * t21 + t22 * t22)
+        sth = -t20
+        Y[3] = math.atan2(t10, t00)
+        Y[4] = math.atan2(sth, cth)
+        Y[5] = math.atan2(t21, t22)
 
     # ---- translational Jacobian rows and tip acceleration
     for k in range(1, n + 1):
@@ -395,7 +417,10 @@ def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk)
         return 1
 
     # ---- angular rows: dA = L^-1 R^T omega_world
-    sph, cph = t21 / cth, t22 / cth
+    if own_chart:
+        sph, cph = 0.0, 1.0
+    else:
+        sph, cph = t21 / cth, t22 / cth
     tth = sth / cth
     l01, l02 = sph / cth, cph / cth
     l11, l12 = cph, -sph

@@ -14,7 +14,10 @@ linear in m. An arm of kind ``ARM_CONTACT_POINT`` is an actuated node without ar
 its coordinates are the node pose itself (``J = I``, ``H = h = 0``).
 
 The interconnections' forces, dampers included (frame invariant by default, docs/model.md s.3), come from
-the kernels of :mod:`plants.elastic`. numba keys a cached function on its own file; the cache directory
+the kernels of :mod:`plants.elastic`. Rotation charts (docs/model.md s.2): rows of ``node_params`` wider
+than ``NODE_CHART_KIND`` carry each node's chart (the object's and contact points' stored, an arm of kind
+``ARM_SERIAL_OWN_CHART`` in its own), applied to the node frames after they are evaluated; with the
+book's 4-column rows nothing else runs. numba keys a cached function on its own file; the cache directory
 is keyed on every kernel source (:mod:`plants.numba_cache`), so a change to a kernel called from another
 file recompiles this one too.
 
@@ -43,14 +46,16 @@ from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potent
 from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
 from plants.arms._chain_kernels import chain_arm_terms_into
 from plants.cooperative._linalg import cholesky_solve_n
-from plants.elastic._layout import STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
+from plants.elastic._layout import NODE_CHART_KIND, STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
 from plants.frames import body_rate_map_inverse, rotation_zyx_into
 from plants.elastic._spatial_kernels import (
     EDGE_SCRATCH_SHAPE,
+    FRAME_CHART,
     NODE_FRAME_BLOCKS,
     damping_edges_into,
     elastic_edges_into,
     linear_edges,
+    node_frames_charted_into,
     node_frames_into,
     node_frames_terms_into,
     node_terms_into,
@@ -59,6 +64,10 @@ from plants.elastic._spatial_kernels import (
 
 ARM_SERIAL = 0
 ARM_CONTACT_POINT = 1
+#: A serial arm whose node's angles are taken in the node's own chart at each evaluation (``C = R_tip(q)``,
+#: ``A = 0``; docs/model.md s.2, rotation charts): the arm kernel writes ``C`` into the node's frames
+#: block ``FRAME_CHART``. Its node never meets the Euler singularity.
+ARM_SERIAL_OWN_CHART = 2
 
 
 
@@ -81,7 +90,7 @@ SpatialWorkspace = namedtuple("SpatialWorkspace", (
     "o3",     # (3,) its solution
     "chain",  # (n + 1, CHAIN_WORK_WIDTH) work rows of plants.arms._chain_kernels.chain_arm_terms_into
     "edge",   # EDGE_SCRATCH_SHAPE scratch of the plants.elastic._spatial_kernels *_into kernels
-    "frames", # (N, NODE_FRAME_BLOCKS, 3, 3) every node's R, dR/dA, L (plants.elastic node_frames_into)
+    "frames", # (N, NODE_FRAME_BLOCKS, 3, 3) every node's R, dR/dA, L (plants.elastic node_frames_into) and chart
 ))
 
 
@@ -109,20 +118,22 @@ def make_workspace(arm_dof, node_count):
 
 @njit(cache=True, inline="always")
 def _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, wk, status):
+              Y, dY, H_all, h_all, J_all, Jdq_all, wk, frames, status):
     """Kinematics and arm dynamics of every arm, written straight into the stacked arrays
     ``H_all[i, :n, :n]``, ``h_all[i, :n]``, ``J_all[i, :, :n]``, ``Jdq_all[i]`` and the node poses
-    ``Y[1:]`` and rates ``dY[1:]``; ``wk`` is the chain kernel's work array. Allocates nothing.
+    ``Y[1:]`` and rates ``dY[1:]``; ``wk`` is the chain kernel's work array; an arm of kind
+    ``ARM_SERIAL_OWN_CHART`` writes its node's chart into ``frames[i + 1, FRAME_CHART]``. Allocates nothing.
     (The arm kernel gets whole rows ``H_all[i]`` etc. -- contiguous, so numba compiles it for
     C-layout arrays -- and takes ``n`` from ``q``.)"""
     m = arm_kind.shape[0]
     for i in range(m):
         n = arm_dof[i]
         o = q_off[i]
-        if arm_kind[i] == ARM_SERIAL:
+        if arm_kind[i] != ARM_CONTACT_POINT:
             st = chain_arm_terms_into(z[o:o + n], dz[o:o + n], dh_all[dh_off[i]:dh_off[i] + n],
                                       bases[i], tools[i], gravity, H_all[i], h_all[i], Y[i + 1],
-                                      J_all[i], Jdq_all[i], wk)
+                                      J_all[i], Jdq_all[i], wk, arm_kind[i] == ARM_SERIAL_OWN_CHART,
+                                      frames[i + 1, FRAME_CHART])
             if st != 0:
                 status[0] = STATUS_EULER_SINGULAR
                 status[1] = i + 1
@@ -159,7 +170,7 @@ def _accelerations_into(x, tau, arm_kind, arm_dof, q_off, node_params, Y_ref, im
         o = q_off[i]
         k = i + 1
         mk = node_params[k, 0]
-        if arm_kind[i] == ARM_SERIAL:
+        if arm_kind[i] != ARM_CONTACT_POINT:
             Nm = ws.Nm
             rhs = ws.rhs
             Ji = J_all[i]
@@ -267,7 +278,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         Y[0, a] = z[nz - 6 + a]
         dY[0, a] = dz[nz - 6 + a]
     _arm_pass(z, dz, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, H_all, h_all, J_all, Jdq_all, ws.chain, status)
+              Y, dY, H_all, h_all, J_all, Jdq_all, ws.chain, ws.frames, status)
     for a in range(nz):
         dx[a] = dz[a]
     if status[0] != STATUS_OK:
@@ -325,7 +336,7 @@ def node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
         Y[0, a] = x[nz - 6 + a]
         dY[0, a] = x[2 * nz - 6 + a]
     _arm_pass(x[:nz], x[nz:], arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
-              Y, dY, ws.H, ws.h, ws.J, ws.Jdq, ws.chain, status)
+              Y, dY, ws.H, ws.h, ws.J, ws.Jdq, ws.chain, ws.frames, status)
 
 
 @njit(cache=True)
@@ -338,11 +349,22 @@ def node_state_kernel(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools,
 
 
 @njit(cache=True)
+def node_frames_state_kernel(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, node_params, status):
+    """``(Y, dY, J, Jdq, frames)`` of a state, new arrays: :func:`node_state_into`, then every node's frames in
+    its chart (``frames[k, 0]`` the world rotation ``C_k R(A_k)``, block ``FRAME_CHART`` the chart of a
+    charted node; :func:`plants.elastic._spatial_kernels.node_frames_charted_into`)."""
+    ws = make_workspace(arm_dof, arm_kind.shape[0] + 1)
+    node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws)
+    node_frames_charted_into(ws.Y, node_params, ws.frames)
+    return ws.Y, ws.dY, ws.J, ws.Jdq, ws.frames
+
+
+@njit(cache=True)
 def arm_potential_kernel(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, gravity):
     """Gravitational potential energy [J] of all arm links."""
     U = 0.0
     for i in range(arm_kind.shape[0]):
-        if arm_kind[i] == ARM_SERIAL:
+        if arm_kind[i] != ARM_CONTACT_POINT:
             n = arm_dof[i]
             U += spatial_arm_potential(x[q_off[i]:q_off[i] + n], dh_all[dh_off[i]:dh_off[i] + n], bases[i], gravity)
     return U
@@ -356,7 +378,8 @@ def interconnection_kernel(Y, dY, m, edge_index, edge_params, Y_ref, immobile):
     the generalized force the interconnections apply to node i), and ``Fw`` (m, 6) the wrench
     ``(f, n)`` [N, N m] that the edges between the object and contact i apply to the object,
     force at the contact node and couple, world frame. ``ok`` is False at an Euler singularity
-    of the object. New arrays; see :func:`interconnection_into`.
+    of the object. New arrays; see :func:`interconnection_into`. The nodes' angles are the book's
+    world angles (identity charts); a plant in charts gets these terms from :func:`control_terms_into`.
     """
     N = Y.shape[0]
     S = np.empty((N, 6))
@@ -376,13 +399,15 @@ def interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw,
     """
     if not immobile:
         node_frames_into(Y, frames)
-    return _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames)
+    return _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames, False)
 
 
 @njit(cache=True, _nrt=False)
-def _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames):
+def _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw, Fe, scratch, frames, charted):
     """:func:`interconnection_into` with ``frames`` already holding every node's frames (mobile model;
-    :func:`plants.elastic._spatial_kernels.node_frames_into` or ``node_frames_terms_into``)."""
+    :func:`plants.elastic._spatial_kernels.node_frames_into` or ``node_frames_terms_into``). ``charted``:
+    the nodes' angles are in charts, so the object's world rotation is ``frames[0, 0]`` (``C_0 R(A_0)``)
+    rather than ``R(A_0)``."""
     N = Y.shape[0]
     m = Fw.shape[0]
     S[:, :] = 0.0
@@ -390,7 +415,12 @@ def _interconnection_into(Y, dY, edge_index, edge_params, Y_ref, immobile, S, Fw
     Linv = scratch[14]
     R0 = scratch[15]
     ok = body_rate_map_inverse(Y[0, 3:6], Linv)
-    rotation_zyx_into(Y[0, 3:6], R0)
+    if charted:
+        for a in range(3):
+            for b in range(3):
+                R0[a, b] = frames[0, 0, a, b]
+    else:
+        rotation_zyx_into(Y[0, 3:6], R0)
     for e in range(edge_index.shape[0]):
         Fe[:, :] = 0.0
         ei = edge_index[e:e + 1]
@@ -476,7 +506,7 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools
             for b in range(3):
                 W[k, 3 + a, 3 + b] = ws.Wr[k, a, b]
     if not _interconnection_into(ws.Y, ws.dY, edge_index, edge_params, Y_ref, immobile, cws.S, cws.Fw, cws.Fe,
-                                 ws.edge, ws.frames):
+                                 ws.edge, ws.frames, node_params.shape[1] > NODE_CHART_KIND):
         status[0] = STATUS_EULER_SINGULAR
         status[1] = 0
 

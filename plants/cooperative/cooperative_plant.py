@@ -10,7 +10,14 @@ from plants.cooperative import _planar_kernel, _spatial_kernel
 from plants.cooperative.contact_point import ContactPoint
 from plants.cooperative.control_terms import ControlTerms
 from plants.elastic import ElasticSystem
+from plants import charts as _charts
 from plants.elastic._layout import (
+    CHART_OWN,
+    CHART_STORED,
+    CHART_WORLD,
+    NODE_CHART,
+    NODE_CHART_KIND,
+    NODE_WIDTH_CHARTED,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
     STATUS_OK,
@@ -19,6 +26,9 @@ from plants.elastic._layout import (
 from plants._validation import sized_vector
 from plants.errors import EulerSingularityError, ParameterError, SingularJacobianError
 from plants.frames import body_rate_map_inv, euler_zyx_from_rotation, rotation_zyx
+
+#: How a serial arm's node takes its angles: the book's world ZYX Euler angles, or its own chart.
+ARM_CHARTS = ("world", "own")
 
 _POSE_NAMES = {"spatial": ("x", "y", "z", "psi", "theta", "phi"), "planar": ("x", "z", "theta")}
 _INPUT_NAMES = {"spatial": ("fx", "fy", "fz", "Qpsi", "Qtheta", "Qphi"), "planar": ("fx", "fz", "n")}
@@ -44,9 +54,17 @@ class CooperativePlant:
             (no arm dynamics).
         leader: Index (0-based, into ``arms``) of the leader arm ``v`` (4.10); the others are
             the followers ``s``.
+        arm_charts: Spatial: ``"world"`` (default) gives every serial arm's node its book
+            coordinates (world ZYX Euler angles of the tip, singular at pitch +-90 deg);
+            ``"own"`` takes them in the node's own chart at each evaluation (``C = R_tip(q)``,
+            ``A = 0``, docs/model.md s.2): the arms never meet the singularity, and the plant's
+            node poses, Jacobians and control terms are in those charts (:meth:`book_coordinates`
+            gives the book's). ``"own"`` needs an elastic system whose equations depend on no
+            chart (:meth:`ElasticSystem.chart_dependence`). The object and contact points take
+            their stored charts from ``elastic.charts``.
     """
 
-    def __init__(self, elastic: ElasticSystem, arms: Sequence, leader: int = 0):
+    def __init__(self, elastic: ElasticSystem, arms: Sequence, leader: int = 0, arm_charts: str = "world"):
         self.elastic = elastic
         self.space = elastic.space
         self.p = p = elastic.p
@@ -102,9 +120,147 @@ class CooperativePlant:
         self._status = np.zeros(2, dtype=np.int64)
         self.arm_dofs = tuple(int(d) for d in dofs)
         self.nz = int(sum(dofs)) + p
+        self._set_charts(arm_charts)
+        self._pack_args()
+
+    # ------------------------------------------------------------------ charts
+    def _set_charts(self, arm_charts: str) -> None:
+        """Validate ``arm_charts`` against the elastic system's charts; pack the node rows and arm kinds."""
+        if arm_charts not in ARM_CHARTS:
+            raise ParameterError("arm_charts", arm_charts, f"one of {ARM_CHARTS}")
+        if arm_charts == "own":
+            if self.space != "spatial":
+                raise ParameterError("arm_charts", arm_charts, "'world' for a planar plant (charts are for spatial rotations)")
+            why = self.elastic.chart_dependence()
+            if why is not None:
+                raise ParameterError("arm_charts", arm_charts, f"'world' (the book's world angles): {why}")
+        self.arm_charts = arm_charts
+        serial = [not isinstance(a, ContactPoint) for a in self.arms]
+        if self.space == "spatial":
+            for i, is_serial in enumerate(serial):
+                if is_serial and not _charts.is_identity(self.elastic.charts[i + 1]):
+                    raise ParameterError(f"elastic.charts[{i + 1}]", self.elastic.charts[i + 1].tolist(),
+                                         "the identity for an arm's node (an arm's node takes its chart from arm_charts)")
+        kinds = self._arm_kind.copy()
+        for i, is_serial in enumerate(serial):
+            if is_serial and self.space == "spatial":
+                kinds[i] = _spatial_kernel.ARM_SERIAL_OWN_CHART if arm_charts == "own" else _spatial_kernel.ARM_SERIAL
+        self._arm_kind = kinds
+        if self.space == "spatial" and (self.elastic.charted or arm_charts == "own"):
+            rows = np.zeros((self.node_count, NODE_WIDTH_CHARTED))
+            rows[:, :4] = self.elastic.node_params
+            for k in range(self.node_count):
+                own = k > 0 and serial[k - 1] and arm_charts == "own"
+                C = self.elastic.charts[k]
+                rows[k, NODE_CHART_KIND] = CHART_OWN if own else (CHART_WORLD if _charts.is_identity(C) else CHART_STORED)
+                rows[k, NODE_CHART:NODE_CHART + 9] = C.reshape(-1)
+            self._node_params = np.ascontiguousarray(rows)
+        else:
+            self._node_params = np.ascontiguousarray(self.elastic.node_params)
+        self._charted = self._node_params.shape[1] > NODE_CHART_KIND
+
+    def _pack_args(self) -> None:
         self._args = (self._arm_kind, self._arm_dof, self._q_off, self._dh_all, self._dh_off,
                       self._bases, self._tools, self._gravity, self._node_params, self._edge_index,
                       self._edge_params, self._Y_ref, self._immobile, self._status)
+
+    @property
+    def charted(self) -> bool:
+        """True when some node's angles are taken in a chart other than the book's world chart."""
+        return self._charted
+
+    def with_charts(self, charts=None, arm_charts: str | None = None) -> "CooperativePlant":
+        """This plant with other stored charts for the object and contact points (``charts``: (m + 1, 3, 3),
+        see :class:`ElasticSystem`; ``None`` keeps them) and/or another ``arm_charts``. A shallow copy:
+        the packed arm and edge parameters are shared."""
+        import copy
+
+        out = copy.copy(self)
+        if charts is not None:
+            out.elastic = self.elastic.with_charts(charts)
+        out._status = np.zeros(2, dtype=np.int64)
+        out._set_charts(self.arm_charts if arm_charts is None else arm_charts)
+        out._pack_args()
+        return out
+
+    def _free_nodes(self):
+        """``(node, slice of its 6 coordinates in z)`` of the object and every contact point."""
+        out = [(0, slice(self.nz - 6, self.nz))]
+        for i, arm in enumerate(self.arms):
+            if isinstance(arm, ContactPoint):
+                out.append((i + 1, self.q_slice(i)))
+        return out
+
+    def recentred(self, x):
+        """``(plant, x')``: the same physical state with the object's (and every contact point's) chart moved
+        onto its current rotation, ``C' = C R(A)``, ``A' = 0``; positions, rates and body angular velocity
+        unchanged (:func:`plants.charts.recentre`). Call it between integration steps when the object's
+        ``|cos theta|`` gets small; the plant stays a stateless function of ``(t, x, tau)``."""
+        if self.space != "spatial":
+            raise ParameterError("space", self.space, "'spatial' (charts are for spatial rotations)")
+        x = self._state(x).copy()
+        nz = self.nz
+        C = self.elastic.charts.copy()
+        for k, sl in self._free_nodes():
+            a = slice(sl.start + 3, sl.stop)
+            da = slice(nz + sl.start + 3, nz + sl.stop)
+            C[k], x[a], x[da] = _charts.recentre(C[k], x[a], x[da])
+        return self.with_charts(C), x
+
+    def chart_cos(self, x) -> float:
+        """The smallest ``|cos theta|`` of the object's and contact points' angles in their stored charts
+        at ``x`` (arms' nodes in their own charts are always at ``A = 0``): below ~0.7 (45 deg from the
+        chart) an integrator calls :meth:`recentred` between steps."""
+        x = self._state(x)
+        if self.space != "spatial":
+            return 1.0
+        return float(min(abs(np.cos(x[sl][4])) for _, sl in self._free_nodes()))
+
+    def _frames_state(self, x):
+        """``(Y, dY, J, Jdq, frames)`` at ``x`` with every node's frames in its chart."""
+        st = np.zeros(2, dtype=np.int64)
+        out = _spatial_kernel.node_frames_state_kernel(
+            x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all, self._dh_off, self._bases, self._tools,
+            self._gravity, self._node_params, st)
+        if st[0]:
+            self._check(st, x)
+        return out
+
+    def book_coordinates(self, x, dx):
+        """``(Y, dY, ddY)``: every node's pose, rates and accelerations in the book's coordinates (world ZYX
+        Euler angles, (4.9) ``Y_c = Phi(q)``), flat ``((m + 1) p,)`` each, from the state ``x`` and its rate
+        ``dx = rhs(t, x, tau)``. Whatever the charts, the same physical motion gives the same book
+        coordinates. Raises :class:`~plants.errors.EulerSingularityError` where they do not exist (a node
+        at pitch +-90 deg)."""
+        x, dx = self._state(x), self._state(dx, "dx")
+        nz, p = self.nz, self.p
+        ddz = dx[nz:]
+        if self.space != "spatial":
+            Y, dY, H, h, J, Jdq = self._node_state(x)
+            frames = None
+        else:
+            Y, dY, J, Jdq, frames = self._frames_state(x)
+        Y, dY = Y.copy(), dY.copy()
+        ddY = np.empty_like(Y)
+        ddY[0] = ddz[nz - p:]
+        for i, arm in enumerate(self.arms):
+            sl = self.q_slice(i)
+            if isinstance(arm, ContactPoint):
+                ddY[i + 1] = ddz[sl]
+            else:
+                n = self.arm_dofs[i]
+                ddY[i + 1] = J[i, :, :n] @ ddz[sl] + Jdq[i]
+        if self.space == "spatial":
+            for k in range(self.node_count):
+                if k > 0 and self._arm_kind[k - 1] == _spatial_kernel.ARM_SERIAL_OWN_CHART:
+                    C = frames[k, 5]
+                elif k > 0 and self._arm_kind[k - 1] == _spatial_kernel.ARM_SERIAL:
+                    C = np.eye(3)
+                else:
+                    C = self.elastic.charts[k]
+                where = "object" if k == 0 else f"contact node {k} (arms[{k - 1}])"
+                Y[k, 3:6], dY[k, 3:6], ddY[k, 3:6] = _charts.world_coordinates(C, Y[k, 3:6], dY[k, 3:6], ddY[k, 3:6], where)
+        return Y.reshape(-1), dY.reshape(-1), ddY.reshape(-1)
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -290,7 +446,8 @@ class CooperativePlant:
 
     # ------------------------------------------------------------------ energy
     def elastic_potential(self, Y) -> float:
-        """``Pi(Y)`` [J] of the interconnections (see :class:`ElasticSystem`)."""
+        """``Pi(Y)`` [J] of the interconnections (see :class:`ElasticSystem`), ``Y`` in the elastic system's
+        charts (an arm's node in its own chart has none stored: :meth:`energy` takes the state)."""
         return self.elastic.elastic_potential(Y)
 
     def elastic_force(self, Y) -> np.ndarray:
@@ -309,6 +466,15 @@ class CooperativePlant:
         Conserved by :meth:`rhs` without damping and input (docs/model.md s.3)."""
         x = self._state(x)
         T = self.kinetic_energy(x)
+        if self._charted:
+            Y, _, _, _, frames = self._frames_state(x)
+            Pi, status = self.elastic._kern.elastic_edges_framed(Y, self._edge_index, self._edge_params,
+                                                                np.zeros_like(Y), frames)
+            self.elastic._raise(status)
+            Y = Y.reshape(-1)
+            U_arms = self._kern.arm_potential_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
+                                                    self._dh_off, self._bases, self._gravity)
+            return T + float(Pi) + self.elastic.gravity_potential(Y) + float(U_arms)
         Y = self.node_poses(x)
         U_arms = self._kern.arm_potential_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
                                                 self._dh_off, self._bases, self._gravity)
@@ -323,6 +489,8 @@ class CooperativePlant:
         object's MC. Planar rows are ``(f_x, f_z, n)``. This is what a wrist force sensor reads.
         Only edges between the object (node 0) and contact i count toward contact i.
         """
+        if self._charted:
+            return self._contact_wrenches_charted(x)
         Y, dY = self._node_state(x)[:2]
         p, m = self.p, self.arm_count
         out = np.zeros((m, p))
@@ -354,6 +522,26 @@ class CooperativePlant:
                 couple = Q[2] - (d[0] * f[1] - d[1] * f[0])
                 out[c - 1, :2] += f
                 out[c - 1, 2] += couple
+        return out
+
+    def _contact_wrenches_charted(self, x) -> np.ndarray:
+        """:meth:`contact_wrenches` of a plant whose nodes are in charts (the frames come from the state)."""
+        Y, dY, _, _, frames = self._frames_state(self._state(x))
+        kern = self.elastic._kern
+        out = np.zeros((self.arm_count, 6))
+        for e in range(self._edge_index.shape[0]):
+            i, j = int(self._edge_index[e, 0]), int(self._edge_index[e, 1])
+            if 0 not in (i, j):
+                continue
+            c = j if i == 0 else i
+            F = np.zeros_like(Y)
+            ei, ep = self._edge_index[e:e + 1], self._edge_params[e:e + 1]
+            kern.elastic_edges_framed(Y, ei, ep, F, frames)
+            kern.damping_edges_framed(Y, dY, ei, ep, F, frames)
+            Q = -F[0]
+            tau_world = frames[0, 0] @ (body_rate_map_inv(Y[0, 3:6], "object").T @ Q[3:6])
+            out[c - 1, :3] += Q[:3]
+            out[c - 1, 3:] += tau_world - np.cross(Y[c, :3] - Y[0, :3], Q[:3])
         return out
 
     # ------------------------------------------------------------------ regrouping (4.10-4.11)

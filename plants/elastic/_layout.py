@@ -11,7 +11,9 @@ spatial (``EDGE_WIDTH_SPATIAL`` columns)
     ``rho[10:13]`` rest offset of node j in node i's frame [m] (offset element);
     ``d[13]`` damping along the line [N s/m]; ``dA[14]`` torsion damping [N m s/rad];
     ``kappa[15:18]`` rotation-invariant orientation weights [N m] (offset element);
-    ``R0[18:27]`` rest relative rotation ``R_i^T R_j`` row-major (offset element).
+    ``R0[18:27]`` rest relative rotation ``R_i^T R_j`` row-major (offset element; also the
+    geodesic rotation form's rest value); ``form[27]`` the rotation form
+    (``ROTATION_BOOK`` = 0.0, ``ROTATION_GEODESIC`` = 1.0; central and offset elements).
 planar (``EDGE_WIDTH_PLANAR`` columns)
     ``c[0:2]``, ``cA[2]``, ``l[3]``, ``A0[4]``, ``rho[5:7]``, ``d[7]``, ``dA[8]``.
 
@@ -19,7 +21,11 @@ Matrix element rows (``ELEMENT_MATRIX``, both spaces): see the ``MATRIX_*`` colu
 
 Edge index rows: ``(i, j, element, damping form)`` with element ``ELEMENT_CENTRAL``,
 ``ELEMENT_OFFSET`` or ``ELEMENT_MATRIX`` and damping form ``DAMPING_FRAME_INVARIANT`` or ``DAMPING_BOOK``.
-Node rows: spatial ``(mass, I1, I2, I3)``; planar ``(mass, I)`` [kg, kg m^2].
+Node rows: spatial ``(mass, I1, I2, I3)``; planar ``(mass, I)`` [kg, kg m^2]. A spatial plant
+whose nodes' angles are taken in charts (docs/model.md s.2, rotation charts) packs wider rows,
+``NODE_WIDTH_CHARTED`` columns: ``chart kind[4]`` (``CHART_WORLD``, ``CHART_STORED``,
+``CHART_OWN``) and the stored chart ``C[5:14]`` row-major. The kernels read the chart columns
+only when the rows are that wide, so a plant in the book's world chart keeps 4 columns.
 """
 
 ELEMENT_CENTRAL = 0
@@ -31,6 +37,23 @@ ELEMENTS = {"central": ELEMENT_CENTRAL, "offset": ELEMENT_OFFSET, "matrix": ELEM
 DAMPING_FRAME_INVARIANT = 0
 DAMPING_BOOK = 1
 DAMPING_FORMS = {"frame_invariant": DAMPING_FRAME_INVARIANT, "book": DAMPING_BOOK}
+
+ROTATION_BOOK = 0
+ROTATION_GEODESIC = 1
+ROTATION_FORMS = {"book": ROTATION_BOOK, "geodesic": ROTATION_GEODESIC}
+#: Column of the rotation form in a spatial central or offset edge row (0.0 book, 1.0 geodesic).
+ROTATION_FORM_COL = 27
+
+#: Node rows with charts: the chart kind column and the first column of the stored chart.
+NODE_CHART_KIND = 4
+NODE_CHART = 5
+NODE_WIDTH_CHARTED = 14
+#: Chart kinds: the book's world chart (``R = R(A)``), a stored constant chart (``R = C R(A)``,
+#: ``C`` in the node row), a node's own chart for this evaluation (an arm's node: ``C = R_tip(q)``,
+#: ``A = 0``; the arm kernel writes ``C`` into the node's frames block ``FRAME_CHART``).
+CHART_WORLD = 0
+CHART_STORED = 1
+CHART_OWN = 2
 
 EDGE_WIDTH_SPATIAL = 381
 EDGE_WIDTH_PLANAR = 94

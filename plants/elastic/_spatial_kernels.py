@@ -16,10 +16,15 @@ import numpy as np
 from numba import njit
 
 from plants.elastic._layout import (
+    CHART_OWN,
+    CHART_STORED,
     DAMPING_BOOK,
     ELEMENT_CENTRAL,
     ELEMENT_MATRIX,
     MATRIX_LINEAR_SPATIAL,
+    NODE_CHART,
+    NODE_CHART_KIND,
+    ROTATION_FORM_COL,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
     STATUS_OK,
@@ -33,12 +38,16 @@ COINCIDENT_FRACTION = 1e-9
 #: Shape of the scratch array of the ``*_into`` edge kernels (3x3 blocks; a block's rows serve as
 #: 3-vectors). :func:`elastic_edges_into`: 8 ``P``, 9 ``QR``, 10 the vectors ``d`` and ``C e``;
 #: :func:`damping_edges_into`: 11-13 the vectors ``rho``, ``omega``, ``g``, ``w_i``, ``w_j``, ``Wd``,
-#: ``h``, ``Hw``, ``Hi``; :func:`node_terms_into`: 15 (``g``, zeros); the cooperative plant's
+#: ``h``, ``Hw``, ``Hi``; :func:`node_terms_into`: 15 (``g``, zeros); :func:`matrix_edge` 16-21 and
+#: :func:`geodesic_rotation_edge` 16-18 (each on its own); the cooperative plant's
 #: ``interconnection_into`` (plants.cooperative._spatial_kernel): 14 and 15.
 #: The kernels overwrite what they use; the content between calls means nothing.
 EDGE_SCRATCH_SHAPE = (22, 3, 3)
-#: 3x3 blocks per node of the ``frames`` array of :func:`node_frames_into`: ``R``, three ``dR/dA``, ``L``.
-NODE_FRAME_BLOCKS = 5
+#: 3x3 blocks per node of the ``frames`` array of :func:`node_frames_into`: ``R``, three ``dR/dA``, ``L``,
+#: and the node's chart ``C`` (block ``FRAME_CHART``; read only for a node in a chart, see
+#: :func:`apply_charts_into`). With a chart, blocks 0-3 hold ``C R(A)`` and ``C dR/dA``.
+NODE_FRAME_BLOCKS = 6
+FRAME_CHART = 5
 
 
 @njit(cache=True, inline="always")
@@ -192,6 +201,82 @@ def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
 
 
 @njit(cache=True, _nrt=False)
+def geodesic_rotation_edge(i, j, p, F, scratch, frames):
+    """The geodesic rotation spring of a central or offset edge (rotation form ``ROTATION_GEODESIC``,
+    docs/model.md s.3 [ours]); adds its generalized forces into ``F`` and returns its energy.
+
+    .. math::
+        \\Delta = R_i^T R_j R_0^T, \\quad e = \\log(\\Delta), \\quad
+        \\Pi = \\tfrac12 e^T C_A e, \\quad C_A = \\mathrm{diag}(cA_\\phi, cA_\\theta, cA_\\psi)
+
+    ``R_0`` the rest relative rotation ``R_i0^T R_j0`` (columns 18-26 of ``p``), ``e`` [rad] the
+    rotation vector of node j against its rest rotation, in node i's frame (axes x, y, z: the book's
+    ``cA`` per ``(psi, theta, phi)`` are about z, y, x at ``A = 0``, hence the reversed order). With
+    body-frame variations ``R_k -> R_k exp([da_k])``, ``de = J_r^-1(e) (R_0 da_j - Delta^T da_i)``
+    (``J_r`` the right Jacobian of SO(3)), so with ``g = C_A e`` and ``h = J_r^-T g``:
+
+    .. math::
+        \\tau_j = R_0^T h, \\quad \\tau_i = -\\Delta h, \\qquad
+        \\partial \\Pi / \\partial A_k = L_k^T \\tau_k
+
+    (body torques ``tau_k`` [N m] mapped to the angles of node k's chart by ``L_k``). It depends on
+    the rotations only, so on no chart; it is invariant under rigid motions of the pair (4.7).
+    """
+    Ri = frames[i, 0]
+    Rj = frames[j, 0]
+    Li = frames[i, 4]
+    Lj = frames[j, 4]
+    P = scratch[16]
+    Dl = scratch[17]
+    vec = scratch[18]  # rows: e, h, torque
+    for l in range(3):
+        for k in range(3):
+            P[l, k] = Rj[l, 0] * p[18 + 3 * k] + Rj[l, 1] * p[19 + 3 * k] + Rj[l, 2] * p[20 + 3 * k]
+    for a in range(3):
+        for b in range(3):
+            Dl[a, b] = Ri[0, a] * P[0, b] + Ri[1, a] * P[1, b] + Ri[2, a] * P[2, b]
+    # e = log(Delta): angle from atan2(|v|, tr Delta - 1), v = vee(Delta - Delta^T) = 2 sin(angle) axis
+    v0 = Dl[2, 1] - Dl[1, 2]
+    v1 = Dl[0, 2] - Dl[2, 0]
+    v2 = Dl[1, 0] - Dl[0, 1]
+    sv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+    ang = math.atan2(sv, Dl[0, 0] + Dl[1, 1] + Dl[2, 2] - 1.0)
+    fac = 0.5 * (1.0 + ang * ang / 6.0) if ang < 1e-4 else ang / sv
+    e = vec[0]
+    e[0] = fac * v0
+    e[1] = fac * v1
+    e[2] = fac * v2
+    # J_r^-1 = I + 1/2 [e]x + c [e]x^2
+    a2 = ang * ang
+    if ang < 1e-3:
+        c = 1.0 / 12.0 + a2 / 720.0 + a2 * a2 / 30240.0
+    else:
+        c = 1.0 / a2 - (1.0 + math.cos(ang)) / (2.0 * ang * math.sin(ang))
+    g0 = p[5] * e[0]
+    g1 = p[4] * e[1]
+    g2 = p[3] * e[2]
+    E = 0.5 * (e[0] * g0 + e[1] * g1 + e[2] * g2)
+    # h = J_r^-T g = g - 1/2 e x g + c e x (e x g)
+    t0 = e[1] * g2 - e[2] * g1
+    t1 = e[2] * g0 - e[0] * g2
+    t2 = e[0] * g1 - e[1] * g0
+    h = vec[1]
+    h[0] = g0 - 0.5 * t0 + c * (e[1] * t2 - e[2] * t1)
+    h[1] = g1 - 0.5 * t1 + c * (e[2] * t0 - e[0] * t2)
+    h[2] = g2 - 0.5 * t2 + c * (e[0] * t1 - e[1] * t0)
+    tq = vec[2]
+    for a in range(3):  # tau_j = R_0^T h
+        tq[a] = p[18 + a] * h[0] + p[21 + a] * h[1] + p[24 + a] * h[2]
+    for a in range(3):
+        F[j, 3 + a] += Lj[0, a] * tq[0] + Lj[1, a] * tq[1] + Lj[2, a] * tq[2]
+    for a in range(3):  # tau_i = -Delta h
+        tq[a] = -(Dl[a, 0] * h[0] + Dl[a, 1] * h[1] + Dl[a, 2] * h[2])
+    for a in range(3):
+        F[i, 3 + a] += Li[0, a] * tq[0] + Li[1, a] * tq[1] + Li[2, a] * tq[2]
+    return E
+
+
+@njit(cache=True, _nrt=False)
 def linear_matrix_edge(Y, dY, Y_ref, i, j, p, F, col, n, angles_from):
     """The matrix element in the immobile model (4.5): with ``y = (Y_i - Y_ref_i, Y_j - Y_ref_j)``
     (angles from coordinate ``angles_from`` on wrapped), add ``K_lin y + D_lin dy`` into ``F``
@@ -217,6 +302,26 @@ def linear_matrix_edge(Y, dY, Y_ref, i, j, p, F, col, n, angles_from):
             E += 0.5 * ya * p[col + a * m + b] * yb
         F[na, ka] += fa
     return E
+
+@njit(cache=True)
+def node_frames_charted(Y, node_params):
+    """:func:`node_frames_charted_into` into a new (N, NODE_FRAME_BLOCKS, 3, 3) array."""
+    frames = np.zeros((Y.shape[0], NODE_FRAME_BLOCKS, 3, 3))
+    node_frames_charted_into(Y, node_params, frames)
+    return frames
+
+
+@njit(cache=True)
+def elastic_edges_framed(Y, edge_index, edge_params, F, frames):
+    """:func:`elastic_edges_into` with scratch of its own, on the caller's ``frames`` (charted nodes)."""
+    return elastic_edges_into(Y, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
+
+
+@njit(cache=True)
+def damping_edges_framed(Y, dY, edge_index, edge_params, F, frames):
+    """:func:`damping_edges_into` with scratch of its own, on the caller's ``frames`` (charted nodes)."""
+    return damping_edges_into(Y, dY, edge_index, edge_params, F, np.empty(EDGE_SCRATCH_SHAPE), frames)
+
 
 @njit(cache=True)
 def elastic_edges(Y, edge_index, edge_params, F):
@@ -246,6 +351,12 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
     Offset element (ours): ``e = R_i^T (r_j - r_i) - rho`` in node i's frame and
     ``Pi = 1/2 e^T C e + sum_k kappa_k (1 - M_kk)``, ``M = R_i^T R_j R0^T``: rotation invariant,
     with small-angle torsion stiffness ``cA_l = sum_{k != l} kappa_k``.
+
+    Rotation form ``ROTATION_GEODESIC`` (column ``ROTATION_FORM_COL`` of an edge row; central and
+    offset elements): the rotational term is :func:`geodesic_rotation_edge`, ``1/2 e^T C_A e`` on the
+    relative rotation vector, in place of the Euler difference (central) or of ``kappa`` (offset).
+    ``frames`` holds the nodes' world rotations ``C R(A)`` whatever their charts, so every term but the
+    book's Euler difference is right in any chart.
     """
     Pi = 0.0
     for e in range(edge_index.shape[0]):
@@ -278,6 +389,10 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
             F[j, 0] -= f0
             F[j, 1] -= f1
             F[j, 2] -= f2
+            if p[ROTATION_FORM_COL] != 0.0:
+                if p[3] != 0.0 or p[4] != 0.0 or p[5] != 0.0:
+                    Pi += geodesic_rotation_edge(i, j, p, F, scratch, frames)
+                continue
             for k in range(3):
                 cA = p[3 + k]
                 if cA != 0.0:
@@ -308,7 +423,10 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
                     for l in range(3):
                         acc += Ce[k] * dRi[a][l, k] * d[l]
                 F[i, 3 + a] += acc
-            if p[15] != 0.0 or p[16] != 0.0 or p[17] != 0.0:
+            if p[ROTATION_FORM_COL] != 0.0:
+                if p[3] != 0.0 or p[4] != 0.0 or p[5] != 0.0:
+                    Pi += geodesic_rotation_edge(i, j, p, F, scratch, frames)
+            elif p[15] != 0.0 or p[16] != 0.0 or p[17] != 0.0:
                 Rj = frames[j, 0]
                 dRj = frames[j, 1:4]
                 # P = R_j R0^T ; QR = (R_i Kd) R0 (every entry written below)
@@ -357,13 +475,54 @@ def node_frames_into(Y, frames):
         body_rate_matrix(Y[k, 3:6], frames[k, 4])
 
 
+@njit(cache=True, inline="always")
+def _left_multiply(C, M):
+    """``M <- C M`` in place (3x3), column by column."""
+    for b in range(3):
+        m0, m1, m2 = M[0, b], M[1, b], M[2, b]
+        M[0, b] = C[0, 0] * m0 + C[0, 1] * m1 + C[0, 2] * m2
+        M[1, b] = C[1, 0] * m0 + C[1, 1] * m1 + C[1, 2] * m2
+        M[2, b] = C[2, 0] * m0 + C[2, 1] * m1 + C[2, 2] * m2
+
+
+@njit(cache=True, _nrt=False)
+def apply_charts_into(node_params, frames):
+    """Turn every charted node's frames into its world frames: ``R = C R(A)``, ``dR/dA = C dR(A)/dA``
+    (blocks 0-3; ``L`` is the same in every chart, docs/model.md s.2). ``node_params`` rows of
+    ``NODE_WIDTH_CHARTED`` columns: kind ``CHART_STORED`` takes ``C`` from the row (and copies it into
+    block ``FRAME_CHART``), ``CHART_OWN`` from block ``FRAME_CHART`` (written by the arm kernel),
+    ``CHART_WORLD`` is left alone. Allocates nothing."""
+    for k in range(frames.shape[0]):
+        kind = node_params[k, NODE_CHART_KIND]
+        if kind == CHART_STORED:
+            C = frames[k, FRAME_CHART]
+            for a in range(3):
+                for b in range(3):
+                    C[a, b] = node_params[k, NODE_CHART + 3 * a + b]
+        elif kind != CHART_OWN:
+            continue
+        C = frames[k, FRAME_CHART]
+        for blk in range(4):
+            _left_multiply(C, frames[k, blk])
+
+
+@njit(cache=True, _nrt=False)
+def node_frames_charted_into(Y, node_params, frames):
+    """:func:`node_frames_into` then, for rows wider than ``NODE_CHART_KIND``, :func:`apply_charts_into`."""
+    node_frames_into(Y, frames)
+    if node_params.shape[1] > NODE_CHART_KIND:
+        apply_charts_into(node_params, frames)
+
+
 @njit(cache=True, _nrt=False)
 def node_frames_terms_into(Y, dY, node_params, gravity, frames, Wr, w):
     """:func:`node_frames_into` and :func:`node_terms_into` of the mobile model (``immobile`` False) in
     one pass, with one evaluation of each node's six sines and cosines (instead of 14): ``frames``
     (N, NODE_FRAME_BLOCKS, 3, 3) receives ``R``, ``dR/dA``, ``L``; ``Wr`` (N, 3, 3) the rotational
     inertia blocks; ``w`` (N, 6) is set to ``(-m g, gyroscopic)``. The same arithmetic as those two
-    kernels, so the same bits. Allocates nothing."""
+    kernels, so the same bits. Rows of ``node_params`` wider than ``NODE_CHART_KIND`` carry charts:
+    then :func:`apply_charts_into` follows (the inertia and gyroscopic terms depend on no chart).
+    Allocates nothing."""
     for k in range(Y.shape[0]):
         cps, sps = math.cos(Y[k, 3]), math.sin(Y[k, 3])
         cth, sth = math.cos(Y[k, 4]), math.sin(Y[k, 4])
@@ -378,6 +537,8 @@ def node_frames_terms_into(Y, dY, node_params, gravity, frames, Wr, w):
         for a in range(3):
             w[k, a] = -m * gravity[a]
         _rotational_terms_from_trig(cth, sth, cph, sph, dY[k, 3:6], node_params[k, 1:4], Wr[k], w[k, 3:6])
+    if node_params.shape[1] > NODE_CHART_KIND:
+        apply_charts_into(node_params, frames)
 
 
 @njit(cache=True)
@@ -668,14 +829,23 @@ def interconnection_terms_into(Y, dY, edge_index, edge_params, Y_ref, immobile, 
 def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravity, Y_ref, immobile):
     """``Y''`` of the free elastic system ``W(Y) Y'' + w(Y, Y') = F`` (113) with ``F_0 = 0``.
 
-    ``Fc`` (N, 6) holds the generalized contact forces on every node (row 0 ignored).
-    Returns ``(ddY, status)``.
+    ``Fc`` (N, 6) holds the generalized contact forces on every node (row 0 ignored). ``node_params``
+    rows may carry charts (``NODE_WIDTH_CHARTED`` columns): ``Y`` are then the angles in each node's
+    chart. Returns ``(ddY, status)``.
     """
     N = Y.shape[0]
     Wr = np.empty((N, 3, 3))
     w = np.empty((N, 6))
     node_terms(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w)
-    status = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    if immobile:
+        status = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
+    else:  # interconnection_terms_into with each node's frames in its chart (node_params rows)
+        scratch = np.empty(EDGE_SCRATCH_SHAPE)
+        frames = np.empty((N, NODE_FRAME_BLOCKS, 3, 3))
+        node_frames_charted_into(Y, node_params, frames)
+        _, status = elastic_edges_into(Y, edge_index, edge_params, w, scratch, frames)
+        if status == STATUS_OK:
+            damping_edges_into(Y, dY, edge_index, edge_params, w, scratch, frames)
     if status != STATUS_OK:
         return np.zeros((N, 6)), status
     ddY = np.empty((N, 6))

@@ -9,6 +9,8 @@ import numpy as np
 from plants import _validation as v
 from plants.elastic import _planar_kernels, _spatial_kernels
 from plants.elastic._layout import (
+    CHART_STORED,
+    CHART_WORLD,
     EDGE_WIDTH_PLANAR,
     DAMPING_FORMS,
     EDGE_WIDTH_SPATIAL,
@@ -17,12 +19,18 @@ from plants.elastic._layout import (
     MATRIX_LINEAR_PLANAR,
     MATRIX_LINEAR_SPATIAL,
     ELEMENTS,
+    NODE_CHART,
+    NODE_CHART_KIND,
+    NODE_WIDTH_CHARTED,
+    ROTATION_FORM_COL,
+    ROTATION_FORMS,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
     STATUS_OK,
 )
 from plants.elastic.interconnection import Interconnection
 from plants.elastic.node import Node
+from plants import charts as _charts
 from plants.errors import EulerSingularityError, ParameterError
 from plants.frames import EULER_SINGULARITY_COS, rotation_zyx
 
@@ -65,6 +73,13 @@ class ElasticSystem:
         gravity: Gravity vector [m/s^2] (3 spatial, 2 planar ``(g_x, g_z)``) or a magnitude
             along -z.
         unloaded_state: ``"mobile"`` (general, 4.6) or ``"immobile"`` (linear, 4.5).
+        charts: Spatial only: every node's rotation chart ``C_k`` (N, 3, 3): node k's angles ``A_k``
+            are taken in it, ``R_k = C_k R(A_k)`` (:mod:`plants.charts`, docs/model.md s.2); ``None``
+            (default) = the identity, the book's world angles. A chart other than the identity
+            needs interconnections that depend on no chart (rotation form ``"geodesic"`` wherever
+            a central element has torsion, ``damping_form = "frame_invariant"`` wherever there is
+            torsion damping) and the mobile model. The reference poses are world poses whatever
+            the charts. :meth:`recentred` moves the charts onto the current rotations.
     """
 
     def __init__(
@@ -75,6 +90,7 @@ class ElasticSystem:
         reference_poses,
         gravity=9.81,
         unloaded_state: str = "mobile",
+        charts=None,
     ):
         if space not in SPACES:
             raise ParameterError("space", space, f"one of {SPACES}")
@@ -117,6 +133,105 @@ class ElasticSystem:
         self.edge_index, self.edge_params = self._pack_edges()
         self._kern = _spatial_kernels if space == "spatial" else _planar_kernels
         self.immobile = unloaded_state == "immobile"
+        self._set_charts(charts)
+
+    # ------------------------------------------------------------------ charts
+    def chart_dependence(self) -> str | None:
+        """Why this system's equations depend on the angles' chart (a sentence), or ``None`` when they
+        do not (then any :attr:`charts` are allowed)."""
+        if self.space != "spatial":
+            return "a planar system has one angle per node and no charts"
+        if self.immobile:
+            return "the immobile model (4.5) is linear in the book's world angles (unloaded_state = 'immobile')"
+        for e, ic in enumerate(self.interconnections):
+            name = ic.name if ic.name != "interconnection" else f"interconnections[{e}]"
+            if ic.element == "central" and ic.rotation_form == "book" and np.any(self.edge_params[e, 3:6] != 0.0):
+                return (f"{name} has rotation_form = 'book': its torsion springs act on the Euler difference "
+                        "A_i - A_j - A0, which changes with the chart; use rotation_form = 'geodesic'")
+            if ic.damping_form == "book" and ic.torsion_damping != 0.0:
+                return (f"{name} has damping_form = 'book': its torsion dampers act on the Euler rates, which "
+                        "change with the chart; use damping_form = 'frame_invariant'")
+        return None
+
+    def _set_charts(self, charts) -> None:
+        """Validate ``charts`` and pack the node rows the kernels read (:mod:`plants.elastic._layout`)."""
+        N = self.node_count
+        if self.space != "spatial":
+            if charts is not None:
+                raise ParameterError("charts", "given", "None for a planar system (charts are for spatial rotations)")
+            self.charts = None
+            self._node_rows = self.node_params
+            return
+        C = _charts.chart_array("charts", charts, N)
+        identity = [_charts.is_identity(C[k]) for k in range(N)]
+        if not all(identity):
+            why = self.chart_dependence()
+            if why is not None:
+                raise ParameterError("charts", "not the identity", f"the identity (the book's world angles): {why}")
+            rows = np.zeros((N, NODE_WIDTH_CHARTED))
+            rows[:, :4] = self.node_params
+            for k in range(N):
+                rows[k, NODE_CHART_KIND] = CHART_WORLD if identity[k] else CHART_STORED
+                rows[k, NODE_CHART:NODE_CHART + 9] = C[k].reshape(-1)
+            self._node_rows = rows
+        else:
+            self._node_rows = self.node_params
+        C.setflags(write=False)
+        self.charts = C
+
+    @property
+    def charted(self) -> bool:
+        """True when some node's chart is not the identity (its angles are not the book's)."""
+        return self._node_rows is not self.node_params
+
+    def with_charts(self, charts) -> "ElasticSystem":
+        """This system with other node charts (a shallow copy: the packed parameters are shared)."""
+        import copy
+
+        out = copy.copy(self)
+        out._set_charts(charts)
+        return out
+
+    def recentred(self, x, nodes=None):
+        """``(system, x')``: the same physical state with the charts of ``nodes`` (default: every node)
+        moved onto their current rotations, ``C_k' = C_k R(A_k)``, ``A_k' = 0``, the same positions,
+        rates and body angular velocities (:func:`plants.charts.recentre`). ``x = (Y, dY)`` flat; call
+        it between integration steps when a node's ``|cos theta|`` gets small."""
+        if self.space != "spatial":
+            raise ParameterError("space", self.space, "'spatial' (charts are for spatial rotations)")
+        n = self.size
+        x = np.array(x, dtype=float).reshape(-1)
+        if x.size != 2 * n:
+            raise ParameterError("x", x.shape, f"{2 * n} values (Y then dY)")
+        Y, dY = x[:n].reshape(self.node_count, 6), x[n:].reshape(self.node_count, 6)
+        C = self.charts.copy()
+        for k in (range(self.node_count) if nodes is None else nodes):
+            C[k], Y[k, 3:6], dY[k, 3:6] = _charts.recentre(C[k], Y[k, 3:6], dY[k, 3:6])
+        return self.with_charts(C), x
+
+    def chart_cos(self, x) -> float:
+        """The smallest ``|cos theta|`` of the nodes' angles in their charts at ``x = (Y, dY)`` (or ``Y``):
+        below ~0.7 (45 deg from the chart) an integrator calls :meth:`recentred` between steps."""
+        Y = np.asarray(x, dtype=float).reshape(-1)[:self.size].reshape(self.node_count, self.p)
+        if self.space != "spatial":
+            return 1.0
+        return float(np.min(np.abs(np.cos(Y[:, 4]))))
+
+    def book_coordinates(self, x, dx):
+        """``(Y, dY, ddY)`` of every node in the book's coordinates (world ZYX Euler angles), flat
+        ``((m + 1) 6,)`` each, from the state ``x = (Y, dY)`` and its rate ``dx = (dY, ddY)`` (as
+        :meth:`rhs` returns it) in the nodes' charts. Raises :class:`EulerSingularityError` where
+        the world angles do not exist (a node at pitch +-90 deg)."""
+        n = self.size
+        x, dx = np.asarray(x, dtype=float).reshape(-1), np.asarray(dx, dtype=float).reshape(-1)
+        if x.size != 2 * n or dx.size != 2 * n:
+            raise ParameterError("x, dx", (x.shape, dx.shape), f"{2 * n} values each")
+        Y, dY, ddY = x[:n].reshape(-1, self.p).copy(), x[n:].reshape(-1, self.p).copy(), dx[n:].reshape(-1, self.p).copy()
+        if self.space == "spatial":
+            for k in range(self.node_count):
+                Y[k, 3:6], dY[k, 3:6], ddY[k, 3:6] = _charts.world_coordinates(
+                    self.charts[k], Y[k, 3:6], dY[k, 3:6], ddY[k, 3:6], f"node {k}")
+        return Y.reshape(-1), dY.reshape(-1), ddY.reshape(-1)
 
     # ------------------------------------------------------------------ packing
     def _pack_edges(self):
@@ -163,8 +278,9 @@ class ElasticSystem:
                     f"{name}.rest_offset", ic.rest_offset, (3,))
                 # cA is given per Euler axis (psi, theta, phi) = body (z, y, x) at the reference;
                 # kappa is per body axis (x, y, z): cA_body = cA[::-1].
+                geodesic = ic.rotation_form == "geodesic"
                 S = cA.sum() / 2.0
-                kappa = S - cA[::-1] if ic.element == "offset" else np.zeros(3)
+                kappa = S - cA[::-1] if ic.element == "offset" and not geodesic else np.zeros(3)
                 if np.any(kappa < 0):
                     raise ParameterError(
                         f"{name}.torsion", ic.torsion,
@@ -180,6 +296,11 @@ class ElasticSystem:
                 par[e, 14] = ic.torsion_damping
                 par[e, 15:18] = kappa
                 par[e, 18:27] = R0.reshape(-1)
+                if geodesic:
+                    # the rest relative rotation R_i0^T R(A_i0 - A0) (= R_i0^T R_j0 without rest_angles)
+                    if ic.rest_angles is not None:
+                        par[e, 18:27] = (Ri.T @ rotation_zyx(Yr[i, 3:6] - A0)).reshape(-1)
+                    par[e, ROTATION_FORM_COL] = ROTATION_FORMS["geodesic"]
             else:
                 th = Yr[i, 2]
                 Rt = np.array([[np.cos(th), np.sin(th)], [-np.sin(th), np.cos(th)]])
@@ -201,6 +322,10 @@ class ElasticSystem:
         if arr.size != self.node_count * self.p:
             raise ParameterError(name, arr.shape, f"{self.node_count * self.p} values ({self.node_count} poses of {self.p})")
         return np.ascontiguousarray(arr.reshape(self.node_count, self.p))
+
+    def _frames(self, Y):
+        """Every node's world frames in its chart (``plants.elastic._spatial_kernels.node_frames_charted``)."""
+        return self._kern.node_frames_charted(Y, self._node_rows)
 
     def _raise(self, status, where="elastic system"):
         if status == STATUS_COINCIDENT_NODES:
@@ -224,6 +349,10 @@ class ElasticSystem:
         F = np.zeros_like(Y)
         if self.immobile:
             return float(self._kern.linear_edges(Y, np.zeros_like(Y), self.Y_ref, self.edge_index, self.edge_params, F))
+        if self.charted:
+            Pi, status = self._kern.elastic_edges_framed(Y, self.edge_index, self.edge_params, F, self._frames(Y))
+            self._raise(status)
+            return float(Pi)
         Pi, status = self._kern.elastic_edges(Y, self.edge_index, self.edge_params, F)
         self._raise(status)
         return float(Pi)
@@ -234,6 +363,9 @@ class ElasticSystem:
         F = np.zeros_like(Y)
         if self.immobile:
             self._kern.linear_edges(Y, np.zeros_like(Y), self.Y_ref, self.edge_index, self.edge_params, F)
+        elif self.charted:
+            _, status = self._kern.elastic_edges_framed(Y, self.edge_index, self.edge_params, F, self._frames(Y))
+            self._raise(status)
         else:
             _, status = self._kern.elastic_edges(Y, self.edge_index, self.edge_params, F)
             self._raise(status)
@@ -244,6 +376,9 @@ class ElasticSystem:
         Y, dY = self._Y(Y), self._Y(dY, "dY")
         if self.immobile:
             return 0.5 * float(dY.reshape(-1) @ self.damping_matrix() @ dY.reshape(-1))
+        if self.charted:
+            return float(self._kern.damping_edges_framed(Y, dY, self.edge_index, self.edge_params, np.zeros_like(Y),
+                                                         self._frames(Y)))
         return float(self._kern.damping_edges(Y, dY, self.edge_index, self.edge_params, np.zeros_like(Y)))
 
     def damping_force(self, Y, dY) -> np.ndarray:
@@ -252,7 +387,10 @@ class ElasticSystem:
         if self.immobile:
             return self.damping_matrix() @ dY.reshape(-1)
         F = np.zeros_like(Y)
-        self._kern.damping_edges(Y, dY, self.edge_index, self.edge_params, F)
+        if self.charted:
+            self._kern.damping_edges_framed(Y, dY, self.edge_index, self.edge_params, F, self._frames(Y))
+        else:
+            self._kern.damping_edges(Y, dY, self.edge_index, self.edge_params, F)
         return F.reshape(-1)
 
     def inertia(self, Y) -> np.ndarray:
@@ -284,7 +422,7 @@ class ElasticSystem:
         """Solve (113) ``W Y'' + w = F`` for ``Y''`` (flat); ``F_0`` is ignored (it is 0)."""
         Y, dY, F = self._Y(Y), self._Y(dY, "dY"), self._Y(F, "F")
         ddY, status = self._kern.elastic_accelerations(
-            Y, dY, F, self.node_params, self.edge_index, self.edge_params, self.gravity, self.Y_ref, self.immobile)
+            Y, dY, F, self._node_rows, self.edge_index, self.edge_params, self.gravity, self.Y_ref, self.immobile)
         self._raise(status)
         return ddY.reshape(-1)
 

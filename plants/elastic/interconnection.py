@@ -8,7 +8,7 @@ from typing import Sequence
 import numpy as np
 
 from plants import _validation as v
-from plants.elastic._layout import DAMPING_FORMS, ELEMENTS
+from plants.elastic._layout import DAMPING_FORMS, ELEMENTS, ROTATION_FORMS
 from plants.errors import ParameterError
 
 
@@ -46,6 +46,17 @@ class Interconnection:
             element damps ``d I`` on the world velocity difference and the torsion dampers act on
             the Euler-rate difference ``dA_i - dA_j``; both do work under a rigid rotation. The
             central element's line damper is the book's in both forms (it is frame invariant).
+        rotation_form: The rotational spring of a spatial ``"central"`` or ``"offset"`` element.
+            ``"book"`` (default this release): the central element's torsion springs on the Euler
+            difference ``A_i - A_j - A0`` (106-107; it depends on the angles' chart and is singular
+            where they are), the offset element's ``kappa`` form. ``"geodesic"`` (docs/model.md s.3
+            [ours]): ``1/2 e^T C_A e`` on the relative rotation vector ``e = log(R_i^T R_j R0^T)``
+            (node i's frame, ``R0`` the rest relative rotation, ``C_A = diag(cA_phi, cA_theta,
+            cA_psi)``: the book's ``torsion`` per ``(psi, theta, phi)`` is about z, y, x), exact
+            gradient; it depends on the rotations only, so it allows rotation charts
+            (:class:`plants.elastic.ElasticSystem` ``charts``). Matrix and beam elements are always
+            on the exact relative rotation (either value). The immobile model (4.5) is the book's
+            linear model whatever the form.
         rest_length: Rest distance ``l_ij`` [m]; ``None`` takes it from the reference poses.
         rest_angles: Rest angle difference ``A0_ij`` [rad]; ``None`` = from the reference poses.
         rest_offset: Rest offset ``rho_ij`` [m] in node i's frame; ``None`` = from the reference.
@@ -86,6 +97,7 @@ class Interconnection:
     frame: Sequence[Sequence[float]] | None = None
     beam: object | None = None
     rayleigh_damping: float = 0.0
+    rotation_form: str = "book"
 
     def __post_init__(self):
         n = self.name
@@ -100,6 +112,8 @@ class Interconnection:
             raise ParameterError(f"{n}.element", self.element, f"one of {sorted(ELEMENTS)}")
         if self.damping_form not in DAMPING_FORMS:
             raise ParameterError(f"{n}.damping_form", self.damping_form, f"one of {sorted(DAMPING_FORMS)}")
+        if self.rotation_form not in ROTATION_FORMS:
+            raise ParameterError(f"{n}.rotation_form", self.rotation_form, f"one of {sorted(ROTATION_FORMS)}")
         for field in ("stiffness", "torsion"):
             arr = v.finite_array(f"{n}.{field}", getattr(self, field))
             if np.any(arr < 0):
