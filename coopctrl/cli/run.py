@@ -54,6 +54,9 @@ def cmd_run(args) -> int:
     sim = scenario.simulation  # a record that cannot fit is refused before pre-flight, whose cost grows with the duration
     check_record_fits(int(round(sim.duration / sim.control_period)) + 1, scenario.state_size + sum(scenario.dof_per_arm),
                       sim.duration, sim.control_period)  # a lower bound (state and torques); the loop checks the exact size
+    from coopctrl.scenario.build import check_path
+
+    check_path(scenario)  # a path through the Euler-angle band is bad input (exit 2): before any notice or compile
     # the first run of a kind compiles its kernels (pre-flight's too) for tens of seconds: it says so first
     from coopctrl.cli.first_run import announce
 

@@ -176,6 +176,17 @@ def trajectory(scenario):
     return path
 
 
+def check_path(scenario) -> None:
+    """Refuse a spatial nominal path that enters the Euler-angle band (a :class:`ScenarioError` naming the
+    via pose, exit 2 on the command line), as the loop refuses it, but before anything is compiled or
+    built: a few milliseconds (the nominal node pitches along the path,
+    :func:`coopctrl.loop.euler_band.check_nominal_path`)."""
+    if scenario.space == "spatial":
+        from coopctrl.loop.euler_band import check_nominal_path
+
+        check_nominal_path(trajectory(scenario), nominal_grasps(scenario))
+
+
 def initial_state(scenario) -> np.ndarray:
     """The state the run starts from (``simulation.start``): the unloaded state, or the loaded
     state of :func:`coopctrl.loop.loaded_start.loaded_state` (object on its nominal pose, grasps
@@ -185,14 +196,12 @@ def initial_state(scenario) -> np.ndarray:
     if scenario.simulation.start == "unloaded":
         return x
     from coopctrl.controllers import GraspCompliance
-    from coopctrl.loop.euler_band import check_nominal_path
     from coopctrl.loop.loaded_start import loaded_state
 
+    check_path(scenario)
     plant = build_plant(scenario)
     path = trajectory(scenario)
     grasps = nominal_grasps(scenario)
-    if scenario.space == "spatial":
-        check_nominal_path(path, grasps)
     ld = scenario.load_distribution
     try:
         return loaded_state(plant, path, grasps, ld, GraspCompliance(plant), ld.torque_limits, x)
