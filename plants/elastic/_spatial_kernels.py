@@ -56,6 +56,32 @@ def wrap_angle(a):
     return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
 
 
+@njit(cache=True, inline="always")
+def log_so3_into(Q, out):
+    """The rotation vector ``out = log(Q)`` [rad] of the rotation matrix ``Q`` (3x3), and the coefficient
+    ``c`` of the inverse right Jacobian ``J_r^-1(out) = I + 1/2 [out]x + c [out]x^2``; returns ``c``.
+
+    .. math::
+        \\phi = \\mathrm{atan2}(|v|, \\mathrm{tr}\\,Q - 1), \\quad v = \\mathrm{vee}(Q - Q^T) = 2 \\sin\\phi\\, u,
+        \\quad \\log Q = \\phi\\, v / |v|, \\quad c = 1/\\phi^2 - (1 + \\cos\\phi) / (2 \\phi \\sin\\phi)
+
+    (series near ``phi = 0``: ``log Q = (1 + phi^2 / 6) v / 2``, ``c = 1/12 + phi^2/720 + phi^4/30240``).
+    Exact up to a relative rotation near ``pi``, where ``log`` is not unique."""
+    v0 = Q[2, 1] - Q[1, 2]
+    v1 = Q[0, 2] - Q[2, 0]
+    v2 = Q[1, 0] - Q[0, 1]
+    sv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+    ang = math.atan2(sv, Q[0, 0] + Q[1, 1] + Q[2, 2] - 1.0)
+    fac = 0.5 * (1.0 + ang * ang / 6.0) if ang < 1e-4 else ang / sv
+    out[0] = fac * v0
+    out[1] = fac * v1
+    out[2] = fac * v2
+    a2 = ang * ang
+    if ang < 1e-3:
+        return 1.0 / 12.0 + a2 / 720.0 + a2 * a2 / 30240.0
+    return 1.0 / a2 - (1.0 + math.cos(ang)) / (2.0 * ang * math.sin(ang))
+
+
 @njit(cache=True, _nrt=False)
 def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
     """One matrix element (co-rotational; docs/model.md s.3 [ours]) between nodes i and j.
@@ -97,22 +123,7 @@ def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
     for a in range(3):
         pv[a] = (Re[0, a] * (Y[j, 0] - Y[i, 0]) + Re[1, a] * (Y[j, 1] - Y[i, 1])
                  + Re[2, a] * (Y[j, 2] - Y[i, 2]))
-    # theta = log(Q): angle from atan2(|v|, tr Q - 1), v = vee(Q - Q^T) = 2 sin(angle) axis
-    v0 = Q[2, 1] - Q[1, 2]
-    v1 = Q[0, 2] - Q[2, 0]
-    v2 = Q[1, 0] - Q[0, 1]
-    sv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
-    ang = math.atan2(sv, Q[0, 0] + Q[1, 1] + Q[2, 2] - 1.0)
-    fac = 0.5 * (1.0 + ang * ang / 6.0) if ang < 1e-4 else ang / sv
-    th[0] = fac * v0
-    th[1] = fac * v1
-    th[2] = fac * v2
-    # J_r^-1 = I + 1/2 [th]x + c [th]x^2
-    a2 = ang * ang
-    if ang < 1e-3:
-        c = 1.0 / 12.0 + a2 / 720.0 + a2 * a2 / 30240.0
-    else:
-        c = 1.0 / a2 - (1.0 + math.cos(ang)) / (2.0 * ang * math.sin(ang))
+    c = log_so3_into(Q, th)  # theta = log(Q); J_r^-1 = I + 1/2 [th]x + c [th]x^2
     d = vec2[2]
     x = scratch[20][0]
     if rates:
@@ -235,23 +246,8 @@ def geodesic_rotation_edge(i, j, p, F, scratch, frames):
     for a in range(3):
         for b in range(3):
             Dl[a, b] = Ri[0, a] * P[0, b] + Ri[1, a] * P[1, b] + Ri[2, a] * P[2, b]
-    # e = log(Delta): angle from atan2(|v|, tr Delta - 1), v = vee(Delta - Delta^T) = 2 sin(angle) axis
-    v0 = Dl[2, 1] - Dl[1, 2]
-    v1 = Dl[0, 2] - Dl[2, 0]
-    v2 = Dl[1, 0] - Dl[0, 1]
-    sv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
-    ang = math.atan2(sv, Dl[0, 0] + Dl[1, 1] + Dl[2, 2] - 1.0)
-    fac = 0.5 * (1.0 + ang * ang / 6.0) if ang < 1e-4 else ang / sv
     e = vec[0]
-    e[0] = fac * v0
-    e[1] = fac * v1
-    e[2] = fac * v2
-    # J_r^-1 = I + 1/2 [e]x + c [e]x^2
-    a2 = ang * ang
-    if ang < 1e-3:
-        c = 1.0 / 12.0 + a2 / 720.0 + a2 * a2 / 30240.0
-    else:
-        c = 1.0 / a2 - (1.0 + math.cos(ang)) / (2.0 * ang * math.sin(ang))
+    c = log_so3_into(Dl, e)  # e = log(Delta); J_r^-1 = I + 1/2 [e]x + c [e]x^2
     g0 = p[5] * e[0]
     g1 = p[4] * e[1]
     g2 = p[3] * e[2]
