@@ -489,9 +489,11 @@ class CooperativePlant:
         object's MC. Planar rows are ``(f_x, f_z, n)``. This is what a wrist force sensor reads.
         Only edges between the object (node 0) and contact i count toward contact i.
         """
-        if self._charted:
-            return self._contact_wrenches_charted(x)
-        Y, dY = self._node_state(x)[:2]
+        charted = self._charted  # nodes in charts: the frames come from the state
+        if charted:
+            Y, dY, _, _, frames = self._frames_state(self._state(x))
+        else:
+            Y, dY = self._node_state(x)[:2]
         p, m = self.p, self.arm_count
         out = np.zeros((m, p))
         kern = self.elastic._kern
@@ -502,7 +504,10 @@ class CooperativePlant:
             c = j if i == 0 else i
             F = np.zeros_like(Y)
             ei, ep = self._edge_index[e:e + 1], self._edge_params[e:e + 1]
-            if self._immobile:
+            if charted:
+                kern.elastic_edges_framed(Y, ei, ep, F, frames)
+                kern.damping_edges_framed(Y, dY, ei, ep, F, frames)
+            elif self._immobile:
                 kern.linear_edges(Y, dY, self._Y_ref, ei, ep, F)
             else:
                 kern.elastic_edges(Y, ei, ep, F)
@@ -512,7 +517,7 @@ class CooperativePlant:
             if self.space == "spatial":
                 A0 = Y[0, 3:6]
                 tau_body = body_rate_map_inv(A0, "object").T @ Q[3:6]
-                tau_world = rotation_zyx(A0) @ tau_body
+                tau_world = (frames[0, 0] if charted else rotation_zyx(A0)) @ tau_body  # R_0 = C_0 R(A_0)
                 f = Q[:3]
                 couple = tau_world - np.cross(d[:3], f)
                 out[c - 1, :3] += f
@@ -522,26 +527,6 @@ class CooperativePlant:
                 couple = Q[2] - (d[0] * f[1] - d[1] * f[0])
                 out[c - 1, :2] += f
                 out[c - 1, 2] += couple
-        return out
-
-    def _contact_wrenches_charted(self, x) -> np.ndarray:
-        """:meth:`contact_wrenches` of a plant whose nodes are in charts (the frames come from the state)."""
-        Y, dY, _, _, frames = self._frames_state(self._state(x))
-        kern = self.elastic._kern
-        out = np.zeros((self.arm_count, 6))
-        for e in range(self._edge_index.shape[0]):
-            i, j = int(self._edge_index[e, 0]), int(self._edge_index[e, 1])
-            if 0 not in (i, j):
-                continue
-            c = j if i == 0 else i
-            F = np.zeros_like(Y)
-            ei, ep = self._edge_index[e:e + 1], self._edge_params[e:e + 1]
-            kern.elastic_edges_framed(Y, ei, ep, F, frames)
-            kern.damping_edges_framed(Y, dY, ei, ep, F, frames)
-            Q = -F[0]
-            tau_world = frames[0, 0] @ (body_rate_map_inv(Y[0, 3:6], "object").T @ Q[3:6])
-            out[c - 1, :3] += Q[:3]
-            out[c - 1, 3:] += tau_world - np.cross(Y[c, :3] - Y[0, :3], Q[:3])
         return out
 
     # ------------------------------------------------------------------ regrouping (4.10-4.11)
