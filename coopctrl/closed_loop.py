@@ -126,7 +126,7 @@ class ClosedLoop:
         #: the feedback terms; the applied torques are saturated at the limit (actuators).
         self._qp_tau_max = qp_torque_limits(plant)
         self._modes_cache: dict[int, tuple] = {}
-        if self.space == "spatial":  # a nominal path through the Euler singularity is bad input
+        if self.space == "spatial" and not plant.charted:  # a nominal path through the Euler singularity is bad input
             check_nominal_path(trajectory, self.grasps)
         Yr = el.Y_ref
         self._rho = np.array([self._to_object_frame(Yr[0], Yr[i + 1, :self.npos] - Yr[0, :self.npos])

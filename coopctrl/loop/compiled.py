@@ -33,6 +33,7 @@ from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 import coopctrl.integrators.compiled as I
 import coopctrl.loop.argument_types as argument_types
+import coopctrl.loop.charts as loop_charts
 from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace
@@ -401,7 +402,15 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     # (the QP's and the plant's workspaces, tens of ms): start-up, not run time
     setup = _time.perf_counter() - wall0
     times = np.arange(N) * loop.T
-    traj = _trajectory_samples(loop.trajectory, times, p)
+    P = cl.P
+    charts = motion = None
+    if plant.charted:  # rotation charts: the stored charts re-centred between kernel calls (coopctrl.loop.charts)
+        P = P[:8] + (P[8].copy(),) + P[9:]  # the run's own node rows (the charts change in them)
+        charts = loop_charts.LoopCharts(plant, P[8])
+        motion = loop_charts.target_motion(loop.trajectory, times)
+        traj = loop_charts.own_chart_table(motion)
+    else:
+        traj = _trajectory_samples(loop.trajectory, times, p)
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
     qs = np.zeros(N, dtype=np.int64)
     qb = np.zeros(N, dtype=np.int64)
@@ -414,18 +423,20 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     events: list[tuple[float, str, str]] = []
     from coopctrl.loop.euler_band import margin_cos
 
-    band = margin_cos()
+    band = margin_cos() if charts is None else 0.0  # the Euler band guard is the book's angles' (charts: none)
     # every argument bound once (the reference path enters the kernel twice per tick)
     head = (cl.spatial,)
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
     sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
     t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
     with pointers_in_use():
-        stages = K.tick_stages(cl.spatial, plan, cl.P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
+        stages = K.tick_stages(cl.spatial, plan, P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
                                cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int,
                                out_float)
     stages_startup = _time.perf_counter() - t_stages
-    args = (N, loop.T, cl.steps, plan, stages, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
+    # charts: the deformation guard runs in Python between kernel calls (LoopCharts.deformation), in the charts
+    max_deformation = loop.max_deformation if charts is None else math.inf
+    args = (N, loop.T, cl.steps, plan, stages, P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, max_deformation, band,
             cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
             state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
             rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
@@ -443,8 +454,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
 
     def step_period(x, t):
         """The plant over one control period from ``t`` with the held torques (ZOH), in Python."""
+        f = rhs if charts is None else charts.plant.rhs  # the charts in use
         for hs in steps:
-            x = integrator_step(rhs, t, x, state.tau, hs)
+            x = integrator_step(f, t, x, state.tau, hs)
             t += hs
         return x
 
@@ -472,16 +484,28 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     qp_time = 0.0
     bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
     try:
-        k_stop = min(_CHUNK, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
+        chunk = _CHUNK if charts is None else loop_charts.CHART_CHUNK
+        k_stop = min(chunk, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
         while True:
+            if charts is not None:
+                charts.check(state.x, k)
+            k_first = int(out_int[5])
             advance(k, k_stop)
+            if charts is not None:
+                over = charts.deformation(rec, k_first, int(out_int[5]), cl.rho, loop.max_deformation)
+                if over is not None:  # as the kernel's guard: tick j is not recorded, j - 1 was the last good one
+                    j, which, worst = over
+                    out_int[:] = (K.DEFORMATION, j, which, 0, 0, j, j - 1, out_int[7])
+                    out_float[0] = worst
+                    x_good[:] = rec["x"][j - 1] if j > 0 else x0
+                    state.x[:] = rec["x"][j]
             code = int(out_int[0])
             k = int(out_int[1])
             state.tick = k
             if code == K.CHUNK_END:
                 if bar is not None:
                     bar.update(k - bar.n)
-                k_stop = min(k + _CHUNK, N)
+                k_stop = min(k + chunk, N)
                 continue
             if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
                 try:
@@ -542,6 +566,12 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     for key, val in rec.items():
         if isinstance(val, np.ndarray):
             rec[key] = val[:k_done]
+    if charts is not None:  # the record in the book's world coordinates, the object's rotation exactly
+        charts.book_record(rec, motion)
+        for k0, _ in charts.history[1:]:
+            events.append((k0 * loop.T, "chart_recentred", "the object's and contact points' rotation charts re-centred "
+                                                           f"(|cos theta| below {loop_charts.RECENTRE_COS:g})"))
+        events.sort(key=lambda e: e[0])
     families = [name for name in ("min_grip", "friction", "torque_limits") if name in cl.rows]
     if passive:  # no QP ran: no split, no status
         for key in ("F_commanded", "F_external", "F_internal"):

@@ -113,6 +113,11 @@ def _build(scenario):
                             "(ZYX Euler singularity)", scenario.source) from None
     except ParameterError as exc:
         raise ScenarioError(exc.parameter, exc.value, exc.allowed, scenario.source) from None
+    if scenario.scene.rotations == "charts":  # arms' nodes in their own charts; object and contact points stored
+        try:
+            plant = plant.with_charts(arm_charts="own")
+        except ParameterError as exc:
+            raise ScenarioError("scene.rotations", "charts", f"'book': {exc.allowed}", scenario.source) from None
     _check_static_torques(scenario, plant, x0)
     _CACHE.clear()
     _CACHE[key] = (scenario, (plant, x0))
@@ -162,6 +167,8 @@ def trajectory(scenario):
     if scenario.trajectory.orientation == "euler" or scenario.space != "spatial":
         return trajectories.MinimumJerkTrajectory(times, poses, scenario.space)
     path = trajectories.GeodesicTrajectory(times, poses)
+    if scenario.scene.rotations == "charts":  # the loop runs on the rotations, in charts: any pitch
+        return path
     entry = path.euler_band_entry()
     if entry is not None:
         segment, t, pitch = entry
@@ -191,7 +198,7 @@ def initial_state(scenario) -> np.ndarray:
     plant = build_plant(scenario)
     path = trajectory(scenario)
     grasps = nominal_grasps(scenario)
-    if scenario.space == "spatial":
+    if scenario.space == "spatial" and scenario.scene.rotations == "book":
         check_nominal_path(path, grasps)
     ld = scenario.load_distribution
     try:
@@ -211,7 +218,7 @@ def _interconnection(scenario, e: int) -> Interconnection:
         if s.element in ("central", "offset"):
             return Interconnection(tuple(s.pair), stiffness=s.stiffness_per_axis(space), torsion=s.torsion_per_axis(space),
                                    damping=s.damping, torsion_damping=s.torsion_damping, element=s.element,
-                                   damping_form=s.damping_form, name=name)
+                                   damping_form=s.damping_form, rotation_form=s.rotation_form, name=name)
         if s.element == "beam":
             if space == "spatial" and (s.Iz is None or s.J is None):
                 raise ParameterError(f"{name}.{'Iz' if s.Iz is None else 'J'}", None, "a number [m^4] for a beam in a spatial scene")
