@@ -141,14 +141,16 @@ class LoopCharts:
         """The smallest ``|cos theta|`` of the stored charts' angles at ``x``."""
         return float(min(abs(np.cos(x[sl.start + 4])) for _, sl in self.nodes))
 
-    def check(self, x: np.ndarray, k: int) -> bool:
+    def check(self, x: np.ndarray, k: int, plan=None) -> bool:
         """Re-centre the stored charts on the state ``x`` (updated in place) of tick ``k`` when their
-        :meth:`chart_cos` is below :data:`RECENTRE_COS`; True if it did."""
+        :meth:`chart_cos` is below :data:`RECENTRE_COS`; True if it did. ``plan``: the run's integration
+        plan, whose Newton matrix (implicit schemes) was made in the old chart: it starts cold."""
         if self.chart_cos(x) >= RECENTRE_COS:
             return False
         self.plant, x_new = self.plant.recentred(x)
         x[:] = x_new
         self.node_rows[:] = self.plant._node_params
+        _cold_start(plan)
         self.history.append((k, self.plant.elastic.charts.copy()))
         self.recentrings += 1
         return True
@@ -217,3 +219,16 @@ def _quaternion(R) -> np.ndarray:
     q[1 + j] = (R[j, i] + R[i, j]) / s
     q[1 + k] = (R[k, i] + R[i, k]) / s
     return q if q[0] >= 0 else -q
+
+
+def _cold_start(plan) -> None:
+    """Drop what an integration plan carries from step to step in the old chart's coordinates: the
+    implicit schemes' Newton matrix and Jacobian (an explicit plan carries nothing but the step size)."""
+    import coopctrl.integrators.adaptive_plans as adaptive_plans
+
+    name = type(plan).__name__
+    if name == "ImplicitPlan":
+        plan.memo[0] = 0.0  # M is not kept (coopctrl.integrators.compiled: memo[0])
+    elif name == "TRBDF2Plan":
+        plan.memo[adaptive_plans.M_HAVE_J] = 0.0
+        plan.memo[adaptive_plans.M_GH] = 0.0

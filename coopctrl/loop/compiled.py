@@ -488,7 +488,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         k_stop = min(chunk, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
         while True:
             if charts is not None:
-                charts.check(state.x, k)
+                charts.check(state.x, k, plan)
             k_first = int(out_int[5])
             advance(k, k_stop)
             if charts is not None:
