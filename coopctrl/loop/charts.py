@@ -1,27 +1,32 @@
-"""The closed loop in rotation charts (``scene.rotations = "charts"``; docs/model.md s.2, rotation charts).
+"""The closed loop in rotation charts (``scene.rotations = "charts"``; docs/model.md s.2, the loop in charts).
 
-A charted plant (:attr:`plants.cooperative.CooperativePlant.charted`) takes each arm's node in its own
-chart and the object and contact points in stored charts ``C_k``: ``R_k = C_k R(A_k)``. The kernel runs
-unchanged on the chart coordinates; between kernel calls (every :data:`CHART_CHUNK` ticks) the loop
-re-centres the stored charts when the smallest ``|cos theta|`` of their angles falls below
-:data:`RECENTRE_COS` (:class:`LoopCharts`): ``C' = C R(A)``, ``A' = 0``, the same body angular
-velocity (:meth:`~plants.cooperative.CooperativePlant.recentred`), the kernel's packed node rows and the
-state updated in place. After the run the record is turned back into the book's world coordinates where
-they exist (:meth:`LoopCharts.book_record`), with the object's rotation kept exactly as a quaternion.
+The loop runs in a *world chart*: a world frame turned by a rotation ``C`` that is re-centred on the object
+whenever the object's ZYX angles in it near their singularity. Every quantity fixed in the world is taken
+in the turned frame, ``v' = C^T v``: node positions and velocities, the plant's gravity and arm bases, the
+trajectory's targets, the followers' force integrals and the held split; every node's angles are the ZYX
+angles of ``C^T R``. Because the system is invariant under a rotation of the world ((4.7): geodesic
+springs, frame-invariant dampers, isotropic central stiffness), the turned system is the book's system
+with identity charts, so the compiled tick (plant, nominal motion (148), load split, controllers, guards)
+runs unchanged and allocation-free; only arrays change, in place, between kernel calls
+(:class:`WorldChart`). Right after a re-centring the object is at ``A' = 0`` and each contact node at its
+grasp's angles (a scene's grasps are away from pitch 90 deg), so no node nears the singularity.
 
 Why ``RECENTRE_COS = 0.7`` (45.6 deg from the chart's centre): there ``1/cos(theta)``, the growth of
-``L^-1`` and of the fastest rotational mode (docs/model.md s.2), is at most 1.43, so a chart never costs
-more than that factor in conditioning, while a re-centring (a few 3x3 products, exact up to rounding)
-is needed only once per 45 deg of turn. A chunk of :data:`CHART_CHUNK` ticks leaves 44 deg to the
-chart's singularity: the object may turn at up to 0.77 / (``CHART_CHUNK`` T) rad/s (38 rad/s at
-T = 1 ms) between two checks; a faster turn meets the plant's own singularity status
-(:class:`~plants.errors.EulerSingularityError`, a stop with its cause), never a wrong number.
+``L^-1`` and of the fastest rotational mode (docs/model.md s.2), is at most 1.43, so the chart never costs
+more than that factor in conditioning, while a re-centring (a few 3x3 products, exact up to rounding) is
+needed once per 45 deg of turn. A kernel call of :data:`CHART_CHUNK` ticks leaves 44 deg to the
+singularity: the object may turn at up to 0.77 / (``CHART_CHUNK`` T) rad/s (38 rad/s at T = 1 ms) between
+two checks; the kernel's Euler band guard (5 deg, in the turned frame) stops a faster turn with its cause.
 
-The nominal trajectory table: in this release the controllers do not run in charts (the scenario
-refuses ``scene.rotations = "charts"`` with ``controllers.enabled = true``), so in a charted run the
-table only feeds the nominal node motion's bookkeeping; each row is expressed in the chart centred on
-its own target (:func:`own_chart_table`: ``A = 0``, defined at every rotation), and the record's
-``Y0_nominal`` is the target in the book's world angles (:meth:`LoopCharts.book_record`).
+After the run the record is turned back into the book's world coordinates (:meth:`WorldChart.book_record`),
+with the object's rotation kept exactly as a quaternion (``object_rotation``).
+
+Chosen over the plant's per-node charts (``CooperativePlant(arm_charts="own")`` and stored charts), which
+need every controller kernel to read each node's chart (targets as ``euler(C_k^T R)``, ``C_k R(A)`` in the
+pose increments, contact normals, torque rows and the elastic split): the world chart gives the same
+singularity-free loop with no change to the compiled tick, so every shipped scene stays bit-identical and
+the tick's speed unchanged. The controllers' Euler-coordinate laws then act on the turned frame's angles,
+which near ``A' = 0`` are the body rotation's (as the brief's per-body charts would give).
 """
 
 from __future__ import annotations
@@ -101,18 +106,6 @@ def target_motion(trajectory, times):
             body_rates(A, ddA) + rate_map_dot_times(A, dA))
 
 
-def own_chart_table(motion) -> np.ndarray:
-    """The kernel's trajectory table (3, N, 6) of ``motion`` (:func:`target_motion`), each row in the chart
-    centred on its own target: ``A = 0``, ``dA = L(0)^-1 omega_b``, ``ddA = L(0)^-1 (alpha_b - dL(0, dA) dA)``
-    (``L(0)`` the permutation (z, y, x)); positions as they are."""
-    r, dr, ddr, _, w, a = motion
-    N = r.shape[0]
-    zero = np.zeros((N, 3))
-    dA = w[:, ::-1].copy()
-    ddA = (a - rate_map_dot_times(zero, dA))[:, ::-1]
-    return np.ascontiguousarray(np.stack([np.hstack((r, zero)), np.hstack((dr, dA)), np.hstack((ddr, ddA))]))
-
-
 def book_view(C, A, dA):
     """World ZYX angles and rates ``(A_w, dA_w)`` (N, 3) of angles ``A`` and rates ``dA`` (N, 3) taken in the
     charts ``C`` (N, 3, 3): ``R(A_w) = C R(A)``, ``dA_w = L(A_w)^-1 L(A) dA`` (:func:`euler_rates`)."""
@@ -121,87 +114,129 @@ def book_view(C, A, dA):
     return Aw, euler_rates(Aw, body_rates(A, dA))
 
 
-class LoopCharts:
-    """The stored charts of one charted run: re-centres them between kernel calls, remembers them tick by
-    tick, and gives the record back in the book's world coordinates.
+class WorldChart:
+    """The rotated world of one run in charts: re-centres it between kernel calls, remembers it tick by
+    tick, and gives the record back in the book's world coordinates (module docstring).
 
-    ``node_rows``: the kernel's packed node rows (``P[8]`` of the run, a copy owned by the run), updated
-    in place at each re-centring."""
+    ``P``: the run's plant arguments, whose ``bases`` (``P[5]``) and ``gravity`` (``P[7]``) are the run's own
+    copies, rotated in place; ``arm_kind``, ``q_off``: which arms are contact points and where their
+    coordinates are; ``nz``: the size of ``z``."""
 
-    def __init__(self, plant, node_rows: np.ndarray):
-        self.plant = plant
-        self.node_rows = node_rows
-        self.nodes = plant._free_nodes()  # (node, slice of its 6 coordinates in z): object, contact points
-        self.nz = plant.nz
-        #: ``(first tick, charts (m + 1, 3, 3))`` of every chart in use, in order.
-        self.history: list[tuple[int, np.ndarray]] = [(0, plant.elastic.charts.copy())]
-        self.recentrings = 0
+    def __init__(self, P, nz: int, motion):
+        self.P = P
+        self.bases0 = P[5].copy()
+        self.gravity0 = P[7].copy()
+        arm_kind, q_off = P[0], P[2]
+        #: Start in ``z`` of the object's and each contact point's 6 coordinates (a contact point's are its node's).
+        self.free = [nz - 6] + [int(q_off[i]) for i in range(arm_kind.shape[0]) if arm_kind[i] == 1]
+        #: Arm index -> start in ``z`` of a contact point (its input is a node force, rotated in the record).
+        self.contact_points = {i: int(q_off[i]) for i in range(arm_kind.shape[0]) if arm_kind[i] == 1}
+        self.nz = nz
+        self.motion = motion
+        self.C = np.eye(3)
+        #: ``(first tick, C)`` of every world chart in use, in order.
+        self.history: list[tuple[int, np.ndarray]] = [(0, self.C.copy())]
 
-    def chart_cos(self, x) -> float:
-        """The smallest ``|cos theta|`` of the stored charts' angles at ``x``."""
-        return float(min(abs(np.cos(x[sl.start + 4])) for _, sl in self.nodes))
+    def table(self, traj: np.ndarray, k: int) -> None:
+        """Rows ``k ..`` of the kernel's trajectory table ``traj`` (3, N, 6) in the current world chart:
+        ``r' = C^T r``, ``R' = C^T R``, ``A' = euler(R')``, ``dA' = L(A')^-1 omega_b``,
+        ``ddA' = L(A')^-1 (alpha_b - dL(A', dA') dA')`` (the body rates do not depend on the chart)."""
+        r, dr, ddr, R, w, a = (v[k:] for v in self.motion)
+        Ct = self.C.T
+        A = euler_of(np.einsum("ij,njk->nik", Ct, R))
+        dA = euler_rates(A, w)
+        traj[0, k:, :3], traj[1, k:, :3], traj[2, k:, :3] = r @ self.C, dr @ self.C, ddr @ self.C
+        traj[0, k:, 3:], traj[1, k:, 3:] = A, dA
+        traj[2, k:, 3:] = euler_rates(A, a - rate_map_dot_times(A, dA))
 
-    def check(self, x: np.ndarray, k: int, plan=None) -> bool:
-        """Re-centre the stored charts on the state ``x`` (updated in place) of tick ``k`` when their
-        :meth:`chart_cos` is below :data:`RECENTRE_COS`; True if it did. ``plan``: the run's integration
-        plan, whose Newton matrix (implicit schemes) was made in the old chart: it starts cold."""
-        if self.chart_cos(x) >= RECENTRE_COS:
+    def check(self, x: np.ndarray, k: int, traj: np.ndarray, state, plan=None) -> bool:
+        """Re-centre the world chart on the object when the ``|cos theta|`` of its angles at the state ``x``
+        of tick ``k`` is below :data:`RECENTRE_COS`: ``C' = C R(A_0)``; the state, the plant's bases and
+        gravity, the trajectory rows from ``k`` on, the followers' integrals and the last split (``state``,
+        a :class:`~coopctrl.loop.state.LoopState`) rotated by ``D = C'^T C``; the QP and an implicit scheme
+        start cold. True if it re-centred."""
+        nz = self.nz
+        A0 = x[nz - 3:nz]
+        if abs(np.cos(A0[1])) >= RECENTRE_COS:
             return False
-        self.plant, x_new = self.plant.recentred(x)
-        x[:] = x_new
-        self.node_rows[:] = self.plant._node_params
+        Cn = self.C @ rotations_of(A0[None])[0]
+        U, _, Vt = np.linalg.svd(Cn)  # re-orthonormalized (a product of many charts drifts by rounding)
+        Cn = U @ Vt
+        D = Cn.T @ self.C
+        for s in self.free:
+            r, A = x[s:s + 3], x[s + 3:s + 6]
+            v, dA = x[nz + s:nz + s + 3], x[nz + s + 3:nz + s + 6]
+            An = euler_of((D @ rotations_of(A[None])[0])[None])
+            dAn = euler_rates(An, body_rates(A[None], dA[None]))
+            x[s:s + 3], x[nz + s:nz + s + 3] = D @ r, D @ v
+            x[s + 3:s + 6], x[nz + s + 3:nz + s + 6] = An[0], dAn[0]
+        for i, B in enumerate(self.bases0):
+            self.P[5][i, :3, :3] = Cn.T @ B[:3, :3]
+            self.P[5][i, :3, 3] = Cn.T @ B[:3, 3]
+        self.P[7][:] = Cn.T @ self.gravity0
+        for w in (state.integrals, *state.last_split):  # (m, 6) wrenches, force and moment rotated
+            w[:, :3] = w[:, :3] @ D.T
+            w[:, 3:] = w[:, 3:] @ D.T
+        state.ws[3][0] = 0  # the QP starts cold (CompiledSolver.reset): its warm start is in the old axes
         _cold_start(plan)
-        self.history.append((k, self.plant.elastic.charts.copy()))
-        self.recentrings += 1
+        self.C = Cn
+        self.table(traj, k)
+        self.history.append((k, Cn.copy()))
         return True
 
-    def deformation(self, rec: dict, k0: int, k1: int, rho: np.ndarray, limit: float):
-        """The kernel's deformation guard on the recorded ticks ``k0 .. k1 - 1`` of this chart (the kernel's
-        own reads the object's frame as ``R(A)``, the book's; here ``R = C R(A)``):
-        ``d_i = R^T (r_i - r_0) - rho_i`` [m] of every contact; ``(tick, contact, |d|)`` of the first tick
-        where some ``|d_i| > limit``, else ``None``."""
-        if k1 <= k0:
-            return None
-        nz = self.nz
-        x = rec["x"][k0:k1]
-        R = np.einsum("ij,njk->nik", self.history[-1][1][0], rotations_of(x[:, nz - 3:nz]))
-        rel = rec["r_contacts"][k0:k1] - x[:, None, nz - 6:nz - 3]
-        d = np.linalg.norm(np.einsum("nji,nmj->nmi", R, rel) - rho[None], axis=2)  # (ticks, m)
-        worst = d.max(axis=1)
-        over = np.flatnonzero(~(worst <= limit))
-        if not over.size:
-            return None
-        j = int(over[0])
-        return k0 + j, int(np.argmax(d[j])), float(worst[j])
-
     def charts_per_tick(self, N: int) -> np.ndarray:
-        """The stored charts (N, m + 1, 3, 3) in use at ticks ``0 .. N - 1``."""
-        out = np.empty((N,) + self.history[0][1].shape)
+        """The world chart (N, 3, 3) in use at ticks ``0 .. N - 1``."""
+        out = np.empty((N, 3, 3))
         for i, (k0, C) in enumerate(self.history):
             k1 = self.history[i + 1][0] if i + 1 < len(self.history) else N
             out[k0:k1] = C
         return out
 
-    def book_record(self, rec: dict, motion) -> None:
-        """Turn ``rec`` (``x`` in the charts of each tick) into the book's world coordinates in place: the
-        object's and contact points' angles and rates (:func:`book_view`); ``Y0_nominal`` from the target
-        ``motion`` (:func:`target_motion`); and ``rec["object_rotation"]``, the object's rotation as a unit
-        quaternion ``(w, x, y, z)`` (N, 4) exact at every pitch (``q(C) q(A)``)."""
+    def book_record(self, rec: dict) -> None:
+        """Turn ``rec`` (in the world chart of each tick) into the book's world coordinates in place: the
+        object's and contact points' poses and rates (positions ``C r'``, angles and rates by
+        :func:`book_view`), the contact points' inputs (force ``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``), the
+        wrenches and contact positions (``C f``, ``C n``, ``C r``), ``Y0_nominal`` from the target motion,
+        and ``rec["object_rotation"]``, the object's rotation as a unit quaternion ``(w, x, y, z)`` (N, 4)
+        exact at every pitch (``q(C) q(A')``)."""
         x = rec["x"]
         N = x.shape[0]
         C = self.charts_per_tick(N)
         nz = self.nz
-        for node, sl in self.nodes:
-            a = slice(sl.start + 3, sl.stop)
-            da = slice(nz + sl.start + 3, nz + sl.stop)
-            if node == 0:
-                qC = np.array([_quaternion(c) for c in C[:, 0]]) if N else np.zeros((0, 4))
-                rec["object_rotation"] = quat.multiply(qC, quat.from_zyx(x[:, a])) if N else np.zeros((0, 4))
-            x[:, a], x[:, da] = book_view(C[:, node], x[:, a], x[:, da])
-        r, dr, _, R, w, _ = motion
+        rot = lambda v: np.einsum("nij,n...j->n...i", C, v)  # noqa: E731 (rows rotated by their tick's chart)
+        angles = {}
+        for s in self.free:
+            A, dA = x[:, s + 3:s + 6].copy(), x[:, nz + s + 3:nz + s + 6]
+            if s == nz - 6:
+                rec["object_rotation"] = quat.multiply(np.array([_quaternion(c) for c in C]).reshape(N, 4),
+                                                       quat.from_zyx(A))
+            x[:, s:s + 3], x[:, nz + s:nz + s + 3] = rot(x[:, s:s + 3]), rot(x[:, nz + s:nz + s + 3])
+            x[:, s + 3:s + 6], x[:, nz + s + 3:nz + s + 6] = book_view(C, A, dA)
+            angles[s] = (A, x[:, s + 3:s + 6])
+        tau = rec["tau"]
+        for i, s in self.contact_points.items():
+            A, Aw = angles[s]
+            tau[:, s:s + 3] = rot(tau[:, s:s + 3])
+            body = np.linalg.solve(np.transpose(_rate_maps(A), (0, 2, 1)), tau[:, s + 3:s + 6, None])
+            tau[:, s + 3:s + 6] = np.einsum("nji,njk->nik", _rate_maps(Aw), body)[:, :, 0]
+        for name in ("F_measured", "F_commanded", "F_external", "F_internal"):
+            F = rec[name]
+            F[:, :, :3], F[:, :, 3:] = rot(F[:, :, :3]), rot(F[:, :, 3:])
+        rec["r_contacts"][:] = rot(rec["r_contacts"])
+        r, _, _, R, _, _ = self.motion
         n = min(N, r.shape[0])
-        Aw = euler_of(R[:n])
-        rec["Y0_nominal"][:n] = np.hstack((r[:n], Aw))
+        rec["Y0_nominal"][:n] = np.hstack((r[:n], euler_of(R[:n])))
+
+
+def _rate_maps(A) -> np.ndarray:
+    """``L(A)`` (N, 3, 3) of ZYX angles ``A`` (N, 3) (docs/model.md s.2, (105))."""
+    cth, sth = np.cos(A[:, 1]), np.sin(A[:, 1])
+    cph, sph = np.cos(A[:, 2]), np.sin(A[:, 2])
+    L = np.zeros((A.shape[0], 3, 3))
+    L[:, 0, 0], L[:, 0, 2] = -sth, 1.0
+    L[:, 1, 0], L[:, 1, 1] = sph * cth, cph
+    L[:, 2, 0], L[:, 2, 1] = cph * cth, -sph
+    return L
 
 
 def _quaternion(R) -> np.ndarray:

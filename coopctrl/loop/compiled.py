@@ -403,12 +403,15 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     setup = _time.perf_counter() - wall0
     times = np.arange(N) * loop.T
     P = cl.P
-    charts = motion = None
-    if plant.charted:  # rotation charts: the stored charts re-centred between kernel calls (coopctrl.loop.charts)
-        P = P[:8] + (P[8].copy(),) + P[9:]  # the run's own node rows (the charts change in them)
-        charts = loop_charts.LoopCharts(plant, P[8])
-        motion = loop_charts.target_motion(loop.trajectory, times)
-        traj = loop_charts.own_chart_table(motion)
+    charts = None
+    if loop.rotations == "charts":  # the loop in a world chart re-centred between kernel calls (coopctrl.loop.charts)
+        if cl.plant_outside:
+            raise ValueError(f"rotations = 'charts' with {integrator_outside(loop)}: a run in charts needs an "
+                             "integrator the compiled tick implements")
+        P = P[:5] + (P[5].copy(), P[6], P[7].copy()) + P[8:]  # the run's own bases and gravity (rotated in them)
+        charts = loop_charts.WorldChart(P, plant.nz, loop_charts.target_motion(loop.trajectory, times))
+        traj = np.zeros((3, N, p))
+        charts.table(traj, 0)
     else:
         traj = _trajectory_samples(loop.trajectory, times, p)
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
@@ -423,7 +426,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     events: list[tuple[float, str, str]] = []
     from coopctrl.loop.euler_band import margin_cos
 
-    band = margin_cos() if charts is None else 0.0  # the Euler band guard is the book's angles' (charts: none)
+    band = margin_cos()  # charts: the band of the rotated world's angles (the object's is re-centred at 45.6 deg)
     # every argument bound once (the reference path enters the kernel twice per tick)
     head = (cl.spatial,)
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
@@ -434,9 +437,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                                cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int,
                                out_float)
     stages_startup = _time.perf_counter() - t_stages
-    # charts: the deformation guard runs in Python between kernel calls (LoopCharts.deformation), in the charts
-    max_deformation = loop.max_deformation if charts is None else math.inf
-    args = (N, loop.T, cl.steps, plan, stages, P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, max_deformation, band,
+    args = (N, loop.T, cl.steps, plan, stages, P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
             cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
             state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
             rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
@@ -454,9 +455,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
 
     def step_period(x, t):
         """The plant over one control period from ``t`` with the held torques (ZOH), in Python."""
-        f = rhs if charts is None else charts.plant.rhs  # the charts in use
         for hs in steps:
-            x = integrator_step(f, t, x, state.tau, hs)
+            x = integrator_step(rhs, t, x, state.tau, hs)
             t += hs
         return x
 
@@ -486,19 +486,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     try:
         chunk = _CHUNK if charts is None else loop_charts.CHART_CHUNK
         k_stop = min(chunk, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
+        if charts is not None:
+            charts.check(state.x, k, traj, state, plan)
         while True:
-            if charts is not None:
-                charts.check(state.x, k, plan)
-            k_first = int(out_int[5])
             advance(k, k_stop)
-            if charts is not None:
-                over = charts.deformation(rec, k_first, int(out_int[5]), cl.rho, loop.max_deformation)
-                if over is not None:  # as the kernel's guard: tick j is not recorded, j - 1 was the last good one
-                    j, which, worst = over
-                    out_int[:] = (K.DEFORMATION, j, which, 0, 0, j, j - 1, out_int[7])
-                    out_float[0] = worst
-                    x_good[:] = rec["x"][j - 1] if j > 0 else x0
-                    state.x[:] = rec["x"][j]
             code = int(out_int[0])
             k = int(out_int[1])
             state.tick = k
@@ -506,6 +497,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                 if bar is not None:
                     bar.update(k - bar.n)
                 k_stop = min(k + chunk, N)
+                if charts is not None:  # between two whole ticks: the world chart may move
+                    charts.check(state.x, k, traj, state, plan)
                 continue
             if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
                 try:
@@ -567,9 +560,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         if isinstance(val, np.ndarray):
             rec[key] = val[:k_done]
     if charts is not None:  # the record in the book's world coordinates, the object's rotation exactly
-        charts.book_record(rec, motion)
+        charts.book_record(rec)
         for k0, _ in charts.history[1:]:
-            events.append((k0 * loop.T, "chart_recentred", "the object's and contact points' rotation charts re-centred "
+            events.append((k0 * loop.T, "chart_recentred", "the world chart re-centred on the object "
                                                            f"(|cos theta| below {loop_charts.RECENTRE_COS:g})"))
         events.sort(key=lambda e: e[0])
     families = [name for name in ("min_grip", "friction", "torque_limits") if name in cl.rows]

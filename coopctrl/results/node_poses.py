@@ -75,8 +75,6 @@ def node_poses_of(x: np.ndarray, plant) -> np.ndarray:
     out = np.full((n, m, p), np.nan)
     if n == 0:
         return out
-    if plant.charted:  # the record is in the book's world angles (coopctrl.loop.charts): the arms' nodes too
-        plant = plant.with_charts(arm_charts="world")
     _, args = plant.kernel  # (arm_kind, arm_dof, q_off, links, links_off, bases, tools, gravity, ..., status)
     status = np.zeros(2, dtype=np.int64)
     poses = _spatial_poses if plant.space == "spatial" else _planar_poses

@@ -113,11 +113,6 @@ def _build(scenario):
                             "(ZYX Euler singularity)", scenario.source) from None
     except ParameterError as exc:
         raise ScenarioError(exc.parameter, exc.value, exc.allowed, scenario.source) from None
-    if scenario.scene.rotations == "charts":  # arms' nodes in their own charts; object and contact points stored
-        try:
-            plant = plant.with_charts(arm_charts="own")
-        except ParameterError as exc:
-            raise ScenarioError("scene.rotations", "charts", f"'book': {exc.allowed}", scenario.source) from None
     _check_static_torques(scenario, plant, x0)
     _CACHE.clear()
     _CACHE[key] = (scenario, (plant, x0))

@@ -73,10 +73,17 @@ def _check_distinct_contacts(arms, translations: int) -> None:
 
 
 def _check_chart_springs(springs) -> None:
-    """With ``scene.rotations = "charts"`` every spring must be chart-free (docs/model.md s.2): the geodesic
-    rotation form on central and offset elements, no torsion dampers on Euler rates."""
+    """With ``scene.rotations = "charts"`` every spring must be invariant under a rotation of the world
+    (docs/model.md s.2, the loop in charts): central (one stiffness) or offset elements in the geodesic
+    rotation form, no torsion dampers on Euler rates."""
     for k, spring in enumerate(springs):
-        if spring.element in ("central", "offset") and spring.rotation_form != "geodesic":
+        if spring.element not in ("central", "offset"):
+            raise ScenarioError(f"springs[{k}].element", spring.element, "'central' or 'offset' with scene.rotations = "
+                                "'charts'")
+        if spring.element == "central" and isinstance(spring.stiffness, tuple) and len(set(spring.stiffness)) > 1:
+            raise ScenarioError(f"springs[{k}].stiffness", list(spring.stiffness), "one value for a central element "
+                                "with scene.rotations = 'charts' (per-axis values act on the world axes)")
+        if spring.rotation_form != "geodesic":
             raise ScenarioError(f"springs[{k}].rotation_form", spring.rotation_form,
                                 "'geodesic' with scene.rotations = 'charts' (the book's Euler-difference torsion "
                                 "depends on the angles' chart)")
@@ -223,10 +230,6 @@ class Scenario:
         s(self, "springs", tuple(springs))
         if charts:
             _check_chart_springs(springs)
-            if self.controllers.enabled:
-                raise ScenarioError("scene.rotations", "charts", "'book' with controllers.enabled = true: in this "
-                                    "release the controllers run in the book's world angles only; set "
-                                    "controllers.enabled = false for a passive run in charts")
         reached, frontier = {0}, [0]
         while frontier:
             node = frontier.pop()

@@ -23,12 +23,12 @@ class SceneConfig:
         unloaded_state: ``"mobile"`` (general model, docs/model.md §3, (113)) or ``"immobile"``
             (linear plant about a fixed unloaded state, (95-102)).
         gravity: Magnitude of gravity along -z in [m/s^2].
-        rotations: How a spatial node's angles are taken (docs/model.md s.2, rotation charts):
-            ``"book"`` (default) the book's world ZYX Euler angles, singular at pitch +-90 deg (a run
-            stops 5 deg before it); ``"charts"`` each arm's node in its own chart, the object and contact
-            points in charts the loop re-centres before their singularity, so the object may turn through
-            any pitch. Needs ``springs[k].rotation_form = "geodesic"``, no Euler-rate torsion dampers and
-            the mobile model; this release runs charts with ``controllers.enabled = false`` only.
+        rotations: How a spatial node's angles are taken (docs/model.md s.2): ``"book"`` (default) the
+            book's world ZYX Euler angles, singular at pitch +-90 deg (a run stops 5 deg before it, a
+            path through it is refused); ``"charts"`` the loop runs in a world frame re-centred on the
+            object whenever its angles near their singularity, so the object may turn through any pitch.
+            Needs springs invariant under a rotation of the world: central (one stiffness) or offset
+            elements with ``rotation_form = "geodesic"``, no Euler-rate torsion dampers, the mobile model.
     """
 
     space: str = key("planar", allowed=SPACES)
