@@ -14,6 +14,7 @@ from coopctrl.scenario.loader import load_scenario
 from coopctrl.simulator import closed_loop
 from coopctrl.trajectory import GeodesicTrajectory
 from coopctrl.trajectory.quaternion import from_zyx
+from coopctrl.trajectory.quaternion import matrix as quat_matrix
 from plants.frames import body_rate_map, rotation_zyx
 
 SCENE = "scenarios/euler_singularity.toml"
@@ -175,3 +176,21 @@ def test_the_controlled_carry_passes_pitch_90_deg_in_charts_and_is_refused_in_th
     overrides["scene.rotations"] = "book"
     with pytest.raises(ScenarioError, match=r"trajectory.via\[1\].pose .* ZYX pitch stays at least 5 deg away"):
         closed_loop(load_scenario(SCENE, overrides))
+
+
+def test_two_pandas_tip_the_box_past_its_side_in_charts():
+    """The shipped flip (scenarios/two_panda_flip.toml): 100 deg of pitch about the grasp line under control,
+    at the carry's accuracy; the book's angles refuse its path."""
+    from coopctrl.simulator import simulate
+
+    scenario = load_scenario("scenarios/two_panda_flip.toml")
+    result = simulate(scenario)
+    assert result.status == "ok", result.reason
+    assert [e[1] for e in result.events].count("chart_recentred") == 2  # at 45.6 deg and at 91 deg
+    R = quat_matrix(result.object_quaternion)
+    up = R[:, 2, 2]  # the box's z axis, world z component: 1 upright, 0 on its side, < 0 past it
+    assert up[0] == pytest.approx(1.0, abs=1e-9) and up[-1] == pytest.approx(np.cos(1.75), abs=1e-3)
+    summary = result.summary()
+    assert summary["object_position_error_rms_m"] <= 2e-3 and summary["max_torque_ratio"] < 1.0  # issue 20: <= 2 mm
+    with pytest.raises(ScenarioError, match=r"trajectory.via\[1\].pose .* ZYX pitch stays at least 5 deg away"):
+        closed_loop(load_scenario("scenarios/two_panda_flip.toml", {"scene.rotations": "book"}))
