@@ -14,9 +14,10 @@ grasp's angles (a scene's grasps are away from pitch 90 deg), so no node nears t
 Why ``RECENTRE_COS = 0.7`` (45.6 deg from the chart's centre): there ``1/cos(theta)``, the growth of
 ``L^-1`` and of the fastest rotational mode (docs/model.md s.2), is at most 1.43, so the chart never costs
 more than that factor in conditioning, while a re-centring (a few 3x3 products, exact up to rounding) is
-needed once per 45 deg of turn. A kernel call of :data:`CHART_CHUNK` ticks leaves 44 deg to the
-singularity: the object may turn at up to 0.77 / (``CHART_CHUNK`` T) rad/s (38 rad/s at T = 1 ms) between
-two checks; the kernel's Euler band guard (5 deg, in the turned frame) stops a faster turn with its cause.
+needed once per 45 deg of turn. Each kernel call runs as many ticks as the object needs, at twice its
+present angular speed, to turn from its pitch to 55 deg (:meth:`WorldChart.ticks_ahead`, 20 to 500
+ticks: a call's entry costs about 0.1 ms), so the conditioning stays below 1.74; the kernel's Euler band
+guard (5 deg, in the turned frame) stops a much faster turn with its cause.
 
 After the run the record is turned back into the book's world coordinates (:meth:`WorldChart.book_record`),
 with the object's rotation kept exactly as a quaternion (``object_rotation``).
@@ -31,6 +32,8 @@ which near ``A' = 0`` are the body rotation's (as the brief's per-body charts wo
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 import coopctrl.trajectory.quaternion as quat
@@ -38,8 +41,12 @@ from plants.frames import EULER_SINGULARITY_COS
 
 #: Re-centre the stored charts below this smallest ``|cos theta|`` [-] (module docstring: why 0.7).
 RECENTRE_COS = 0.7
-#: Ticks per kernel call of a charted run (how often the charts are checked; module docstring).
+#: Fewest and most ticks per kernel call of a run in charts (how often the chart is checked; module docstring).
 CHART_CHUNK = 20
+CHART_CHUNK_MAX = 500
+#: The object's pitch in the world chart that a kernel call may not reach [rad]: 10 deg past the re-centring
+#: bound (45.6 deg), so the chart's conditioning 1/cos(theta) stays below 1.74.
+CHART_PITCH_MAX = math.radians(55.0)
 
 
 def euler_of(R) -> np.ndarray:
@@ -93,14 +100,17 @@ def target_motion(trajectory, times):
     acceleration [rad/s^2] (N, 3). A :class:`~coopctrl.trajectory.GeodesicTrajectory` gives it at every
     rotation (``sample_rotation``); any other trajectory through its Euler view ``evaluate(t)``,
     ``omega_b = L(A) dA``, ``alpha_b = L(A) ddA + dL dA`` (defined at every angle: ``L`` is)."""
-    from coopctrl.trajectory import GeodesicTrajectory
+    from coopctrl.trajectory import GeodesicTrajectory, MinimumJerkTrajectory
 
     times = np.asarray(times, dtype=float)
     if isinstance(trajectory, GeodesicTrajectory):
         m = trajectory.sample_rotation(times)
         return m.r, m.dr, m.ddr, quat.matrix(m.q), m.omega_body, m.alpha_body
-    Y, dY, ddY = (np.array(v).reshape(len(times), 6) for v in
-                  zip(*(trajectory.evaluate(float(t)) for t in times))) if len(times) else (np.zeros((0, 6)),) * 3
+    if type(trajectory) is MinimumJerkTrajectory and len(times):  # its sample() is evaluate() at every time
+        Y, dY, ddY = trajectory.sample(times)
+    else:
+        Y, dY, ddY = (np.array(v).reshape(len(times), 6) for v in
+                      zip(*(trajectory.evaluate(float(t)) for t in times))) if len(times) else (np.zeros((0, 6)),) * 3
     A, dA, ddA = Y[:, 3:], dY[:, 3:], ddY[:, 3:]
     return (Y[:, :3], dY[:, :3], ddY[:, :3], rotations_of(A), body_rates(A, dA),
             body_rates(A, ddA) + rate_map_dot_times(A, dA))
@@ -149,6 +159,21 @@ class WorldChart:
         traj[0, k:, 3:], traj[1, k:, 3:] = A, dA
         traj[2, k:, 3:] = euler_rates(A, a - rate_map_dot_times(A, dA))
 
+    def ticks_ahead(self, x: np.ndarray, T: float) -> int:
+        """Ticks of period ``T`` [s] the next kernel call may run from the state ``x`` without the object's
+        pitch in the world chart reaching :data:`CHART_PITCH_MAX` at twice its present angular speed:
+        ``(CHART_PITCH_MAX - |theta'|) / (2 |omega| T)``, within ``CHART_CHUNK .. CHART_CHUNK_MAX``."""
+        nz = self.nz
+        th, ph = x[nz - 2], x[nz - 1]
+        d = x[2 * nz - 3:2 * nz]
+        cth, sth, cph, sph = math.cos(th), math.sin(th), math.cos(ph), math.sin(ph)
+        w = math.sqrt((-sth * d[0] + d[2]) ** 2 + (sph * cth * d[0] + cph * d[1]) ** 2
+                      + (cph * cth * d[0] - sph * d[1]) ** 2)  # |L(A) dA| [rad/s]
+        budget = CHART_PITCH_MAX - abs(th)
+        if not w * T * CHART_CHUNK_MAX * 2.0 > budget:
+            return CHART_CHUNK_MAX
+        return max(CHART_CHUNK, int(budget / (2.0 * w * T)))
+
     def check(self, x: np.ndarray, k: int, traj: np.ndarray, state, plan=None) -> bool:
         """Re-centre the world chart on the object when the ``|cos theta|`` of its angles at the state ``x``
         of tick ``k`` is below :data:`RECENTRE_COS`: ``C' = C R(A_0)``; the state, the plant's bases and
@@ -184,13 +209,14 @@ class WorldChart:
         self.history.append((k, Cn.copy()))
         return True
 
-    def charts_per_tick(self, N: int) -> np.ndarray:
-        """The world chart (N, 3, 3) in use at ticks ``0 .. N - 1``."""
-        out = np.empty((N, 3, 3))
+    def charts_per_tick(self, N: int) -> tuple[np.ndarray, np.ndarray]:
+        """The world chart (N, 3, 3) in use at ticks ``0 .. N - 1`` and its quaternion (N, 4)."""
+        out, q = np.empty((N, 3, 3)), np.empty((N, 4))
         for i, (k0, C) in enumerate(self.history):
             k1 = self.history[i + 1][0] if i + 1 < len(self.history) else N
             out[k0:k1] = C
-        return out
+            q[k0:k1] = _quaternion(C)
+        return out, q
 
     def book_record(self, rec: dict) -> None:
         """Turn ``rec`` (in the world chart of each tick) into the book's world coordinates in place: the
@@ -201,15 +227,14 @@ class WorldChart:
         exact at every pitch (``q(C) q(A')``)."""
         x = rec["x"]
         N = x.shape[0]
-        C = self.charts_per_tick(N)
+        C, qC = self.charts_per_tick(N)
         nz = self.nz
         rot = lambda v: np.einsum("nij,n...j->n...i", C, v)  # noqa: E731 (rows rotated by their tick's chart)
         angles = {}
         for s in self.free:
             A, dA = x[:, s + 3:s + 6].copy(), x[:, nz + s + 3:nz + s + 6]
             if s == nz - 6:
-                rec["object_rotation"] = quat.multiply(np.array([_quaternion(c) for c in C]).reshape(N, 4),
-                                                       quat.from_zyx(A))
+                rec["object_rotation"] = quat.multiply(qC, quat.from_zyx(A))
             x[:, s:s + 3], x[:, nz + s:nz + s + 3] = rot(x[:, s:s + 3]), rot(x[:, nz + s:nz + s + 3])
             x[:, s + 3:s + 6], x[:, nz + s + 3:nz + s + 6] = book_view(C, A, dA)
             angles[s] = (A, x[:, s + 3:s + 6])

@@ -484,10 +484,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     qp_time = 0.0
     bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
     try:
-        chunk = _CHUNK if charts is None else loop_charts.CHART_CHUNK
-        k_stop = min(chunk, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
         if charts is not None:
             charts.check(state.x, k, traj, state, plan)
+        k_stop = min(_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T), N)  # the next chunk's end
+        # (the kernel also returns at each external QP or plant step)
         while True:
             advance(k, k_stop)
             code = int(out_int[0])
@@ -496,9 +496,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             if code == K.CHUNK_END:
                 if bar is not None:
                     bar.update(k - bar.n)
-                k_stop = min(k + chunk, N)
                 if charts is not None:  # between two whole ticks: the world chart may move
                     charts.check(state.x, k, traj, state, plan)
+                k_stop = min(k + (_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T)), N)
                 continue
             if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
                 try:
