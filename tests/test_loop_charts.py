@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from coopctrl.errors import ScenarioError
-from coopctrl.loop.charts import WorldChart, book_view, target_motion
+from coopctrl.loop.charts import WorldChart, book_view, continuous, euler_of, rotations_of, target_motion
 from coopctrl.scenario import build
 from coopctrl.scenario.loader import load_scenario
 from coopctrl.simulator import closed_loop
@@ -195,3 +195,16 @@ def test_two_pandas_tip_the_box_past_its_side_in_charts():
     assert summary["object_position_error_rms_m"] <= 2e-3 and summary["max_torque_ratio"] < 1.0  # issue 20: <= 2 mm
     with pytest.raises(ScenarioError, match=r"trajectory.via\[1\].pose .* ZYX pitch stays at least 5 deg away"):
         closed_loop(load_scenario("scenarios/two_panda_flip.toml", {"scene.rotations": "book"}))
+
+
+def test_the_recorded_angles_are_continuous_through_pitch_90_deg_and_across_pi():
+    """The book's angles of a turn through pitch 90 deg (principal angles jump by pi in psi and phi there) and
+    of a yaw through pi (a jump of 2 pi) come back as the continuous angles that made the rotations."""
+    t = np.linspace(0.0, 1.0, 201)
+    A = np.stack([2.8 + 0.8 * t, 1.2 + 0.7 * t, -0.3 + 0.4 * t], axis=1)  # psi through pi, theta through pi/2
+    principal = euler_of(rotations_of(A))
+    assert np.max(np.abs(np.diff(principal, axis=0))) > 3.0  # the jumps the record must not show
+    # rounding of atan2 on rotations (1e-12 rad) except within 1e-6 rad of the singularity, none sampled here
+    assert np.max(np.abs(continuous(principal, A[0]) - A)) < 1e-9
+    shifted = A + np.array([2.0 * np.pi, 0.0, -2.0 * np.pi])
+    assert np.max(np.abs(continuous(principal, shifted[0]) - shifted)) < 1e-9  # the start's whole turns kept

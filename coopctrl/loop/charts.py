@@ -116,11 +116,38 @@ def target_motion(trajectory, times):
             body_rates(A, ddA) + rate_map_dot_times(A, dA))
 
 
-def book_view(C, A, dA):
+def continuous(A, start=None) -> np.ndarray:
+    """ZYX angles ``A`` (N, 3) [rad] of a motion made continuous in time: each row the representative of
+    its rotation nearest the previous row, ``(psi, theta, phi)`` or ``(psi + pi, pi - theta, phi + pi)``
+    plus whole turns (the branch flips where a principal ``psi`` or ``phi`` jumps by about pi: at a
+    passage through pitch +-90 deg); the first row nearest ``start`` (3,) when given."""
+    A = np.array(A, dtype=float)
+    if not A.shape[0]:
+        return A
+    if start is not None:  # the first row's branch and turns: those nearest start
+        alt = np.array([A[0, 0] + np.pi, np.pi - A[0, 1], A[0, 2] + np.pi])
+        dist = [np.sum(np.abs(np.angle(np.exp(1j * (c - start))))) for c in (A[0], alt)]
+        first_flip = dist[1] < dist[0]
+    else:
+        first_flip = False
+    jump = np.abs(np.angle(np.exp(1j * np.diff(A[:, 0])))) > 0.5 * np.pi
+    flip = np.concatenate([[first_flip], first_flip ^ (np.cumsum(jump) % 2 == 1)])
+    A[flip, 0] += np.pi
+    A[flip, 1] = np.pi - A[flip, 1]
+    A[flip, 2] += np.pi
+    A[:, 0], A[:, 2] = np.unwrap(A[:, 0]), np.unwrap(A[:, 2])
+    A[:, 1] = np.unwrap(A[:, 1])
+    if start is not None:
+        A += 2.0 * np.pi * np.round((np.asarray(start, dtype=float) - A[0]) / (2.0 * np.pi))
+    return A
+
+
+def book_view(C, A, dA, start=None):
     """World ZYX angles and rates ``(A_w, dA_w)`` (N, 3) of angles ``A`` and rates ``dA`` (N, 3) taken in the
-    charts ``C`` (N, 3, 3): ``R(A_w) = C R(A)``, ``dA_w = L(A_w)^-1 L(A) dA`` (:func:`euler_rates`)."""
+    charts ``C`` (N, 3, 3): ``R(A_w) = C R(A)`` continuous in time (:func:`continuous`, the first row
+    nearest ``start``), ``dA_w = L(A_w)^-1 L(A) dA`` (:func:`euler_rates`)."""
     Rw = np.einsum("nij,njk->nik", C, rotations_of(A))
-    Aw = euler_of(Rw)
+    Aw = continuous(euler_of(Rw), start)
     return Aw, euler_rates(Aw, body_rates(A, dA))
 
 
@@ -218,10 +245,10 @@ class WorldChart:
             q[k0:k1] = _quaternion(C)
         return out, q
 
-    def book_record(self, rec: dict) -> None:
+    def book_record(self, rec: dict, x0: np.ndarray) -> None:
         """Turn ``rec`` (in the world chart of each tick) into the book's world coordinates in place: the
         object's and contact points' poses and rates (positions ``C r'``, angles and rates by
-        :func:`book_view`), the contact points' inputs (force ``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``), the
+        :func:`book_view`, continuous from the run's start ``x0``), the contact points' inputs (force ``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``), the
         wrenches and contact positions (``C f``, ``C n``, ``C r``), ``Y0_nominal`` from the target motion,
         and ``rec["object_rotation"]``, the object's rotation as a unit quaternion ``(w, x, y, z)`` (N, 4)
         exact at every pitch (``q(C) q(A')``)."""
@@ -236,7 +263,7 @@ class WorldChart:
             if s == nz - 6:
                 rec["object_rotation"] = quat.multiply(qC, quat.from_zyx(A))
             x[:, s:s + 3], x[:, nz + s:nz + s + 3] = rot(x[:, s:s + 3]), rot(x[:, nz + s:nz + s + 3])
-            x[:, s + 3:s + 6], x[:, nz + s + 3:nz + s + 6] = book_view(C, A, dA)
+            x[:, s + 3:s + 6], x[:, nz + s + 3:nz + s + 6] = book_view(C, A, dA, x0[s + 3:s + 6])
             angles[s] = (A, x[:, s + 3:s + 6])
         tau = rec["tau"]
         for i, s in self.contact_points.items():

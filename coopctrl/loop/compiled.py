@@ -560,7 +560,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         if isinstance(val, np.ndarray):
             rec[key] = val[:k_done]
     if charts is not None:  # the record in the book's world coordinates, the object's rotation exactly
-        charts.book_record(rec)
+        charts.book_record(rec, x0)
         for k0, _ in charts.history[1:]:
             events.append((k0 * loop.T, "chart_recentred", "the world chart re-centred on the object "
                                                            f"(|cos theta| below {loop_charts.RECENTRE_COS:g})"))
