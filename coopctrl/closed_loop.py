@@ -114,6 +114,10 @@ class ClosedLoop:
         #: ``"book"``: the loop runs in the book's world angles; ``"charts"``: in a world chart re-centred on the
         #: object (:mod:`coopctrl.loop.charts`).
         self.rotations = rotations
+        if getattr(plant, "charted", False):
+            raise ValueError("plant is in rotation charts (CooperativePlant.with_charts): the loop's controllers "
+                             "work on the book's world angles; pass the plant in them and rotations = 'charts' "
+                             "for a scene that turns through pitch 90 deg")
         self.failure_causes = failure_causes
         from coopctrl.controllers.leader_law import LeaderLaw
 

@@ -208,3 +208,16 @@ def test_the_recorded_angles_are_continuous_through_pitch_90_deg_and_across_pi()
     assert np.max(np.abs(continuous(principal, A[0]) - A)) < 1e-9
     shifted = A + np.array([2.0 * np.pi, 0.0, -2.0 * np.pi])
     assert np.max(np.abs(continuous(principal, shifted[0]) - shifted)) < 1e-9  # the start's whole turns kept
+
+
+def test_the_loop_refuses_a_plant_in_its_own_charts():
+    """The loop's charts are its world chart (rotations = 'charts'); a plant whose nodes take per-node charts
+    would feed chart coordinates to controllers written on the book's angles: refused, naming the fix."""
+    from coopctrl.closed_loop import ClosedLoop
+
+    scenario = load_scenario(SCENE, {**PASSIVE})
+    loop = closed_loop(scenario)
+    with pytest.raises(ValueError, match=r"plant is in rotation charts .* rotations = 'charts'"):
+        ClosedLoop(loop.plant.with_charts(arm_charts="own"), loop.trajectory, loop.grasps, loop.ld, loop.compliance,
+                   loop.leader, loop.followers, loop.sensors, loop.integrator, loop.T, loop.substeps,
+                   loop.squeeze_desired, loop.max_deformation)
