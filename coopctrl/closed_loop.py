@@ -86,7 +86,8 @@ class ClosedLoop:
     def __init__(self, plant, trajectory, grasps, load_distribution, compliance, leader, followers, sensors,
                  integrator, control_period: float, substeps: int, squeeze_desired, max_deformation: float,
                  max_energy: float | None = None, torque_limits: bool = False, name: str = "scenario",
-                 enabled: bool = True, step: float | None = None, failure_causes=None, leader_law=None):
+                 enabled: bool = True, step: float | None = None, failure_causes=None, leader_law=None,
+                 rotations: str = "book"):
         self.plant = plant
         self.trajectory = trajectory
         self.grasps = np.asarray(grasps, dtype=float)
@@ -108,6 +109,15 @@ class ClosedLoop:
         self.torque_limits = bool(torque_limits)
         self.name = name
         self.enabled = bool(enabled)
+        if rotations not in ("book", "charts") or (rotations == "charts" and plant.space != "spatial"):
+            raise ValueError(f"rotations = {rotations!r} is invalid: expected 'book' or, for a spatial plant, 'charts'")
+        #: ``"book"``: the loop runs in the book's world angles; ``"charts"``: in a world chart re-centred on the
+        #: object (:mod:`coopctrl.loop.charts`).
+        self.rotations = rotations
+        if getattr(plant, "charted", False):
+            raise ValueError("plant is in rotation charts (CooperativePlant.with_charts): the loop's controllers "
+                             "work on the book's world angles; pass the plant in them and rotations = 'charts' "
+                             "for a scene that turns through pitch 90 deg")
         self.failure_causes = failure_causes
         from coopctrl.controllers.leader_law import LeaderLaw
 
@@ -126,7 +136,7 @@ class ClosedLoop:
         #: the feedback terms; the applied torques are saturated at the limit (actuators).
         self._qp_tau_max = qp_torque_limits(plant)
         self._modes_cache: dict[int, tuple] = {}
-        if self.space == "spatial":  # a nominal path through the Euler singularity is bad input
+        if self.space == "spatial" and rotations == "book":  # a nominal path through the Euler singularity is bad input
             check_nominal_path(trajectory, self.grasps)
         Yr = el.Y_ref
         self._rho = np.array([self._to_object_frame(Yr[0], Yr[i + 1, :self.npos] - Yr[0, :self.npos])

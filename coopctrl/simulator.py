@@ -123,6 +123,7 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
     stats = integration_statistics(rec.get("integration_steps"), sim.control_period)
     result = SimulationResult(
         scenario=scenario.name, space=plant.space, t=rec["t"], x=x, tau=rec["tau"], Y0=Y0,
+        object_rotation=rec.get("object_rotation"),
         Y0_nominal=rec["Y0_nominal"], F_measured=rec["F_measured"], F_commanded=rec["F_commanded"],
         F_external=rec["F_external"], F_internal=rec["F_internal"], squeeze=squeeze,
         squeeze_desired=np.asarray(loop.squeeze_desired, dtype=float), tau_max=loop.tau_max,

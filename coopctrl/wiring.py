@@ -110,7 +110,7 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
                       followers, sensors, integrator, sim.control_period, sim.substeps,
                       scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
                       torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
-                      enabled=scenario.controllers.enabled,
+                      enabled=scenario.controllers.enabled, rotations=scenario.scene.rotations,
                       **({"leader_law": leader_law} if leader_law is not None else {}))
     if step is not None:
         loop.set_step(step, uniform=uniform_step)

@@ -84,28 +84,44 @@ def test_single_pose_path_is_checked():
 
 # ---------------------------------------------------------------------- bad input before a run
 NEAR = {"trajectory.via[1].pose": "[0, 0, 0.6, 0, 1.53, 0]"}  # 87.7 deg at t = 2 s
+#: The shipped scene as it was before rotation charts (issue 20): the book's world angles, an Euler-angle
+#: path from 75 to 83 deg, the book's rotation and damping forms (its comment shows these --set).
+BOOK = {"scene.rotations": '"book"', "trajectory.orientation": '"euler"', "trajectory.via[1].pose": "[0, 0, 0.6, 0, 1.45, 0]",
+        "springs[0].rotation_form": '"book"', "springs[1].rotation_form": '"book"',
+        "springs[0].damping_form": '"book"', "springs[1].damping_form": '"book"'}
+
+
+def book_sets(**more) -> list[str]:
+    """``--set`` arguments of :data:`BOOK` updated with ``more`` (path: value text)."""
+    out = []
+    for key, value in {**BOOK, **more}.items():
+        out += ["--set", f"{key}={value}"]
+    return out
 
 
 @pytest.mark.parametrize("command", ["check", "run"])
 def test_cli_refuses_a_path_near_the_singularity(command):
-    proc = coopctrl(command, "euler_singularity", "--set", f"trajectory.via[1].pose={NEAR['trajectory.via[1].pose']}")
+    proc = coopctrl(command, "euler_singularity", *book_sets(**NEAR))
     assert_user_error(proc, "trajectory.via[1].pose", "Euler-angle singularity", "87.66 deg", "cos(theta)",
                       "keep |pitch| below 85 deg")
 
 
 def test_unloaded_start_is_checked_too():
     """`check` of an unloaded start never builds the loaded state; the path is still checked."""
-    proc = coopctrl("check", "euler_singularity", "--set", "simulation.start=unloaded",
-                    "--set", f"trajectory.via[1].pose={NEAR['trajectory.via[1].pose']}")
+    proc = coopctrl("check", "euler_singularity", "--set", "simulation.start=unloaded", *book_sets(**NEAR))
     assert_user_error(proc, "trajectory.via[1].pose")
 
 
 # ---------------------------------------------------------------------- in a run
-def test_shipped_scene_stops_as_approaching_the_singularity():
-    """The shipped scene carries the box at pitch 75 deg: the torsion damping, in Euler-angle rates, acts
-    on an inertia ~ cos^2(75 deg) = 0.067 of the upright one, RK4 at 1 ms is past its limit and the run
-    stops naming the singularity, the pitch, the stiff mode and the fix (not a bare 'diverged')."""
-    scenario = load_scenario(REPO / "scenarios" / "euler_singularity.toml", {"simulation.duration": 0.1})
+def test_shipped_scene_in_the_book_angles_stops_as_approaching_the_singularity():
+    """The shipped scene in the book's angles (BOOK) carries the box at pitch 75 deg: the torsion damping, in
+    Euler-angle rates, acts on an inertia ~ cos^2(75 deg) = 0.067 of the upright one, RK4 at 1 ms is past its
+    limit and the run stops naming the singularity, the pitch, the stiff mode and the fix (not a bare
+    'diverged')."""
+    from coopctrl.scenario.loader import parse_override_value
+
+    overrides = {key: parse_override_value(value) for key, value in BOOK.items()}
+    scenario = load_scenario(REPO / "scenarios" / "euler_singularity.toml", {**overrides, "simulation.duration": 0.1})
     loop = closed_loop(scenario)
     rec = loop.run(build.initial_state(scenario), 0.1)
     assert rec["status"] == "diverged"

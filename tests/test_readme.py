@@ -219,9 +219,11 @@ def test_python_example_runs():
 # Wall times, real-time factors and sweeps with timeouts are not compared: they depend on the machine.
 
 PANDA = ".venv/bin/coopctrl run two_panda_carry"
-EULER_BOOK = ".venv/bin/coopctrl run euler_singularity -q"
-EULER_INVARIANT = (".venv/bin/coopctrl run euler_singularity -q --set 'springs[0].damping_form=\"frame_invariant\"' "
-                   "--set 'springs[1].damping_form=\"frame_invariant\"'")
+# the former euler_singularity scene (before rotation charts, issue 20): the book's angles, forms and path
+EULER_INVARIANT = (".venv/bin/coopctrl run euler_singularity -q --set 'scene.rotations=\"book\"' "
+                   "--set 'trajectory.orientation=\"euler\"' --set 'trajectory.via[1].pose=[0, 0, 0.6, 0, 1.45, 0]' "
+                   "--set 'springs[0].rotation_form=\"book\"' --set 'springs[1].rotation_form=\"book\"'")
+EULER_BOOK = (EULER_INVARIANT + " --set 'springs[0].damping_form=\"book\"' --set 'springs[1].damping_form=\"book\"'")
 STIFF_STABILITY = ".venv/bin/coopctrl stability stiff_grasp_extreme"
 URDF_SNIPPET_MARK = "from plants.arms import from_urdf, panda"
 

@@ -239,3 +239,27 @@ def test_object_quaternion_is_the_rotation_of_Y0_continuous_through_pitch_90():
     # continuity: neighbouring samples differ by a small rotation, never by a sign flip (|dq| ~ 2 here)
     assert np.max(np.linalg.norm(np.diff(q, axis=0), axis=1)) < 0.1
     assert synthetic("planar", 2).object_quaternion is None
+
+
+def test_object_quaternion_is_the_recorded_rotation_of_a_run_in_charts_and_it_is_saved(tmp_path):
+    """A run in rotation charts records the object's rotation exactly (result.object_rotation): object_quaternion
+    returns it (sign-continuous) rather than the rotation of Y0, and result.npz keeps it."""
+    from dataclasses import replace
+
+    from coopctrl.results.storage import load_result, save_result
+    from coopctrl.trajectory.quaternion import exp
+
+    r = synthetic("spatial", 2)
+    n = r.t.size
+    half = np.linspace(0.0, 1.2, n)[:, None] * np.array([0.0, 1.0, 0.0])  # a turn about y through 137 deg
+    rotation = exp(2.0 * half)
+    rotation[1::2] *= -1.0  # the sign of a recorded quaternion is free: every other one flipped
+    charted = replace(r, object_rotation=rotation)
+    q = charted.object_quaternion
+    np.testing.assert_array_equal(np.abs(q), np.abs(rotation))  # the recorded numbers, signs made continuous
+    assert np.max(np.linalg.norm(np.diff(q, axis=0), axis=1)) < 0.1
+    assert not np.allclose(np.abs(np.einsum("ij,ij->i", q, r.object_quaternion)), 1.0)  # not Y0's rotation
+    save_result(charted, tmp_path)
+    np.testing.assert_array_equal(load_result(tmp_path).object_rotation, rotation)
+    with pytest.raises(ValueError, match=r"object_rotation has shape \(\d+, 3\), expected \(N, 4\)"):
+        replace(r, object_rotation=rotation[:, :3])

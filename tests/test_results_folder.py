@@ -145,3 +145,24 @@ def test_csv_holds_the_node_poses_and_the_object_velocity(tmp_path, capsys):
     # the first row is the initial state; the csv keeps 10 significant digits
     np.testing.assert_allclose(table[0, [header.index(f"node_arm2_{c} [{u}]") for c, u in
                                          (("x", "m"), ("z", "m"), ("theta", "rad"))]], Y[2], rtol=1e-9, atol=1e-12)
+
+
+def test_a_passive_result_reopens_though_it_has_no_load_split(tmp_path, capsys):
+    """A passive run (controllers off) records no split (F_commanded, F_external, F_internal NaN by design):
+    its folder reopens for `coopctrl view`; a controlled result with a NaN split is still refused."""
+    from coopctrl.results.folder import open_result_folder
+
+    out = tmp_path / "r"
+    assert run_cli(["run", LIFT, "--set", "simulation.duration=0.02", "--set", "controllers.enabled=false", "-q",
+                    "--out", out], capsys)[0] == 0
+    result, _, _ = open_result_folder(out)
+    assert result.energy is not None and np.isnan(result.F_commanded).all()
+    assert run_cli(["view", out], capsys)[0] == 0
+    controlled = tmp_path / "c"
+    assert run_cli(["run", LIFT, "--set", "simulation.duration=0.02", "-q", "--out", controlled], capsys)[0] == 0
+    with np.load(controlled / "result.npz") as z:
+        arrays = dict(z)
+    arrays["F_commanded"][3] = np.nan
+    np.savez(controlled / "result.npz", **arrays)
+    code, _, err = run_cli(["view", controlled], capsys)
+    assert code != 0 and "F_commanded is not finite from t = 0.003 s" in err

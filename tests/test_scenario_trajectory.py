@@ -33,7 +33,7 @@ def test_a_planar_scene_keeps_its_one_angle_trajectory():
 
 def test_a_geodesic_path_into_the_euler_band_is_bad_input_naming_the_via():
     # from pitch 75 deg to 2.0 rad (115 deg): the geodesic passes pitch 90 deg, where the loop has no coordinates
-    scenario = load_scenario("euler_singularity", {"trajectory.orientation": "geodesic",
+    scenario = load_scenario("euler_singularity", {"trajectory.orientation": "geodesic", "scene.rotations": "book",
                                                    "trajectory.via[1].pose": [0.0, 0.0, 0.6, 0.0, 2.0, 0.0]})
     with pytest.raises(ScenarioError, match=r"trajectory\.via\[1\]\.pose = \[.*\] is invalid: expected a geodesic "
                                             r"path .* reaches pitch 85\.\d\d deg at t = ") as info:

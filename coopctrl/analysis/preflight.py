@@ -138,6 +138,19 @@ def sample_times(via_times, duration: float, peak_times=()) -> np.ndarray:
     return np.unique(np.round(np.concatenate([grid, vias, peaks, [max(end, 0.0)]]), 12))
 
 
+def _euler_view_exists(trajectory, t: float) -> bool:
+    """True when the nominal object pose at ``t`` [s] has the book's angles out of the Euler band (5 deg from
+    pitch +-90 deg): a scene in rotation charts is checked at those instants only (this release)."""
+    from coopctrl.loop.euler_band import margin_cos
+    from coopctrl.trajectory import EulerViewError
+
+    try:
+        Y = trajectory.evaluate(t)[0]
+    except EulerViewError:
+        return False
+    return abs(math.cos(Y[4])) >= margin_cos()
+
+
 def preflight(scenario, loop=None) -> PreflightReport:
     """Check the task of ``scenario`` along its nominal trajectory (module docstring).
 
@@ -161,6 +174,9 @@ def preflight(scenario, loop=None) -> PreflightReport:
     via_times = [v.time for v in scenario.trajectory.via]
     peaks = loop.trajectory.peak_times() if hasattr(loop.trajectory, "peak_times") else ()
     times = sample_times(via_times, scenario.simulation.duration, peaks)
+    if loop.rotations == "charts":  # the checks below run in the book's angles: where they exist along the path
+        times = np.array([t for t in times if _euler_view_exists(loop.trajectory, float(t))])
+        via_times = [t for t in via_times if _euler_view_exists(loop.trajectory, float(t))]
     peak_set = {round(float(t), 12) for t in peaks}
     check_static = {0.0, *[round(float(t), 12) for t in via_times]}
     x = np.array(build.unloaded_state(scenario), dtype=float)  # the IK seeds; the arms then follow the path

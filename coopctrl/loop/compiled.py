@@ -33,6 +33,7 @@ from coopctrl.integrators import ExplicitEuler
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 import coopctrl.integrators.compiled as I
 import coopctrl.loop.argument_types as argument_types
+import coopctrl.loop.charts as loop_charts
 from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace
@@ -401,7 +402,18 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     # (the QP's and the plant's workspaces, tens of ms): start-up, not run time
     setup = _time.perf_counter() - wall0
     times = np.arange(N) * loop.T
-    traj = _trajectory_samples(loop.trajectory, times, p)
+    P = cl.P
+    charts = None
+    if loop.rotations == "charts":  # the loop in a world chart re-centred between kernel calls (coopctrl.loop.charts)
+        if cl.plant_outside:
+            raise ValueError(f"rotations = 'charts' with {integrator_outside(loop)}: a run in charts needs an "
+                             "integrator the compiled tick implements")
+        P = P[:5] + (P[5].copy(), P[6], P[7].copy()) + P[8:]  # the run's own bases and gravity (rotated in them)
+        charts = loop_charts.WorldChart(P, plant.nz, loop_charts.target_motion(loop.trajectory, times))
+        traj = np.zeros((3, N, p))
+        charts.table(traj, 0)
+    else:
+        traj = _trajectory_samples(loop.trajectory, times, p)
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
     qs = np.zeros(N, dtype=np.int64)
     qb = np.zeros(N, dtype=np.int64)
@@ -414,18 +426,18 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     events: list[tuple[float, str, str]] = []
     from coopctrl.loop.euler_band import margin_cos
 
-    band = margin_cos()
+    band = margin_cos()  # charts: the band of the rotated world's angles (the object's is re-centred at 45.6 deg)
     # every argument bound once (the reference path enters the kernel twice per tick)
     head = (cl.spatial,)
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
     sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
     t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
     with pointers_in_use():
-        stages = K.tick_stages(cl.spatial, plan, cl.P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
+        stages = K.tick_stages(cl.spatial, plan, P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
                                cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int,
                                out_float)
     stages_startup = _time.perf_counter() - t_stages
-    args = (N, loop.T, cl.steps, plan, stages, cl.P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
+    args = (N, loop.T, cl.steps, plan, stages, P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
             cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
             state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
             rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
@@ -472,7 +484,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     qp_time = 0.0
     bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
     try:
-        k_stop = min(_CHUNK, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
+        if charts is not None:
+            charts.check(state.x, k, traj, state, plan)
+        k_stop = min(_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T), N)  # the next chunk's end
+        # (the kernel also returns at each external QP or plant step)
         while True:
             advance(k, k_stop)
             code = int(out_int[0])
@@ -481,7 +496,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             if code == K.CHUNK_END:
                 if bar is not None:
                     bar.update(k - bar.n)
-                k_stop = min(k + _CHUNK, N)
+                if charts is not None:  # between two whole ticks: the world chart may move
+                    charts.check(state.x, k, traj, state, plan)
+                k_stop = min(k + (_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T)), N)
                 continue
             if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
                 try:
@@ -542,6 +559,12 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     for key, val in rec.items():
         if isinstance(val, np.ndarray):
             rec[key] = val[:k_done]
+    if charts is not None:  # the record in the book's world coordinates, the object's rotation exactly
+        charts.book_record(rec, x0)
+        for k0, _ in charts.history[1:]:
+            events.append((k0 * loop.T, "chart_recentred", "the world chart re-centred on the object "
+                                                           f"(|cos theta| below {loop_charts.RECENTRE_COS:g})"))
+        events.sort(key=lambda e: e[0])
     families = [name for name in ("min_grip", "friction", "torque_limits") if name in cl.rows]
     if passive:  # no QP ran: no split, no status
         for key in ("F_commanded", "F_external", "F_internal"):

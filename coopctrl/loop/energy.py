@@ -8,7 +8,9 @@
     \\qquad E = T + \\Pi(Y) - \\sum_k m_k\\, g \\cdot r_k + U_{arms}(q)
 
 (``dq_i^T N_i dq_i = dq_i^T H_i dq_i + dY_i^T W_i dY_i`` with ``dY_i = J_i dq_i``: the same
-kinetic energy as ``1/2 z'^T Gamma z'``; a contact point has ``H = 0``). It reads ``Y``, ``dY``,
+kinetic energy as ``1/2 z'^T Gamma z'``; a contact point has ``H = 0``). A serial arm is of kind
+``ARM_SERIAL`` or, its node in its own rotation chart, ``ARM_SERIAL_OWN_CHART``: every term is the
+same in any chart (``dY^T W dY`` is the node's kinetic energy). It reads ``Y``, ``dY``,
 ``H`` and ``W`` of a control workspace filled at ``x`` (``control_terms_into``) and uses that
 workspace's edge scratch, node frames and chain work rows as scratch; ``F`` (N, p) is scratch
 for the elastic gradient and ``dY0`` (N, p) zeros (the immobile model's potential).
@@ -23,6 +25,7 @@ from plants.arms._chain_kernels import chain_arm_potential_into
 from plants.arms._planar_kernels import planar_arm_potential
 from plants.elastic import _planar_kernels as _pe
 from plants.elastic import _spatial_kernels as _se
+from plants.cooperative._spatial_kernel import ARM_CONTACT_POINT
 
 
 @njit(cache=True)
@@ -31,7 +34,7 @@ def _kinetic(x, arm_kind, arm_dof, q_off, Y, dY, H, W):
     p = dY.shape[1]
     T = 0.0
     for i in range(arm_kind.shape[0]):
-        if arm_kind[i] != 0:
+        if arm_kind[i] == ARM_CONTACT_POINT:
             continue
         o = nz + q_off[i]
         for r in range(arm_dof[i]):
@@ -73,7 +76,7 @@ def _spatial_energy(x, P, cws, F, dY0):
         Pi, status = _se.elastic_edges_into(ws.Y, edge_index, edge_params, F, ws.edge, ws.frames)
     U = 0.0
     for i in range(arm_kind.shape[0]):
-        if arm_kind[i] == 0:
+        if arm_kind[i] != ARM_CONTACT_POINT:  # a serial arm, its node in the world or in its own chart
             n = arm_dof[i]
             U += chain_arm_potential_into(x[q_off[i]:q_off[i] + n], tables[table_off[i]:table_off[i] + n], bases[i], gravity,
                                   ws.chain)

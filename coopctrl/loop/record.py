@@ -55,7 +55,9 @@ class LoopRecord:
             :func:`coopctrl.simulator.simulate` diagnoses after the run; final_state: the
             :class:`~coopctrl.loop.state.LoopState` at the end of the run (the plant state, held torques, the
             followers' force-error integrals ``integrals`` (m, p) [N s, N m s], the last feasible split),
-            in arrays of the run's own: the controllers and the state the run was given are unchanged.
+            in arrays of the run's own: the controllers and the state the run was given are unchanged;
+            object_rotation: (N, 4) the object's rotation as a unit quaternion ``(w, x, y, z)`` [-] of a run
+            in rotation charts (exact at every pitch, where the book's angles of ``x`` are not), else ``None``.
 
     Item access (``record["x"]``, ``record.get``, ``record.update``, ``record.items()``) reads and writes
     the same fields, for code written against the former dict.
@@ -93,6 +95,7 @@ class LoopRecord:
     integration_steps: np.ndarray | None = None
     stop: object | None = None
     final_state: object = None
+    object_rotation: np.ndarray | None = None
 
     def __repr__(self) -> str:
         """A few lines: status, ticks and timing (never the arrays: ``record.x`` has them)."""

@@ -51,6 +51,9 @@ class SimulationResult:
         energy_conserving: True when the run had no control and no damping.
         leader: Index of the leader arm (0-based); ``followers`` the followers' indices.
         Y_nodes: Node (end-effector) poses (N, m, p) [m, rad], or ``None``.
+        object_rotation: The object's rotation as unit quaternions ``(w, x, y, z)`` (N, 4) [-] of a run in
+            rotation charts (``scene.rotations = "charts"``: exact at every pitch, where the ZYX angles of
+            ``Y0`` lose digits near +-90 deg), or ``None`` (``Y0`` has it).
         record_every: Every how many control ticks a sample was kept (``simulation.record_every``);
             ``t`` and every per-sample array hold the kept samples only.
         tick_summary: The :meth:`summary` computed on every tick before the record was thinned, or
@@ -104,6 +107,7 @@ class SimulationResult:
     torque_saturated_ticks: int = 0
     qp_active_rows: np.ndarray | None = None
     integration_statistics: dict[str, Any] | None = None
+    object_rotation: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.space not in ("planar", "spatial"):
@@ -154,6 +158,8 @@ class SimulationResult:
                 arr(name, 1)
         if self.Y_nodes is not None:
             arr("Y_nodes", 3, (m, p))
+        if self.object_rotation is not None:
+            arr("object_rotation", 2, (4,))
         if isinstance(self.record_every, bool) or int(self.record_every) != self.record_every or self.record_every < 1:
             raise ValueError(f"SimulationResult: record_every = {self.record_every!r} is invalid: expected an integer >= 1")
         self.record_every = int(self.record_every)
@@ -189,13 +195,14 @@ class SimulationResult:
     @property
     def object_quaternion(self) -> np.ndarray | None:
         """The object's rotation as unit quaternions ``(w, x, y, z)`` [-], shape (N, 4), of the ZYX angles of
-        ``Y0`` (``R = Rz(psi) Ry(theta) Rx(phi)``), each sample's sign chosen nearest the previous one so
-        that the signal is continuous (``q`` and ``-q`` are one rotation); ``None`` for a planar result."""
+        ``Y0`` (``R = Rz(psi) Ry(theta) Rx(phi)``), or :attr:`object_rotation` when the run has it (rotation
+        charts), each sample's sign chosen nearest the previous one so that the signal is continuous
+        (``q`` and ``-q`` are one rotation); ``None`` for a planar result."""
         if self.pose_size != 6:
             return None
         from coopctrl.trajectory.quaternion import from_zyx
 
-        q = from_zyx(self.Y0[:, 3:6])
+        q = from_zyx(self.Y0[:, 3:6]) if self.object_rotation is None else np.array(self.object_rotation, dtype=float)
         if q.shape[0] > 1:  # flip where the next sample points away: the running product of the signs
             flips = np.sign(np.einsum("ij,ij->i", q[1:], q[:-1]))
             flips[flips == 0.0] = 1.0

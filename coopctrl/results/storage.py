@@ -28,6 +28,8 @@ META_FIELDS = (
 )
 #: The node (end-effector) poses are stored too (optional on reading: older results have none).
 ARRAY_FIELDS = ARRAY_FIELDS + ("Y_nodes",)
+#: A run in rotation charts stores the object's exact rotation (a quaternion per sample; optional on reading).
+ARRAY_FIELDS = ARRAY_FIELDS + ("object_rotation",)
 #: Array fields that every ``result.npz`` holds (the others are optional).
 REQUIRED_ARRAYS = ARRAY_FIELDS[:11]
 #: Entries of ``result.npz`` besides the array fields (the events, the QP's strings, the ``meta`` JSON).

@@ -162,6 +162,8 @@ def trajectory(scenario):
     if scenario.trajectory.orientation == "euler" or scenario.space != "spatial":
         return trajectories.MinimumJerkTrajectory(times, poses, scenario.space)
     path = trajectories.GeodesicTrajectory(times, poses)
+    if scenario.scene.rotations == "charts":  # the loop runs on the rotations, in charts: any pitch
+        return path
     entry = path.euler_band_entry()
     if entry is not None:
         segment, t, pitch = entry
@@ -177,11 +179,12 @@ def trajectory(scenario):
 
 
 def check_path(scenario) -> None:
-    """Refuse a spatial nominal path that enters the Euler-angle band (a :class:`ScenarioError` naming the
-    via pose, exit 2 on the command line), as the loop refuses it, but before anything is compiled or
+    """Refuse a spatial nominal path that enters the Euler-angle band in the book's angles
+    (``scene.rotations = "book"``; a :class:`ScenarioError` naming the via pose, exit 2 on the command
+    line), as the loop refuses it, but before anything is compiled or
     built: a few milliseconds (the nominal node pitches along the path,
     :func:`coopctrl.loop.euler_band.check_nominal_path`)."""
-    if scenario.space == "spatial":
+    if scenario.space == "spatial" and scenario.scene.rotations == "book":  # charts have no band
         from coopctrl.loop.euler_band import check_nominal_path
 
         check_nominal_path(trajectory(scenario), nominal_grasps(scenario))
@@ -220,7 +223,7 @@ def _interconnection(scenario, e: int) -> Interconnection:
         if s.element in ("central", "offset"):
             return Interconnection(tuple(s.pair), stiffness=s.stiffness_per_axis(space), torsion=s.torsion_per_axis(space),
                                    damping=s.damping, torsion_damping=s.torsion_damping, element=s.element,
-                                   damping_form=s.damping_form, name=name)
+                                   damping_form=s.damping_form, rotation_form=s.rotation_form, name=name)
         if s.element == "beam":
             if space == "spatial" and (s.Iz is None or s.J is None):
                 raise ParameterError(f"{name}.{'Iz' if s.Iz is None else 'J'}", None, "a number [m^4] for a beam in a spatial scene")

@@ -50,9 +50,10 @@ def default_trajectory(pose: tuple[float, ...], space: str) -> TrajectoryConfig:
     return TrajectoryConfig(via=(ViaPoint(0.0, tuple(pose)), ViaPoint(DEFAULT_LIFT_TIME_S, tuple(end))))
 
 
-def _check_euler(path: str, pose: tuple[float, ...]) -> None:
-    """Reject a spatial pose at the Euler-angle singularity cos(theta) = 0 (docs/model.md §2)."""
-    if len(pose) == 6 and abs(math.cos(pose[4])) < 1e-6:
+def _check_euler(path: str, pose: tuple[float, ...], charts: bool = False) -> None:
+    """Reject a spatial pose at the Euler-angle singularity cos(theta) = 0 (docs/model.md §2), unless the
+    scene takes its rotations in charts (``scene.rotations = "charts"``: any rotation is a pose)."""
+    if not charts and len(pose) == 6 and abs(math.cos(pose[4])) < 1e-6:
         raise ScenarioError(path, list(pose), "an orientation with cos(theta) != 0 (Euler singularity, docs/model.md §2)")
 
 
@@ -69,6 +70,27 @@ def _check_distinct_contacts(arms, translations: int) -> None:
                                     f"{list(arms[i].grasp)} (its first {translations} values are the contact's position "
                                     "in the object frame; two arms cannot hold the object at one point: the squeeze "
                                     "between them would have no direction)")
+
+
+def _check_chart_springs(springs) -> None:
+    """With ``scene.rotations = "charts"`` every spring must be invariant under a rotation of the world
+    (docs/model.md s.2, the loop in charts): central (one stiffness) or offset elements in the geodesic
+    rotation form, no torsion dampers on Euler rates."""
+    for k, spring in enumerate(springs):
+        if spring.element not in ("central", "offset"):
+            raise ScenarioError(f"springs[{k}].element", spring.element, "'central' or 'offset' with scene.rotations = "
+                                "'charts'")
+        if spring.element == "central" and isinstance(spring.stiffness, tuple) and len(set(spring.stiffness)) > 1:
+            raise ScenarioError(f"springs[{k}].stiffness", list(spring.stiffness), "one value for a central element "
+                                "with scene.rotations = 'charts' (per-axis values act on the world axes)")
+        if spring.rotation_form != "geodesic":
+            raise ScenarioError(f"springs[{k}].rotation_form", spring.rotation_form,
+                                "'geodesic' with scene.rotations = 'charts' (the book's Euler-difference torsion "
+                                "depends on the angles' chart)")
+        if spring.damping_form == "book" and spring.torsion_damping != 0.0:
+            raise ScenarioError(f"springs[{k}].damping_form", spring.damping_form,
+                                "'frame_invariant' with scene.rotations = 'charts' (the book's torsion dampers act on "
+                                "Euler rates, which depend on the chart), or torsion_damping = 0")
 
 
 @dataclass(frozen=True)
@@ -147,7 +169,8 @@ class Scenario:
         pose_path = "object.pose" if given_pose is not None or self.trajectory is None else "trajectory.via[0].pose"
         if len(obj.pose) != p:
             raise ScenarioError(pose_path, list(obj.pose), f"{pose_what} in a {space} scene")
-        _check_euler(pose_path, obj.pose)
+        charts = self.scene.rotations == "charts"
+        _check_euler(pose_path, obj.pose, charts)
 
         # arms
         if not isinstance(self.arms, (list, tuple)) or not 2 <= len(self.arms) <= MAX_ARMS:
@@ -205,6 +228,8 @@ class Scenario:
                 if isinstance(spring.torsion, tuple) and len(spring.torsion) != r:
                     raise ScenarioError("torsion", list(spring.torsion), f"a scalar or {r} value(s) (rotational axes) in a {space} scene [N m/rad]")
         s(self, "springs", tuple(springs))
+        if charts:
+            _check_chart_springs(springs)
         reached, frontier = {0}, [0]
         while frontier:
             node = frontier.pop()
@@ -230,7 +255,7 @@ class Scenario:
             path = f"trajectory.via[{k}].pose"
             if len(via.pose) != p:
                 raise ScenarioError(path, list(via.pose), f"{pose_what} in a {space} scene")
-            _check_euler(path, via.pose)
+            _check_euler(path, via.pose, charts)
         check_segments(trajectory, self.simulation.control_period)
         if given_pose is not None and any(abs(a - b) > 1e-9 for a, b in zip(trajectory.via[0].pose, obj.pose)):
             raise ScenarioError("object.pose", list(obj.pose), f"the trajectory's start trajectory.via[0].pose = "

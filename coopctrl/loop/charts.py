@@ -1,0 +1,321 @@
+"""The closed loop in rotation charts (``scene.rotations = "charts"``; docs/model.md s.2, the loop in charts).
+
+The loop runs in a *world chart*: a world frame turned by a rotation ``C`` that is re-centred on the object
+whenever the object's ZYX angles in it near their singularity. Every quantity fixed in the world is taken
+in the turned frame, ``v' = C^T v``: node positions and velocities, the plant's gravity and arm bases, the
+trajectory's targets, the followers' force integrals and the held split; every node's angles are the ZYX
+angles of ``C^T R``. Because the system is invariant under a rotation of the world ((4.7): geodesic
+springs, frame-invariant dampers, isotropic central stiffness), the turned system is the book's system
+with identity charts, so the compiled tick (plant, nominal motion (148), load split, controllers, guards)
+runs unchanged and allocation-free; only arrays change, in place, between kernel calls
+(:class:`WorldChart`). Right after a re-centring the object is at ``A' = 0`` and each contact node at its
+grasp's angles (a scene's grasps are away from pitch 90 deg), so no node nears the singularity.
+
+Why ``RECENTRE_COS = 0.7`` (45.6 deg from the chart's centre): there ``1/cos(theta)``, the growth of
+``L^-1`` and of the fastest rotational mode (docs/model.md s.2), is at most 1.43, so the chart never costs
+more than that factor in conditioning, while a re-centring (a few 3x3 products, exact up to rounding) is
+needed once per 45 deg of turn. Each kernel call runs as many ticks as the object needs, at twice its
+present angular speed, to turn from its pitch to 55 deg (:meth:`WorldChart.ticks_ahead`, 20 to 500
+ticks: a call's entry costs about 0.1 ms), so the conditioning stays below 1.74; the kernel's Euler band
+guard (5 deg, in the turned frame) stops a much faster turn with its cause.
+
+After the run the record is turned back into the book's world coordinates (:meth:`WorldChart.book_record`),
+with the object's rotation kept exactly as a quaternion (``object_rotation``).
+
+Chosen over the plant's per-node charts (``CooperativePlant(arm_charts="own")`` and stored charts), which
+need every controller kernel to read each node's chart (targets as ``euler(C_k^T R)``, ``C_k R(A)`` in the
+pose increments, contact normals, torque rows and the elastic split): the world chart gives the same
+singularity-free loop with no change to the compiled tick, so every shipped scene stays bit-identical and
+the tick's speed unchanged. The controllers' Euler-coordinate laws then act on the turned frame's angles,
+which near ``A' = 0`` are the body rotation's (as the brief's per-body charts would give).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import coopctrl.trajectory.quaternion as quat
+from plants.frames import EULER_SINGULARITY_COS
+
+#: Re-centre the stored charts below this smallest ``|cos theta|`` [-] (module docstring: why 0.7).
+RECENTRE_COS = 0.7
+#: Fewest and most ticks per kernel call of a run in charts (how often the chart is checked; module docstring).
+CHART_CHUNK = 20
+CHART_CHUNK_MAX = 500
+#: The object's pitch in the world chart that a kernel call may not reach [rad]: 10 deg past the re-centring
+#: bound (45.6 deg), so the chart's conditioning 1/cos(theta) stays below 1.74.
+CHART_PITCH_MAX = math.radians(55.0)
+
+
+def euler_of(R) -> np.ndarray:
+    """ZYX angles (N, 3) [rad] of rotations ``R`` (N, 3, 3), ``theta`` in [-pi/2, pi/2]
+    (:func:`plants.frames.euler_zyx_from_rotation`, stacked)."""
+    return np.stack([np.arctan2(R[:, 1, 0], R[:, 0, 0]),
+                     np.arctan2(-R[:, 2, 0], np.hypot(R[:, 2, 1], R[:, 2, 2])),
+                     np.arctan2(R[:, 2, 1], R[:, 2, 2])], axis=1)
+
+
+def rotations_of(A) -> np.ndarray:
+    """``R(A) = Rz(psi) Ry(theta) Rx(phi)`` (N, 3, 3) of ZYX angles ``A`` (N, 3) [rad]."""
+    return quat.matrix(quat.from_zyx(A))
+
+
+def body_rates(A, dA) -> np.ndarray:
+    """``omega = L(A) dA`` (N, 3) [rad/s] (docs/model.md s.2, (105)), stacked."""
+    cth, sth = np.cos(A[:, 1]), np.sin(A[:, 1])
+    cph, sph = np.cos(A[:, 2]), np.sin(A[:, 2])
+    return np.stack([-sth * dA[:, 0] + dA[:, 2],
+                     sph * cth * dA[:, 0] + cph * dA[:, 1],
+                     cph * cth * dA[:, 0] - sph * dA[:, 1]], axis=1)
+
+
+def euler_rates(A, w) -> np.ndarray:
+    """``L(A)^-1 w`` (N, 3) for body vectors ``w`` (N, 3). Where the angles have no rates
+    (``|cos theta| < EULER_SINGULARITY_COS``) ``cos theta`` is held at that bound, with its sign: the
+    rates there are those at pitch +-(90 deg - 1e-6 rad), finite (the book's coordinates do not exist at
+    pitch +-90 deg; the record keeps the exact rotation in ``object_rotation``)."""
+    cth = np.cos(A[:, 1])
+    cth = np.where(np.abs(cth) < EULER_SINGULARITY_COS, np.where(cth < 0.0, -1.0, 1.0) * EULER_SINGULARITY_COS, cth)
+    sth = np.sin(A[:, 1])
+    cph, sph = np.cos(A[:, 2]), np.sin(A[:, 2])
+    yz = sph * w[:, 1] + cph * w[:, 2]
+    return np.stack([yz / cth, cph * w[:, 1] - sph * w[:, 2], w[:, 0] + yz * sth / cth], axis=1)
+
+
+def rate_map_dot_times(A, dA) -> np.ndarray:
+    """``dL(A, dA) dA`` (N, 3) (:func:`plants.frames.body_rate_map_dot` times ``dA``), stacked."""
+    cth, sth = np.cos(A[:, 1]), np.sin(A[:, 1])
+    cph, sph = np.cos(A[:, 2]), np.sin(A[:, 2])
+    dps, dth, dph = dA[:, 0], dA[:, 1], dA[:, 2]
+    return np.stack([-cth * dth * dps,
+                     (cph * cth * dph - sph * sth * dth) * dps - sph * dph * dth,
+                     (-sph * cth * dph - cph * sth * dth) * dps - cph * dph * dth], axis=1)
+
+
+def target_motion(trajectory, times):
+    """The nominal object motion at ``times`` (N,) [s] on the rotation group: ``(r, dr, ddr, R, omega_b,
+    alpha_b)``, positions [m, m/s, m/s^2] (N, 3), rotations (N, 3, 3), body angular velocity [rad/s] and
+    acceleration [rad/s^2] (N, 3). A :class:`~coopctrl.trajectory.GeodesicTrajectory` gives it at every
+    rotation (``sample_rotation``); any other trajectory through its Euler view ``evaluate(t)``,
+    ``omega_b = L(A) dA``, ``alpha_b = L(A) ddA + dL dA`` (defined at every angle: ``L`` is)."""
+    from coopctrl.trajectory import GeodesicTrajectory, MinimumJerkTrajectory
+
+    times = np.asarray(times, dtype=float)
+    if isinstance(trajectory, GeodesicTrajectory):
+        m = trajectory.sample_rotation(times)
+        return m.r, m.dr, m.ddr, quat.matrix(m.q), m.omega_body, m.alpha_body
+    if type(trajectory) is MinimumJerkTrajectory and len(times):  # its sample() is evaluate() at every time
+        Y, dY, ddY = trajectory.sample(times)
+    else:
+        Y, dY, ddY = (np.array(v).reshape(len(times), 6) for v in
+                      zip(*(trajectory.evaluate(float(t)) for t in times))) if len(times) else (np.zeros((0, 6)),) * 3
+    A, dA, ddA = Y[:, 3:], dY[:, 3:], ddY[:, 3:]
+    return (Y[:, :3], dY[:, :3], ddY[:, :3], rotations_of(A), body_rates(A, dA),
+            body_rates(A, ddA) + rate_map_dot_times(A, dA))
+
+
+def continuous(A, start=None) -> np.ndarray:
+    """ZYX angles ``A`` (N, 3) [rad] of a motion made continuous in time: each row the representative of
+    its rotation nearest the previous row, ``(psi, theta, phi)`` or ``(psi + pi, pi - theta, phi + pi)``
+    plus whole turns (the branch flips where a principal ``psi`` or ``phi`` jumps by about pi: at a
+    passage through pitch +-90 deg); the first row nearest ``start`` (3,) when given."""
+    A = np.array(A, dtype=float)
+    if not A.shape[0]:
+        return A
+    if start is not None:  # the first row's branch and turns: those nearest start
+        alt = np.array([A[0, 0] + np.pi, np.pi - A[0, 1], A[0, 2] + np.pi])
+        dist = [np.sum(np.abs(np.angle(np.exp(1j * (c - start))))) for c in (A[0], alt)]
+        first_flip = dist[1] < dist[0]
+    else:
+        first_flip = False
+    jump = np.abs(np.angle(np.exp(1j * np.diff(A[:, 0])))) > 0.5 * np.pi
+    flip = np.concatenate([[first_flip], first_flip ^ (np.cumsum(jump) % 2 == 1)])
+    A[flip, 0] += np.pi
+    A[flip, 1] = np.pi - A[flip, 1]
+    A[flip, 2] += np.pi
+    A[:, 0], A[:, 2] = np.unwrap(A[:, 0]), np.unwrap(A[:, 2])
+    A[:, 1] = np.unwrap(A[:, 1])
+    if start is not None:
+        A += 2.0 * np.pi * np.round((np.asarray(start, dtype=float) - A[0]) / (2.0 * np.pi))
+    return A
+
+
+def book_view(C, A, dA, start=None):
+    """World ZYX angles and rates ``(A_w, dA_w)`` (N, 3) of angles ``A`` and rates ``dA`` (N, 3) taken in the
+    charts ``C`` (N, 3, 3): ``R(A_w) = C R(A)`` continuous in time (:func:`continuous`, the first row
+    nearest ``start``), ``dA_w = L(A_w)^-1 L(A) dA`` (:func:`euler_rates`)."""
+    Rw = np.einsum("nij,njk->nik", C, rotations_of(A))
+    Aw = continuous(euler_of(Rw), start)
+    return Aw, euler_rates(Aw, body_rates(A, dA))
+
+
+class WorldChart:
+    """The rotated world of one run in charts: re-centres it between kernel calls, remembers it tick by
+    tick, and gives the record back in the book's world coordinates (module docstring).
+
+    ``P``: the run's plant arguments, whose ``bases`` (``P[5]``) and ``gravity`` (``P[7]``) are the run's own
+    copies, rotated in place; ``arm_kind``, ``q_off``: which arms are contact points and where their
+    coordinates are; ``nz``: the size of ``z``."""
+
+    def __init__(self, P, nz: int, motion):
+        self.P = P
+        self.bases0 = P[5].copy()
+        self.gravity0 = P[7].copy()
+        arm_kind, q_off = P[0], P[2]
+        #: Start in ``z`` of the object's and each contact point's 6 coordinates (a contact point's are its node's).
+        self.free = [nz - 6] + [int(q_off[i]) for i in range(arm_kind.shape[0]) if arm_kind[i] == 1]
+        #: Arm index -> start in ``z`` of a contact point (its input is a node force, rotated in the record).
+        self.contact_points = {i: int(q_off[i]) for i in range(arm_kind.shape[0]) if arm_kind[i] == 1}
+        self.nz = nz
+        self.motion = motion
+        self.C = np.eye(3)
+        #: ``(first tick, C)`` of every world chart in use, in order.
+        self.history: list[tuple[int, np.ndarray]] = [(0, self.C.copy())]
+
+    def table(self, traj: np.ndarray, k: int) -> None:
+        """Rows ``k ..`` of the kernel's trajectory table ``traj`` (3, N, 6) in the current world chart:
+        ``r' = C^T r``, ``R' = C^T R``, ``A' = euler(R')``, ``dA' = L(A')^-1 omega_b``,
+        ``ddA' = L(A')^-1 (alpha_b - dL(A', dA') dA')`` (the body rates do not depend on the chart)."""
+        r, dr, ddr, R, w, a = (v[k:] for v in self.motion)
+        Ct = self.C.T
+        A = euler_of(np.einsum("ij,njk->nik", Ct, R))
+        dA = euler_rates(A, w)
+        traj[0, k:, :3], traj[1, k:, :3], traj[2, k:, :3] = r @ self.C, dr @ self.C, ddr @ self.C
+        traj[0, k:, 3:], traj[1, k:, 3:] = A, dA
+        traj[2, k:, 3:] = euler_rates(A, a - rate_map_dot_times(A, dA))
+
+    def ticks_ahead(self, x: np.ndarray, T: float) -> int:
+        """Ticks of period ``T`` [s] the next kernel call may run from the state ``x`` without the object's
+        pitch in the world chart reaching :data:`CHART_PITCH_MAX` at twice its present angular speed:
+        ``(CHART_PITCH_MAX - |theta'|) / (2 |omega| T)``, within ``CHART_CHUNK .. CHART_CHUNK_MAX``."""
+        nz = self.nz
+        th, ph = x[nz - 2], x[nz - 1]
+        d = x[2 * nz - 3:2 * nz]
+        cth, sth, cph, sph = math.cos(th), math.sin(th), math.cos(ph), math.sin(ph)
+        w = math.sqrt((-sth * d[0] + d[2]) ** 2 + (sph * cth * d[0] + cph * d[1]) ** 2
+                      + (cph * cth * d[0] - sph * d[1]) ** 2)  # |L(A) dA| [rad/s]
+        budget = CHART_PITCH_MAX - abs(th)
+        if not w * T * CHART_CHUNK_MAX * 2.0 > budget:
+            return CHART_CHUNK_MAX
+        return max(CHART_CHUNK, int(budget / (2.0 * w * T)))
+
+    def check(self, x: np.ndarray, k: int, traj: np.ndarray, state, plan=None) -> bool:
+        """Re-centre the world chart on the object when the ``|cos theta|`` of its angles at the state ``x``
+        of tick ``k`` is below :data:`RECENTRE_COS`: ``C' = C R(A_0)``; the state, the plant's bases and
+        gravity, the trajectory rows from ``k`` on, the followers' integrals and the last split (``state``,
+        a :class:`~coopctrl.loop.state.LoopState`) rotated by ``D = C'^T C``; the QP and an implicit scheme
+        start cold. True if it re-centred."""
+        nz = self.nz
+        A0 = x[nz - 3:nz]
+        if abs(np.cos(A0[1])) >= RECENTRE_COS:
+            return False
+        Cn = self.C @ rotations_of(A0[None])[0]
+        U, _, Vt = np.linalg.svd(Cn)  # re-orthonormalized (a product of many charts drifts by rounding)
+        Cn = U @ Vt
+        D = Cn.T @ self.C
+        for s in self.free:
+            r, A = x[s:s + 3], x[s + 3:s + 6]
+            v, dA = x[nz + s:nz + s + 3], x[nz + s + 3:nz + s + 6]
+            An = euler_of((D @ rotations_of(A[None])[0])[None])
+            dAn = euler_rates(An, body_rates(A[None], dA[None]))
+            x[s:s + 3], x[nz + s:nz + s + 3] = D @ r, D @ v
+            x[s + 3:s + 6], x[nz + s + 3:nz + s + 6] = An[0], dAn[0]
+        for i, B in enumerate(self.bases0):
+            self.P[5][i, :3, :3] = Cn.T @ B[:3, :3]
+            self.P[5][i, :3, 3] = Cn.T @ B[:3, 3]
+        self.P[7][:] = Cn.T @ self.gravity0
+        for w in (state.integrals, *state.last_split):  # (m, 6) wrenches, force and moment rotated
+            w[:, :3] = w[:, :3] @ D.T
+            w[:, 3:] = w[:, 3:] @ D.T
+        state.ws[3][0] = 0  # the QP starts cold (CompiledSolver.reset): its warm start is in the old axes
+        _cold_start(plan)
+        self.C = Cn
+        self.table(traj, k)
+        self.history.append((k, Cn.copy()))
+        return True
+
+    def charts_per_tick(self, N: int) -> tuple[np.ndarray, np.ndarray]:
+        """The world chart (N, 3, 3) in use at ticks ``0 .. N - 1`` and its quaternion (N, 4)."""
+        out, q = np.empty((N, 3, 3)), np.empty((N, 4))
+        for i, (k0, C) in enumerate(self.history):
+            k1 = self.history[i + 1][0] if i + 1 < len(self.history) else N
+            out[k0:k1] = C
+            q[k0:k1] = _quaternion(C)
+        return out, q
+
+    def book_record(self, rec: dict, x0: np.ndarray) -> None:
+        """Turn ``rec`` (in the world chart of each tick) into the book's world coordinates in place: the
+        object's and contact points' poses and rates (positions ``C r'``, angles and rates by
+        :func:`book_view`, continuous from the run's start ``x0``), the contact points' inputs (force ``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``), the
+        wrenches and contact positions (``C f``, ``C n``, ``C r``), ``Y0_nominal`` from the target motion,
+        and ``rec["object_rotation"]``, the object's rotation as a unit quaternion ``(w, x, y, z)`` (N, 4)
+        exact at every pitch (``q(C) q(A')``)."""
+        x = rec["x"]
+        N = x.shape[0]
+        C, qC = self.charts_per_tick(N)
+        nz = self.nz
+        rot = lambda v: np.einsum("nij,n...j->n...i", C, v)  # noqa: E731 (rows rotated by their tick's chart)
+        angles = {}
+        for s in self.free:
+            A, dA = x[:, s + 3:s + 6].copy(), x[:, nz + s + 3:nz + s + 6]
+            if s == nz - 6:
+                rec["object_rotation"] = quat.multiply(qC, quat.from_zyx(A))
+            x[:, s:s + 3], x[:, nz + s:nz + s + 3] = rot(x[:, s:s + 3]), rot(x[:, nz + s:nz + s + 3])
+            x[:, s + 3:s + 6], x[:, nz + s + 3:nz + s + 6] = book_view(C, A, dA, x0[s + 3:s + 6])
+            angles[s] = (A, x[:, s + 3:s + 6])
+        tau = rec["tau"]
+        for i, s in self.contact_points.items():
+            A, Aw = angles[s]
+            tau[:, s:s + 3] = rot(tau[:, s:s + 3])
+            body = np.linalg.solve(np.transpose(_rate_maps(A), (0, 2, 1)), tau[:, s + 3:s + 6, None])
+            tau[:, s + 3:s + 6] = np.einsum("nji,njk->nik", _rate_maps(Aw), body)[:, :, 0]
+        for name in ("F_measured", "F_commanded", "F_external", "F_internal"):
+            F = rec[name]
+            F[:, :, :3], F[:, :, 3:] = rot(F[:, :, :3]), rot(F[:, :, 3:])
+        rec["r_contacts"][:] = rot(rec["r_contacts"])
+        r, _, _, R, _, _ = self.motion
+        n = min(N, r.shape[0])
+        rec["Y0_nominal"][:n] = np.hstack((r[:n], euler_of(R[:n])))
+
+
+def _rate_maps(A) -> np.ndarray:
+    """``L(A)`` (N, 3, 3) of ZYX angles ``A`` (N, 3) (docs/model.md s.2, (105))."""
+    cth, sth = np.cos(A[:, 1]), np.sin(A[:, 1])
+    cph, sph = np.cos(A[:, 2]), np.sin(A[:, 2])
+    L = np.zeros((A.shape[0], 3, 3))
+    L[:, 0, 0], L[:, 0, 2] = -sth, 1.0
+    L[:, 1, 0], L[:, 1, 1] = sph * cth, cph
+    L[:, 2, 0], L[:, 2, 1] = cph * cth, -sph
+    return L
+
+
+def _quaternion(R) -> np.ndarray:
+    """The unit quaternion ``(w, x, y, z)`` of a rotation matrix (Shepperd's method, ``w >= 0``)."""
+    t = np.trace(R)
+    if t > max(R[0, 0], R[1, 1], R[2, 2]):
+        w = 0.5 * np.sqrt(1.0 + t)
+        return np.array([w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)])
+    i = int(np.argmax(np.diag(R)))
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = 2.0 * np.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
+    q = np.empty(4)
+    q[0] = (R[k, j] - R[j, k]) / s
+    q[1 + i] = 0.25 * s
+    q[1 + j] = (R[j, i] + R[i, j]) / s
+    q[1 + k] = (R[k, i] + R[i, k]) / s
+    return q if q[0] >= 0 else -q
+
+
+def _cold_start(plan) -> None:
+    """Drop what an integration plan carries from step to step in the old chart's coordinates: the
+    implicit schemes' Newton matrix and Jacobian (an explicit plan carries nothing but the step size)."""
+    import coopctrl.integrators.adaptive_plans as adaptive_plans
+
+    name = type(plan).__name__
+    if name == "ImplicitPlan":
+        plan.memo[0] = 0.0  # M is not kept (coopctrl.integrators.compiled: memo[0])
+    elif name == "TRBDF2Plan":
+        plan.memo[adaptive_plans.M_HAVE_J] = 0.0
+        plan.memo[adaptive_plans.M_GH] = 0.0
