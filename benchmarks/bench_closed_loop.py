@@ -1,13 +1,15 @@
 """Closed-loop real-time factor per shipped scene: the compiled tick beside the reference path.
 
-Run: python benchmarks/bench_closed_loop.py [--repeats N] [--quick] [--scenes a,b]
+Run: python benchmarks/bench_closed_loop.py [--repeats N] [--quick] [--scenes a,b] [--charts]
 
 For every shipped scene, the loop the user runs (``closed_loop(scenario).run(x0, duration)``: its
 full duration at its own control rate; the spatial carry at 1 kHz, RK4, one substep) is timed
 ``repeats`` times after a warm-up run, once with the compiled tick (``load_distribution.solver =
 "compiled"``, the default) and once with the reference path (the same kernel, stopping at each QP for proxsuite); the
 medians are printed side by side with their ratio. Post-processing (``simulate()``'s squeeze) is
-not included.
+not included. ``--charts`` adds, for every spatial scene whose springs can be geodesic, the tick in the
+book's angles and in rotation charts (``scene.rotations = "charts"``), the same geodesic springs in both,
+alternated (issue 20: a scene in charts runs at the tick of the book's angles).
 """
 
 from __future__ import annotations
@@ -26,9 +28,11 @@ REPO = Path(__file__).resolve().parent.parent
 SCENES = sorted(p.stem for p in (REPO / "scenarios").glob("*.toml"))
 
 
-def _time_loop(name: str, solver: str, repeats: int) -> tuple[float, float, int, str]:
-    """``(median wall [s], duration [s], ticks, status)`` of the scene's run with ``solver``."""
-    scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml", {"load_distribution.solver": solver})
+def _time_loop(name: str, solver: str, repeats: int, sets: dict | None = None) -> tuple[float, float, int, str]:
+    """``(median wall [s], duration [s], ticks, status)`` of the scene's run with ``solver`` (and the
+    overrides ``sets``)."""
+    scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml",
+                                      {"load_distribution.solver": solver, **(sets or {})})
     loop = closed_loop(scenario)
     x0 = build.initial_state(scenario)
     duration = scenario.simulation.duration
@@ -48,6 +52,9 @@ def main(argv=None) -> int:
     parser.add_argument("--repeats", type=int, default=3, help="timed runs per scene and path after a warm-up (default 3)")
     parser.add_argument("--quick", action="store_true", help="1 timed run per scene and path (a smoke run)")
     parser.add_argument("--scenes", default="", help="comma-separated scene names (default: every shipped scene)")
+    parser.add_argument("--charts", action="store_true",
+                        help="also time each spatial scene with geodesic springs, in the book's angles and in rotation "
+                             "charts (scene.rotations = \"charts\"), alternately, and print their ticks side by side")
     args = parser.parse_args(argv)
     if args.quick:
         args.repeats = 1
@@ -62,7 +69,33 @@ def main(argv=None) -> int:
               f"{sim / wr:11.1f}x {wr / ticks * 1e6:8.1f} | {wr / wc:5.1f}x", flush=True)
     print("target: spatial_two_puma_carry (1 kHz, RK4, one substep) >= 50x real time (<= 20 us/tick) and >= 10x the "
           "reference path (issue 10)")
+    if args.charts:
+        _charts_table(scenes, args.repeats)
     return 0
+
+
+def _charts_table(scenes: list[str], repeats: int) -> None:
+    """The tick of each spatial scene whose springs can be geodesic, in the book's angles and in rotation charts
+    (the loop in a re-centred world chart, docs/model.md s.2), the same springs in both: medians of ``repeats``
+    runs each, the two alternated ``repeats`` times so that a change of the machine's load hits both."""
+    print(f"\n{'scene (geodesic springs)':28s} | {'book us/tick':>12s} | {'charts us/tick':>14s} | {'charts/book':>11s}")
+    for name in scenes:
+        scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml")
+        if scenario.space != "spatial":
+            continue
+        geodesic = {f"springs[{k}].rotation_form": '"geodesic"' for k in range(len(scenario.springs))}
+        book, charts = [], []
+        try:
+            for _ in range(repeats):
+                wb, _, ticks, _ = _time_loop(name, "compiled", 1, {**geodesic, "scene.rotations": '"book"'})
+                wc, _, _, _ = _time_loop(name, "compiled", 1, {**geodesic, "scene.rotations": '"charts"'})
+                book.append(wb / ticks)
+                charts.append(wc / ticks)
+        except (ValueError, TypeError) as err:  # a scene whose springs or path cannot run in charts
+            print(f"{name:28s} | {'-':>12s} | {'-':>14s} | not in charts: {str(err).splitlines()[0][:60]}")
+            continue
+        b, c = statistics.median(book), statistics.median(charts)
+        print(f"{name:28s} | {b * 1e6:12.2f} | {c * 1e6:14.2f} | {c / b:10.3f}x", flush=True)
 
 
 if __name__ == "__main__":

@@ -146,7 +146,7 @@ def book_view(C, A, dA, start=None):
     """World ZYX angles and rates ``(A_w, dA_w)`` (N, 3) of angles ``A`` and rates ``dA`` (N, 3) taken in the
     charts ``C`` (N, 3, 3): ``R(A_w) = C R(A)`` continuous in time (:func:`continuous`, the first row
     nearest ``start``), ``dA_w = L(A_w)^-1 L(A) dA`` (:func:`euler_rates`)."""
-    Rw = np.einsum("nij,njk->nik", C, rotations_of(A))
+    Rw = C @ rotations_of(A)  # batched 3x3 products (matmul: several times faster than einsum here)
     Aw = continuous(euler_of(Rw), start)
     return Aw, euler_rates(Aw, body_rates(A, dA))
 
@@ -180,7 +180,7 @@ class WorldChart:
         ``ddA' = L(A')^-1 (alpha_b - dL(A', dA') dA')`` (the body rates do not depend on the chart)."""
         r, dr, ddr, R, w, a = (v[k:] for v in self.motion)
         Ct = self.C.T
-        A = euler_of(np.einsum("ij,njk->nik", Ct, R))
+        A = euler_of(Ct @ R)
         dA = euler_rates(A, w)
         traj[0, k:, :3], traj[1, k:, :3], traj[2, k:, :3] = r @ self.C, dr @ self.C, ddr @ self.C
         traj[0, k:, 3:], traj[1, k:, 3:] = A, dA
@@ -256,7 +256,9 @@ class WorldChart:
         N = x.shape[0]
         C, qC = self.charts_per_tick(N)
         nz = self.nz
-        rot = lambda v: np.einsum("nij,n...j->n...i", C, v)  # noqa: E731 (rows rotated by their tick's chart)
+        def rot(v):  # rows rotated by their tick's chart: C_n v_n for v (N, 3), or (N, m, 3)
+            Cb = C if v.ndim == 2 else C[:, None]
+            return (Cb @ v[..., None])[..., 0]
         angles = {}
         for s in self.free:
             A, dA = x[:, s + 3:s + 6].copy(), x[:, nz + s + 3:nz + s + 6]
@@ -270,7 +272,7 @@ class WorldChart:
             A, Aw = angles[s]
             tau[:, s:s + 3] = rot(tau[:, s:s + 3])
             body = np.linalg.solve(np.transpose(_rate_maps(A), (0, 2, 1)), tau[:, s + 3:s + 6, None])
-            tau[:, s + 3:s + 6] = np.einsum("nji,njk->nik", _rate_maps(Aw), body)[:, :, 0]
+            tau[:, s + 3:s + 6] = (np.transpose(_rate_maps(Aw), (0, 2, 1)) @ body)[:, :, 0]
         for name in ("F_measured", "F_commanded", "F_external", "F_internal"):
             F = rec[name]
             F[:, :, :3], F[:, :, 3:] = rot(F[:, :, :3]), rot(F[:, :, 3:])
