@@ -25,29 +25,25 @@ from typing import Iterable
 from coopctrl.cli._core import PROG
 
 #: Start-up of the first ``coopctrl run`` of a kind [s]: ``(on an empty cache, once another kind has been
-#: compiled)``, on the project's 2-core machine class at a load average of about 1. Measured: planar-explicit
-#: on an empty cache 50 s (the whole ``coopctrl run`` of the default scene, 50.5 s at load 1.1); spatial-
-#: explicit 56 s (``benchmarks/bench_startup.py``, the carry, load 1.0: README, "The compiled loop"); an
-#: implicit kind after its explicit one about 23 s and the planar kind after the spatial one about 21 s
-#: (issue 18's measurements on this machine class). Under a load average of 6 to 10 the processor time of
-#: the same cold runs less a warm run's was 59 s (planar-explicit, empty cache), 32 s (planar-implicit after
-#: planar-explicit), 68 s (spatial-explicit after the planar kinds) and 45 s (spatial-implicit after
-#: spatial-explicit), their wall times two to six times that: the figures are estimates, said as such.
-#: Derived, not measured alone: an implicit kind on an empty cache (its explicit kind's figure plus the
-#: implicit increment) and spatial-explicit after a planar kind (68 s of loaded processor time scaled by
-#: planar-explicit's 46 s quiet / 59 s loaded). A second kind compiles only what the first did not (the
-#: QP solver, the frames and the shared kernels are cached once).
+#: compiled)``, on the project's 2-core machine class at a load average of about 1. Measured on 2026-12-02
+#: with ``benchmarks/bench_startup.py`` (one run each, load 0.9): planar-explicit on an empty cache 59 s
+#: (``--scene planar_two_arm_lift``) and spatial-explicit 88 s (the carry); spatial-explicit after the
+#: planar kind 64 s more, planar-explicit after the spatial kind 34 s more, an implicit kind after its
+#: explicit one 33 s more (the carry with ``implicit_euler``). Derived, not measured alone: an implicit kind
+#: on an empty cache (its explicit kind's figure plus the implicit increment). A second kind compiles only
+#: what the first did not (the QP solver, the frames and the shared kernels are cached once). Under load
+#: the wall times grow two to six times: the figures are estimates, said as such.
 COMPILE_S = {
-    "planar-explicit": (50.0, 21.0),
-    "spatial-explicit": (56.0, 53.0),
-    "planar-implicit": (73.0, 23.0),
-    "spatial-implicit": (79.0, 23.0),
+    "planar-explicit": (59.0, 34.0),
+    "spatial-explicit": (88.0, 64.0),
+    "planar-implicit": (92.0, 33.0),
+    "spatial-implicit": (121.0, 33.0),
     # the error-controlled kinds (rk23/rk45, trbdf2): derived as the implicit ones (a new integration plan
     # recompiles the tick's advance stage and run_ticks, as an implicit plan does); not measured alone
-    "planar-embedded": (73.0, 23.0),
-    "spatial-embedded": (79.0, 23.0),
-    "planar-trbdf2": (73.0, 23.0),
-    "spatial-trbdf2": (79.0, 23.0),
+    "planar-embedded": (92.0, 33.0),
+    "spatial-embedded": (121.0, 33.0),
+    "planar-trbdf2": (92.0, 33.0),
+    "spatial-trbdf2": (121.0, 33.0),
 }
 
 #: How often the ticker redraws [s].
