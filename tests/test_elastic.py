@@ -21,7 +21,7 @@ SEEDS = [0, 1, 2]
 
 # Central differences of Pi with step h = 1e-6 (m, rad): truncation ~ h^2 |Pi'''| ~ 1e-12
 # |F| / (length scale 0.1 m)^2 ~ 1e-10 relative, rounding ~ eps |Pi| / h ~ 1e-9 relative to
-# |F| (|Pi| ~ 10 J, |F| ~ 100 N). 1e-6 (the brief's bound) leaves a 1000x margin and catches
+# |F| (|Pi| ~ 10 J, |F| ~ 100 N). 1e-6 (the required bound) leaves a 1000x margin and catches
 # any missing term (e.g. the derivative of beta is O(1) relative).
 FD_STEP = 1e-6
 FD_RTOL = 1e-6

@@ -23,7 +23,7 @@ from _scenes import scene
 
 HORIZON = 5.0  # [s]
 # DOP853 with rtol = atol = 1e-10 keeps the local error per step at ~1e-10 of the state; over
-# ~3000 steps the energy wanders by ~1e-9 relative (measured 1e-10 to 3e-10). The brief's bound
+# ~3000 steps the energy wanders by ~1e-9 relative (measured 1e-10 to 3e-10). The required bound
 # 1e-6 leaves three orders of margin; a wrong term (e.g. a missing J^T W Jdot qdot, or F_e not
 # the gradient of Pi) drifts by 1e-3 to 1 relative.
 ENERGY_RTOL = 1e-6

@@ -27,7 +27,7 @@ need every controller kernel to read each node's chart (targets as ``euler(C_k^T
 pose increments, contact normals, torque rows and the elastic split): the world chart gives the same
 singularity-free loop with no change to the compiled tick, so every shipped scene stays bit-identical and
 the tick's speed unchanged. The controllers' Euler-coordinate laws then act on the turned frame's angles,
-which near ``A' = 0`` are the body rotation's (as the brief's per-body charts would give).
+which near ``A' = 0`` are the body rotation's (as per-body charts would give).
 """
 
 from __future__ import annotations
