@@ -7,7 +7,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 # DOP853 at rtol = atol = 1e-12: its local error per step is ~1e-12 of the state, so the energy of a
-# smooth passive motion drifts by ~1e-11 relative over a few hundred steps, well below the 1e-8 the
+# smooth passive motion drifts by ~1e-11 relative over a few hundred steps, well below the 1e-8 that
 # issue 20 asks for; a wrong force (not the gradient of the potential) drifts by ~1e-3.
 RTOL = ATOL = 1e-12
 #: Re-centre a chart once its |cos theta| falls below this (its angles are then > 45 deg from it).
