@@ -9,7 +9,9 @@ full duration at its own control rate; the spatial carry at 1 kHz, RK4, one subs
 medians are printed side by side with their ratio. Post-processing (``simulate()``'s squeeze) is
 not included. ``--charts`` adds, for every spatial scene whose springs can be geodesic, the tick in the
 book's angles and in rotation charts (``scene.rotations = "charts"``), the same geodesic springs in both,
-alternated (issue 20: a scene in charts runs at the tick of the book's angles).
+alternated (issue 20: a scene in charts runs at the tick of the book's angles): ``loop.run`` per tick, and the
+ticks only (the run's ``wall_time_s``, without the set-up and without turning the record back into the
+book's world coordinates).
 """
 
 from __future__ import annotations
@@ -28,23 +30,25 @@ REPO = Path(__file__).resolve().parent.parent
 SCENES = sorted(p.stem for p in (REPO / "scenarios").glob("*.toml"))
 
 
-def _time_loop(name: str, solver: str, repeats: int, sets: dict | None = None) -> tuple[float, float, int, str]:
-    """``(median wall [s], duration [s], ticks, status)`` of the scene's run with ``solver`` (and the
-    overrides ``sets``)."""
+def _time_loop(name: str, solver: str, repeats: int, sets: dict | None = None) -> tuple[float, float, int, str, float]:
+    """``(median wall [s], duration [s], ticks, status, median wall of the ticks only [s])`` of the scene's run
+    with ``solver`` (and the overrides ``sets``); the ticks only: the run's own ``wall_time_s``, from its first
+    tick to its last."""
     scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml",
                                       {"load_distribution.solver": solver, **(sets or {})})
     loop = closed_loop(scenario)
     x0 = build.initial_state(scenario)
     duration = scenario.simulation.duration
     rec = loop.run(x0, duration)  # warm-up: numba cache, proxsuite set-up
-    walls = []
+    walls, tick_walls = [], []
     for _ in range(repeats):
         t0 = time.perf_counter()
         rec = loop.run(x0, duration)
         walls.append(time.perf_counter() - t0)
+        tick_walls.append(rec["wall_time_s"])
     ticks = len(rec["t"])
     simulated = max(ticks - 1, 1) * scenario.simulation.control_period
-    return statistics.median(walls), simulated, ticks, rec["status"]
+    return statistics.median(walls), simulated, ticks, rec["status"], statistics.median(tick_walls)
 
 
 def main(argv=None) -> int:
@@ -63,8 +67,8 @@ def main(argv=None) -> int:
     print(f"{'scene':28s} {'status':8s} {'ticks':>6s} | {'compiled RT':>11s} {'us/tick':>8s} | "
           f"{'reference RT':>12s} {'us/tick':>8s} | {'ratio':>6s}")
     for name in scenes:
-        wc, sim, ticks, status = _time_loop(name, "compiled", args.repeats)
-        wr, _, _, _ = _time_loop(name, "proxsuite", args.repeats)
+        wc, sim, ticks, status, _ = _time_loop(name, "compiled", args.repeats)
+        wr, _, _, _, _ = _time_loop(name, "proxsuite", args.repeats)
         print(f"{name:28s} {status:8s} {ticks:6d} | {sim / wc:10.1f}x {wc / ticks * 1e6:8.1f} | "
               f"{sim / wr:11.1f}x {wr / ticks * 1e6:8.1f} | {wr / wc:5.1f}x", flush=True)
     print("target: spatial_two_puma_carry (1 kHz, RK4, one substep) >= 50x real time (<= 20 us/tick) and >= 10x the "
@@ -78,24 +82,29 @@ def _charts_table(scenes: list[str], repeats: int) -> None:
     """The tick of each spatial scene whose springs can be geodesic, in the book's angles and in rotation charts
     (the loop in a re-centred world chart, docs/model.md s.2), the same springs in both: medians of ``repeats``
     runs each, the two alternated ``repeats`` times so that a change of the machine's load hits both."""
-    print(f"\n{'scene (geodesic springs)':28s} | {'book us/tick':>12s} | {'charts us/tick':>14s} | {'charts/book':>11s}")
+    print(f"\n{'scene (geodesic springs)':28s} | {'book us/tick':>12s} | {'charts us/tick':>14s} | {'charts/book':>11s} | "
+          f"{'ticks only: book':>16s} {'charts':>7s} {'ratio':>6s}")
     for name in scenes:
         scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml")
         if scenario.space != "spatial":
             continue
         geodesic = {f"springs[{k}].rotation_form": '"geodesic"' for k in range(len(scenario.springs))}
-        book, charts = [], []
+        book, charts, book_ticks, charts_ticks = [], [], [], []
         try:
             for _ in range(repeats):
-                wb, _, ticks, _ = _time_loop(name, "compiled", 1, {**geodesic, "scene.rotations": '"book"'})
-                wc, _, _, _ = _time_loop(name, "compiled", 1, {**geodesic, "scene.rotations": '"charts"'})
+                wb, _, ticks, _, tb = _time_loop(name, "compiled", 1, {**geodesic, "scene.rotations": '"book"'})
+                wc, _, _, _, tc = _time_loop(name, "compiled", 1, {**geodesic, "scene.rotations": '"charts"'})
+                book_ticks.append(tb / ticks)
+                charts_ticks.append(tc / ticks)
                 book.append(wb / ticks)
                 charts.append(wc / ticks)
         except (ValueError, TypeError) as err:  # a scene whose springs or path cannot run in charts
             print(f"{name:28s} | {'-':>12s} | {'-':>14s} | not in charts: {str(err).splitlines()[0][:60]}")
             continue
         b, c = statistics.median(book), statistics.median(charts)
-        print(f"{name:28s} | {b * 1e6:12.2f} | {c * 1e6:14.2f} | {c / b:10.3f}x", flush=True)
+        bt, ct = statistics.median(book_ticks), statistics.median(charts_ticks)
+        print(f"{name:28s} | {b * 1e6:12.2f} | {c * 1e6:14.2f} | {c / b:10.3f}x | {bt * 1e6:16.2f} {ct * 1e6:7.2f} "
+              f"{ct / bt:5.3f}x", flush=True)
 
 
 if __name__ == "__main__":
