@@ -59,7 +59,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from coopctrl.integrators.compiled import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, first_rhs_into,
+from coopctrl.integrators.compiled import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, first_rhs_into, stage_failed,
                                            invert_into, jacobian_into, rhs_into, _pinv_into)
 
 #: Step controllers (``settings[S_CONTROLLER]``).
@@ -183,9 +183,7 @@ def embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out
     rejected = 0
     hmin = math.inf
     first_rhs_into(x, tau, P, status, ws, terms, K[0])  # the torque changed at t: a fresh first slope
-    out_int[7] += 1
-    if status[0] != 0:
-        x_fail[:] = x
+    if stage_failed(x, status, x_fail, out_int):
         return STEP_PLANT_ERROR
     if controller == CONTROLLER_FIXED:
         h_abs = memo[M_FIXED]
@@ -222,9 +220,7 @@ def embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out
                         acc += K[j, c] * A[i, j]
                     y[c] = acc * h + x[c]
                 rhs_into(y, tau, P, status, ws, K[i])
-                out_int[7] += 1
-                if status[0] != 0:
-                    x_fail[:] = y
+                if stage_failed(y, status, x_fail, out_int):
                     return STEP_PLANT_ERROR
             for c in range(n):
                 acc = 0.0
@@ -232,9 +228,7 @@ def embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out
                     acc += K[j, c] * B[j]
                 ynew[c] = x[c] + h * acc
             rhs_into(ynew, tau, P, status, ws, K[s])
-            out_int[7] += 1
-            if status[0] != 0:
-                x_fail[:] = ynew
+            if stage_failed(ynew, status, x_fail, out_int):
                 return STEP_PLANT_ERROR
             if controller == CONTROLLER_FIXED:
                 err = 0.0
@@ -329,9 +323,7 @@ def _stage(plan, known, k, tau, P, status, ws, gh, h, x, out_int, x_fail):
         for c in range(n):
             xs[c] = k[c] * gh + known[c]
         rhs_into(xs, tau, P, status, ws, fs)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = xs
+        if stage_failed(xs, status, x_fail, out_int):
             return 2
         for r in range(n):
             acc = 0.0
@@ -376,9 +368,7 @@ def trbdf2_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out_f
     rejected = 0
     hmin = math.inf
     first_rhs_into(x, tau, P, status, ws, terms, k1)
-    out_int[7] += 1
-    if status[0] != 0:
-        x_fail[:] = x
+    if stage_failed(x, status, x_fail, out_int):
         return STEP_PLANT_ERROR
     # steps of this period: T / parts, parts kept while the proposed step stays in [T / parts, 1.5 T / parts]
     if controller == CONTROLLER_FIXED:

@@ -195,6 +195,17 @@ def _first_rhs_into_typed(x, tau, P, status, ws, terms, dx):
     return impl
 
 
+@register_jitable(inline="always")
+def stage_failed(y, status, x_fail, out_int) -> bool:
+    """After one right-hand-side evaluation at ``y``: count it (``out_int[7]``, the run's evaluations) and
+    tell whether the plant failed there (``status[0] != 0``), keeping ``y`` in ``x_fail`` for the diagnosis."""
+    out_int[7] += 1
+    if status[0] != 0:
+        x_fail[:] = y
+        return True
+    return False
+
+
 # ---------------------------------------------------------------------------------------------- period
 def zoh_advance(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
     """Advance ``x`` in place over one control period from ``t`` [s], one step per entry of ``steps`` [s].
@@ -292,64 +303,40 @@ def _explicit_step(plan, x, tau, P, status, ws, terms, first, t, hs, x_fail, out
     nz = nx // 2
     method = plan.method
     at_time(P, t)
+    if first:  # every explicit scheme starts from the slope at x
+        first_rhs_into(x, tau, P, status, ws, terms, k1)
+    else:
+        rhs_into(x, tau, P, status, ws, k1)
+    if stage_failed(x, status, x_fail, out_int):
+        return STEP_PLANT_ERROR
     if method == METHOD_RK4:
         h2 = 0.5 * hs
-        if first:
-            first_rhs_into(x, tau, P, status, ws, terms, k1)
-        else:
-            rhs_into(x, tau, P, status, ws, k1)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = x
-            return STEP_PLANT_ERROR
         for c in range(nx):
             y[c] = k1[c] * h2 + x[c]
         at_time(P, t + h2)
         rhs_into(y, tau, P, status, ws, k2)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = y
+        if stage_failed(y, status, x_fail, out_int):
             return STEP_PLANT_ERROR
         for c in range(nx):
             y[c] = k2[c] * h2 + x[c]
         rhs_into(y, tau, P, status, ws, k3)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = y
+        if stage_failed(y, status, x_fail, out_int):
             return STEP_PLANT_ERROR
         for c in range(nx):
             y[c] = k3[c] * hs + x[c]
         at_time(P, t + hs)
         rhs_into(y, tau, P, status, ws, k4)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = y
+        if stage_failed(y, status, x_fail, out_int):
             return STEP_PLANT_ERROR
         h6 = hs / 6.0
         for c in range(nx):
             x[c] = ((((k2[c] + k3[c]) * 2.0) + k1[c]) + k4[c]) * h6 + x[c]
     elif method == METHOD_SYMPLECTIC_EULER:
-        if first:
-            first_rhs_into(x, tau, P, status, ws, terms, k1)
-        else:
-            rhs_into(x, tau, P, status, ws, k1)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = x
-            return STEP_PLANT_ERROR
         for c in range(nz):
             x[nz + c] = k1[nz + c] * hs + x[nz + c]
         for c in range(nz):
             x[c] = x[nz + c] * hs + x[c]
     else:
-        if first:
-            first_rhs_into(x, tau, P, status, ws, terms, k1)
-        else:
-            rhs_into(x, tau, P, status, ws, k1)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = x
-            return STEP_PLANT_ERROR
         for c in range(nx):
             x[c] = k1[c] * hs + x[c]
     return STEP_OK
@@ -443,9 +430,7 @@ def jacobian_into(J, x, tau, P, status, ws, fx, xp, fp, out_int, x_fail):
         xp[j] = xj + d
         d = xp[j] - xj  # exactly representable increment
         rhs_into(xp, tau, P, status, ws, fp)
-        out_int[7] += 1
-        if status[0] != 0:
-            x_fail[:] = xp
+        if stage_failed(xp, status, x_fail, out_int):
             return False
         for r in range(n):
             J[r, j] = (fp[r] - fx[r]) / d
@@ -532,9 +517,7 @@ def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
         elif i == 0:  # explicit slope as predictor
             at_time(P, t)
             rhs_into(x, tau, P, status, ws, k)
-            out_int[7] += 1
-            if status[0] != 0:
-                x_fail[:] = x
+            if stage_failed(x, status, x_fail, out_int):
                 return STEP_PLANT_ERROR, 0, 0.0
         else:
             for c in range(n):
@@ -547,9 +530,7 @@ def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
                 xs[c] = k[c] * gh + known[c]
             at_time(P, ts)
             rhs_into(xs, tau, P, status, ws, fs)
-            out_int[7] += 1
-            if status[0] != 0:
-                x_fail[:] = xs
+            if stage_failed(xs, status, x_fail, out_int):
                 return STEP_PLANT_ERROR, 0, 0.0
             if not have_M:
                 if not _refresh(plan, xs, tau, P, status, ws, fs, gh, out_int, x_fail):
@@ -576,9 +557,7 @@ def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
                     return STEP_NEWTON_FAILED, total, correction
                 at_time(P, t)
                 rhs_into(x, tau, P, status, ws, k)  # the stale matrix threw the iterate away: restart
-                out_int[7] += 1
-                if status[0] != 0:
-                    x_fail[:] = x
+                if stage_failed(x, status, x_fail, out_int):
                     return STEP_PLANT_ERROR, 0, 0.0
                 have_M = False
                 continue
