@@ -145,6 +145,65 @@ def test_spatial_scene_and_node_defaults(tmp_path):
     assert s.trajectory.via[1].pose[2] == pytest.approx(0.7)
 
 
+def with_springs(data: dict, **keys) -> dict:
+    """``data`` with one spring per arm (object to arm node), each with ``keys``."""
+    data = copy.deepcopy(data)
+    data["springs"] = [{"pair": [0, k], **keys} for k in (1, 2)]
+    return data
+
+
+def test_a_spatial_scene_takes_its_rotations_in_charts_by_default(tmp_path):
+    """Issue 20: a spatial scene of the mobile model runs in charts unless it says otherwise; its springs'
+    rotational terms are then geodesic and its trajectory turns on the rotation."""
+    s = load_scenario(write(tmp_path, spatial()))
+    assert s.scene.rotations == "charts" and s.trajectory.orientation == "geodesic"
+    assert {sp.rotation_form for sp in s.springs} == {"geodesic"}
+    for element in ("offset", "central"):  # both forms of an offset element are chart-free
+        for form in ("book", "geodesic"):
+            keys = {"element": element, "rotation_form": form}
+            if element == "central":
+                keys["torsion"] = 0.0 if form == "book" else 10.0  # the book's torsion without torsion: none
+            s = load_scenario(write(tmp_path, with_springs(spatial(), **keys)))
+            assert s.scene.rotations == "charts" and {sp.rotation_form for sp in s.springs} == {form}
+
+
+@pytest.mark.parametrize("keys, field", [
+    ({"element": "central", "rotation_form": "book", "torsion": 10.0}, "springs[0].rotation_form"),
+    ({"element": "central", "stiffness": [2e4, 2e4, 1e4]}, "springs[0].stiffness"),
+    ({"damping_form": "book", "torsion_damping": 0.05}, "springs[0].damping_form"),
+])
+def test_springs_that_need_the_books_angles_keep_them_unless_charts_are_asked_for(tmp_path, keys, field):
+    """A spring that depends on the angles' chart keeps the scene in the book's world angles (its forms and the
+    Euler trajectory); asking for charts with it is refused, naming the spring's field."""
+    data = with_springs(spatial(), **keys)
+    s = load_scenario(write(tmp_path, data))
+    assert s.scene.rotations == "book" and s.trajectory.orientation == "euler"
+    assert all(sp.rotation_form == "book" for sp in s.springs if "rotation_form" not in keys)
+    data["scene"]["rotations"] = "charts"
+    raises(field, load_scenario, write(tmp_path, data))
+
+
+def test_the_books_angles_are_kept_where_charts_do_not_apply(tmp_path):
+    """A planar scene (one angle), a spatial scene of the immobile model (linear in the world angles) and a
+    scene that asks for the book's angles take the book's forms."""
+    assert Scenario().scene.rotations == "book" and Scenario().trajectory.orientation == "euler"
+    immobile = spatial()
+    immobile["scene"]["unloaded_state"] = "immobile"
+    book = spatial()
+    book["scene"]["rotations"] = "book"
+    for data in (immobile, book):
+        s = load_scenario(write(tmp_path, data))
+        assert s.scene.rotations == "book" and s.trajectory.orientation == "euler"
+        assert {sp.rotation_form for sp in s.springs} == {"book"}
+
+
+def test_a_scene_in_charts_round_trips_through_toml(tmp_path):
+    """The chosen rotations, forms and orientation are written out, so the file read back is the same scene."""
+    s = load_scenario(write(tmp_path, spatial()))
+    again = load_scenario(write(tmp_path, dumps_toml(s.to_dict()), "again.toml"))
+    assert again == s and again.scene.rotations == "charts"
+
+
 def test_three_arms_get_one_spring_each(tmp_path):
     data = base()
     data.pop("springs")

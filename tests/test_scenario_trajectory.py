@@ -10,15 +10,19 @@ from coopctrl.scenario import build, load_scenario
 from coopctrl.trajectory import GeodesicTrajectory, MinimumJerkTrajectory
 
 
-def test_the_default_is_the_books_component_wise_trajectory():
+def test_the_default_turns_on_the_rotation_in_charts_and_on_the_books_angles_in_them():
+    """Absent ``trajectory.orientation`` follows the scene's rotations (issue 20: charts are the default)."""
     scenario = load_scenario("three_iiwa_tray")
+    assert scenario.scene.rotations == "charts" and scenario.trajectory.orientation == "geodesic"
+    assert isinstance(build.trajectory(scenario), GeodesicTrajectory)
+    scenario = load_scenario("three_iiwa_tray", {"scene.rotations": "book"})
     assert scenario.trajectory.orientation == "euler"
     assert type(build.trajectory(scenario)) is MinimumJerkTrajectory
 
 
 def test_geodesic_selects_the_rotation_group_path():
     # the tray turns about world z only (yaw 0 -> 0.3 rad): the geodesic's Euler view is the book's path
-    euler = build.trajectory(load_scenario("three_iiwa_tray"))
+    euler = build.trajectory(load_scenario("three_iiwa_tray", {"trajectory.orientation": "euler"}))
     path = build.trajectory(load_scenario("three_iiwa_tray", {"trajectory.orientation": "geodesic"}))
     assert isinstance(path, GeodesicTrajectory)
     t = np.linspace(0.0, euler.duration, 41)

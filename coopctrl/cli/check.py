@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand
+from coopctrl.scenario.scenario import rotations_text
 
 
 def cmd_check(args) -> int:
@@ -26,10 +27,11 @@ def cmd_check(args) -> int:
     scenario.initial_state()
     torque = ("" if report.torque_ratio_max != report.torque_ratio_max else
               f"; planned max |tau| / tau_max {report.torque_ratio_max:.3g} at t = {report.torque_ratio_time_s:.4g} s")
+    rotations = rotations_text(scenario)
     print(
         f"ok: {scenario.name} ({scenario.space}, {len(scenario.arms)} arms, state size {scenario.state_size}, "
         f"{scenario.simulation.control_steps} control steps of {scenario.simulation.control_period:g} s); "
-        f"pre-flight passed at {report.samples} instants{torque}"
+        f"pre-flight passed at {report.samples} instants{torque}" + (f"; {rotations}" if rotations else "")
     )
     return 0
 

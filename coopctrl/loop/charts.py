@@ -282,6 +282,29 @@ class WorldChart:
         rec["Y0_nominal"][:n] = np.hstack((r[:n], euler_of(R[:n])))
 
 
+    def book_state(self, state, start: np.ndarray) -> None:
+        """The loop state at the end of the run (``state``, a :class:`~coopctrl.loop.state.LoopState` in the
+        last world chart ``C``) turned back into the book's world coordinates in place, as the record is: the
+        object's and contact points' positions and velocities ``C r'``, their angles and rates by
+        :func:`book_view` (nearest ``start`` (nx,), the run's last recorded state), a contact point's held
+        input (``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``), the followers' integrals and the held split
+        (force and moment rows ``C w'``). A run in charts thus ends in the coordinates it started in."""
+        C, x, nz = self.C, state.x, self.nz
+        for s in self.free:
+            A, dA = x[None, s + 3:s + 6].copy(), x[None, nz + s + 3:nz + s + 6].copy()
+            Aw, dAw = book_view(C[None], A, dA, start[s + 3:s + 6])
+            x[s:s + 3], x[nz + s:nz + s + 3] = C @ x[s:s + 3], C @ x[nz + s:nz + s + 3]
+            x[s + 3:s + 6], x[nz + s + 3:nz + s + 6] = Aw[0], dAw[0]
+            if s in self.contact_points.values():
+                tau = state.tau
+                tau[s:s + 3] = C @ tau[s:s + 3]
+                body = np.linalg.solve(_rate_maps(A)[0].T, tau[s + 3:s + 6])
+                tau[s + 3:s + 6] = _rate_maps(Aw)[0].T @ body
+        for w in (state.integrals, *state.last_split):  # (m, 6) wrenches, force and moment rows
+            w[:, :3] = w[:, :3] @ C.T
+            w[:, 3:] = w[:, 3:] @ C.T
+
+
 def _rate_maps(A) -> np.ndarray:
     """``L(A)`` (N, 3, 3) of ZYX angles ``A`` (N, 3) (docs/model.md s.2, (105))."""
     cth, sth = np.cos(A[:, 1]), np.sin(A[:, 1])

@@ -404,11 +404,11 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     times = np.arange(N) * loop.T
     P = cl.P
     charts = None
+    rhs = plant.rhs
     if loop.rotations == "charts":  # the loop in a world chart re-centred between kernel calls (coopctrl.loop.charts)
-        if cl.plant_outside:
-            raise ValueError(f"rotations = 'charts' with {integrator_outside(loop)}: a run in charts needs an "
-                             "integrator the compiled tick implements")
-        P = P[:5] + (P[5].copy(), P[6], P[7].copy()) + P[8:]  # the run's own bases and gravity (rotated in them)
+        turned = plant.with_own_world()  # the run's own bases and gravity, turned in place with the chart
+        P = P[:5] + (turned.kernel[1][5], P[6], turned.kernel[1][7]) + P[8:]
+        rhs = turned.rhs  # a Python integrator steps the same turned world as the kernel
         charts = loop_charts.WorldChart(P, plant.nz, loop_charts.target_motion(loop.trajectory, times))
         traj = np.zeros((3, N, p))
         charts.table(traj, 0)
@@ -451,7 +451,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
 
     if cl.plant_outside and hasattr(loop.integrator, "reset"):
         loop.integrator.reset()  # a Python integrator's own state (a Newton matrix) starts afresh with the run
-    steps, rhs, integrator_step = loop._steps, plant.rhs, loop.integrator.step
+    steps, integrator_step = loop._steps, loop.integrator.step
 
     def step_period(x, t):
         """The plant over one control period from ``t`` with the held torques (ZOH), in Python."""
@@ -496,8 +496,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             if code == K.CHUNK_END:
                 if bar is not None:
                     bar.update(k - bar.n)
-                if charts is not None:  # between two whole ticks: the world chart may move
-                    charts.check(state.x, k, traj, state, plan)
+                if charts is not None and charts.check(state.x, k, traj, state, plan):  # between two whole ticks
+                    if cl.plant_outside and hasattr(loop.integrator, "reset"):
+                        loop.integrator.reset()  # a Python integrator's Newton matrix was in the old axes
                 k_stop = min(k + (_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T)), N)
                 continue
             if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
@@ -561,6 +562,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             rec[key] = val[:k_done]
     if charts is not None:  # the record in the book's world coordinates, the object's rotation exactly
         charts.book_record(rec, x0)
+        charts.book_state(state, rec["x"][-1] if len(rec["x"]) else x0)
         for k0, _ in charts.history[1:]:
             events.append((k0 * loop.T, "chart_recentred", "the world chart re-centred on the object "
                                                            f"(|cos theta| below {loop_charts.RECENTRE_COS:g})"))

@@ -72,25 +72,57 @@ def _check_distinct_contacts(arms, translations: int) -> None:
                                     "between them would have no direction)")
 
 
-def _check_chart_springs(springs) -> None:
-    """With ``scene.rotations = "charts"`` every spring must be invariant under a rotation of the world
-    (docs/model.md s.2, the loop in charts): central (one stiffness) or offset elements in the geodesic
-    rotation form, no torsion dampers on Euler rates."""
+def chart_obstacle(springs) -> tuple[str, object, str] | None:
+    """Why ``springs`` need the book's world angles, as ``(field, value, what charts allow)``; ``None`` when
+    every spring is invariant under a rotation of the world, so the loop may run in charts
+    (``scene.rotations = "charts"``, docs/model.md s.2). Offset, matrix and beam elements are (their
+    rotational terms act on the exact relative rotation); a central element is with one stiffness (per-axis
+    values act on the world axes) and its torsion in the geodesic form or none (the book's
+    Euler-difference torsion depends on the angles' chart); torsion dampers on Euler rates
+    (``damping_form = "book"``) are not. A spring whose ``rotation_form`` is absent takes the geodesic form
+    in charts."""
     for k, spring in enumerate(springs):
-        if spring.element not in ("central", "offset"):
-            raise ScenarioError(f"springs[{k}].element", spring.element, "'central' or 'offset' with scene.rotations = "
-                                "'charts'")
-        if spring.element == "central" and isinstance(spring.stiffness, tuple) and len(set(spring.stiffness)) > 1:
-            raise ScenarioError(f"springs[{k}].stiffness", list(spring.stiffness), "one value for a central element "
-                                "with scene.rotations = 'charts' (per-axis values act on the world axes)")
-        if spring.rotation_form != "geodesic":
-            raise ScenarioError(f"springs[{k}].rotation_form", spring.rotation_form,
-                                "'geodesic' with scene.rotations = 'charts' (the book's Euler-difference torsion "
-                                "depends on the angles' chart)")
+        if spring.element == "central":
+            if isinstance(spring.stiffness, tuple) and len(set(spring.stiffness)) > 1:
+                return (f"springs[{k}].stiffness", list(spring.stiffness), "one value for a central element with "
+                        "scene.rotations = 'charts' (per-axis values act on the world axes)")
+            if spring.rotation_form == "book" and spring.torsion != 0.0 and spring.torsion != (0.0,) * 3:
+                return (f"springs[{k}].rotation_form", spring.rotation_form, "'geodesic' for a central element with "
+                        "torsion and scene.rotations = 'charts' (the book's Euler-difference torsion depends on the "
+                        "angles' chart)")
         if spring.damping_form == "book" and spring.torsion_damping != 0.0:
-            raise ScenarioError(f"springs[{k}].damping_form", spring.damping_form,
-                                "'frame_invariant' with scene.rotations = 'charts' (the book's torsion dampers act on "
-                                "Euler rates, which depend on the chart), or torsion_damping = 0")
+            return (f"springs[{k}].damping_form", spring.damping_form, "'frame_invariant' with scene.rotations = "
+                    "'charts' (the book's torsion dampers act on Euler rates, which depend on the chart), or "
+                    "torsion_damping = 0")
+    return None
+
+
+def rotations_text(scenario) -> str:
+    """How a spatial scene takes its rotations, and why when not in charts (``coopctrl check`` prints it);
+    ``""`` for a planar scene (one angle, no singularity)."""
+    if scenario.space != "spatial":
+        return ""
+    if scenario.scene.rotations == "charts":
+        return "rotations in charts (any pitch)"
+    if scenario.scene.unloaded_state != "mobile":
+        why = "unloaded_state = 'immobile': the immobile model is linear in them"
+    else:
+        obstacle = chart_obstacle(scenario.springs)
+        why = "scene.rotations = 'book'" if obstacle is None else (
+            f"{obstacle[0]} = {obstacle[1]!r}; charts need {obstacle[2]}")
+    return f"rotations in the book's world angles ({why}; a path within 5 deg of pitch +-90 deg is refused)"
+
+
+def _rotations(scene: SceneConfig, springs) -> str:
+    """The scene's rotations: as given, or when absent (a spatial scene of the mobile model) ``"charts"`` if
+    the springs allow them (:func:`chart_obstacle`), else the book's world angles."""
+    if scene.rotations is not None:
+        return scene.rotations
+    if springs is None:
+        return "charts"  # one default spring per arm: an offset element
+    if not isinstance(springs, (list, tuple)) or not all(isinstance(sp, SpringConfig) for sp in springs):
+        return "book"  # refused below with the field
+    return "charts" if chart_obstacle(springs) is None else "book"
 
 
 @dataclass(frozen=True)
@@ -150,6 +182,8 @@ class Scenario:
             instance(name, getattr(self, name), cls)
         if self.source is not None:
             s(self, "source", str(self.source))
+        if self.scene.rotations is None:  # absent: charts where the springs allow them (docs/model.md s.2)
+            s(self, "scene", replace(self.scene, rotations=_rotations(self.scene, self.springs)))
         space = self.scene.space
         p = self.scene.pose_size
         r = 1 if space == "planar" else 3  # rotational axes
@@ -227,9 +261,13 @@ class Scenario:
                     raise ScenarioError("stiffness", list(spring.stiffness), f"a scalar or {p - r} values (translational axes) in a {space} scene [N/m]")
                 if isinstance(spring.torsion, tuple) and len(spring.torsion) != r:
                     raise ScenarioError("torsion", list(spring.torsion), f"a scalar or {r} value(s) (rotational axes) in a {space} scene [N m/rad]")
-        s(self, "springs", tuple(springs))
         if charts:
-            _check_chart_springs(springs)
+            obstacle = chart_obstacle(springs)
+            if obstacle is not None:
+                raise ScenarioError(*obstacle)
+        form = "geodesic" if charts else "book"  # an absent rotation_form: the scene's
+        springs = tuple(sp if sp.rotation_form is not None else replace(sp, rotation_form=form) for sp in springs)
+        s(self, "springs", springs)
         reached, frontier = {0}, [0]
         while frontier:
             node = frontier.pop()
@@ -248,6 +286,8 @@ class Scenario:
         if trajectory is None:
             trajectory = default_trajectory(obj.pose, space)
         instance("trajectory", trajectory, TrajectoryConfig)
+        if trajectory.orientation is None:  # absent: on the rotation in charts, the book's angles otherwise
+            trajectory = replace(trajectory, orientation="geodesic" if charts else "euler")
         if len(trajectory.via) > MAX_VIA_POINTS:
             raise ScenarioError("trajectory.via", f"{len(trajectory.via)} points", f"at most {MAX_VIA_POINTS} via points")
         s(self, "trajectory", trajectory)

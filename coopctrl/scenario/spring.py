@@ -37,10 +37,11 @@ class SpringConfig:
             work under a rigid motion; docs/model.md §3 [ours]) or ``"book"`` (110-111: world velocity
             differences and Euler-rate differences, as in the book).
         rotation_form: The rotational spring of a spatial ``"central"`` or ``"offset"`` element:
-            ``"book"`` (default: the central element's torsion springs on the Euler difference
-            ``A_i - A_j - A0``, the offset element's ``kappa`` form) or ``"geodesic"`` (``1/2 e^T C_A e``
-            on the relative rotation vector ``e = log(R_i^T R_j R0^T)``: chart-free, required by
-            ``scene.rotations = "charts"``; docs/model.md s.3). Not read for matrix and beam elements.
+            ``"geodesic"`` (``1/2 e^T C_A e`` on the relative rotation vector ``e = log(R_i^T R_j R0^T)``:
+            chart-free; docs/model.md s.3) or ``"book"`` (the central element's torsion springs on the
+            Euler difference ``A_i - A_j - A0``, the offset element's ``kappa`` form). Absent:
+            ``"geodesic"`` when the scene's rotations are in charts, else ``"book"``. Not read for matrix
+            and beam elements, nor in a planar scene (one angle: both forms are the same).
         matrix: ``element = "matrix"``: the element's stiffness in its own frame, 12x12 (spatial:
             ``(u, v, w, rx, ry, rz)`` of node i then node j) or 6x6 (planar: ``(u, w, theta)``),
             [N/m, N, N m/rad]: symmetric, positive semi-definite, leaving the element's rigid
@@ -65,7 +66,7 @@ class SpringConfig:
     torsion_damping: float = key(0.05, unit="N m s/rad", ge=0, le=1e6, why="as damping, for rotations")
     element: str = key("offset", allowed=ELEMENTS)
     damping_form: str = key("frame_invariant", allowed=DAMPING_FORMS)
-    rotation_form: str = key("book", allowed=ROTATION_FORMS)
+    rotation_form: str | None = key(None, allowed=ROTATION_FORMS)
     matrix: tuple[tuple[float, ...], ...] | None = None
     matrix_damping: tuple[tuple[float, ...], ...] | None = None
     frame: tuple[float, ...] | None = None
@@ -103,7 +104,8 @@ class SpringConfig:
         s(self, "torsion_damping", number("torsion_damping", self.torsion_damping, **limits(self, "torsion_damping")))
         s(self, "element", choice("element", self.element, ELEMENTS))
         s(self, "damping_form", choice("damping_form", self.damping_form, DAMPING_FORMS))
-        s(self, "rotation_form", choice("rotation_form", self.rotation_form, ROTATION_FORMS))
+        if self.rotation_form is not None:  # None: the scene's (Scenario)
+            s(self, "rotation_form", choice("rotation_form", self.rotation_form, ROTATION_FORMS))
         s(self, "rayleigh_damping", number("rayleigh_damping", self.rayleigh_damping, **limits(self, "rayleigh_damping")))
         s(self, "shear", boolean("shear", self.shear))
         s(self, "internal_nodes", integer("internal_nodes", self.internal_nodes, minimum=0, maximum=64))

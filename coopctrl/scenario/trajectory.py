@@ -37,14 +37,15 @@ class TrajectoryConfig:
     Attributes:
         via: Via points with strictly increasing times; the first is at time 0 and is the
             initial object pose. Between two vias the motion is minimum-jerk (rest to rest).
-        orientation: How the object turns between two vias: ``"euler"`` (the book's: each ZYX angle
-            minimum-jerk on its own, not wrapped) or ``"geodesic"`` (the shorter rotation about a fixed
-            axis, minimum-jerk in its angle: ``coopctrl.trajectory.GeodesicTrajectory``; the via angles
-            then only name rotations). A planar rotation is one angle: both move it the same way.
+        orientation: How the object turns between two vias: ``"geodesic"`` (the shorter rotation about a
+            fixed axis, minimum-jerk in its angle: ``coopctrl.trajectory.GeodesicTrajectory``; the via angles
+            then only name rotations) or ``"euler"`` (the book's: each ZYX angle minimum-jerk on its own, not
+            wrapped). Absent: ``"geodesic"`` when the scene's rotations are in charts, else ``"euler"``. A
+            planar rotation is one angle: both move it the same way.
     """
 
     via: tuple[ViaPoint, ...]
-    orientation: str = key("euler", allowed=ORIENTATIONS)
+    orientation: str | None = key(None, allowed=ORIENTATIONS)
 
     def __post_init__(self) -> None:
         if not isinstance(self.via, (list, tuple)) or not self.via:
@@ -52,7 +53,8 @@ class TrajectoryConfig:
         for k, point in enumerate(self.via):
             instance(f"via[{k}]", point, ViaPoint)
         object.__setattr__(self, "via", tuple(self.via))
-        object.__setattr__(self, "orientation", choice("orientation", self.orientation, ORIENTATIONS))
+        if self.orientation is not None:  # None: the scene's (Scenario)
+            object.__setattr__(self, "orientation", choice("orientation", self.orientation, ORIENTATIONS))
         if self.via[0].time != 0.0:
             with field_scope("via[0]"):
                 raise ScenarioError("time", self.via[0].time, "0 (the first via is the initial pose)")

@@ -183,6 +183,21 @@ class CooperativePlant:
         out._pack_args()
         return out
 
+    def with_own_world(self) -> "CooperativePlant":
+        """This plant with arm bases and gravity of its own, which the caller may turn in place: the
+        arrays ``kernel[1][5]`` (bases, (m, 4, 4) [m]) and ``kernel[1][7]`` (gravity, (3,) [m/s^2]) of the
+        copy are its :meth:`rhs`'s. A loop that runs in a world frame turned by ``C`` keeps them as the
+        world's turned by ``C^T`` (coopctrl's world chart), so its kernel and a Python integrator's
+        :meth:`rhs` see one turned world. A shallow copy: the other packed parameters are shared."""
+        import copy
+
+        out = copy.copy(self)
+        out._bases = self._bases.copy()
+        out._gravity = self._gravity.copy()
+        out._status = np.zeros(2, dtype=np.int64)
+        out._pack_args()
+        return out
+
     def _free_nodes(self):
         """``(node, slice of its 6 coordinates in z)`` of the object and every contact point."""
         out = [(0, slice(self.nz - 6, self.nz))]
