@@ -177,6 +177,30 @@ def test_every_shipped_scene_gives_frames(path):
             assert np.all(points[:, 1] == 0.0)
 
 
+def test_the_replay_of_a_run_in_charts_shows_the_turn():
+    """Issue 20: two_panda_flip tips its box 100 deg in pitch in rotation charts (its record in the book's
+    angles on the branch past pitch 90 deg). Every frame poses the box with its true rotation,
+    ``result.object_rotation``, also the frames next to pitch 90 deg, and the last has turned it past 90 deg."""
+    from coopctrl.trajectory.quaternion import matrix
+
+    scenario = coopctrl.load_scenario(REPO / "scenarios" / "two_panda_flip.toml")
+    assert scenario.scene.rotations == "charts"
+    result = coopctrl.simulate(scenario)
+    assert result.status == "ok" and result.object_rotation is not None
+    frames = replay_data(result, scenario)["frames"]
+    samples = [int(np.argmin(np.abs(result.t - f["t"]))) for f in frames]
+    assert samples[-1] == len(result.t) - 1
+    true = matrix(np.asarray(result.object_rotation)[samples])
+    drawn = np.array([np.reshape(f["object"][3:], (3, 3)) for f in frames])
+    # the page keeps 6 decimals of each rotation entry (5e-7); the rest is the book angles' rounding
+    np.testing.assert_allclose(drawn, true, atol=1e-6)
+    # some frame within 1.2 deg of pitch 90 deg (cos(theta) = |R[:2, 0]| < 0.02): the check covers the band
+    assert np.min(np.hypot(true[:, 0, 0], true[:, 1, 0])) < 0.02
+    # the box's x and z axes turned through more than 90 deg from the first frame to the last
+    turn = np.degrees(np.arccos(np.clip(np.sum(drawn[0] * drawn[-1], axis=0), -1.0, 1.0)))
+    assert turn[0] > 90.0 and turn[2] > 90.0
+
+
 # ---------------------------------------------------------------------- URDF arms (issue 21)
 @pytest.fixture(scope="module")
 def panda_still():
