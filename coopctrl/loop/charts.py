@@ -254,8 +254,12 @@ class WorldChart:
         exact at every pitch (``q(C) q(A')``)."""
         x = rec["x"]
         N = x.shape[0]
-        C, qC = self.charts_per_tick(N)
         nz = self.nz
+        if len(self.history) == 1:  # never re-centred: the world chart is the world (C = I), the record is the
+            # book's already (the kernel's angles are continuous states) but for the object's rotation
+            rec["object_rotation"] = quat.from_zyx(x[:, nz - 3:nz])
+            return
+        C, qC = self.charts_per_tick(N)
         def rot(v):  # rows rotated by their tick's chart: C_n v_n for v (N, 3), or (N, m, 3)
             Cb = C if v.ndim == 2 else C[:, None]
             return (Cb @ v[..., None])[..., 0]
@@ -289,6 +293,8 @@ class WorldChart:
         :func:`book_view` (nearest ``start`` (nx,), the run's last recorded state), a contact point's held
         input (``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``), the followers' integrals and the held split
         (force and moment rows ``C w'``). A run in charts thus ends in the coordinates it started in."""
+        if len(self.history) == 1:  # never re-centred: C = I
+            return
         C, x, nz = self.C, state.x, self.nz
         for s in self.free:
             A, dA = x[None, s + 3:s + 6].copy(), x[None, nz + s + 3:nz + s + 6].copy()
