@@ -43,6 +43,7 @@ import numpy as np
 import coopctrl.arguments as arguments
 from coopctrl.controllers import required_object_wrench
 from coopctrl.load_distribution import grasp_matrix
+from coopctrl.loop import charts as loop_charts
 from coopctrl.loop import diagnosis, loaded_start
 from coopctrl.loop.diagnosis import DIAGNOSIS_TICKS_BACK
 from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
@@ -138,6 +139,8 @@ class ClosedLoop:
         self._modes_cache: dict[int, tuple] = {}
         if self.space == "spatial" and rotations == "book":  # a nominal path through the Euler singularity is bad input
             check_nominal_path(trajectory, self.grasps)
+        elif self.space == "spatial":  # in charts: a contact node's angles in the object's chart
+            loop_charts.check_nominal_path_in_charts(trajectory, self.grasps)
         Yr = el.Y_ref
         self._rho = np.array([self._to_object_frame(Yr[0], Yr[i + 1, :self.npos] - Yr[0, :self.npos])
                               for i in range(plant.arm_count)])

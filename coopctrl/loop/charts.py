@@ -151,6 +151,55 @@ def book_view(C, A, dA, start=None):
     return Aw, euler_rates(Aw, body_rates(A, dA))
 
 
+def check_nominal_path_in_charts(trajectory, grasps) -> None:
+    """Raise :class:`~coopctrl.errors.ScenarioError` if a contact node's angles in the world chart enter the
+    Euler band (5 deg from pitch +-90 deg) on the nominal path (its vias' span: the object rests after).
+
+    The world chart is centred on the object, and every contact node's angles are taken in it: a node at
+    grasp angles ``A_g`` is at ``euler(C^T R_0 R(A_g))``. Along the nominal object rotations ``R_0(t)`` the
+    chart is re-centred (``C = R_0``) when the object's pitch in it passes 45.6 deg (:data:`RECENTRE_COS`), or
+    in a run as late as :data:`CHART_PITCH_MAX` (55 deg): both sequences are checked, every 0.25 deg of the
+    object's turn (at least 200 samples per segment). The error names ``arms[k].grasp`` (per-node charts for
+    contact nodes are not implemented: docs/model.md s.2)."""
+    from coopctrl.errors import ScenarioError
+    from coopctrl.loop.euler_band import margin_cos
+    from plants.frames import rotation_zyx
+
+    grasps = np.atleast_2d(np.asarray(grasps, dtype=float))
+    G = np.stack([rotation_zyx(np.ascontiguousarray(g[3:6])) for g in grasps])  # (m, 3, 3)
+    ends = np.asarray(trajectory.times, dtype=float)
+    t = np.unique(np.concatenate([np.linspace(a, b, 200) for a, b in zip(ends[:-1], ends[1:])] or [ends[:1]]))
+    R = target_motion(trajectory, t)[3]
+    turn = np.degrees(np.arccos(np.clip((np.einsum("nij,nij->n", R[1:], R[:-1]) - 1.0) / 2.0, -1.0, 1.0)))
+    if turn.size and np.max(turn) > 0.25:  # finer where the object turns fast: 0.25 deg per sample at most
+        t = np.unique(np.concatenate([np.linspace(a, b, int(math.ceil(d / 0.25)) + 1)
+                                      for a, b, d in zip(t[:-1], t[1:], turn)]))
+        R = target_motion(trajectory, t)[3]
+    limit = margin_cos()
+    for recentre in (RECENTRE_COS, math.cos(CHART_PITCH_MAX)):
+        C, n0 = np.eye(3), 0
+        while n0 < t.size:  # one batch per chart: up to the sample that re-centres it
+            Rc = C.T @ R[n0:]
+            moved = np.nonzero(np.sqrt(np.maximum(1.0 - Rc[:, 2, 0] ** 2, 0.0)) < recentre)[0]
+            end = int(moved[0]) if moved.size else Rc.shape[0]
+            s = np.clip(-(Rc[:end, 2, :] @ G[:, :, 0].T), -1.0, 1.0)  # (samples, m): each node's sin(pitch)
+            cos = np.sqrt(np.maximum(1.0 - s * s, 0.0))
+            if cos.size and np.min(cos) < limit:
+                n, j = np.unravel_index(int(np.argmin(cos)), cos.shape)
+                raise ScenarioError(
+                    f"arms[{j}].grasp", [float(v) for v in grasps[j]],
+                    f"a grasp whose contact node keeps its ZYX pitch at least 5 deg from +-90 deg in the world "
+                    f"chart centred on the object (scene.rotations = 'charts': a contact node's angles are taken in "
+                    f"the object's chart, docs/model.md s.2): on the nominal path contact node {j + 1} reaches "
+                    f"pitch {math.degrees(math.asin(s[n, j])):.2f} deg at t = {t[n0 + n]:.4g} s; choose the grasp's "
+                    f"node frame (its angles, with the arm's tool) so that its x axis stays away from the vertical "
+                    f"on this path, e.g. along the axis the object turns about (per-node charts for contact nodes "
+                    f"are not implemented)")
+            if end == Rc.shape[0]:
+                break
+            C, n0 = R[n0 + end], n0 + end  # re-centred on the object: its angles there are 0
+
+
 class WorldChart:
     """The rotated world of one run in charts: re-centres it between kernel calls, remembers it tick by
     tick, and gives the record back in the book's world coordinates (module docstring).

@@ -181,13 +181,18 @@ def trajectory(scenario):
 def check_path(scenario) -> None:
     """Refuse a spatial nominal path that enters the Euler-angle band in the book's angles
     (``scene.rotations = "book"``; a :class:`ScenarioError` naming the via pose, exit 2 on the command
-    line), as the loop refuses it, but before anything is compiled or
+    line), or in charts a contact node's angles in the object's chart (naming the grasp), as the loop
+    refuses it, but before anything is compiled or
     built: a few milliseconds (the nominal node pitches along the path,
     :func:`coopctrl.loop.euler_band.check_nominal_path`)."""
-    if scenario.space == "spatial" and scenario.scene.rotations == "book":  # charts have no band
+    if scenario.space == "spatial" and scenario.scene.rotations == "book":
         from coopctrl.loop.euler_band import check_nominal_path
 
         check_nominal_path(trajectory(scenario), nominal_grasps(scenario))
+    elif scenario.space == "spatial":  # charts: the object has no band, a contact node in its chart has
+        from coopctrl.loop.charts import check_nominal_path_in_charts
+
+        check_nominal_path_in_charts(trajectory(scenario), nominal_grasps(scenario))
 
 
 def initial_state(scenario) -> np.ndarray:
