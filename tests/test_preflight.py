@@ -144,3 +144,29 @@ def test_preflight_checks_the_closed_form_peak_of_a_short_segment(tmp_path):
     assert start < issue.time_s < end and issue.kind == "torque", issue
     assert issue.message.startswith(f"at t = {issue.time_s:.6g} s (a closed-form peak of the segment "
                                     "trajectory.via[1] -> via[2])"), issue.message
+
+
+def test_in_charts_the_checks_run_through_the_euler_band():
+    """A path through pitch 90 deg in rotation charts (two_panda_flip) is checked at every sampled instant,
+    those within 5 deg of the singularity too, in the book's angles built from the path's rotation and body
+    rates: they give the same rotation and the same body rates (issue 20: pre-flight follows the charts)."""
+    import numpy as np
+
+    from coopctrl.analysis.preflight import nominal_motion
+    from coopctrl.loop.charts import body_rates, rotations_of, target_motion
+    from coopctrl.simulator import closed_loop
+
+    scenario = load_scenario("two_panda_flip")
+    loop = closed_loop(scenario)
+    times = sample_times([v.time for v in scenario.trajectory.via], scenario.simulation.duration,
+                         loop.trajectory.peak_times())
+    assert preflight(scenario, loop).samples == len(times)
+    t = 1.5  # pitch 87.6 deg on the flip's minimum-jerk path: inside the band
+    Y, dY, ddY = nominal_motion(loop, t)
+    assert abs(np.cos(Y[4])) < np.sin(np.radians(5.0))
+    r, dr, _, R, w, a = target_motion(loop.trajectory, np.array([t]))
+    # the round trip R -> A -> R(A) and omega -> dA -> L(A) dA: rounding amplified by 1/cos(theta) = 24
+    assert np.max(np.abs(rotations_of(Y[None, 3:])[0] - R[0])) < 1e-12
+    assert np.max(np.abs(body_rates(Y[None, 3:], dY[None, 3:])[0] - w[0])) < 1e-12 * max(1.0, np.max(np.abs(w)))
+    np.testing.assert_array_equal(Y[:3], r[0])
+    np.testing.assert_array_equal(dY[:3], dr[0])

@@ -23,8 +23,10 @@ order:
    stiffness with the contact nodes held must be positive definite (a squeezed central-spring grasp
    buckles, docs/model.md s.3).
 
-The Euler band (a nominal path within 5 deg of pitch +-90 deg) is refused earlier, as bad input
-(exit 2), when the loop is built. The first failure is reported with its time and what binds, e.g.
+In the book's world angles the Euler band (a nominal path within 5 deg of pitch +-90 deg) is refused
+earlier, as bad input (exit 2), when the loop is built; in rotation charts the checks run in the
+book's angles through the band too (:func:`nominal_motion`), all but the instants within 0.06 deg
+of pitch +-90 deg while the object turns (none sampled on the shipped paths). The first failure is reported with its time and what binds, e.g.
 ``at t = 0.42 s arm 2 joint 3 needs 187 N m > tau_max 97.6 N m``.
 
 Cost: the number of samples is the via points, three peaks per segment, at most ``GRID_INTERVALS + 1``
@@ -138,17 +140,32 @@ def sample_times(via_times, duration: float, peak_times=()) -> np.ndarray:
     return np.unique(np.round(np.concatenate([grid, vias, peaks, [max(end, 0.0)]]), 12))
 
 
-def _euler_view_exists(trajectory, t: float) -> bool:
-    """True when the nominal object pose at ``t`` [s] has the book's angles out of the Euler band (5 deg from
-    pitch +-90 deg): a scene in rotation charts is checked at those instants only (this release)."""
-    from coopctrl.loop.euler_band import margin_cos
+#: In charts, a sample whose object pitch is within this |cos theta| [-] of +-90 deg while the object turns is
+#: skipped: its book's rates ``L(A)^-1 omega`` do not exist there (0.06 deg from the singularity; elsewhere
+#: in the band they exist, conditioned like ``1/cos theta <= 1e3``, and the checks map them back).
+TURNING_AT_SINGULARITY_COS = 1e-3
+
+
+def nominal_motion(loop, t: float):
+    """The nominal object motion ``(Y, dY, ddY)`` (6,) each at ``t`` [s] in the book's world angles, or ``None``
+    where they do not exist. Outside the Euler band the trajectory's own view; inside it (a path in rotation
+    charts) from its rotation and body rates (:func:`coopctrl.loop.charts.target_motion`): ``A = euler(R)``,
+    ``dA = L(A)^-1 omega``, ``ddA = L(A)^-1 (alpha - dL dA)``; ``None`` within
+    :data:`TURNING_AT_SINGULARITY_COS` of pitch +-90 deg while turning."""
+    from coopctrl.loop import charts as loop_charts
     from coopctrl.trajectory import EulerViewError
 
     try:
-        Y = trajectory.evaluate(t)[0]
+        return loop.trajectory.evaluate(t)
     except EulerViewError:
-        return False
-    return abs(math.cos(Y[4])) >= margin_cos()
+        pass
+    r, dr, ddr, R, w, a = loop_charts.target_motion(loop.trajectory, np.array([t]))
+    A = loop_charts.euler_of(R)
+    if abs(math.cos(A[0, 1])) < TURNING_AT_SINGULARITY_COS and np.any(w != 0.0):
+        return None
+    dA = loop_charts.euler_rates(A, w)
+    ddA = loop_charts.euler_rates(A, a - loop_charts.rate_map_dot_times(A, dA))
+    return np.concatenate([r[0], A[0]]), np.concatenate([dr[0], dA[0]]), np.concatenate([ddr[0], ddA[0]])
 
 
 def preflight(scenario, loop=None) -> PreflightReport:
@@ -174,9 +191,11 @@ def preflight(scenario, loop=None) -> PreflightReport:
     via_times = [v.time for v in scenario.trajectory.via]
     peaks = loop.trajectory.peak_times() if hasattr(loop.trajectory, "peak_times") else ()
     times = sample_times(via_times, scenario.simulation.duration, peaks)
-    if loop.rotations == "charts":  # the checks below run in the book's angles: where they exist along the path
-        times = np.array([t for t in times if _euler_view_exists(loop.trajectory, float(t))])
-        via_times = [t for t in via_times if _euler_view_exists(loop.trajectory, float(t))]
+    motion = {float(t): nominal_motion(loop, float(t)) for t in np.unique(np.concatenate([times, via_times]))}
+    # the checks run in the book's angles: at every instant where they exist (in charts, all but the turning
+    # instants within 0.06 deg of pitch +-90 deg)
+    times = np.array([t for t in times if motion[float(t)] is not None])
+    via_times = [t for t in via_times if motion[float(t)] is not None]
     peak_set = {round(float(t), 12) for t in peaks}
     check_static = {0.0, *[round(float(t), 12) for t in via_times]}
     x = np.array(build.unloaded_state(scenario), dtype=float)  # the IK seeds; the arms then follow the path
@@ -212,7 +231,7 @@ def preflight(scenario, loop=None) -> PreflightReport:
     # every waypoint first: an out-of-reach waypoint is named as such, not as what fails on the way to it
     x_start = x.copy()
     for t in sorted(set(float(v) for v in via_times if 0.0 <= v <= scenario.simulation.duration)):
-        Y0N, dY0N, ddY0N = loop.trajectory.evaluate(t)
+        Y0N, dY0N, ddY0N = motion[t]
         Yn = nominal_node_motion(Y0N, dY0N, ddY0N, loop.grasps, space)[0]
         for i in range(m):
             q = reach(i, Yn[i + 1])
@@ -226,7 +245,7 @@ def preflight(scenario, loop=None) -> PreflightReport:
     control_terms = _ControlTermsAt(plant, slices)
     for t in times:
         t = float(t)
-        Y0N, dY0N, ddY0N = loop.trajectory.evaluate(t)
+        Y0N, dY0N, ddY0N = motion[t]
         Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, loop.grasps, space)
         w_N = required_object_wrench(space, loop.object_mass, loop.object_inertia, loop.gravity, Y0N, dY0N, ddY0N)
         for _ in range(2 if F is None else 1):  # the first sample: the rigid pose, then the deformed one
