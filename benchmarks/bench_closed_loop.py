@@ -7,11 +7,11 @@ full duration at its own control rate; the spatial carry at 1 kHz, RK4, one subs
 ``repeats`` times after a warm-up run, once with the compiled tick (``load_distribution.solver =
 "compiled"``, the default) and once with the reference path (the same kernel, stopping at each QP for proxsuite); the
 medians are printed side by side with their ratio. Post-processing (``simulate()``'s squeeze) is
-not included. ``--charts`` adds, for every spatial scene whose springs can be geodesic, the tick in the
-book's angles and in rotation charts (``scene.rotations = "charts"``), the same geodesic springs in both,
-alternated (issue 20: a scene in charts runs at the tick of the book's angles): ``loop.run`` per tick, and the
-ticks only (the run's ``wall_time_s``, without the set-up and without turning the record back into the
-book's world coordinates).
+not included. ``--charts`` adds, for every spatial scene, the tick in the book's world angles with the book's
+forms (``scene.rotations = "book"``: the book's springs and Euler path, the default before charts) and in
+rotation charts (the default: geodesic springs, the path on the rotation), alternated (issue 20: a scene in
+charts runs at the tick of the book's angles): ``loop.run`` per tick, and the ticks only (the run's
+``wall_time_s``, without the set-up and without turning the record back into the book's world coordinates).
 """
 
 from __future__ import annotations
@@ -57,8 +57,8 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="1 timed run per scene and path (a smoke run)")
     parser.add_argument("--scenes", default="", help="comma-separated scene names (default: every shipped scene)")
     parser.add_argument("--charts", action="store_true",
-                        help="also time each spatial scene with geodesic springs, in the book's angles and in rotation "
-                             "charts (scene.rotations = \"charts\"), alternately, and print their ticks side by side")
+                        help="also time each spatial scene in the book's angles with the book's forms and in "
+                             "rotation charts (the default), alternately, and print their ticks side by side")
     args = parser.parse_args(argv)
     if args.quick:
         args.repeats = 1
@@ -79,27 +79,26 @@ def main(argv=None) -> int:
 
 
 def _charts_table(scenes: list[str], repeats: int) -> None:
-    """The tick of each spatial scene whose springs can be geodesic, in the book's angles and in rotation charts
-    (the loop in a re-centred world chart, docs/model.md s.2), the same springs in both: medians of ``repeats``
-    runs each, the two alternated ``repeats`` times so that a change of the machine's load hits both."""
-    print(f"\n{'scene (geodesic springs)':28s} | {'book us/tick':>12s} | {'charts us/tick':>14s} | {'charts/book':>11s} | "
+    """The tick of each spatial scene in the book's angles with the book's forms and in rotation charts (the loop
+    in a re-centred world chart with geodesic springs, docs/model.md s.2): medians of ``repeats`` runs each, the
+    two alternated ``repeats`` times so that a change of the machine's load hits both."""
+    print(f"\n{'scene':28s} | {'book us/tick':>12s} | {'charts us/tick':>14s} | {'charts/book':>11s} | "
           f"{'ticks only: book':>16s} {'charts':>7s} {'ratio':>6s}")
     for name in scenes:
         scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml")
         if scenario.space != "spatial":
             continue
-        geodesic = {f"springs[{k}].rotation_form": '"geodesic"' for k in range(len(scenario.springs))}
         book, charts, book_ticks, charts_ticks = [], [], [], []
         try:
             for _ in range(repeats):
-                wb, _, ticks, _, tb = _time_loop(name, "compiled", 1, {**geodesic, "scene.rotations": '"book"'})
-                wc, _, _, _, tc = _time_loop(name, "compiled", 1, {**geodesic, "scene.rotations": '"charts"'})
+                wb, _, ticks, _, tb = _time_loop(name, "compiled", 1, {"scene.rotations": '"book"'})
+                wc, _, _, _, tc = _time_loop(name, "compiled", 1, {"scene.rotations": '"charts"'})
                 book_ticks.append(tb / ticks)
                 charts_ticks.append(tc / ticks)
                 book.append(wb / ticks)
                 charts.append(wc / ticks)
-        except (ValueError, TypeError) as err:  # a scene whose springs or path cannot run in charts
-            print(f"{name:28s} | {'-':>12s} | {'-':>14s} | not in charts: {str(err).splitlines()[0][:60]}")
+        except (ValueError, TypeError) as err:  # a path that only charts can run (through pitch 90 deg)
+            print(f"{name:28s} | {'-':>12s} | {'-':>14s} | not in the book's angles: {str(err).splitlines()[0][:50]}")
             continue
         b, c = statistics.median(book), statistics.median(charts)
         bt, ct = statistics.median(book_ticks), statistics.median(charts_ticks)

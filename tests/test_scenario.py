@@ -501,3 +501,15 @@ def test_urdf_chain_count_refuses_cycles_and_entities(tmp_path):
                       ']><robot name="&b;"><link name="base"/></robot>')
     with pytest.raises(ScenarioError, match="without a document type declaration, entities"):
         urdf_chain_dof(str(laughs), "base", "base")
+
+
+def test_check_says_which_rotations_a_scene_takes_and_why(tmp_path):
+    """``coopctrl check``'s last words (coopctrl.scenario.scenario.rotations_text): charts, or the book's angles
+    with the spring that keeps the scene in them."""
+    from coopctrl.scenario.scenario import rotations_text
+
+    assert rotations_text(load_scenario(write(tmp_path, spatial()))) == "rotations in charts (any pitch)"
+    kept = rotations_text(load_scenario(write(tmp_path, with_springs(spatial(), damping_form="book",
+                                                                     torsion_damping=0.05))))
+    assert kept.startswith("rotations in the book's world angles (springs[0].damping_form = 'book'; charts need")
+    assert rotations_text(Scenario()) == ""  # planar: one angle, nothing to say

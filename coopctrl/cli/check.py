@@ -5,7 +5,6 @@ from __future__ import annotations
 import sys
 
 from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand
-from coopctrl.scenario.scenario import rotations_text
 
 
 def cmd_check(args) -> int:
@@ -17,6 +16,7 @@ def cmd_check(args) -> int:
     scenario = _load(args)
     scenario.plant()
     from coopctrl.analysis.preflight import preflight
+    from coopctrl.scenario.scenario import rotations_text
     from coopctrl.simulator import closed_loop
 
     loop = closed_loop(scenario)  # refuses a nominal path near the Euler-angle singularity (coopctrl.analysis.euler_singularity)
