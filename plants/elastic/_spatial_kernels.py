@@ -65,13 +65,15 @@ def log_so3_into(Q, out):
         \\phi = \\mathrm{atan2}(|v|, \\mathrm{tr}\\,Q - 1), \\quad v = \\mathrm{vee}(Q - Q^T) = 2 \\sin\\phi\\, u,
         \\quad \\log Q = \\phi\\, v / |v|, \\quad c = 1/\\phi^2 - (1 + \\cos\\phi) / (2 \\phi \\sin\\phi)
 
+    with ``cos(phi) = (tr Q - 1) / 2`` and ``sin(phi) = |v| / 2``: one ``atan2``, no other trigonometry
     (series near ``phi = 0``: ``log Q = (1 + phi^2 / 6) v / 2``, ``c = 1/12 + phi^2/720 + phi^4/30240``).
     Exact up to a relative rotation near ``pi``, where ``log`` is not unique."""
     v0 = Q[2, 1] - Q[1, 2]
     v1 = Q[0, 2] - Q[2, 0]
     v2 = Q[1, 0] - Q[0, 1]
-    sv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
-    ang = math.atan2(sv, Q[0, 0] + Q[1, 1] + Q[2, 2] - 1.0)
+    sv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)  # 2 sin(phi)
+    tr1 = Q[0, 0] + Q[1, 1] + Q[2, 2] - 1.0  # 2 cos(phi)
+    ang = math.atan2(sv, tr1)
     fac = 0.5 * (1.0 + ang * ang / 6.0) if ang < 1e-4 else ang / sv
     out[0] = fac * v0
     out[1] = fac * v1
@@ -79,7 +81,7 @@ def log_so3_into(Q, out):
     a2 = ang * ang
     if ang < 1e-3:
         return 1.0 / 12.0 + a2 / 720.0 + a2 * a2 / 30240.0
-    return 1.0 / a2 - (1.0 + math.cos(ang)) / (2.0 * ang * math.sin(ang))
+    return 1.0 / a2 - (1.0 + 0.5 * tr1) / (ang * sv)  # (1 + cos phi) / (2 phi sin phi), no trigonometry
 
 
 @njit(cache=True, _nrt=False)
