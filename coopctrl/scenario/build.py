@@ -7,6 +7,8 @@ so that it is reported before any simulation starts.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from coopctrl.errors import ScenarioError
@@ -153,16 +155,23 @@ def trajectory(scenario):
     """The object's nominal trajectory through ``trajectory.via``: a
     :class:`~coopctrl.trajectory.MinimumJerkTrajectory`, or with ``trajectory.orientation = "geodesic"`` in a
     spatial scene a :class:`~coopctrl.trajectory.GeodesicTrajectory`, whose Euler view (what the loop
-    runs on) must stay out of the band around pitch +-90 deg (else bad input naming the via that ends the
-    segment entering it)."""
+    runs on in the book's angles) must stay out of the band around pitch +-90 deg (else bad input naming the
+    via that ends the segment entering it). Both are immutable: the same scene's is built once and shared
+    (a run builds it for its start, its loop and its path check)."""
+    return _trajectory(scenario.trajectory, scenario.space, scenario.scene.rotations, scenario.source)
+
+
+@functools.lru_cache(maxsize=8)
+def _trajectory(config, space: str, rotations: str, source):
+    """:func:`trajectory` of the ``[trajectory]`` section ``config`` (hashable: frozen) in a scene."""
     import coopctrl.trajectory as trajectories
 
-    via = scenario.trajectory.via
+    via = config.via
     times, poses = [v.time for v in via], [v.pose for v in via]
-    if scenario.trajectory.orientation == "euler" or scenario.space != "spatial":
-        return trajectories.MinimumJerkTrajectory(times, poses, scenario.space)
+    if config.orientation == "euler" or space != "spatial":
+        return trajectories.MinimumJerkTrajectory(times, poses, space)
     path = trajectories.GeodesicTrajectory(times, poses)
-    if scenario.scene.rotations == "charts":  # the loop runs on the rotations, in charts: any pitch
+    if rotations == "charts":  # the loop runs on the rotations, in charts: any pitch
         return path
     entry = path.euler_band_entry()
     if entry is not None:
@@ -174,7 +183,7 @@ def trajectory(scenario):
             f"a geodesic path whose ZYX pitch stays at least {margin:g} deg away from +-90 deg: the object reaches "
             f"pitch {pitch:.2f} deg at t = {t:.4g} s, where the loop's Euler coordinates do not exist; keep |pitch| "
             f"below {90.0 - margin:g} deg or re-orient the object frame so that the large rotation is a yaw or a roll",
-            scenario.source)
+            source)
     return path
 
 

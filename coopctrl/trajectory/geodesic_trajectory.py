@@ -77,13 +77,19 @@ def _profile(tau, inv_T):
 
 
 def _nearest(a, ref):
-    """:func:`quaternion.nearest_zyx` for one triple (plain floats: the table is tracked point by point)."""
+    """:func:`quaternion.nearest_zyx` for one triple (plain floats: the table is tracked point by point):
+    of ``a`` and ``(a_0 + pi, pi - a_1, a_2 + pi)``, each shifted by the whole turns nearest ``ref``, the
+    closer to ``ref``."""
+    two_pi = 2.0 * math.pi
+    r0, r1, r2 = ref
     best, best_d = None, math.inf
-    for c in ((a[0], a[1], a[2]), (a[0] + math.pi, math.pi - a[1], a[2] + math.pi)):
-        c = tuple(x + 2.0 * math.pi * round((r - x) / (2.0 * math.pi)) for x, r in zip(c, ref))
-        d = sum((x - r) ** 2 for x, r in zip(c, ref))
+    for x0, x1, x2 in ((a[0], a[1], a[2]), (a[0] + math.pi, math.pi - a[1], a[2] + math.pi)):
+        x0 += two_pi * round((r0 - x0) / two_pi)
+        x1 += two_pi * round((r1 - x1) / two_pi)
+        x2 += two_pi * round((r2 - x2) / two_pi)
+        d = (x0 - r0) ** 2 + (x1 - r1) ** 2 + (x2 - r2) ** 2
         if d < best_d:
-            best, best_d = c, d
+            best, best_d = (x0, x1, x2), d
     return best
 
 
