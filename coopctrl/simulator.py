@@ -99,7 +99,7 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
     sim = scenario.simulation
     try:
         if x0 is None:
-            x0 = build.initial_state(scenario)
+            x0 = build.initial_state(scenario, loop)
     except InfeasibleLoad as exc:  # the loaded start already needs a split that does not exist
         rec = loop.empty_record()
         rec.update(status="qp_failed", reason=f"at t = 0 s (loaded start): {exc}",

@@ -204,14 +204,22 @@ def check_path(scenario) -> None:
         check_nominal_path_in_charts(trajectory(scenario), nominal_grasps(scenario))
 
 
-def initial_state(scenario) -> np.ndarray:
+def initial_state(scenario, loop=None) -> np.ndarray:
     """The state the run starts from (``simulation.start``): the unloaded state, or the loaded
     state of :func:`coopctrl.loop.loaded_start.loaded_state` (object on its nominal pose, grasps
-    carrying the QP split of t = 0), planned from the loop's parts built here (the simulator is not
-    needed). A spatial nominal path through the Euler-angle band is refused first, as the loop refuses it."""
+    carrying the QP split of t = 0), planned from the loop's parts: those of ``loop``, the scene's
+    built closed loop (:meth:`ClosedLoop.loaded_state <coopctrl.closed_loop.ClosedLoop.loaded_state>`), or
+    built here (the simulator is not needed). A spatial nominal path through the Euler-angle band is
+    refused first, as the loop refuses it."""
     x = unloaded_state(scenario)
     if scenario.simulation.start == "unloaded":
         return x
+    if loop is not None:  # its parts are the scene's: built from it, its path checked
+        try:
+            return loop.loaded_state(x)
+        except UnreachablePoseError as exc:
+            raise ScenarioError("simulation.start", "loaded", f"a loaded pose within reach ({exc})",
+                                scenario.source) from None
     from coopctrl.controllers import GraspCompliance
     from coopctrl.loop.loaded_start import loaded_state
 
