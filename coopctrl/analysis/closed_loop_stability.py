@@ -67,7 +67,8 @@ STEP_INTEGRAL = 1e-6
 
 
 class _ShiftedTrajectory:
-    """A trajectory read ``t0`` [s] later: ``evaluate(t) = inner.evaluate(t + t0)`` (``sample`` likewise);
+    """A trajectory read ``t0`` [s] later: ``evaluate(t) = inner.evaluate(t + t0)`` (``sample`` and, for a path
+    on the rotations, ``sample_rotation`` likewise);
     its via ``times`` are the inner ones less ``t0``, its ``poses`` the inner ones (the same path, which the
     loop checks against the Euler-angle band when it is built)."""
 
@@ -76,6 +77,8 @@ class _ShiftedTrajectory:
         self.t0 = float(t0)
         self.times = np.asarray(inner.times, dtype=float) - self.t0
         self.poses = inner.poses
+        if hasattr(inner, "sample_rotation"):  # a path on the rotations: the loop in charts reads them
+            self.sample_rotation = lambda t: inner.sample_rotation(np.asarray(t, dtype=float) + self.t0)
 
     def evaluate(self, t):
         return self.inner.evaluate(t + self.t0)

@@ -97,13 +97,13 @@ def rate_map_dot_times(A, dA) -> np.ndarray:
 def target_motion(trajectory, times):
     """The nominal object motion at ``times`` (N,) [s] on the rotation group: ``(r, dr, ddr, R, omega_b,
     alpha_b)``, positions [m, m/s, m/s^2] (N, 3), rotations (N, 3, 3), body angular velocity [rad/s] and
-    acceleration [rad/s^2] (N, 3). A :class:`~coopctrl.trajectory.GeodesicTrajectory` gives it at every
-    rotation (``sample_rotation``); any other trajectory through its Euler view ``evaluate(t)``,
+    acceleration [rad/s^2] (N, 3). A :class:`~coopctrl.trajectory.GeodesicTrajectory` (any trajectory with
+    ``sample_rotation``) gives it at every rotation; any other through its Euler view ``evaluate(t)``,
     ``omega_b = L(A) dA``, ``alpha_b = L(A) ddA + dL dA`` (defined at every angle: ``L`` is)."""
-    from coopctrl.trajectory import GeodesicTrajectory, MinimumJerkTrajectory
+    from coopctrl.trajectory import MinimumJerkTrajectory
 
     times = np.asarray(times, dtype=float)
-    if isinstance(trajectory, GeodesicTrajectory):
+    if hasattr(trajectory, "sample_rotation"):  # a path on the rotations (GeodesicTrajectory, or one read later)
         m = trajectory.sample_rotation(times)
         return m.r, m.dr, m.ddr, quat.matrix(m.q), m.omega_body, m.alpha_body
     if type(trajectory) is MinimumJerkTrajectory and len(times):  # its sample() is evaluate() at every time
