@@ -417,7 +417,10 @@ def linearizations(scenario, x0, samples: int = TRAJECTORY_SAMPLES, record: dict
     for k in sorted(set(np.linspace(0, n - 1, samples + 1).round().astype(int)[1:].tolist())):
         try:
             out.append(lin.linearize(rec["x"][k], integrals[k], float(rec["t"][k])))
-        except (ArithmeticError, ValueError):
+        except (ArithmeticError, ValueError) as exc:  # that instant only: said, not hidden
+            if progress:
+                progress(f"could not linearize the closed loop at t = {float(rec['t'][k]):.3g} s: "
+                         f"{str(exc).splitlines()[0][:200]}")
             continue
         if progress:
             progress(f"linearized the closed loop at t = {float(rec['t'][k]):.3g} s")
