@@ -229,7 +229,7 @@ def test_sigterm_during_a_run_exits_143(tmp_path):
     finally:
         if proc.poll() is None:
             proc.kill()
-    assert proc.returncode == 143 and one_clean_line(err).startswith("coopctrl: terminated")
+    assert proc.returncode == 143 and one_clean_line(err).startswith("coopctrl: terminated"), (proc.returncode, err)
     assert not (tmp_path / "o").exists() or not list((tmp_path / "o").glob(".*"))
 
 
