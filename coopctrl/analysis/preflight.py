@@ -160,11 +160,9 @@ def nominal_motion(loop, t: float):
     except EulerViewError:
         pass
     r, dr, ddr, R, w, a = loop_charts.target_motion(loop.trajectory, np.array([t]))
-    A = loop_charts.euler_of(R)
+    A, dA, ddA = loop_charts.euler_motion(R, w, a)
     if abs(math.cos(A[0, 1])) < TURNING_AT_SINGULARITY_COS and np.any(w != 0.0):
         return None
-    dA = loop_charts.euler_rates(A, w)
-    ddA = loop_charts.euler_rates(A, a - loop_charts.rate_map_dot_times(A, dA))
     return np.concatenate([r[0], A[0]]), np.concatenate([dr[0], dA[0]]), np.concatenate([ddr[0], ddA[0]])
 
 

@@ -94,6 +94,15 @@ def rate_map_dot_times(A, dA) -> np.ndarray:
                      (-sph * cth * dph - cph * sth * dth) * dps - cph * dph * dth], axis=1)
 
 
+def euler_motion(R, w, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """ZYX angles, rates and accelerations ``(A, dA, ddA)`` (N, 3) of rotations ``R`` (N, 3, 3) turning at body
+    rates ``w`` [rad/s] and accelerations ``a`` [rad/s^2] (N, 3): ``A = euler(R)``, ``dA = L(A)^-1 w``,
+    ``ddA = L(A)^-1 (a - dL(A, dA) dA)`` (:func:`euler_rates`: finite at the singularity itself)."""
+    A = euler_of(R)
+    dA = euler_rates(A, w)
+    return A, dA, euler_rates(A, a - rate_map_dot_times(A, dA))
+
+
 def target_motion(trajectory, times):
     """The nominal object motion at ``times`` (N,) [s] on the rotation group: ``(r, dr, ddr, R, omega_b,
     alpha_b)``, positions [m, m/s, m/s^2] (N, 3), rotations (N, 3, 3), body angular velocity [rad/s] and
@@ -228,12 +237,8 @@ class WorldChart:
         ``r' = C^T r``, ``R' = C^T R``, ``A' = euler(R')``, ``dA' = L(A')^-1 omega_b``,
         ``ddA' = L(A')^-1 (alpha_b - dL(A', dA') dA')`` (the body rates do not depend on the chart)."""
         r, dr, ddr, R, w, a = (v[k:] for v in self.motion)
-        Ct = self.C.T
-        A = euler_of(Ct @ R)
-        dA = euler_rates(A, w)
         traj[0, k:, :3], traj[1, k:, :3], traj[2, k:, :3] = r @ self.C, dr @ self.C, ddr @ self.C
-        traj[0, k:, 3:], traj[1, k:, 3:] = A, dA
-        traj[2, k:, 3:] = euler_rates(A, a - rate_map_dot_times(A, dA))
+        traj[0, k:, 3:], traj[1, k:, 3:], traj[2, k:, 3:] = euler_motion(self.C.T @ R, w, a)
 
     def ticks_ahead(self, x: np.ndarray, T: float) -> int:
         """Ticks of period ``T`` [s] the next kernel call may run from the state ``x`` without the object's
@@ -295,12 +300,11 @@ class WorldChart:
         return out, q
 
     def book_record(self, rec: dict, x0: np.ndarray) -> None:
-        """Turn ``rec`` (in the world chart of each tick) into the book's world coordinates in place: the
-        object's and contact points' poses and rates (positions ``C r'``, angles and rates by
-        :func:`book_view`, continuous from the run's start ``x0``), the contact points' inputs (force ``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``), the
-        wrenches and contact positions (``C f``, ``C n``, ``C r``), ``Y0_nominal`` from the target motion,
-        and ``rec["object_rotation"]``, the object's rotation as a unit quaternion ``(w, x, y, z)`` (N, 4)
-        exact at every pitch (``q(C) q(A')``)."""
+        """Turn ``rec`` (in the world chart of each tick) into the book's world coordinates in place: its states
+        and inputs (:meth:`book_rows`, continuous from the run's start ``x0``), the wrenches and contact
+        positions (``C f``, ``C n``, ``C r``), ``Y0_nominal`` from the target motion, and
+        ``rec["object_rotation"]``, the object's rotation as a unit quaternion ``(w, x, y, z)`` (N, 4) exact at
+        every pitch (``q(C) q(A')``)."""
         x = rec["x"]
         N = x.shape[0]
         nz = self.nz
@@ -309,55 +313,50 @@ class WorldChart:
             rec["object_rotation"] = quat.from_zyx(x[:, nz - 3:nz])
             return
         C, qC = self.charts_per_tick(N)
-        def rot(v):  # rows rotated by their tick's chart: C_n v_n for v (N, 3), or (N, m, 3)
-            Cb = C if v.ndim == 2 else C[:, None]
-            return (Cb @ v[..., None])[..., 0]
-        angles = {}
-        for s in self.free:
-            A, dA = x[:, s + 3:s + 6].copy(), x[:, nz + s + 3:nz + s + 6]
-            if s == nz - 6:
-                rec["object_rotation"] = quat.multiply(qC, quat.from_zyx(A))
-            x[:, s:s + 3], x[:, nz + s:nz + s + 3] = rot(x[:, s:s + 3]), rot(x[:, nz + s:nz + s + 3])
-            x[:, s + 3:s + 6], x[:, nz + s + 3:nz + s + 6] = book_view(C, A, dA, x0[s + 3:s + 6])
-            angles[s] = (A, x[:, s + 3:s + 6])
-        tau = rec["tau"]
-        for i, s in self.contact_points.items():
-            A, Aw = angles[s]
-            tau[:, s:s + 3] = rot(tau[:, s:s + 3])
-            body = np.linalg.solve(np.transpose(_rate_maps(A), (0, 2, 1)), tau[:, s + 3:s + 6, None])
-            tau[:, s + 3:s + 6] = (np.transpose(_rate_maps(Aw), (0, 2, 1)) @ body)[:, :, 0]
+        rec["object_rotation"] = quat.multiply(qC, quat.from_zyx(x[:, nz - 3:nz]))
+        self.book_rows(C, x, rec["tau"], x0)
         for name in ("F_measured", "F_commanded", "F_external", "F_internal"):
             F = rec[name]
-            F[:, :, :3], F[:, :, 3:] = rot(F[:, :, :3]), rot(F[:, :, 3:])
-        rec["r_contacts"][:] = rot(rec["r_contacts"])
+            F[:, :, :3], F[:, :, 3:] = _turned(C, F[:, :, :3]), _turned(C, F[:, :, 3:])
+        rec["r_contacts"][:] = _turned(C, rec["r_contacts"])
         r, _, _, R, _, _ = self.motion
         n = min(N, r.shape[0])
         rec["Y0_nominal"][:n] = np.hstack((r[:n], euler_of(R[:n])))
 
+    def book_rows(self, C, x, tau, start) -> None:
+        """States ``x`` (N, nx) and inputs ``tau`` (N, nu), row ``n`` in the chart ``C[n]`` (N, 3, 3), turned back
+        into the book's world coordinates in place: the object's and contact points' positions and velocities
+        ``C r'``, their angles and rates by :func:`book_view` (continuous, the first row nearest ``start``
+        (nx,)), a contact point's input (force ``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``)."""
+        nz = self.nz
+        for s in self.free:
+            A, dA = x[:, s + 3:s + 6].copy(), x[:, nz + s + 3:nz + s + 6]
+            x[:, s:s + 3], x[:, nz + s:nz + s + 3] = _turned(C, x[:, s:s + 3]), _turned(C, x[:, nz + s:nz + s + 3])
+            x[:, s + 3:s + 6], x[:, nz + s + 3:nz + s + 6] = book_view(C, A, dA, start[s + 3:s + 6])
+            if s in self.contact_points.values():
+                tau[:, s:s + 3] = _turned(C, tau[:, s:s + 3])
+                body = np.linalg.solve(np.transpose(_rate_maps(A), (0, 2, 1)), tau[:, s + 3:s + 6, None])
+                tau[:, s + 3:s + 6] = (np.transpose(_rate_maps(x[:, s + 3:s + 6]), (0, 2, 1)) @ body)[:, :, 0]
 
     def book_state(self, state, start: np.ndarray) -> None:
         """The loop state at the end of the run (``state``, a :class:`~coopctrl.loop.state.LoopState` in the
-        last world chart ``C``) turned back into the book's world coordinates in place, as the record is: the
-        object's and contact points' positions and velocities ``C r'``, their angles and rates by
-        :func:`book_view` (nearest ``start`` (nx,), the run's last recorded state), a contact point's held
-        input (``C f'``, ``Q_A = L(A_w)^T L(A')^-T Q_A'``), the followers' integrals and the held split
-        (force and moment rows ``C w'``). A run in charts thus ends in the coordinates it started in."""
+        last world chart ``C``) turned back into the book's world coordinates in place, as the record is: its
+        state and held input by :meth:`book_rows` (nearest ``start`` (nx,), the run's last recorded state), the
+        followers' integrals and the held split (force and moment rows ``C w'``). A run in charts thus ends in
+        the coordinates it started in."""
         if len(self.history) == 1:  # never re-centred: C = I
             return
-        C, x, nz = self.C, state.x, self.nz
-        for s in self.free:
-            A, dA = x[None, s + 3:s + 6].copy(), x[None, nz + s + 3:nz + s + 6].copy()
-            Aw, dAw = book_view(C[None], A, dA, start[s + 3:s + 6])
-            x[s:s + 3], x[nz + s:nz + s + 3] = C @ x[s:s + 3], C @ x[nz + s:nz + s + 3]
-            x[s + 3:s + 6], x[nz + s + 3:nz + s + 6] = Aw[0], dAw[0]
-            if s in self.contact_points.values():
-                tau = state.tau
-                tau[s:s + 3] = C @ tau[s:s + 3]
-                body = np.linalg.solve(_rate_maps(A)[0].T, tau[s + 3:s + 6])
-                tau[s + 3:s + 6] = _rate_maps(Aw)[0].T @ body
+        C = self.C
+        self.book_rows(C[None], state.x[None], state.tau[None], start)  # views: turned in place
         for w in (state.integrals, *state.last_split):  # (m, 6) wrenches, force and moment rows
             w[:, :3] = w[:, :3] @ C.T
             w[:, 3:] = w[:, 3:] @ C.T
+
+
+def _turned(C, v) -> np.ndarray:
+    """Rows turned by their tick's chart: ``C_n v_n`` for ``v`` (N, 3) or (N, m, 3), ``C`` (N, 3, 3)."""
+    Cb = C if v.ndim == 2 else C[:, None]
+    return (Cb @ v[..., None])[..., 0]
 
 
 def _rate_maps(A) -> np.ndarray:
