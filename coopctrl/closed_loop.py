@@ -251,27 +251,76 @@ class ClosedLoop:
     def run(self, x0, duration: float, progress: bool = False, integrals=None):
         """Simulate ``duration`` [s] from ``x0``; returns its :class:`~coopctrl.loop.record.LoopRecord`.
 
-        Every run starts from a fresh loop state (:class:`~coopctrl.loop.state.LoopState`): the
-        sensor noise streams from their seeds, no QP warm start and no last split, the followers'
-        force-error integrals zero or, with ``integrals`` (arm index -> (p,) [N s, N m s]), those
-        values (an operating point). The same call twice gives bit-identical records.
+        ``x0`` is a plant state or a :class:`~coopctrl.loop.state.LoopState`. From a plant state, the run
+        starts from a fresh loop state: the sensor noise streams from their seeds, no QP warm start and no
+        last split, the followers' force-error integrals zero or, with ``integrals`` (arm index -> (p,)
+        [N s, N m s]), those values (an operating point); it records ``round(duration / T) + 1`` ticks, at
+        ``t = 0 .. duration``. The same call twice gives bit-identical records.
+
+        From a run's ``record.final_state``, the run continues it: ``round(duration / T)`` more ticks, at
+        ``t = t_end + T .. t_end + duration``, with everything the loop carries from tick to tick (the state,
+        held torques, integrals, QP warm start, the integrator's step-to-step state, the sensor noise
+        streams, the rotation chart) taken from where it ended. The two records, one after the other, are
+        those of one run of the summed duration, bit for bit; on the reference path
+        (``load_distribution.solver`` other than ``"compiled"``) to that solver's tolerance, as its backend
+        starts cold, and a tuning probe's measurement delay starts afresh. The state given is left unchanged: it can be continued again.
 
         Raises:
-            TypeError, ValueError: ``x0`` not ``plant.state_size`` finite numbers, ``duration`` not a finite
-                number >= 0 [s], ``progress`` not a bool, ``integrals`` not a mapping of follower index to
-                ``p`` finite numbers (the message names the argument; checked once, before the run).
+            TypeError, ValueError: ``x0`` not ``plant.state_size`` finite numbers nor a loop state of this loop
+                (or the final state of a run that stopped early), ``duration`` not a finite number >= 0 [s],
+                ``progress`` not a bool, ``integrals`` not a mapping of follower index to ``p`` finite numbers
+                (or given with a loop state, which has its own); the message names the argument; checked once,
+                before the run.
         """
-        x0 = self._state("x0", x0)
+        from coopctrl.loop.state import LoopState
+
+        start = None
+        if isinstance(x0, LoopState):
+            start = self._continuable("x0", x0)
+            if integrals is not None:
+                raise arguments.invalid("integrals", integrals, "None when x0 is a LoopState (it carries the "
+                                        "followers' integrals)")
+            x0 = start.x
+        else:
+            x0 = self._state("x0", x0)
         duration = arguments.number("duration", duration, minimum=0.0, unit="s")
         progress = arguments.flag("progress", progress)
         integrals = self._integrals(integrals)
-        N = int(round(duration / self.T)) + 1
+        N = int(round(duration / self.T)) + (1 if start is None else 0)
         check_record_fits(N, sum(v[:1].size for v in self.empty_record(1).values() if isinstance(v, np.ndarray)),
                           duration, self.T)  # before allocating: refuse, with the size, what cannot fit
         rec = self.empty_record(N)
         start_integrals = {} if integrals is None else {int(i): np.asarray(v, dtype=float).copy()
                                                         for i, v in integrals.items()}
-        return self._run(rec, x0, N, progress, start_integrals)
+        return self._run(rec, x0, N, progress, start_integrals, start)
+
+    def _continuable(self, name: str, state):
+        """``state`` (a :class:`~coopctrl.loop.state.LoopState`) checked as one this loop can continue from."""
+        import coopctrl.integrators.compiled as I
+
+        plant = self.plant
+        allowed = (f"a plant state of size {plant.state_size}, or the final_state of a run of this loop "
+                   "(record.final_state)")
+        if not state.resumable:
+            raise arguments.invalid(name, state, f"{allowed} that ended ok: this run stopped early and cannot be "
+                                    "continued", ValueError)
+        m, p = plant.arm_count, plant.p
+        if (np.shape(state.x) != (plant.state_size,) or np.shape(state.tau) != (plant.input_size,)
+                or np.shape(state.integrals) != (m, p) or np.shape(state.flags) != (7,)):
+            raise arguments.invalid(name, state, f"{allowed}: its sizes are another loop's", ValueError)
+        if state.chart is not None and self.rotations != "charts":
+            raise arguments.invalid(name, state, f"{allowed}: it is the state of a run in rotation charts and this "
+                                    "loop runs in the book's angles (scene.rotations)", ValueError)
+        if state.plan is not None:
+            try:
+                fresh = I.make_plan(self.integrator, plant.state_size, self.T, 1)
+            except TypeError:
+                fresh = None
+            if type(fresh) is not type(state.plan):
+                raise arguments.invalid(name, state, f"{allowed}: it was run with another integrator than "
+                                        f"{getattr(self.integrator, 'name', type(self.integrator).__name__)!r}",
+                                        ValueError)
+        return state
 
     def _state(self, name: str, x) -> np.ndarray:
         """``x`` checked as a state of the plant: ``plant.state_size`` finite numbers (a float copy)."""
@@ -307,16 +356,17 @@ class ClosedLoop:
 
         return LoadDistribution(self.ld.config, self.space, self.plant.arm_count)
 
-    def _run(self, rec, x0, N, progress, integrals):
+    def _run(self, rec, x0, N, progress, integrals, start=None):
         """Run ``N`` ticks from ``x0`` into ``rec``: the one tick of :mod:`coopctrl.loop.kernel`, driven by
         :func:`coopctrl.loop.compiled.run_compiled` for every configuration. The reference path
         (``load_distribution.solver`` other than ``"compiled"``) runs the same kernel, which hands each QP
         it assembles to the chosen backend; an integrator the kernel lacks steps the plant in Python
         between kernel calls; passive runs, ``max_energy``, the elastic split and the tuning probes are
-        kernel inputs. ``integrals``: the followers' starting integrals (arm index -> (p,))."""
+        kernel inputs. ``integrals``: the followers' starting integrals (arm index -> (p,)); ``start``: the
+        loop state to continue from (None: a fresh one)."""
         from coopctrl.loop.compiled import run_compiled
 
-        return run_compiled(self, rec, x0, N, progress, integrals)
+        return run_compiled(self, rec, x0, N, progress, integrals, start)
 
     def _stop_reason(self, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
                      saturation: dict) -> tuple[str, str]:

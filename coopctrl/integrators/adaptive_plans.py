@@ -461,6 +461,14 @@ def trbdf2_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out_f
 
 
 # ---------------------------------------------------------------------------------------------- plans
+def step_statistics(ticks: int) -> np.ndarray:
+    """A plan's empty ``stats``: a row per tick (at least one) of zero steps and no smallest step (NaN: a tick
+    that does not advance, the last of a run, has none)."""
+    stats = np.zeros((max(int(ticks), 1), 4))
+    stats[:, STAT_MIN_STEP] = np.nan
+    return stats
+
+
 def adaptive_plan(integrator, nx: int, period: float, ticks: int, controller: str | None = None,
                   fixed_step: float = 0.0):
     """A fresh plan of an :class:`~coopctrl.integrators.ErrorControlled` scheme for a run of ``ticks``
@@ -485,8 +493,7 @@ def adaptive_plan(integrator, nx: int, period: float, ticks: int, controller: st
     atol = integrator.tolerances(nx // 2, period)
     memo = np.zeros(8)
     memo[M_FIXED] = fixed_step
-    stats = np.zeros((max(int(ticks), 1), 4))
-    stats[:, STAT_MIN_STEP] = np.nan  # a tick that did not advance (the last) has no step
+    stats = step_statistics(ticks)
     if isinstance(integrator, TRBDF2):
         settings[S_NEWTON_TOL] = integrator.newton_tol
         settings[S_MAX_ITER] = integrator.max_iterations

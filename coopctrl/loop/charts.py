@@ -276,10 +276,7 @@ class WorldChart:
             dAn = euler_rates(An, body_rates(A[None], dA[None]))
             x[s:s + 3], x[nz + s:nz + s + 3] = D @ r, D @ v
             x[s + 3:s + 6], x[nz + s + 3:nz + s + 6] = An[0], dAn[0]
-        for i, B in enumerate(self.bases0):
-            self.P[5][i, :3, :3] = Cn.T @ B[:3, :3]
-            self.P[5][i, :3, 3] = Cn.T @ B[:3, 3]
-        self.P[7][:] = Cn.T @ self.gravity0
+        self._turn_world(Cn)
         for w in (state.integrals, *state.last_split):  # (m, 6) wrenches, force and moment rotated
             w[:, :3] = w[:, :3] @ D.T
             w[:, 3:] = w[:, 3:] @ D.T
@@ -289,6 +286,26 @@ class WorldChart:
         self.table(traj, k)
         self.history.append((k, Cn.copy()))
         return True
+
+    def turn_to(self, C: np.ndarray) -> None:
+        """Start in the world chart ``C`` (3, 3) (a run that continues one that ended in it): the plant's
+        bases and gravity turned into it, as :meth:`check` turns them. Call before :meth:`table`."""
+        self._turn_world(C)
+        self.C = np.array(C, dtype=float)
+        self.history = [(0, self.C.copy())]
+
+    def _turn_world(self, C: np.ndarray) -> None:
+        """The run's bases (``P[5]``) and gravity (``P[7]``) in the world chart ``C``: ``C^T B``, ``C^T g``."""
+        for i, B in enumerate(self.bases0):
+            self.P[5][i, :3, :3] = C.T @ B[:3, :3]
+            self.P[5][i, :3, 3] = C.T @ B[:3, 3]
+        self.P[7][:] = C.T @ self.gravity0
+
+    def _in_world(self, history=None) -> bool:
+        """True while the run never left the book's world (one chart, the identity): nothing to turn back.
+        ``history``: a part of :attr:`history` to ask about instead."""
+        history = self.history if history is None else history
+        return len(history) == 1 and np.array_equal(history[0][1], np.eye(3))
 
     def charts_per_tick(self, N: int) -> tuple[np.ndarray, np.ndarray]:
         """The world chart (N, 3, 3) in use at ticks ``0 .. N - 1`` and its quaternion (N, 4)."""
@@ -308,13 +325,17 @@ class WorldChart:
         x = rec["x"]
         N = x.shape[0]
         nz = self.nz
-        if len(self.history) == 1:  # never re-centred: the world chart is the world (C = I), the record is the
+        if self._in_world():  # never re-centred: the world chart is the world (C = I), the record is the
             # book's already (the kernel's angles are continuous states) but for the object's rotation
             rec["object_rotation"] = quat.from_zyx(x[:, nz - 3:nz])
             return
         C, qC = self.charts_per_tick(N)
         rec["object_rotation"] = quat.multiply(qC, quat.from_zyx(x[:, nz - 3:nz]))
-        self.book_rows(C, x, rec["tau"], x0)
+        # the rows before the first re-centring are in the world itself (C = I): kept as they are, bit for bit
+        # the record of a run that never re-centred; the rest turned, continuous from the row before
+        first = self.history[1][0] if self._in_world(self.history[:1]) else 0
+        if first < N:
+            self.book_rows(C[first:], x[first:], rec["tau"][first:], x[first - 1] if first else x0)
         for name in ("F_measured", "F_commanded", "F_external", "F_internal"):
             F = rec[name]
             F[:, :, :3], F[:, :, 3:] = _turned(C, F[:, :, :3]), _turned(C, F[:, :, 3:])
@@ -344,7 +365,7 @@ class WorldChart:
         state and held input by :meth:`book_rows` (nearest ``start`` (nx,), the run's last recorded state), the
         followers' integrals and the held split (force and moment rows ``C w'``). A run in charts thus ends in
         the coordinates it started in."""
-        if len(self.history) == 1:  # never re-centred: C = I
+        if self._in_world():  # never re-centred: C = I
             return
         C = self.C
         self.book_rows(C[None], state.x[None], state.tau[None], start)  # views: turned in place

@@ -38,7 +38,7 @@ from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace
 from coopctrl.loop.stages import pointers_in_use
-from coopctrl.loop.state import LoopState
+from coopctrl.loop.state import ChartState, LoopState
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
 
 #: Integrators the kernel implements, by name (:mod:`coopctrl.loop.integrate`): the explicit ones share a
@@ -308,16 +308,16 @@ def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopSt
     return status, binding
 
 
-def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_fail, traj):
-    """The exception that names the kernel's stop ``code`` at tick ``k`` (what the plant, the guards and the
-    controllers raise from Python)."""
+def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_fail, traj, kb: int = 0):
+    """The exception that names the kernel's stop ``code`` at tick ``k`` of a run whose first tick is ``kb``
+    (what the plant, the guards and the controllers raise from Python)."""
     from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
     from coopctrl.loop.euler_band import closest_to_singularity
     from plants.cooperative import nominal_node_motion
     from plants.frames import body_rate_map_inv
 
     plant = loop.plant
-    t = k * loop.T
+    t = (kb + k) * loop.T
     if code == K.NONFINITE:
         return DivergenceError(t, "state (non-finite)", float("nan"))
     if code == K.NEWTON_FAILED:  # the Python integrator's exception, from the step that failed
@@ -369,10 +369,13 @@ def _entry_point(dispatcher, args: tuple):
     return dispatcher if compiled is None else compiled.entry_point
 
 
-def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None) -> dict:
+def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None, start: LoopState | None = None
+                 ) -> dict:
     """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``.
     ``integrals``: the followers' force-error integrals to start from (arm index -> (p,) [N s, N m s]);
-    zero otherwise."""
+    zero otherwise. ``start``: a :class:`~coopctrl.loop.state.LoopState` to continue from (a run's
+    ``final_state``; ``x0`` and ``integrals`` are then unused): its ticks follow on from those of the run
+    that ended there, as in one long run, and it is left unchanged."""
     plant = loop.plant
     why = _unsupported_parts(loop)
     if why is not None:
@@ -382,14 +385,20 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     wall0 = _time.perf_counter()
     m, p = plant.arm_count, plant.p
     npos = 3 if cl.spatial else 2
-    x0 = np.array(x0, dtype=float)
-    state = LoopState.start(x0, plant.input_size, m, p, cl.n, p + cl.n_in)
-    for i, value in (integrals or {}).items():
-        state.integrals[i] = value
+    if start is None:
+        x0 = np.array(x0, dtype=float)
+        state = LoopState.start(x0, plant.input_size, m, p, cl.n, p + cl.n_in)
+        for i, value in (integrals or {}).items():
+            state.integrals[i] = value
+    else:  # a continuation: on a copy of the state it was given, its tallies afresh
+        state = start.for_continuation()
+        x0 = state.x.copy()  # in the book's world coordinates: the diagnosis' start, the record's continuity
+    kb = state.tick  # the run's first tick, counted from the motion's start
+    pending, state.flags[6] = bool(state.flags[6]), 0  # set again for the kernel's first call (not its loading)
     passive = not loop.enabled
     ld = None
     if cl.external_qp and not passive:  # the reference path: the kernel assembles, the chosen backend solves
-        ld = loop._fresh_load_distribution()
+        ld = loop._fresh_load_distribution()  # cold, in a continuation too (its backend's state is not copied)
         if "torque_limits" in cl.rows:
             ld.problem._allocate(cl.joint_counts)
     qa = cl.qp_arrays(ld.problem if ld is not None else None)
@@ -397,28 +406,44 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     plant_ws = cl.plant_workspaces(plant)
     # the integrator's work arrays and Newton state, cold (an integrator outside the kernel steps in Python:
     # the kernel stops before its plant block, and an explicit Euler plan only fixes the argument types)
-    plan = I.make_plan(loop.integrator if not cl.plant_outside else ExplicitEuler(), plant.state_size, loop.T, N)
+    plan = state.plan
+    if plan is None or cl.plant_outside:
+        plan = I.make_plan(loop.integrator if not cl.plant_outside else ExplicitEuler(), plant.state_size, loop.T, kb + N)
+    elif hasattr(plan, "stats"):  # an error-controlled scheme's per-tick statistics, row round(t / T)
+        import coopctrl.integrators.adaptive_plans as adaptive_plans
+
+        plan = plan._replace(stats=adaptive_plans.step_statistics(kb + N))
+    if not cl.plant_outside:
+        state.plan = plan
     # the run's work arrays so far: a first call in a process loads (or compiles) their compiled constructors
     # (the QP's and the plant's workspaces, tens of ms): start-up, not run time
     setup = _time.perf_counter() - wall0
-    times = np.arange(N) * loop.T
+    times = (kb + np.arange(N)) * loop.T
     P = cl.P
     charts = None
+    next_check = None  # charts: the tick of the first chart check, where the run continued from has it
     rhs = plant.rhs
     if loop.rotations == "charts":  # the loop in a world chart re-centred between kernel calls (coopctrl.loop.charts)
         turned = plant.with_own_world()  # the run's own bases and gravity, turned in place with the chart
         P = P[:5] + (turned.kernel[1][5], P[6], turned.kernel[1][7]) + P[8:]
         rhs = turned.rhs  # a Python integrator steps the same turned world as the kernel
         charts = loop_charts.WorldChart(P, plant.nz, loop_charts.target_motion(loop.trajectory, times))
+        if state.chart is not None:  # continue in the chart the run ended in, from its state there
+            cs = state.chart
+            charts.turn_to(cs.C)
+            state.x[:], state.tau[:], state.integrals[:], state.last_split[:] = cs.x, cs.tau, cs.integrals, cs.last_split
+            next_check = max(cs.next_check - kb, 0)
         traj = np.zeros((3, N, p))
         charts.table(traj, 0)
     else:
         traj = _trajectory_samples(loop.trajectory, times, p)
-    noise_q, noise_o, noise_f, noise_cfg = _noise(loop, N, plant)
+    noise_q, noise_o, noise_f, noise_cfg = _noise(loop, kb + N, plant)
+    if kb:  # the streams from the run's first tick (the same draws as in one long run)
+        noise_q, noise_o, noise_f = (a[kb:] if a.shape[0] > 1 else a for a in (noise_q, noise_o, noise_f))
     qs = np.zeros(N, dtype=np.int64)
     qb = np.zeros(N, dtype=np.int64)
-    x_good = x0.copy()
-    x_fail = x0.copy()
+    x_good = state.x.copy()
+    x_fail = state.x.copy()
     out_int = np.zeros(8, dtype=np.int64)
     out_int[6] = -1
     out_float = np.zeros(2)
@@ -437,7 +462,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                                cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int,
                                out_float)
     stages_startup = _time.perf_counter() - t_stages
-    args = (N, loop.T, cl.steps, plan, stages, P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
+    args = (N, kb, loop.T, cl.steps, plan, stages, P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
             cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
             state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
             rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
@@ -449,7 +474,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) in the kernel."""
         run_ticks(*head, k0, k_stop, *args)
 
-    if cl.plant_outside and hasattr(loop.integrator, "reset"):
+    if cl.plant_outside and hasattr(loop.integrator, "reset") and start is None:
         loop.integrator.reset()  # a Python integrator's own state (a Newton matrix) starts afresh with the run
     steps, integrator_step = loop._steps, loop.integrator.step
 
@@ -470,6 +495,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             entry = _entry_point(run_ticks, (*head, 0, 0, *args))
         run_ticks = entry
     out_int[0] = out_int[1] = 0
+    out_int[6] = -1
+    if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not
+        state.flags[6] = 1
     # the kind is warm now (its stamp, once per process: start-up too, like the listeners it tells)
     S.started(S.kind_of_run(cl.spatial, S.family_of(loop.integrator.name) if not cl.plant_outside else "explicit"), _time.perf_counter() - t_load + stages_startup + setup)
     startup = _time.perf_counter() - t_load + stages_startup + setup
@@ -484,11 +512,24 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     qp_time = 0.0
     bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
     try:
-        if charts is not None:
+        if pending and cl.plant_outside:  # the period the run it continues did not advance, in Python
+            try:
+                with np.errstate(over="ignore", invalid="ignore"):
+                    state.x[:] = step_period(state.x, (kb - 1) * loop.T)
+            except (DivergenceError, PlantError) as e:
+                exc = e
+        if exc is not None:
+            k_stop = 0
+        elif charts is None:
+            chunk_end = _CHUNK
+        elif next_check is None:
             charts.check(state.x, k, traj, state, plan)
-        k_stop = min(_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T), N)  # the next chunk's end
-        # (the kernel also returns at each external QP or plant step)
-        while True:
+            chunk_end = charts.ticks_ahead(state.x, loop.T)
+        else:  # the chart check where the run continued from would have made it (the kernel stops there)
+            chunk_end = next_check
+        if exc is None:
+            k_stop = min(chunk_end, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
+        while exc is None:
             advance(k, k_stop)
             code = int(out_int[0])
             k = int(out_int[1])
@@ -499,12 +540,13 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                 if charts is not None and charts.check(state.x, k, traj, state, plan):  # between two whole ticks
                     if cl.plant_outside and hasattr(loop.integrator, "reset"):
                         loop.integrator.reset()  # a Python integrator's Newton matrix was in the old axes
-                k_stop = min(k + (_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T)), N)
+                chunk_end = k + (_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T))
+                k_stop = min(chunk_end, N)
                 continue
             if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
                 try:
                     with np.errstate(over="ignore", invalid="ignore"):  # a diverging state is caught by the guards
-                        state.x[:] = step_period(state.x, (k - 1) * loop.T)
+                        state.x[:] = step_period(state.x, (kb + k - 1) * loop.T)
                 except (DivergenceError, PlantError) as e:
                     exc = e
                     k -= 1
@@ -523,7 +565,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                 st = _QP_STATUS.index(split.status)
                 if split.held:
                     held[k] = (split.status, split.binding)
-                    events.append((k * loop.T, "qp_held", f"QP status '{split.status}' (binding: "
+                    events.append(((kb + k) * loop.T, "qp_held", f"QP status '{split.status}' (binding: "
                                    f"{', '.join(split.binding) or '-'}); holding the last feasible split"))
                     state.hold[:] = (1, st, split.iterations, 0)
                 else:
@@ -537,12 +579,12 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                     exc = e
                     break
                 held[k] = (qstatus, binding)
-                events.append((k * loop.T, "qp_held", f"QP status '{qstatus}' (binding: {', '.join(binding) or '-'}); "
+                events.append(((kb + k) * loop.T, "qp_held", f"QP status '{qstatus}' (binding: {', '.join(binding) or '-'}); "
                                                       "holding the last feasible split"))
                 state.hold[:] = (1, _QP_STATUS.index(qstatus) if qstatus in _QP_STATUS else 3, int(out_int[3]), 0)
                 continue
             if code != K.DONE:
-                exc = _exception(loop, cl, code, k, out_int, out_float, x_fail, traj)
+                exc = _exception(loop, cl, code, k, out_int, out_float, x_fail, traj, kb)
             break
     finally:
         if bar is not None:
@@ -551,20 +593,27 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     saturated = int(state.flags[2])
     sat_first = float(state.flags[4] * loop.T) if saturated else math.nan
     saturation = {"saturated_ticks": saturated, "saturated_joint_ticks": state.saturated_joints.copy(),
-                  "saturation_first_time_s": sat_first, "saturated_last_tick": int(state.flags[5])}
+                  "saturation_first_time_s": sat_first,
+                  "saturated_last_tick": int(state.flags[5]) - kb if saturated else -1}  # a record row
     if exc is not None:
         good = int(out_int[6])
-        t_good = good * loop.T if good >= 0 else 0.0
-        status, reason = loop._stop_reason(exc, k, k_done, rec, state.x, x_good, t_good, x0, events, saturation)
+        t_good = (kb + good) * loop.T if good >= 0 else kb * loop.T
+        status, reason = loop._stop_reason(exc, kb + k, k_done, rec, state.x, x_good, t_good, x0, events, saturation)
     wall = _time.perf_counter() - wall0 - startup
     for key, val in rec.items():
         if isinstance(val, np.ndarray):
             rec[key] = val[:k_done]
+    # where a continuation starts: the tick after the last recorded one, whose period is yet to be advanced
+    state.tick = kb + k_done
+    state.flags[6] = int(k_done > 0)
+    state.resumable = exc is None
     if charts is not None:  # the record in the book's world coordinates, the object's rotation exactly
+        state.chart = ChartState(charts.C.copy(), state.x.copy(), state.tau.copy(), state.integrals.copy(),
+                                 state.last_split.copy(), kb + chunk_end)
         charts.book_record(rec, x0)
         charts.book_state(state, rec["x"][-1] if len(rec["x"]) else x0)
         for k0, _ in charts.history[1:]:
-            events.append((k0 * loop.T, "chart_recentred", "the world chart re-centred on the object "
+            events.append(((kb + k0) * loop.T, "chart_recentred", "the world chart re-centred on the object "
                                                            f"(|cos theta| below {loop_charts.RECENTRE_COS:g})"))
         events.sort(key=lambda e: e[0])
     families = [name for name in ("min_grip", "friction", "torque_limits") if name in cl.rows]
@@ -581,7 +630,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                qp_time_s=qp_time if ld is not None or passive else math.nan,
                qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings,
                rhs_evaluations=None if cl.plant_outside else int(out_int[7]),
-               integration_steps=plan.stats[:k_done].copy() if hasattr(plan, "stats") else None,
+               integration_steps=plan.stats[kb:kb + k_done].copy() if hasattr(plan, "stats") else None,
                final_state=state, **saturation)
     return rec
 

@@ -419,7 +419,7 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     Y, dY, H, h, J, Jdq, W, w_free, S = (cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free,
                                          cws.S)
     arm_kind, arm_dof, q_off = P[0], P[1], P[2]
-    Y0N = traj[0, 0]
+    Y0N = tw.wN  # (p,) float64, the type of a row of traj (which has none in a run of no tick)
     Mq, lo, hi, Hq, gq, xq, zq = qp_arrays[:7]
     switches, _, eF, eDY0 = opts[:4]
     lead_off, leader_law, law_params = opts[11], opts[16], opts[17]
@@ -446,11 +446,17 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
 
 
 @njit(cache=True, _nrt=False)
-def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
+def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
               ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
               x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
               rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float):
     """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
+
+    Ticks are counted from the run's start: tick ``k`` is at ``t = (k_base + k) T`` [s] and is row ``k`` of
+    the record, the trajectory table and the noise streams; ``k_base`` is the index of the run's first
+    tick in the motion (0, or where the run it continues ended). ``flags[6] = 1``: before anything else the
+    plant advances over the period of tick ``k_base - 1`` with the held ``tau``, the step a run ending at that
+    tick did not take (a continuation, :class:`~coopctrl.loop.state.LoopState`), and the flag is cleared.
 
     ``P`` = the plant's kernel arguments ``(arm_kind, arm_dof, q_off, tables, table_off, bases, tools,
     gravity, node_params, edge_index, edge_params, Y_ref, immobile)`` (``CooperativePlant.kernel``
@@ -464,7 +470,7 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
     plant state at tick ``k0``; ``tau`` (nu) the held torques [N m]; ``integ`` (m, p) the followers'
     force-error integrals [N s]; ``last`` (3, m, p) the last feasible split ``(F, external,
     internal)`` [N, N m]; ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves,
-    first saturated tick, last saturated tick)``; ``sat_joints`` (nu,) int64 saturated ticks per joint.
+    first saturated tick, last saturated tick, advance first)``; ``sat_joints`` (nu,) int64 saturated ticks per joint.
     ``hold`` (``hold_status[0] = 1``): tick ``k0`` uses the last feasible split (the caller applied
     the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``;
     ``hold_status[0] = 2``: the caller solved the QP of tick ``k0`` (after :data:`QP_EXTERNAL`) and
@@ -541,12 +547,31 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
         obj_inertia[a] = obj[1 + a]
     k = k0
     out_int[0] = DONE
+    if flags[6] != 0:  # the period a run that ended at tick k_base - 1 did not advance
+        flags[6] = 0
+        terms(x, P, status, cws_true)  # the terms at x, which that tick's sensing left for the step's first slope
+        step_code = STEP_OK if status[0] == 0 else -1
+        if step_code == STEP_OK:
+            step_code = advance(method, x, tau, P, status, pws, cws_true, (k_base - 1) * T, steps, x_fail, out_int,
+                                out_float)
+        if step_code != STEP_OK:
+            out_int[1] = 0
+            _copy(x, x_good)  # the state of the run's start, as a step that fails within a run keeps its tick's
+            if step_code == STEP_NEWTON_FAILED:
+                out_int[0] = NEWTON_FAILED
+            elif step_code == STEP_TOO_SMALL_CODE:
+                out_int[0] = STEP_TOO_SMALL
+            else:
+                out_int[0] = PLANT_ERROR
+                out_int[2] = status[0]
+                out_int[3] = status[1]
+            return
     while k < N:
         if k == k_stop:
             out_int[0] = CHUNK_END
             out_int[1] = k
             return
-        t = k * T
+        t = (k_base + k) * T
         out_int[1] = k
         kq = k if noise_q.shape[0] > 1 else 0  # a noise-free channel passes one row of zeros
         ko = k if noise_o.shape[0] > 1 else 0
@@ -709,8 +734,8 @@ def run_ticks(spatial, k0, k_stop, N, T, steps, method, stages, P, plant_ws, gra
         if sat:
             flags[2] += 1
             if flags[2] == 1:
-                flags[4] = k
-            flags[5] = k
+                flags[4] = k_base + k
+            flags[5] = k_base + k
             for c in range(nu):
                 if abs(tau[c]) > tau_max[c]:
                     sat_joints[c] += 1
