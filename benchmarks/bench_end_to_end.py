@@ -320,6 +320,8 @@ def profile_sweep(name: str, runs: int = 40, top: int = 25) -> None:
     print(f"profile of `coopctrl sweep {name} --grid simulation.seed=0,...,{runs - 1} --jobs 1` in process (exit {code}, "
           f"{wall:.2f} s under the profiler, {wall / runs * 1e3:.1f} ms a run); top {top} by cumulative time:")
     pstats.Stats(profiler, stream=sys.stdout).sort_stats("cumulative").print_stats(top)
+    print(f"top {top} by own time:")
+    pstats.Stats(profiler, stream=sys.stdout).sort_stats("tottime").print_stats(top)
 
 
 def main(argv=None) -> int:
