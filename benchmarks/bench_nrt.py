@@ -44,7 +44,7 @@ for name in sys.argv[1].split(","):
         t0 = time.perf_counter()
         rec = loop.run(x0, duration)
         best = min(best, time.perf_counter() - t0)
-    print(name, best / len(rec["t"]) * 1e6, flush=True)
+    print(name, best / len(rec["t"]) * 1e6, coopctrl.__file__, flush=True)
 """
 
 
@@ -65,9 +65,13 @@ def _copy_without_nrt(dst: Path) -> int:
 
 def _per_tick(tree: Path, cache: Path, scenes: str) -> dict[str, float]:
     env = dict(os.environ, PYTHONPATH=str(tree), NUMBA_CACHE_DIR=str(cache))
+    # run in the tree's folder: ``python -c`` puts the working directory first on the import path
     out = subprocess.run([sys.executable, "-c", CHILD, scenes, str(REPO)], env=env, capture_output=True, text=True,
-                         check=True).stdout
-    return {line.split()[0]: float(line.split()[1]) for line in out.splitlines() if line.strip()}
+                         check=True, cwd=tree).stdout
+    rows = [line.split() for line in out.splitlines() if line.strip()]
+    if any(not Path(row[2]).resolve().is_relative_to(tree.resolve()) for row in rows):
+        raise RuntimeError(f"the child imported coopctrl from outside {tree}: {rows}")
+    return {row[0]: float(row[1]) for row in rows}
 
 
 def main(argv=None) -> int:

@@ -9,12 +9,12 @@ unchanged. A failed QP solve comes back to Python: the failure policy of
 feasible split, give up after ``max_consecutive_failures``) is applied there and the kernel resumes
 at the same tick.
 
-Every run goes through the kernel. The reference path (``load_distribution.solver`` other than
-``"compiled"``): the kernel assembles each QP in the arrays of a
-:class:`~coopctrl.load_distribution.problem.LoadDistributionProblem` and stops
-(:data:`~coopctrl.loop.kernel.QP_EXTERNAL`); :meth:`LoadDistribution.solve_assembled` solves it with the
-chosen backend (answer check, failure policy, binding families, time per solve) and the kernel
-resumes the tick with the answer. An integrator the kernel lacks (:func:`integrator_outside`) steps
+Every run goes through the kernel's tick. The reference path (``load_distribution.solver`` other than
+``"compiled"``) runs its two phases one tick at a time: :func:`~coopctrl.loop.kernel.tick_sense`
+assembles the QP in the arrays of a :class:`~coopctrl.load_distribution.problem.LoadDistributionProblem`,
+:meth:`LoadDistribution.solve_assembled` solves it with the chosen backend (answer check, failure policy,
+binding families, time per solve), and :func:`~coopctrl.loop.kernel.tick_act` finishes the tick with
+the split. An integrator the kernel lacks (:func:`integrator_outside`) steps
 the plant in Python between kernel calls (:data:`~coopctrl.loop.kernel.PLANT_EXTERNAL`). Passive runs,
 ``max_energy``, the elastic split and the tuning probes of :mod:`coopctrl.controllers.probes` are
 kernel inputs (:meth:`CompiledLoop.options`).
@@ -197,7 +197,6 @@ class CompiledLoop:
         switches[K.OPT_PASSIVE] = int(passive)
         switches[K.OPT_ENERGY] = 2 if loop.max_energy is not None else int(passive)
         switches[K.OPT_ELASTIC] = int(self.elastic)
-        switches[K.OPT_EXTERNAL_QP] = int(self.external_qp)
         reals = np.array([float(loop.max_energy) if loop.max_energy is not None else math.inf])
         lead_off = np.zeros(p)
         if isinstance(loop.leader, LeaderProbe):
@@ -369,6 +368,16 @@ def _entry_point(dispatcher, args: tuple):
     return dispatcher if compiled is None else compiled.entry_point
 
 
+def _loaded(dispatcher, args: tuple):
+    """The entry point of the numba ``dispatcher`` for the types of ``args`` (:func:`_entry_point`), compiled
+    for them, or loaded from numba's cache, first if need be (``Dispatcher.compile``: nothing runs)."""
+    entry = _entry_point(dispatcher, args)
+    if entry is dispatcher:
+        dispatcher.compile(argument_types.signature_of(args))
+        entry = _entry_point(dispatcher, args)
+    return entry
+
+
 def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None, start: LoopState | None = None
                  ) -> dict:
     """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``.
@@ -489,11 +498,15 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     # cache here (about 0.1 s once per process), start-up that is not the loop's wall time
     t_load = _time.perf_counter()
     with pointers_in_use():
-        entry = _entry_point(run_ticks, (*head, 0, 0, *args))
-        if entry is run_ticks:  # not yet loaded for these types in this process: numba types and loads it here
-            advance(0, 0)
+        if ld is None or pending:  # a reference path that continues a run has its pending period advanced here
             entry = _entry_point(run_ticks, (*head, 0, 0, *args))
-        run_ticks = entry
+            if entry is run_ticks:  # not yet loaded for these types in this process: numba types and loads it here
+                advance(0, 0)
+                entry = _entry_point(run_ticks, (*head, 0, 0, *args))
+            run_ticks = entry
+        if ld is not None:  # the reference path: the tick's two phases, called from here one tick at a time
+            sense = _loaded(K.tick_sense, (*head, 0, True, args))
+            act = _loaded(K.tick_act, (*head, 0, K.SPLIT_SOLVED, 0, 0, 0, -1, args))
     out_int[0] = out_int[1] = 0
     out_int[6] = -1
     if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not
@@ -511,6 +524,50 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     exc = None
     qp_time = 0.0
     bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
+
+    def reference_ticks(k0: int, k_stop: int) -> None:
+        """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) of the reference path, as :func:`run_ticks`
+        runs them but with the chosen backend's solve between the two phases of each tick; ``out_int`` as the
+        kernel leaves it. A solve that gives up raises :class:`InfeasibleLoad` (``out_int[1]``: its tick)."""
+        nonlocal qp_time
+        if state.flags[6]:  # the period the run it continues did not advance (the kernel's first call does it)
+            advance(0, 0)
+            if out_int[0] != K.CHUNK_END:
+                return
+        k = k0
+        while k < N:
+            if k == k_stop:
+                out_int[0], out_int[1] = K.CHUNK_END, k
+                return
+            hold = state.hold[0] == 1
+            code, P_changed = sense(cl.spatial, k, not hold, args)
+            if code != K.DONE:
+                return
+            if hold:  # the failure policy held the last split (a failed assembly)
+                state.hold[0] = 0
+                source, st, iterations, binding = K.SPLIT_HELD, int(state.hold[1]), int(state.hold[2]), 0
+            else:
+                if P_changed:
+                    ld.problem.P_changed = True
+                split = ld.solve_assembled(_moment_arms(qa[0], m, p, npos))
+                qp_solve_time[k] = split.solve_time_s
+                qp_time += split.solve_time_s
+                st, iterations = _QP_STATUS.index(split.status), int(split.iterations)
+                if split.held:
+                    held[k] = (split.status, split.binding)
+                    events.append(((kb + k) * loop.T, "qp_held", f"QP status '{split.status}' (binding: "
+                                   f"{', '.join(split.binding) or '-'}); holding the last feasible split"))
+                    source, binding = K.SPLIT_HELD, 0
+                else:
+                    qa[5][:] = split.F.reshape(-1)
+                    source, binding = K.SPLIT_SOLVED, sum(bits[f] for f in split.binding)
+            code = act(cl.spatial, k, source, st, iterations, binding, -1, args)
+            if code == K.RECORDED:
+                break
+            if code != K.DONE:
+                return
+            k += 1
+        out_int[0], out_int[1] = K.DONE, k
     try:
         if pending and cl.plant_outside:  # the period the run it continues did not advance, in Python
             try:
@@ -530,7 +587,15 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         if exc is None:
             k_stop = min(chunk_end, N)  # the next chunk's end (the kernel also returns at each external QP or plant step)
         while exc is None:
-            advance(k, k_stop)
+            if ld is None:
+                advance(k, k_stop)
+            else:
+                try:
+                    reference_ticks(k, k_stop)
+                except InfeasibleLoad as e:
+                    exc = e
+                    k = int(out_int[1])
+                    break
             code = int(out_int[0])
             k = int(out_int[1])
             state.tick = k
@@ -551,26 +616,6 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                     exc = e
                     k -= 1
                     break
-                continue
-            if code == K.QP_EXTERNAL:  # the reference path: solve with the chosen backend, resume the tick
-                if out_int[4]:
-                    ld.problem.P_changed = True
-                try:
-                    split = ld.solve_assembled(_moment_arms(qa[0], m, p, npos))
-                except InfeasibleLoad as e:
-                    exc = e
-                    break
-                qp_solve_time[k] = split.solve_time_s
-                qp_time += split.solve_time_s
-                st = _QP_STATUS.index(split.status)
-                if split.held:
-                    held[k] = (split.status, split.binding)
-                    events.append(((kb + k) * loop.T, "qp_held", f"QP status '{split.status}' (binding: "
-                                   f"{', '.join(split.binding) or '-'}); holding the last feasible split"))
-                    state.hold[:] = (1, st, split.iterations, 0)
-                else:
-                    qa[5][:] = split.F.reshape(-1)
-                    state.hold[:] = (2, st, split.iterations, sum(bits[f] for f in split.binding))
                 continue
             if code == K.QP_FAILED:
                 try:

@@ -35,11 +35,17 @@ diagnosis in Python; a failed QP solve (:data:`QP_FAILED`) returns *before* the 
 of its tick, so the caller can apply the failure policy and resume at the same tick with
 ``hold = 1`` (the last feasible split).
 
+A tick is two phases, as MuJoCo's ``mj_step1`` and ``mj_step2``: :func:`tick_sense` senses, guards and
+assembles the QP of the split (steps 1 to 4 but the solve); :func:`tick_act` takes the split and runs the
+controllers, the saturation, the record and the plant (steps 5 to 7). :func:`run_ticks` calls the two
+with the compiled solve between them (both are inlined into it). The reference path (another QP backend)
+calls them from Python, one tick at a time, with its backend's solve between them: the same tick, no
+re-entry.
+
 The same tick serves every configuration (``opts``): a passive run (no QP, no controllers, zero
 torques, the energy recorded), the ``max_energy`` guard (:data:`ENERGY`), the elastic split, the
-tuning probes' signals; the reference path stops at each assembled QP (:data:`QP_EXTERNAL`) for the
-caller's backend and resumes at the same tick with its answer (``hold = 2``); an integrator the
-kernel lacks stops after each tick's record (:data:`PLANT_EXTERNAL`) for the caller to step the plant.
+tuning probes' signals; an integrator the kernel lacks stops after each tick's record
+(:data:`PLANT_EXTERNAL`) for the caller to step the plant.
 """
 
 from __future__ import annotations
@@ -93,20 +99,23 @@ POSE_INCREMENT_SINGULAR = 8  #: a node's body-rate map is singular in the compli
 CHUNK_END = 9       #: stopped at ``k_stop`` (progress reporting); resume at ``out_int[1]``
 NEWTON_FAILED = 10  #: an implicit step's Newton failed (``out_int[2:4]`` = step, iterations; ``out_float`` = correction, time)
 ENERGY = 11         #: the total energy left ``max_energy`` (``out_float[0]`` = the energy [J])
-QP_EXTERNAL = 12    #: the QP of tick ``out_int[1]`` is assembled (``out_int[4]``: its ``P`` changed) for a
-                    #: solver outside the kernel: resume at that tick with the answer (``hold_status[0] = 2``)
 PLANT_EXTERNAL = 13  #: tick ``out_int[1] - 1`` is recorded and its torques are in ``tau``: the caller integrates
                      #: ``x`` over the period and resumes at tick ``out_int[1]``
 STEP_TOO_SMALL = 14  #: an error-controlled step fell below ``min_step`` (``out_float`` = step [s], time [s];
                      #: ``x_fail`` the state)
+RECORDED = 15       #: :func:`tick_act`: the run's last tick is recorded (the plant is not advanced past it)
+
+#: Where :func:`tick_act` takes the split from.
+SPLIT_SOLVED = 0    #: the QP's answer, in ``x`` of ``qp_arrays`` (it becomes the last feasible split)
+SPLIT_HELD = 1      #: the last feasible split (a failed solve, after the failure policy)
+SPLIT_NONE = 2      #: none: a passive run (zero wrenches, no controllers)
 
 #: Entries of ``opts[0]`` (int64 switches of a run).
 OPT_PASSIVE = 0     #: no QP, no controllers, zero torques; energy recorded
 OPT_ENERGY = 1      #: evaluate the energy each tick (1: record it, 2: also guard ``max_energy``)
 OPT_ELASTIC = 2     #: ``split = "elastic"``: ``A_K`` and ``P = K^-1`` from the grasp stiffness
-OPT_EXTERNAL_QP = 3  #: stop at each QP solve with :data:`QP_EXTERNAL` (the reference path's solver)
-OPT_PROBES = 4      #: the followers' tuning probes (setpoint offset, PI output, error gain, delay)
-OPT_EXTERNAL_PLANT = 5  #: stop after each tick's record with :data:`PLANT_EXTERNAL` (an integrator outside the kernel)
+OPT_PROBES = 3      #: the followers' tuning probes (setpoint offset, PI output, error gain, delay)
+OPT_EXTERNAL_PLANT = 4  #: stop after each tick's record with :data:`PLANT_EXTERNAL` (an integrator outside the kernel)
 
 
 # The bits of the QP family masks (the record's ``qp_binding``), FAMILY_MIN_GRIP, FAMILY_FRICTION and
@@ -371,6 +380,21 @@ def _copy(dst, src):
         dst[c] = src[c]
 
 
+@njit(inline="always", _nrt=False)
+def _step_failed(step_code, status, out_int):
+    """The event of a plant advance that returned ``step_code`` (not ``STEP_OK``) into ``out_int``; returns it:
+    :data:`NEWTON_FAILED`, :data:`STEP_TOO_SMALL`, or :data:`PLANT_ERROR` with the plant's ``status``."""
+    if step_code == STEP_NEWTON_FAILED:
+        out_int[0] = NEWTON_FAILED
+    elif step_code == STEP_TOO_SMALL_CODE:
+        out_int[0] = STEP_TOO_SMALL
+    else:
+        out_int[0] = PLANT_ERROR
+        out_int[2] = status[0]
+        out_int[3] = status[1]
+    return out_int[0]
+
+
 #: The tick's work arrays (:func:`tick_workspace`), by the names :func:`run_ticks` and its stages use.
 TickWorkspace = namedtuple("TickWorkspace", "F_cmd F_seen status xm Fm F_set wN nrm Jg bias a_cmd err d Yn dYn ddYn R3 v3 pv rc r0 Wa rhs_t qdd piv wv wm inc corr Yv tp ti obj_inertia")
 
@@ -445,6 +469,262 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     return advance, terms, qp_rows, qp_answer, control, energy, elastic
 
 
+@njit(cache=True, inline="always", _nrt=False)
+def tick_sense(spatial, k, assemble, run):
+    """Phase 1 of tick ``k`` (``run``: the arguments of :func:`run_ticks` from ``N`` on, in its order): the sensors (the true control terms, the
+    measured state and wrenches with their noise), the guards on the state, the energy, the nominal motion of
+    the nodes and the object's required wrench ``w_N``, and with ``assemble`` the QP of the split in
+    ``qp_arrays`` from the measured terms. Returns ``(code, P changed)``: :data:`DONE`, or the event (also in
+    ``out_int[0]``, its details as :func:`run_ticks` says) and False. The split is then solved (the compiled
+    solver in :func:`run_ticks`, or the reference path's backend from Python) and :func:`tick_act` finishes
+    the tick."""
+    (N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
+     ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
+     x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
+     rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float) = run  # the run's arguments (run_ticks)
+    arm_kind, arm_dof, gravity = P[0], P[1], P[7]
+    m = arm_kind.shape[0]
+    p = 6 if spatial else 3
+    nx = x.shape[0]
+    nz = nx // 2
+    (switches, reals, eF, eDY0, rec_E, rec_KE) = opts[:6]
+    passive = switches[OPT_PASSIVE] != 0
+    energy_on = switches[OPT_ENERGY] != 0
+    energy_guard = switches[OPT_ENERGY] == 2
+    max_energy = reals[0]
+    noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
+    q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
+    pws, cws_true, cws_meas = plant_ws
+    advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
+    (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
+     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw  # TickWorkspace, in its field order
+    for a in range(obj_inertia.shape[0]):
+        obj_inertia[a] = obj[1 + a]
+    out_int[1] = k
+    kq = k if noise_q.shape[0] > 1 else 0  # a noise-free channel passes one row of zeros
+    ko = k if noise_o.shape[0] > 1 else 0
+    kf = k if noise_f.shape[0] > 1 else 0
+    # ---- sensors (true terms: forces, guards)
+    terms(x, P, status, cws_true)
+    Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _term_arrays(cws_true)
+    if status[0] != 0:
+        out_int[0] = PLANT_ERROR
+        out_int[2] = status[0]
+        out_int[3] = status[1]
+        _copy(x_fail, x)
+        return PLANT_ERROR, False
+    if noisy_state:
+        for c in range(nz - p):
+            xm[c] = x[c] + noise_q[kq, c]
+            xm[nz + c] = x[nz + c] + noise_q[kq, nz - p + c]
+            if q_joint != 0.0:
+                xm[c] = np.rint(xm[c] / q_joint) * q_joint
+                xm[nz + c] = np.rint(xm[nz + c] / q_joint) * q_joint
+        for c in range(p):
+            xm[nz - p + c] = x[nz - p + c] + noise_o[ko, c]
+            xm[nx - p + c] = x[nx - p + c] + noise_o[ko, p + c]
+            if q_obj != 0.0:
+                xm[nz - p + c] = np.rint(xm[nz - p + c] / q_obj) * q_obj
+                xm[nx - p + c] = np.rint(xm[nx - p + c] / q_obj) * q_obj
+        terms(xm, P, status, cws_meas)
+        if status[0] != 0:
+            out_int[0] = PLANT_ERROR
+            out_int[2] = status[0]
+            out_int[3] = status[1]
+            _copy(x_fail, xm)
+            return PLANT_ERROR, False
+    for i in range(m):
+        for a in range(p):
+            v = Fw[i, a] + noise_f[kf, i * p + a]
+            if q_force != 0.0:
+                v = np.rint(v / q_force) * q_force
+            Fm[i, a] = v
+    # ---- guards on the state we are at
+    gcode, which, worst = _guards(spatial, x, Y, rho, band, max_deformation, R3, d)
+    if gcode != DONE:
+        out_int[0] = gcode
+        if gcode == NEAR_SINGULARITY:
+            _copy(x_fail, x)
+        elif gcode == DEFORMATION:
+            out_int[2] = which
+            out_float[0] = worst
+        return gcode, False
+    if energy_on:  # the energy guard; a passive run records the energy
+        E, KE, est = energy(x, P, cws_true, eF, eDY0)
+        if est != 0:
+            out_int[0] = PLANT_ERROR
+            out_int[2] = est
+            out_int[3] = 0
+            _copy(x_fail, x)
+            return PLANT_ERROR, False
+        if energy_guard and not abs(E) <= max_energy:
+            out_int[0] = ENERGY
+            out_float[0] = E
+            return ENERGY, False
+        if passive:
+            rec_E[k] = E
+            rec_KE[k] = KE
+    _copy(x_good, x)
+    out_int[6] = k  # the last tick whose state passed the guards
+    # ---- nominal motion and load
+    Y0N = traj[0, k]
+    dY0N = traj[1, k]
+    ddY0N = traj[2, k]
+    if spatial:
+        bad = spatial_motion_into(Y0N, dY0N, ddY0N, grasps, Yn, dYn, ddYn, R3, v3)
+        if bad >= 0:
+            out_int[0] = NOMINAL_SINGULAR
+            out_int[2] = bad
+            return NOMINAL_SINGULAR, False
+    else:
+        planar_motion_into(Y0N, dY0N, ddY0N, grasps, Yn, dYn, ddYn)
+    required_wrench(spatial, obj[0], obj_inertia, gravity, Y0N, dY0N, ddY0N, wN, v3, R3[0])
+    if not assemble:
+        return DONE, False
+    # ---- the QP of the split, from the measured terms
+    if noisy_state:
+        Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _term_arrays(cws_meas)
+    else:
+        Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = Y, dY, H, h, J, Jdq, W, w_free, S, Fw
+    qcode, P_changed = qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays,
+                               opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic_split)
+    if qcode != 0:
+        out_int[0] = QP_FAILED
+        out_int[2] = qcode
+        return QP_FAILED, False
+    return DONE, P_changed
+
+
+@njit(cache=True, inline="always", _nrt=False)
+def tick_act(spatial, k, source, qs, qit, qb, qact, run):
+    """Phase 2 of tick ``k``, after :func:`tick_sense` (``run`` as there): the split
+    (``source``: :data:`SPLIT_SOLVED`, the QP's answer in ``x`` of ``qp_arrays``, which becomes the last
+    feasible split; :data:`SPLIT_HELD`, the last feasible split; :data:`SPLIT_NONE`, a passive run's zero
+    wrenches), with its QP status ``qs``, iterations ``qit``, binding families mask ``qb`` and active
+    inequality rows ``qact`` for the record; the followers' setpoints (the tuning probes), the controllers,
+    the saturation, the record row ``k``, then the plant over the period. Returns :data:`DONE` (the plant
+    advanced to tick ``k + 1``), :data:`RECORDED` (tick ``k`` was the run's last: recorded, not advanced),
+    :data:`PLANT_EXTERNAL` (recorded; the caller advances the plant) or the event (also in ``out_int[0]``)."""
+    (N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
+     ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
+     x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
+     rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float) = run  # the run's arguments (run_ticks)
+    arm_kind, arm_dof, q_off = P[0], P[1], P[2]
+    m = arm_kind.shape[0]
+    p = 6 if spatial else 3
+    npos = 3 if spatial else 2
+    nu = tau.shape[0]
+    (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
+    (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
+    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d, leader_law,
+     law_params) = opts
+    passive = switches[OPT_PASSIVE] != 0
+    probes = switches[OPT_PROBES] != 0
+    plant_outside = switches[OPT_EXTERNAL_PLANT] != 0
+    noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
+    pws, cws_true, cws_meas = plant_ws
+    advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
+    (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
+     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw  # TickWorkspace, in its field order
+    sq_desired, sq_E, sq_W, sq_V, sq_sigma = sq  # SqueezeWork, in its field order
+    Y = cws_true.ws.Y
+    if noisy_state:
+        Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _term_arrays(cws_meas)
+        zx = xm
+    else:
+        Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _term_arrays(cws_true)
+        zx = x
+    Y0N = traj[0, k]
+    t = (k_base + k) * T
+    # ---- the split
+    if source == SPLIT_SOLVED:
+        for i in range(m):
+            for a in range(p):
+                F_set[i, a] = xq[i * p + a]
+                last[0, i, a] = xq[i * p + a]
+                last[1, i, a] = external[i * p + a]
+                last[2, i, a] = xq[i * p + a] - external[i * p + a]
+        flags[0] = 1
+    elif source == SPLIT_HELD:
+        for i in range(m):
+            for a in range(p):
+                F_set[i, a] = last[0, i, a]
+    else:  # no QP (the caller records no split)
+        for i in range(m):
+            for a in range(p):
+                F_set[i, a] = 0.0
+    # the followers' setpoint and measured force (a tuning probe's F* + r + v and delayed, scaled error)
+    for i in range(m):
+        for a in range(p):
+            if probes:
+                fc = (F_set[i, a] + pr_r[i, a]) + pr_v[i, a]
+                j = max(k - pr_d[i, a], 0)  # the reading of tick j (recorded, or this tick's)
+                seen = Fm[i, a] if j == k else rec_Fm[j, i, a]
+                F_cmd[i, a] = fc
+                F_seen[i, a] = fc - pr_g[i, a] * (fc - seen)
+            else:
+                F_cmd[i, a] = F_set[i, a]
+                F_seen[i, a] = Fm[i, a]
+    # ---- controllers: the leader on its nominal deformed node
+    ccode, carm = control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N,
+                          Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc,
+                          Yv, err, a_cmd, corr, tp, wv, wm, piv, ti, leader_law, law_params)
+    if ccode != DONE:
+        out_int[0] = ccode
+        out_int[2] = carm
+        return ccode
+    # ---- actuator saturation
+    sat = False
+    for c in range(nu):
+        if abs(tau[c]) > tau_max[c]:
+            sat = True
+    if sat:
+        flags[2] += 1
+        if flags[2] == 1:
+            flags[4] = k_base + k
+        flags[5] = k_base + k
+        for c in range(nu):
+            if abs(tau[c]) > tau_max[c]:
+                sat_joints[c] += 1
+        for c in range(nu):
+            if tau[c] < -tau_max[c]:
+                tau[c] = -tau_max[c]
+            elif tau[c] > tau_max[c]:
+                tau[c] = tau_max[c]
+    # ---- record
+    rec_t[k] = t
+    _copy(rec_x[k], x)
+    _copy(rec_tau[k], tau)
+    _copy(rec_Y0N[k], Y0N)
+    for i in range(m):
+        for a in range(p):
+            rec_Fm[k, i, a] = Fm[i, a]
+            rec_Fc[k, i, a] = F_set[i, a]
+            rec_Fe[k, i, a] = last[1, i, a]
+            rec_Fi[k, i, a] = last[2, i, a]
+        for a in range(npos):
+            rec_r[k, i, a] = Y[i + 1, a]
+    pair_squeeze_into(rec_r[k], Fm, sq_desired, sq_E, sq_W, sq_V, sq_sigma, rec_sq[k])
+    rec_qs[k] = qs
+    rec_qb[k] = qb
+    rec_qit[k] = qit
+    rec_qact[k] = qact
+    out_int[5] = k + 1  # ticks recorded
+    if k == N - 1:
+        return RECORDED
+    if plant_outside:  # an integrator the kernel lacks: the caller advances x over the period, then goes on
+        out_int[0] = PLANT_EXTERNAL
+        out_int[1] = k + 1
+        return PLANT_EXTERNAL
+    # ---- plant, zero-order hold over the period (coopctrl.loop.integrate: the Python integrators' arithmetic)
+    step_code = advance(method, x, tau, P, status, pws, cws_true, t, steps, x_fail, out_int, out_float)
+    if step_code != STEP_OK:
+        # the Python loop keeps the state of the tick (the exception leaves ``advance``)
+        _copy(x, rec_x[k])
+        return _step_failed(step_code, status, out_int)
+    return DONE
+
+
 @njit(cache=True, _nrt=False)
 def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
               ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
@@ -472,10 +752,7 @@ def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant
     internal)`` [N, N m]; ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves,
     first saturated tick, last saturated tick, advance first)``; ``sat_joints`` (nu,) int64 saturated ticks per joint.
     ``hold`` (``hold_status[0] = 1``): tick ``k0`` uses the last feasible split (the caller applied
-    the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``;
-    ``hold_status[0] = 2``: the caller solved the QP of tick ``k0`` (after :data:`QP_EXTERNAL`) and
-    wrote its answer into ``x`` of ``qp_arrays``, with status, iterations and binding families mask
-    ``hold_status[1:4]``.
+    the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``.
 
     ``opts = (switches, reals, energy_scratch, zero_rates, rec_energy, rec_kinetic, K_obj, K, KGt, Rb,
     work, leader_offset, r, v, g, d, leader_law, law_params)``: ``switches`` int64 (``OPT_*``); ``reals = (max_energy [J],)``;
@@ -500,51 +777,24 @@ def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant
     Returns nothing; ``out_int = (code, tick, detail, detail, -, ticks recorded, last tick that passed
     the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
     """
-    arm_kind, arm_dof, q_off, gravity = P[0], P[1], P[2], P[7]
+    arm_kind = P[0]
     m = arm_kind.shape[0]
-    Nn = m + 1
     p = 6 if spatial else 3
-    npos = 3 if spatial else 2
-    nx = x.shape[0]
-    nz = nx // 2
-    nu = tau.shape[0]
-    post_gain, q_rest = posture
-    leader = int(ctrl[0])
-    Kp_l, Kd_l = ctrl[1], ctrl[2]
-    kp_f, ki_f, Kp_f, Kd_f = ctrl[3], ctrl[4], ctrl[5], ctrl[6]
-    force_loop = ctrl[7] != 0.0
-    integral_limit = ctrl[8]
-    obj_mass = obj[0]
     (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
-    eps_abs, mu_c, max_iter_f, min_grip, answer_rho = qp_num[0], qp_num[1], qp_num[2], qp_num[3], qp_num[4]
-    max_iter = int(max_iter_f)
-    has_squeeze = qp_int[0] != 0
+    eps_abs, answer_rho = qp_num[0], qp_num[4]
+    max_iter = int(qp_num[2])
     row_grip, row_fric, row_tau, n_fric = qp_int[1], qp_int[2], qp_int[3], qp_int[4]
-    max_fail = qp_int[5]
-    torque_limits = row_tau >= 0
-    need_normals = row_grip >= 0 or row_fric >= 0
     (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
-    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d, leader_law,
-     law_params) = opts
-    passive = switches[OPT_PASSIVE] != 0
-    energy_on = switches[OPT_ENERGY] != 0
-    energy_guard = switches[OPT_ENERGY] == 2
-    max_energy = reals[0]
-    elastic = switches[OPT_ELASTIC] != 0
-    external_qp = switches[OPT_EXTERNAL_QP] != 0
-    probes = switches[OPT_PROBES] != 0
-    plant_outside = switches[OPT_EXTERNAL_PLANT] != 0
+    n = W_diag.shape[0]
     n_in = Mq.shape[0] - p
-    noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
-    q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
+    passive = opts[0][OPT_PASSIVE] != 0
     pws, cws_true, cws_meas = plant_ws
     advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
-    # every work array of a tick, made once per run by tick_workspace (the kernel allocates nothing)
-    (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
-     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw  # TickWorkspace, in its field order
-    sq_desired, sq_E, sq_W, sq_V, sq_sigma = sq  # SqueezeWork, in its field order
-    for a in range(obj_inertia.shape[0]):
-        obj_inertia[a] = obj[1 + a]
+    status = tw.status
+    run = (N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
+           ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
+           x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
+           rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float)
     k = k0
     out_int[0] = DONE
     if flags[6] != 0:  # the period a run that ended at tick k_base - 1 did not advance
@@ -557,231 +807,37 @@ def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant
         if step_code != STEP_OK:
             out_int[1] = 0
             _copy(x, x_good)  # the state of the run's start, as a step that fails within a run keeps its tick's
-            if step_code == STEP_NEWTON_FAILED:
-                out_int[0] = NEWTON_FAILED
-            elif step_code == STEP_TOO_SMALL_CODE:
-                out_int[0] = STEP_TOO_SMALL
-            else:
-                out_int[0] = PLANT_ERROR
-                out_int[2] = status[0]
-                out_int[3] = status[1]
+            _step_failed(step_code, status, out_int)
             return
     while k < N:
         if k == k_stop:
             out_int[0] = CHUNK_END
             out_int[1] = k
             return
-        t = (k_base + k) * T
-        out_int[1] = k
-        kq = k if noise_q.shape[0] > 1 else 0  # a noise-free channel passes one row of zeros
-        ko = k if noise_o.shape[0] > 1 else 0
-        kf = k if noise_f.shape[0] > 1 else 0
-        # ---- sensors (true terms: forces, guards)
-        terms(x, P, status, cws_true)
-        Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _term_arrays(cws_true)
-        if status[0] != 0:
-            out_int[0] = PLANT_ERROR
-            out_int[2] = status[0]
-            out_int[3] = status[1]
-            _copy(x_fail, x)
-            return
-        if noisy_state:
-            for c in range(nz - p):
-                xm[c] = x[c] + noise_q[kq, c]
-                xm[nz + c] = x[nz + c] + noise_q[kq, nz - p + c]
-                if q_joint != 0.0:
-                    xm[c] = np.rint(xm[c] / q_joint) * q_joint
-                    xm[nz + c] = np.rint(xm[nz + c] / q_joint) * q_joint
-            for c in range(p):
-                xm[nz - p + c] = x[nz - p + c] + noise_o[ko, c]
-                xm[nx - p + c] = x[nx - p + c] + noise_o[ko, p + c]
-                if q_obj != 0.0:
-                    xm[nz - p + c] = np.rint(xm[nz - p + c] / q_obj) * q_obj
-                    xm[nx - p + c] = np.rint(xm[nx - p + c] / q_obj) * q_obj
-            terms(xm, P, status, cws_meas)
-            Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _term_arrays(cws_meas)
-            if status[0] != 0:
-                out_int[0] = PLANT_ERROR
-                out_int[2] = status[0]
-                out_int[3] = status[1]
-                _copy(x_fail, xm)
-                return
-            zx = xm
-        else:
-            Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm = Y, dY, H, h, J, Jdq, W, w_free, S
-            zx = x
-        for i in range(m):
-            for a in range(p):
-                v = Fw[i, a] + noise_f[kf, i * p + a]
-                if q_force != 0.0:
-                    v = np.rint(v / q_force) * q_force
-                Fm[i, a] = v
-        # ---- guards on the state we are at
-        gcode, which, worst = _guards(spatial, x, Y, rho, band, max_deformation, R3, d)
-        if gcode != DONE:
-            out_int[0] = gcode
-            if gcode == NEAR_SINGULARITY:
-                _copy(x_fail, x)
-            elif gcode == DEFORMATION:
-                out_int[2] = which
-                out_float[0] = worst
-            return
-        if energy_on:  # the energy guard; a passive run records the energy
-            E, KE, est = energy(x, P, cws_true, eF, eDY0)
-            if est != 0:
-                out_int[0] = PLANT_ERROR
-                out_int[2] = est
-                out_int[3] = 0
-                _copy(x_fail, x)
-                return
-            if energy_guard and not abs(E) <= max_energy:
-                out_int[0] = ENERGY
-                out_float[0] = E
-                return
-            if passive:
-                rec_E[k] = E
-                rec_KE[k] = KE
-        _copy(x_good, x)
-        out_int[6] = k  # the last tick whose state passed the guards
-        # ---- nominal motion and load
-        Y0N = traj[0, k]
-        dY0N = traj[1, k]
-        ddY0N = traj[2, k]
-        if spatial:
-            bad = spatial_motion_into(Y0N, dY0N, ddY0N, grasps, Yn, dYn, ddYn, R3, v3)
-            if bad >= 0:
-                out_int[0] = NOMINAL_SINGULAR
-                out_int[2] = bad
-                return
-        else:
-            planar_motion_into(Y0N, dY0N, ddY0N, grasps, Yn, dYn, ddYn)
-        required_wrench(spatial, obj_mass, obj_inertia, gravity, Y0N, dY0N, ddY0N, wN, v3, R3[0])
-        # ---- the QP
         hold = hold_status[0] == 1
-        supplied = hold_status[0] == 2
-        if passive:  # no QP (the caller records no split)
-            for i in range(m):
-                for a in range(p):
-                    F_set[i, a] = 0.0
-            qs = 0
-            qit = -1
-            qact = -1
-            qb = 0
+        assemble = not passive and not hold
+        code, P_changed = tick_sense(spatial, k, assemble, run)
+        if code != DONE:
+            return
+        # ---- the split: none (passive), the last one held (the caller applied the failure policy), or solved
+        if passive:
+            source, qs, qit, qb, qact = SPLIT_NONE, 0, -1, 0, -1
         elif hold:
             hold_status[0] = 0
-            for i in range(m):
-                for a in range(p):
-                    F_set[i, a] = last[0, i, a]
-            qs = hold_status[1]
-            qit = hold_status[2]
-            qact = -1
-            qb = 0
+            source, qs, qit, qb, qact = SPLIT_HELD, hold_status[1], hold_status[2], 0, -1
         else:
-            qcode, P_changed = qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays, opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic_split)
-            if qcode != 0:
+            qs, qit, okqp, qb = qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs,
+                                          max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric)
+            if not okqp:
                 out_int[0] = QP_FAILED
-                out_int[2] = qcode
+                out_int[2] = qs
+                out_int[3] = qit
                 return
-            n = W_diag.shape[0]
-            if external_qp and not supplied:  # the caller solves it and resumes this tick
-                out_int[0] = QP_EXTERNAL
-                out_int[4] = 1 if P_changed else 0
-                return
-            if supplied:
-                hold_status[0] = 0
-                qs = hold_status[1]
-                qit = hold_status[2]
-                qact = -1  # a backend outside the kernel: its active set is not seen here
-                qb = hold_status[3]
-            else:
-                qs, qit, okqp, qb = qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric)
-                if not okqp:
-                    out_int[0] = QP_FAILED
-                    out_int[2] = qs
-                    out_int[3] = qit
-                    return
-                qact = gi_active_inequalities(ws, p)
-            for i in range(m):
-                for a in range(p):
-                    F_set[i, a] = xq[i * p + a]
-                    last[0, i, a] = xq[i * p + a]
-                    last[1, i, a] = external[i * p + a]
-                    last[2, i, a] = xq[i * p + a] - external[i * p + a]
-            flags[0] = 1
-        # the followers' setpoint and measured force (a tuning probe's F* + r + v and delayed, scaled error)
-        for i in range(m):
-            for a in range(p):
-                if probes:
-                    fc = (F_set[i, a] + pr_r[i, a]) + pr_v[i, a]
-                    j = max(k - pr_d[i, a], 0)  # the reading of tick j (recorded, or this tick's)
-                    seen = Fm[i, a] if j == k else rec_Fm[j, i, a]
-                    F_cmd[i, a] = fc
-                    F_seen[i, a] = fc - pr_g[i, a] * (fc - seen)
-                else:
-                    F_cmd[i, a] = F_set[i, a]
-                    F_seen[i, a] = Fm[i, a]
-        # ---- controllers: the leader on its nominal deformed node
-        ccode, carm = control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N, Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc, Yv, err, a_cmd, corr, tp, wv, wm, piv, ti, leader_law, law_params)
-        if ccode != DONE:
-            out_int[0] = ccode
-            out_int[2] = carm
-            return
-        # ---- actuator saturation
-        sat = False
-        for c in range(nu):
-            if abs(tau[c]) > tau_max[c]:
-                sat = True
-        if sat:
-            flags[2] += 1
-            if flags[2] == 1:
-                flags[4] = k_base + k
-            flags[5] = k_base + k
-            for c in range(nu):
-                if abs(tau[c]) > tau_max[c]:
-                    sat_joints[c] += 1
-            for c in range(nu):
-                if tau[c] < -tau_max[c]:
-                    tau[c] = -tau_max[c]
-                elif tau[c] > tau_max[c]:
-                    tau[c] = tau_max[c]
-        # ---- record
-        rec_t[k] = t
-        _copy(rec_x[k], x)
-        _copy(rec_tau[k], tau)
-        _copy(rec_Y0N[k], Y0N)
-        for i in range(m):
-            for a in range(p):
-                rec_Fm[k, i, a] = Fm[i, a]
-                rec_Fc[k, i, a] = F_set[i, a]
-                rec_Fe[k, i, a] = last[1, i, a]
-                rec_Fi[k, i, a] = last[2, i, a]
-            for a in range(npos):
-                rec_r[k, i, a] = Y[i + 1, a]
-        pair_squeeze_into(rec_r[k], Fm, sq_desired, sq_E, sq_W, sq_V, sq_sigma, rec_sq[k])
-        rec_qs[k] = qs
-        rec_qb[k] = qb
-        rec_qit[k] = qit
-        rec_qact[k] = qact
-        out_int[5] = k + 1  # ticks recorded
-        if k == N - 1:
+            source, qact = SPLIT_SOLVED, gi_active_inequalities(ws, p)
+        code = tick_act(spatial, k, source, qs, qit, qb, qact, run)
+        if code == RECORDED:
             break
-        if plant_outside:  # an integrator the kernel lacks: the caller advances x over the period, then resumes
-            out_int[0] = PLANT_EXTERNAL
-            out_int[1] = k + 1
-            return
-        # ---- plant, zero-order hold over the period (coopctrl.loop.integrate: the Python integrators' arithmetic)
-        step_code = advance(method, x, tau, P, status, pws, cws_true, t, steps, x_fail, out_int, out_float)
-        if step_code != STEP_OK:
-            # the Python loop keeps the state of the tick (the exception leaves ``advance``)
-            _copy(x, rec_x[k])
-            if step_code == STEP_NEWTON_FAILED:
-                out_int[0] = NEWTON_FAILED
-            elif step_code == STEP_TOO_SMALL_CODE:
-                out_int[0] = STEP_TOO_SMALL
-            else:
-                out_int[0] = PLANT_ERROR
-                out_int[2] = status[0]
-                out_int[3] = status[1]
+        if code != DONE:
             return
         k += 1
     out_int[1] = k

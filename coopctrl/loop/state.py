@@ -54,7 +54,7 @@ class LoopState:
             tick's period with ``tau`` (a continuation does it first).
         saturated_joints: (nu,) int64 ticks on which each joint's torque was clipped.
         hold: int64 ``(mode, qp_status_code, qp_iterations, binding_mask)`` for the next tick: mode 1 holds
-            the last split (a failed solve), 2 takes the QP answer the caller supplied (the reference path).
+            the last split (a failed compiled solve, after the failure policy).
         ws: The compiled QP's workspace (its factor and the active set: the warm start of the next solve).
         tick: Index of the next tick to record, counted from the motion's start (the trajectory's time
             ``tick T`` [s] and the position in the sensor-noise streams).
