@@ -504,9 +504,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                 advance(0, 0)
                 entry = _entry_point(run_ticks, (*head, 0, 0, *args))
             run_ticks = entry
-        if ld is not None:  # the reference path: the tick's two phases, called from here one tick at a time
-            sense = _loaded(K.tick_sense, (*head, 0, True, args))
-            act = _loaded(K.tick_act, (*head, 0, K.SPLIT_SOLVED, 0, 0, 0, -1, args))
+        if ld is not None:  # the reference path: the tick's two phases around its solve, one entry a tick
+            step = _loaded(K.reference_step, (*head, 0, True, K.SPLIT_SOLVED, 0, 0, 0, True, args))
     out_int[0] = out_int[1] = 0
     out_int[6] = -1
     if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not
@@ -527,47 +526,44 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
 
     def reference_ticks(k0: int, k_stop: int) -> None:
         """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) of the reference path, as :func:`run_ticks`
-        runs them but with the chosen backend's solve between the two phases of each tick; ``out_int`` as the
-        kernel leaves it. A solve that gives up raises :class:`InfeasibleLoad` (``out_int[1]``: its tick)."""
+        runs them but with the chosen backend's solve between the two phases of each tick (one kernel entry
+        a tick: :func:`~coopctrl.loop.kernel.reference_step`); ``out_int`` as the kernel leaves it. A solve
+        that gives up raises :class:`InfeasibleLoad` (``out_int[1]``: its tick)."""
         nonlocal qp_time
         if state.flags[6]:  # the period the run it continues did not advance (the kernel's first call does it)
             advance(0, 0)
             if out_int[0] != K.CHUNK_END:
                 return
         k = k0
-        while k < N:
-            if k == k_stop:
-                out_int[0], out_int[1] = K.CHUNK_END, k
-                return
-            hold = state.hold[0] == 1
-            code, P_changed = sense(cl.spatial, k, not hold, args)
-            if code != K.DONE:
-                return
-            if hold:  # the failure policy held the last split (a failed assembly)
-                state.hold[0] = 0
-                source, st, iterations, binding = K.SPLIT_HELD, int(state.hold[1]), int(state.hold[2]), 0
+        if k >= N or k == k_stop:
+            out_int[0], out_int[1] = (K.DONE if k >= N else K.CHUNK_END), k
+            return
+        code, P_changed = step(cl.spatial, k - 1, False, 0, 0, 0, 0, True, args)  # phase 1 of tick k
+        while code == K.DONE:
+            if P_changed:
+                ld.problem.P_changed = True
+            split = ld.solve_assembled(_moment_arms(qa[0], m, p, npos))
+            qp_solve_time[k] = split.solve_time_s
+            qp_time += split.solve_time_s
+            st, iterations = _QP_STATUS.index(split.status), int(split.iterations)
+            if split.held:
+                held[k] = (split.status, split.binding)
+                events.append(((kb + k) * loop.T, "qp_held", f"QP status '{split.status}' (binding: "
+                               f"{', '.join(split.binding) or '-'}); holding the last feasible split"))
+                source, binding = K.SPLIT_HELD, 0
             else:
-                if P_changed:
-                    ld.problem.P_changed = True
-                split = ld.solve_assembled(_moment_arms(qa[0], m, p, npos))
-                qp_solve_time[k] = split.solve_time_s
-                qp_time += split.solve_time_s
-                st, iterations = _QP_STATUS.index(split.status), int(split.iterations)
-                if split.held:
-                    held[k] = (split.status, split.binding)
-                    events.append(((kb + k) * loop.T, "qp_held", f"QP status '{split.status}' (binding: "
-                                   f"{', '.join(split.binding) or '-'}); holding the last feasible split"))
-                    source, binding = K.SPLIT_HELD, 0
-                else:
-                    qa[5][:] = split.F.reshape(-1)
-                    source, binding = K.SPLIT_SOLVED, sum(bits[f] for f in split.binding)
-            code = act(cl.spatial, k, source, st, iterations, binding, -1, args)
+                qa[5][:] = split.F.reshape(-1)
+                source, binding = K.SPLIT_SOLVED, sum(bits[f] for f in split.binding)
+            sense_next = k + 1 != k_stop  # (tick N - 1 is recorded, not advanced: no next tick to sense)
+            code, P_changed = step(cl.spatial, k, True, source, st, iterations, binding, sense_next, args)
             if code == K.RECORDED:
-                break
-            if code != K.DONE:
+                out_int[0], out_int[1] = K.DONE, k
                 return
             k += 1
-        out_int[0], out_int[1] = K.DONE, k
+            if code == K.DONE and not sense_next:
+                out_int[0], out_int[1] = K.CHUNK_END, k
+                return
+
     try:
         if pending and cl.plant_outside:  # the period the run it continues did not advance, in Python
             try:

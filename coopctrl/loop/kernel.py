@@ -39,8 +39,8 @@ A tick is two phases, as MuJoCo's ``mj_step1`` and ``mj_step2``: :func:`tick_sen
 assembles the QP of the split (steps 1 to 4 but the solve); :func:`tick_act` takes the split and runs the
 controllers, the saturation, the record and the plant (steps 5 to 7). :func:`run_ticks` calls the two
 with the compiled solve between them (both are inlined into it). The reference path (another QP backend)
-calls them from Python, one tick at a time, with its backend's solve between them: the same tick, no
-re-entry.
+solves in Python between them: :func:`reference_step` runs phase 2 of a tick and phase 1 of the next, so
+that path enters the kernel once per tick; the same tick, no re-entry.
 
 The same tick serves every configuration (``opts``): a passive run (no QP, no controllers, zero
 torques, the energy recorded), the ``max_energy`` guard (:data:`ENERGY`), the elastic split, the
@@ -723,6 +723,23 @@ def tick_act(spatial, k, source, qs, qit, qb, qact, run):
         _copy(x, rec_x[k])
         return _step_failed(step_code, status, out_int)
     return DONE
+
+
+@njit(cache=True, _nrt=False)
+def reference_step(spatial, k, act, source, qs, qit, qb, sense_next, run):
+    """The reference path's one entry into the compiled tick per tick (its QP solved by a backend in Python
+    between the phases): phase 2 of tick ``k`` (:func:`tick_act`, with ``act``) with the backend's split
+    ``source``, QP status ``qs``, iterations ``qit`` and binding families ``qb``, then, with ``sense_next``,
+    phase 1 of tick ``k + 1`` (:func:`tick_sense`: its QP assembled for the next solve). ``act = False``:
+    phase 1 of tick ``k + 1`` alone (a run's first tick, or after a chunk's end or a plant step in Python).
+    ``run``: the arguments of :func:`run_ticks` from ``N`` on. Returns ``(code, P changed)``: :data:`DONE`
+    with tick ``k + 1`` sensed (or with ``sense_next`` False, tick ``k`` done and the plant advanced),
+    :data:`RECORDED`, :data:`PLANT_EXTERNAL` or the event of either phase (``out_int`` as they leave it)."""
+    if act:
+        code = tick_act(spatial, k, source, qs, qit, qb, -1, run)
+        if code != DONE or not sense_next:
+            return code, False
+    return tick_sense(spatial, k + 1, True, run)
 
 
 @njit(cache=True, _nrt=False)
