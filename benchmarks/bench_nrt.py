@@ -1,6 +1,6 @@
 """What numba's reference counting would cost the compiled tick: this tree beside a copy without ``_nrt=False``.
 
-Run from the repository root: python benchmarks/bench_nrt.py [--scenes a,b] [--rounds N]
+Run from the repository root: python benchmarks/bench_nrt.py [--scenes a,b] [--rounds N] [--quick]
 
 The kernels of ``plants`` and ``coopctrl`` are compiled with numba's private option ``_nrt=False`` (issue 18
 asks for public numba only). This benchmark measures what dropping it costs: it copies ``plants`` and
@@ -78,7 +78,10 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenes", default=",".join(DEFAULT_SCENES), help="comma-separated scene names")
     ap.add_argument("--rounds", type=int, default=3, help="alternated rounds after the compile (default 3)")
+    ap.add_argument("--quick", action="store_true", help="1 round of the planar scene (a smoke run; both trees are still compiled)")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.rounds, args.scenes = 1, "planar_two_arm_lift"
     print("command: python benchmarks/bench_nrt.py " + " ".join(argv if argv is not None else sys.argv[1:]))
     with tempfile.TemporaryDirectory(prefix="coopctrl-nrt-") as tmp:
         tmp = Path(tmp)
