@@ -93,8 +93,8 @@ def _hook():
         return
     inner = K.run_ticks
     def run_ticks(*args, **kwargs):
-        # args[1], args[2]: k0, k_stop; the first call that runs a tick is the first tick
-        if report["first_tick_epoch"] is None and len(args) > 2 and args[2] > args[1]:
+        # run_ticks(model, data, k0, k_stop): the first call that runs a tick is the first tick
+        if report["first_tick_epoch"] is None and len(args) > 3 and args[3] > args[2]:
             report["first_tick_epoch"] = time.time()
         return inner(*args, **kwargs)
     K.run_ticks = run_ticks

@@ -38,6 +38,8 @@ from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace
 from coopctrl.loop.stages import pointers_in_use
+from coopctrl.loop.data import LoopData, TickRecord
+from coopctrl.loop.model import LoopModel
 from coopctrl.loop.state import ChartState, LoopState
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
 
@@ -461,8 +463,6 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     from coopctrl.loop.euler_band import margin_cos
 
     band = margin_cos()  # charts: the band of the rotated world's angles (the object's is re-centred at 45.6 deg)
-    # every argument bound once (the reference path enters the kernel twice per tick)
-    head = (cl.spatial,)
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
     sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
     t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
@@ -471,17 +471,25 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                                cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int,
                                out_float)
     stages_startup = _time.perf_counter() - t_stages
-    args = (N, kb, loop.T, cl.steps, plan, stages, P, plant_ws, cl.grasps, traj, cl.obj, cl.rho, loop.max_deformation, band,
-            cl.ctrl, cl.posture, cl.C, cl.qp, qa, opts, state.ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg, state.x, state.tau,
-            state.integrals, state.last_split, state.flags, state.saturated_joints, state.hold, rec["t"], rec["x"],
-            rec["tau"], rec["Y0_nominal"], rec["F_measured"], rec["F_commanded"], rec["F_external"], rec["F_internal"],
-            rec["r_contacts"], rec["squeeze"], qs, qb, rec["qp_iterations"], rec["qp_active_rows"], x_good, x_fail, out_int, out_float)
+    # the run by name: its constants and what it writes (coopctrl.loop.model, coopctrl.loop.data)
+    model = LoopModel(spatial=cl.spatial, N=N, k_base=kb, T=loop.T, steps=cl.steps, stages=stages, P=P, grasps=cl.grasps,
+                      traj=traj, obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation, band=band, ctrl=cl.ctrl,
+                      posture=cl.posture, C_comp=cl.C, qp=cl.qp, opts=opts, noise_q=noise_q, noise_o=noise_o,
+                      noise_f=noise_f, noise_cfg=noise_cfg)
+    record = TickRecord(t=rec["t"], x=rec["x"], tau=rec["tau"], Y0_nominal=rec["Y0_nominal"], F_measured=rec["F_measured"],
+                        F_commanded=rec["F_commanded"], F_external=rec["F_external"], F_internal=rec["F_internal"],
+                        r_contacts=rec["r_contacts"], squeeze=rec["squeeze"], qp_status=qs, qp_binding=qb,
+                        qp_iterations=rec["qp_iterations"], qp_active_rows=rec["qp_active_rows"])
+    data = LoopData(plan=plan, plant_ws=plant_ws, qp_arrays=qa, ws=state.ws, tw=tw, sq=sq, x=state.x, tau=state.tau,
+                    integrals=state.integrals, last_split=state.last_split, flags=state.flags,
+                    saturated_joints=state.saturated_joints, hold=state.hold, record=record, x_good=x_good, x_fail=x_fail,
+                    out_int=out_int, out_float=out_float)
     run_ticks = K.run_ticks
     qp_solve_time = rec["qp_solve_time_s"]
 
     def advance(k0: int, k_stop: int) -> None:
         """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) in the kernel."""
-        run_ticks(*head, k0, k_stop, *args)
+        run_ticks(model, data, k0, k_stop)
 
     if cl.plant_outside and hasattr(loop.integrator, "reset") and start is None:
         loop.integrator.reset()  # a Python integrator's own state (a Newton matrix) starts afresh with the run
@@ -499,13 +507,13 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     t_load = _time.perf_counter()
     with pointers_in_use():
         if ld is None or pending:  # a reference path that continues a run has its pending period advanced here
-            entry = _entry_point(run_ticks, (*head, 0, 0, *args))
+            entry = _entry_point(run_ticks, (model, data, 0, 0))
             if entry is run_ticks:  # not yet loaded for these types in this process: numba types and loads it here
                 advance(0, 0)
-                entry = _entry_point(run_ticks, (*head, 0, 0, *args))
+                entry = _entry_point(run_ticks, (model, data, 0, 0))
             run_ticks = entry
         if ld is not None:  # the reference path: the tick's two phases around its solve, one entry a tick
-            step = _loaded(K.reference_step, (*head, 0, True, K.SPLIT_SOLVED, 0, 0, 0, True, args))
+            step = _loaded(K.reference_step, (0, True, K.SPLIT_SOLVED, 0, 0, 0, True, model, data))
     out_int[0] = out_int[1] = 0
     out_int[6] = -1
     if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not
@@ -538,7 +546,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         if k >= N or k == k_stop:
             out_int[0], out_int[1] = (K.DONE if k >= N else K.CHUNK_END), k
             return
-        code, P_changed = step(cl.spatial, k - 1, False, 0, 0, 0, 0, True, args)  # phase 1 of tick k
+        code, P_changed = step(k - 1, False, 0, 0, 0, 0, True, model, data)  # phase 1 of tick k
         while code == K.DONE:
             if P_changed:
                 ld.problem.P_changed = True
@@ -555,7 +563,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                 qa[5][:] = split.F.reshape(-1)
                 source, binding = K.SPLIT_SOLVED, sum(bits[f] for f in split.binding)
             sense_next = k + 1 != k_stop  # (tick N - 1 is recorded, not advanced: no next tick to sense)
-            code, P_changed = step(cl.spatial, k, True, source, st, iterations, binding, sense_next, args)
+            code, P_changed = step(k, True, source, st, iterations, binding, sense_next, model, data)
             if code == K.RECORDED:
                 out_int[0], out_int[1] = K.DONE, k
                 return

@@ -470,18 +470,19 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def tick_sense(spatial, k, assemble, run):
-    """Phase 1 of tick ``k`` (``run``: the arguments of :func:`run_ticks` from ``N`` on, in its order): the sensors (the true control terms, the
+def tick_sense(k, assemble, model, data):
+    """Phase 1 of tick ``k`` of the run ``model``, ``data`` (:class:`~coopctrl.loop.model.LoopModel`, :class:`~coopctrl.loop.data.LoopData`): the sensors (the true control terms, the
     measured state and wrenches with their noise), the guards on the state, the energy, the nominal motion of
     the nodes and the object's required wrench ``w_N``, and with ``assemble`` the QP of the split in
     ``qp_arrays`` from the measured terms. Returns ``(code, P changed)``: :data:`DONE`, or the event (also in
     ``out_int[0]``, its details as :func:`run_ticks` says) and False. The split is then solved (the compiled
     solver in :func:`run_ticks`, or the reference path's backend from Python) and :func:`tick_act` finishes
     the tick."""
-    (N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
-     ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
-     x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
-     rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float) = run  # the run's arguments (run_ticks)
+    spatial, P, traj, grasps, obj, rho = model.spatial, model.P, model.traj, model.grasps, model.obj, model.rho
+    band, max_deformation, qp, opts, stages = model.band, model.max_deformation, model.qp, model.opts, model.stages
+    noise_q, noise_o, noise_f, noise_cfg = model.noise_q, model.noise_o, model.noise_f, model.noise_cfg
+    x, plant_ws, qp_arrays, tw = data.x, data.plant_ws, data.qp_arrays, data.tw
+    x_good, x_fail, out_int, out_float = data.x_good, data.x_fail, data.out_int, data.out_float
     arm_kind, arm_dof, gravity = P[0], P[1], P[7]
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
@@ -596,8 +597,8 @@ def tick_sense(spatial, k, assemble, run):
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def tick_act(spatial, k, source, qs, qit, qb, qact, run):
-    """Phase 2 of tick ``k``, after :func:`tick_sense` (``run`` as there): the split
+def tick_act(k, source, qs, qit, qb, qact, model, data):
+    """Phase 2 of tick ``k``, after :func:`tick_sense` (``model``, ``data`` as there): the split
     (``source``: :data:`SPLIT_SOLVED`, the QP's answer in ``x`` of ``qp_arrays``, which becomes the last
     feasible split; :data:`SPLIT_HELD`, the last feasible split; :data:`SPLIT_NONE`, a passive run's zero
     wrenches), with its QP status ``qs``, iterations ``qit``, binding families mask ``qb`` and active
@@ -605,10 +606,12 @@ def tick_act(spatial, k, source, qs, qit, qb, qact, run):
     the saturation, the record row ``k``, then the plant over the period. Returns :data:`DONE` (the plant
     advanced to tick ``k + 1``), :data:`RECORDED` (tick ``k`` was the run's last: recorded, not advanced),
     :data:`PLANT_EXTERNAL` (recorded; the caller advances the plant) or the event (also in ``out_int[0]``)."""
-    (N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
-     ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
-     x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
-     rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float) = run  # the run's arguments (run_ticks)
+    spatial, N, k_base, T, steps, P, traj = model.spatial, model.N, model.k_base, model.T, model.steps, model.P, model.traj
+    ctrl, posture, C_comp, qp, opts = model.ctrl, model.posture, model.C_comp, model.qp, model.opts
+    stages, noise_cfg = model.stages, model.noise_cfg
+    plan, plant_ws, qp_arrays, tw, sq, rec = data.plan, data.plant_ws, data.qp_arrays, data.tw, data.sq, data.record
+    x, tau, integ, last, flags = data.x, data.tau, data.integrals, data.last_split, data.flags
+    sat_joints, x_fail, out_int, out_float = data.saturated_joints, data.x_fail, data.out_int, data.out_float
     arm_kind, arm_dof, q_off = P[0], P[1], P[2]
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
@@ -659,7 +662,7 @@ def tick_act(spatial, k, source, qs, qit, qb, qact, run):
             if probes:
                 fc = (F_set[i, a] + pr_r[i, a]) + pr_v[i, a]
                 j = max(k - pr_d[i, a], 0)  # the reading of tick j (recorded, or this tick's)
-                seen = Fm[i, a] if j == k else rec_Fm[j, i, a]
+                seen = Fm[i, a] if j == k else rec.F_measured[j, i, a]
                 F_cmd[i, a] = fc
                 F_seen[i, a] = fc - pr_g[i, a] * (fc - seen)
             else:
@@ -692,23 +695,23 @@ def tick_act(spatial, k, source, qs, qit, qb, qact, run):
             elif tau[c] > tau_max[c]:
                 tau[c] = tau_max[c]
     # ---- record
-    rec_t[k] = t
-    _copy(rec_x[k], x)
-    _copy(rec_tau[k], tau)
-    _copy(rec_Y0N[k], Y0N)
+    rec.t[k] = t
+    _copy(rec.x[k], x)
+    _copy(rec.tau[k], tau)
+    _copy(rec.Y0_nominal[k], Y0N)
     for i in range(m):
         for a in range(p):
-            rec_Fm[k, i, a] = Fm[i, a]
-            rec_Fc[k, i, a] = F_set[i, a]
-            rec_Fe[k, i, a] = last[1, i, a]
-            rec_Fi[k, i, a] = last[2, i, a]
+            rec.F_measured[k, i, a] = Fm[i, a]
+            rec.F_commanded[k, i, a] = F_set[i, a]
+            rec.F_external[k, i, a] = last[1, i, a]
+            rec.F_internal[k, i, a] = last[2, i, a]
         for a in range(npos):
-            rec_r[k, i, a] = Y[i + 1, a]
-    pair_squeeze_into(rec_r[k], Fm, sq_desired, sq_E, sq_W, sq_V, sq_sigma, rec_sq[k])
-    rec_qs[k] = qs
-    rec_qb[k] = qb
-    rec_qit[k] = qit
-    rec_qact[k] = qact
+            rec.r_contacts[k, i, a] = Y[i + 1, a]
+    pair_squeeze_into(rec.r_contacts[k], Fm, sq_desired, sq_E, sq_W, sq_V, sq_sigma, rec.squeeze[k])
+    rec.qp_status[k] = qs
+    rec.qp_binding[k] = qb
+    rec.qp_iterations[k] = qit
+    rec.qp_active_rows[k] = qact
     out_int[5] = k + 1  # ticks recorded
     if k == N - 1:
         return RECORDED
@@ -717,83 +720,52 @@ def tick_act(spatial, k, source, qs, qit, qb, qact, run):
         out_int[1] = k + 1
         return PLANT_EXTERNAL
     # ---- plant, zero-order hold over the period (coopctrl.loop.integrate: the Python integrators' arithmetic)
-    step_code = advance(method, x, tau, P, status, pws, cws_true, t, steps, x_fail, out_int, out_float)
+    step_code = advance(plan, x, tau, P, status, pws, cws_true, t, steps, x_fail, out_int, out_float)
     if step_code != STEP_OK:
         # the Python loop keeps the state of the tick (the exception leaves ``advance``)
-        _copy(x, rec_x[k])
+        _copy(x, rec.x[k])
         return _step_failed(step_code, status, out_int)
     return DONE
 
 
 @njit(cache=True, _nrt=False)
-def reference_step(spatial, k, act, source, qs, qit, qb, sense_next, run):
+def reference_step(k, act, source, qs, qit, qb, sense_next, model, data):
     """The reference path's one entry into the compiled tick per tick (its QP solved by a backend in Python
     between the phases): phase 2 of tick ``k`` (:func:`tick_act`, with ``act``) with the backend's split
     ``source``, QP status ``qs``, iterations ``qit`` and binding families ``qb``, then, with ``sense_next``,
     phase 1 of tick ``k + 1`` (:func:`tick_sense`: its QP assembled for the next solve). ``act = False``:
     phase 1 of tick ``k + 1`` alone (a run's first tick, or after a chunk's end or a plant step in Python).
-    ``run``: the arguments of :func:`run_ticks` from ``N`` on. Returns ``(code, P changed)``: :data:`DONE`
+    ``model``, ``data``: the run (:class:`~coopctrl.loop.model.LoopModel`, :class:`~coopctrl.loop.data.LoopData`). Returns ``(code, P changed)``: :data:`DONE`
     with tick ``k + 1`` sensed (or with ``sense_next`` False, tick ``k`` done and the plant advanced),
     :data:`RECORDED`, :data:`PLANT_EXTERNAL` or the event of either phase (``out_int`` as they leave it)."""
     if act:
-        code = tick_act(spatial, k, source, qs, qit, qb, -1, run)
+        code = tick_act(k, source, qs, qit, qb, -1, model, data)
         if code != DONE or not sense_next:
             return code, False
-    return tick_sense(spatial, k + 1, True, run)
+    return tick_sense(k + 1, True, model, data)
 
 
 @njit(cache=True, _nrt=False)
-def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
-              ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
-              x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
-              rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float):
-    """Advance the loop from tick ``k0`` until ``N`` ticks are recorded, an event, or tick ``k_stop``.
+def run_ticks(model, data, k0, k_stop):
+    """Advance the run (``model``: :class:`~coopctrl.loop.model.LoopModel`, ``data``: :class:`~coopctrl.loop.data.LoopData`) from tick ``k0`` until
+    ``model.N`` ticks are recorded, an event, or tick ``k_stop``: per tick :func:`tick_sense`, the compiled
+    solve of the split (warm started; its answer check and binding families), :func:`tick_act`.
 
     Ticks are counted from the run's start: tick ``k`` is at ``t = (k_base + k) T`` [s] and is row ``k`` of
-    the record, the trajectory table and the noise streams; ``k_base`` is the index of the run's first
-    tick in the motion (0, or where the run it continues ended). ``flags[6] = 1``: before anything else the
+    the record, the trajectory table and the noise streams. ``data.flags[6] = 1``: before anything else the
     plant advances over the period of tick ``k_base - 1`` with the held ``tau``, the step a run ending at that
     tick did not take (a continuation, :class:`~coopctrl.loop.state.LoopState`), and the flag is cleared.
-
-    ``P`` = the plant's kernel arguments ``(arm_kind, arm_dof, q_off, tables, table_off, bases, tools,
-    gravity, node_params, edge_index, edge_params, Y_ref, immobile)`` (``CooperativePlant.kernel``
-    without the status); ``plant_ws`` = ``(rhs workspace, true control workspace, measured control
-    workspace)``: the plant kernels' preallocated work arrays. ``steps`` [s]: the plant steps of one
-    period; ``stages``: the tick's large stages as function pointers (:func:`tick_stages`); ``method``: the run's integration plan
-    (:func:`coopctrl.loop.integrate.make_plan`; an
-    implicit plan carries the Newton state from step to step).
-
-    State arrays (updated in place; together with ``ws`` they are the loop state): ``x`` (nx) the
-    plant state at tick ``k0``; ``tau`` (nu) the held torques [N m]; ``integ`` (m, p) the followers'
-    force-error integrals [N s]; ``last`` (3, m, p) the last feasible split ``(F, external,
-    internal)`` [N, N m]; ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves,
-    first saturated tick, last saturated tick, advance first)``; ``sat_joints`` (nu,) int64 saturated ticks per joint.
-    ``hold`` (``hold_status[0] = 1``): tick ``k0`` uses the last feasible split (the caller applied
-    the failure policy), with QP status ``hold_status[1]`` and iterations ``hold_status[2]``.
-
-    ``opts = (switches, reals, energy_scratch, zero_rates, rec_energy, rec_kinetic, K_obj, K, KGt, Rb,
-    work, leader_offset, r, v, g, d, leader_law, law_params)``: ``switches`` int64 (``OPT_*``); ``reals = (max_energy [J],)``;
-    ``energy_scratch``, ``zero_rates`` (N, p); ``rec_energy``, ``rec_kinetic`` (N,) the energy record
-    [J]; the elastic split's ``K_obj`` (m, p, p) object-frame grasp stiffness [N/m, N m/rad] and its
-    work arrays ``K`` (n, n), ``KGt`` (n, p), ``Rb`` (p, p), ``work`` (p, 2p); the tuning probes:
-    ``leader_offset`` (p,) added to the leader's target [m, rad] and, per arm (m, p), the followers'
-    setpoint offset ``r`` and PI output ``v`` [N, N m], error gain ``g`` [-] and measurement delay
-    ``d`` (int64, ticks) (:class:`~coopctrl.tuning.loop_probes.FollowerProbe`); ``leader_law``, ``law_params``:
-    the leader's law (a compiled function, :func:`leader_law_stage`) and its constants.
-
-    ``tw``: the tick's work arrays (:func:`tick_workspace`); ``sq``: the squeeze's desired values and work
-    arrays (:func:`coopctrl.loop.squeeze.squeeze_workspace`).
-
-    Record (row ``k`` per tick): ``rec_sq`` (N, P) the virtual-linkage squeeze [N] of the measured
-    wrenches at the true contact nodes (:func:`coopctrl.loop.squeeze.pair_squeeze_into`); ``rec_qs``,
-    ``rec_qb``, ``rec_qit`` the QP's status code, binding families mask and iterations; ``rec_qact``
-    the inequality rows active at the compiled solver's answer
-    (:func:`~coopctrl.load_distribution.goldfarb_idnani.gi_active_inequalities`; -1 on a held, passive
-    or externally solved tick).
+    ``data.hold[0] = 1``: tick ``k0`` takes the last feasible split (the caller applied the failure policy to
+    a failed solve), with QP status ``hold[1]`` and iterations ``hold[2]``.
 
     Returns nothing; ``out_int = (code, tick, detail, detail, -, ticks recorded, last tick that passed
     the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
     """
+    spatial, N, k_base, T, steps, stages, P = model.spatial, model.N, model.k_base, model.T, model.steps, model.stages, model.P
+    qp, opts = model.qp, model.opts
+    plan, plant_ws, qp_arrays, ws, tw, x, tau = data.plan, data.plant_ws, data.qp_arrays, data.ws, data.tw, data.x, data.tau
+    flags, hold_status, x_good, x_fail, out_int, out_float = (data.flags, data.hold, data.x_good, data.x_fail, data.out_int,
+                                                              data.out_float)
     arm_kind = P[0]
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
@@ -808,10 +780,6 @@ def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant
     pws, cws_true, cws_meas = plant_ws
     advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
     status = tw.status
-    run = (N, k_base, T, steps, method, stages, P, plant_ws, grasps, traj, obj, rho, max_deformation, band,
-           ctrl, posture, C_comp, qp, qp_arrays, opts, ws, tw, sq, noise_q, noise_o, noise_f, noise_cfg,
-           x, tau, integ, last, flags, sat_joints, hold_status, rec_t, rec_x, rec_tau, rec_Y0N, rec_Fm, rec_Fc, rec_Fe, rec_Fi,
-           rec_r, rec_sq, rec_qs, rec_qb, rec_qit, rec_qact, x_good, x_fail, out_int, out_float)
     k = k0
     out_int[0] = DONE
     if flags[6] != 0:  # the period a run that ended at tick k_base - 1 did not advance
@@ -819,7 +787,7 @@ def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant
         terms(x, P, status, cws_true)  # the terms at x, which that tick's sensing left for the step's first slope
         step_code = STEP_OK if status[0] == 0 else -1
         if step_code == STEP_OK:
-            step_code = advance(method, x, tau, P, status, pws, cws_true, (k_base - 1) * T, steps, x_fail, out_int,
+            step_code = advance(plan, x, tau, P, status, pws, cws_true, (k_base - 1) * T, steps, x_fail, out_int,
                                 out_float)
         if step_code != STEP_OK:
             out_int[1] = 0
@@ -833,7 +801,7 @@ def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant
             return
         hold = hold_status[0] == 1
         assemble = not passive and not hold
-        code, P_changed = tick_sense(spatial, k, assemble, run)
+        code, P_changed = tick_sense(k, assemble, model, data)
         if code != DONE:
             return
         # ---- the split: none (passive), the last one held (the caller applied the failure policy), or solved
@@ -851,7 +819,7 @@ def run_ticks(spatial, k0, k_stop, N, k_base, T, steps, method, stages, P, plant
                 out_int[3] = qit
                 return
             source, qact = SPLIT_SOLVED, gi_active_inequalities(ws, p)
-        code = tick_act(spatial, k, source, qs, qit, qb, qact, run)
+        code = tick_act(k, source, qs, qit, qb, qact, model, data)
         if code == RECORDED:
             break
         if code != DONE:

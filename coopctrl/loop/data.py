@@ -1,0 +1,39 @@
+"""``LoopData``: what one run of the compiled loop reads and writes, by name (as MuJoCo's ``mjData``), and
+``TickRecord``, the record rows a tick writes.
+
+The loop state's arrays in it are those of the run's :class:`~coopctrl.loop.state.LoopState` (a copy of the
+state the run was given: a run changes nothing it was given); :mod:`coopctrl.loop.compiled` builds one per run.
+Its companion, the run's constants, is :class:`~coopctrl.loop.model.LoopModel`.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+#: The rows a tick records (row ``k``), by the record's names (:class:`~coopctrl.loop.record.LoopRecord`).
+TickRecord = namedtuple("TickRecord", "t x tau Y0_nominal F_measured F_commanded F_external F_internal r_contacts "
+                                      "squeeze qp_status qp_binding qp_iterations qp_active_rows")
+
+#: What a run reads and writes, by name (as MuJoCo's ``mjData``): its state, work arrays, record and outputs.
+LoopData = namedtuple("LoopData", "plan plant_ws qp_arrays ws tw sq x tau integrals last_split flags saturated_joints "
+                                  "hold record x_good x_fail out_int out_float")
+LoopData.__doc__ = """What one run of the compiled loop (:func:`~coopctrl.loop.kernel.run_ticks`) reads and writes, by name.
+
+- ``plan``: the integration plan (:func:`coopctrl.integrators.compiled.make_plan`: its work arrays and the
+  step-to-step state, an implicit scheme's Newton matrix); ``plant_ws`` = ``(rhs workspace, true control
+  workspace, measured control workspace)``: the plant kernels' work arrays; ``qp_arrays`` ``(M, lo, hi, H, g,
+  x, z, external, F_pref, E, A, y)``: the QP and its answer; ``ws``: the compiled QP's workspace (its warm
+  start); ``tw``: the tick's work arrays (:func:`~coopctrl.loop.kernel.tick_workspace`); ``sq``: the squeeze's
+  desired values and work arrays (:func:`coopctrl.loop.squeeze.squeeze_workspace`);
+- the loop state, updated in place (:class:`~coopctrl.loop.state.LoopState`, whose fields these are): ``x``
+  (nx) the plant state; ``tau`` (nu) the held torques [N m]; ``integrals`` (m, p) the followers' force-error
+  integrals [N s]; ``last_split`` (3, m, p) the last feasible split ``(F, external, internal)`` [N, N m];
+  ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves, first saturated tick, last
+  saturated tick, advance first)``; ``saturated_joints`` (nu,) int64; ``hold`` (mode, QP status, iterations,
+  binding mask);
+- ``record``: the rows written per tick (:class:`TickRecord`; ``squeeze`` the virtual-linkage squeeze [N] of
+  the measured wrenches, ``qp_active_rows`` the inequality rows active at the compiled solver's answer, -1 on
+  a held, passive or externally solved tick);
+- ``x_good``: the last state that passed the guards; ``x_fail``: the state a failure was met at; ``out_int``,
+  ``out_float``: the stop's code and details (:func:`~coopctrl.loop.kernel.run_ticks`).
+"""
