@@ -49,7 +49,8 @@ def test_same_shape_other_layout_or_writability_is_another_type():
 def test_tuples_named_tuples_and_scalars():
     arrays = _arrays()
     values = [tuple(arrays), (arrays[0], arrays[0]), Pair(arrays[0], (arrays[1], 2.5)), (True, 1.0),
-              True, 0.25, 7, np.float64(1.5), (arrays[0], "text")]
+              True, 0.25, 7, np.float64(1.5), (arrays[0], "text"), -3, 2 ** 63, np.int64(2), np.int32(5), np.bool_(True),
+              Pair(np.int64(1), (arrays[1], 4))]
     for v in values:
         assert argument_type(v) == typeof(v), v
     assert signature_of(values) == tuple(typeof(v) for v in values)

@@ -7,7 +7,7 @@ beside its ticks. The type of a value depends only on a few of its properties:
 * an ``ndarray``: its dtype, its number of dimensions, its layout (``C`` if C-contiguous, else ``F`` if
   Fortran-contiguous, else ``A``) and whether it is writable (``numba.typeof`` reads nothing else);
 * a tuple or named tuple: its class and the types of its items;
-* a ``bool`` or a ``float``: its class;
+* a ``bool``, a ``float`` or a numpy scalar: its class; an ``int``: whether it fits in an int64;
 * a compiled stage (a numba ``cfunc``): the object itself, compiled once per signature and kept for
   the process.
 
@@ -36,6 +36,10 @@ def _key(value):
         return value.dtype, value.ndim, flags.c_contiguous, flags.f_contiguous, flags.writeable
     if cls is bool or cls is float:
         return cls
+    if cls is int:  # int64, or uint64 beyond it (numba.typeof)
+        return cls, -2 ** 63 <= value < 2 ** 63
+    if isinstance(value, (np.integer, np.floating, np.bool_)):  # a numpy scalar: its dtype decides
+        return cls
     if isinstance(value, tuple) and (cls is tuple or hasattr(cls, "_fields")):
         items = []
         for item in value:
@@ -53,7 +57,7 @@ def _key(value):
 
 def argument_type(value):
     """``numba.typeof(value)`` (as an argument of a compiled function), from a memo for arrays, tuples
-    of them, bools, floats and compiled stages."""
+    of them, bools, ints, floats, numpy scalars and compiled stages."""
     key = _key(value)
     if key is None:
         return typeof(value)
