@@ -233,6 +233,34 @@ def test_sigterm_during_a_run_exits_143(tmp_path):
     assert not (tmp_path / "o").exists() or not list((tmp_path / "o").glob(".*"))
 
 
+def test_a_signal_raised_inside_a_callback_still_ends_the_run_with_its_code():
+    """A SIGTERM that lands while Python runs a callback (a weak reference's, an import lock's) raises there,
+    where Python cannot propagate it: it used to print "Exception ignored ... Traceback" and let the run go
+    on. Here the exception is raised on purpose inside an object's finalizer at the start of the run: the run
+    stops with 143 and one clean line."""
+    script = """
+import sys
+import coopctrl.simulator as simulator
+from coopctrl.cli import Terminated, main
+
+class SignalInACallback:
+    def __del__(self):
+        raise Terminated(15)  # what a SIGTERM landing in a callback raises there
+
+real = simulator.simulate
+
+def simulate(*args, **kwargs):
+    SignalInACallback()  # dropped at once: its finalizer runs here
+    return real(*args, **kwargs)
+
+simulator.simulate = simulate
+sys.exit(main(["run", "planar_two_arm_lift", "-q", "--set", "simulation.duration=0.5"]))
+"""
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=ENV, timeout=BOUND_S)
+    assert proc.returncode == 143, (proc.returncode, proc.stderr)
+    assert "Traceback" not in proc.stderr and one_clean_line(proc.stderr).startswith("coopctrl: terminated"), proc.stderr
+
+
 # ---------------------------------------------------------------------- 7. huge values
 @pytest.mark.parametrize("override", ["simulation.duration=1e300", "simulation.control_period=1e-300"])
 def test_values_beyond_the_schema_are_refused_before_any_work(override, capsys):

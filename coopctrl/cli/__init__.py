@@ -93,10 +93,31 @@ def _main_with_signals(argv: Sequence[str] | None, program: bool) -> int:
         terminated.append(signum)
         raise Terminated(signum)
 
+    resend: list = []  # the timer that raises a swallowed signal again
+
+    def on_unraisable(hook) -> None:
+        """A signal's exception raised where Python cannot propagate it (a callback: a weak reference's, an
+        import lock's) would be printed as "Exception ignored" with its traceback, and the work would go on:
+        the signal is sent again 1 ms later instead (from a timer thread, after this hook has returned), and
+        its handler raises it where it propagates."""
+        if isinstance(hook.exc_value, KeyboardInterrupt):
+            import threading
+
+            sig = hook.exc_value.signum if isinstance(hook.exc_value, Terminated) else signal.SIGINT
+            timer = threading.Timer(0.001, os.kill, (os.getpid(), sig))
+            timer.daemon = True
+            resend.append(timer)
+            timer.start()
+            return
+        previous_hook(hook)
+
     try:
         previous = signal.signal(signal.SIGTERM, on_sigterm)
     except ValueError:  # not the main thread: signals stay as they are
         previous = None
+    previous_hook = sys.unraisablehook
+    if previous is not None:
+        sys.unraisablehook = on_unraisable
     try:
         code = _main(argv)
         if code == 130 and terminated:  # a handler that caught the interruption itself (sweep)
@@ -109,6 +130,10 @@ def _main_with_signals(argv: Sequence[str] | None, program: bool) -> int:
             _ignore_end_signals()
         elif previous is not None:
             signal.signal(signal.SIGTERM, previous)
+        if previous is not None:
+            for timer in resend:  # the work is over: nothing to stop
+                timer.cancel()
+            sys.unraisablehook = previous_hook
 
 
 def _main(argv: Sequence[str] | None) -> int:
