@@ -464,6 +464,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
 
     band = margin_cos()  # charts: the band of the rotated world's angles (the object's is re-centred at 45.6 deg)
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
+    tw.obj_inertia[:] = cl.obj[1:]  # [kg m^2]: the object's inertia, as the tick reads it (obj = mass, inertia)
     sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
     t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
     with pointers_in_use():

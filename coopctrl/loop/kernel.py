@@ -381,6 +381,17 @@ def _copy(dst, src):
 
 
 @njit(inline="always", _nrt=False)
+def _plant_failed(status, y, x_fail, out_int):
+    """The event of the plant's terms failing at the state ``y`` (``status``: its code) into ``out_int``, ``y``
+    kept in ``x_fail``; returns :data:`PLANT_ERROR`."""
+    out_int[0] = PLANT_ERROR
+    out_int[2] = status[0]
+    out_int[3] = status[1]
+    _copy(x_fail, y)
+    return PLANT_ERROR
+
+
+@njit(inline="always", _nrt=False)
 def _step_failed(step_code, status, out_int):
     """The event of a plant advance that returned ``step_code`` (not ``STEP_OK``) into ``out_int``; returns it:
     :data:`NEWTON_FAILED`, :data:`STEP_TOO_SMALL`, or :data:`PLANT_ERROR` with the plant's ``status``."""
@@ -414,7 +425,7 @@ def tick_workspace(spatial: bool, m: int, nx: int, nu: int, arm_dof) -> TickWork
         Yn=e((m + 1, p)), dYn=e((m + 1, p)), ddYn=e((m + 1, p)), R3=e((4, 3, 3)), v3=e((8, 3)), pv=e((3, 6)),
         rc=e((m, npos)), r0=e(npos), Wa=e(p), rhs_t=e(p), qdd=e(nmax), piv=e(nmax, np.int64),
         wv=e((WORK_VECTORS, nmax)), wm=e((WORK_MATRICES, nmax, nmax)), inc=e(p), corr=e(p), Yv=e(p), tp=e(nmax),
-        ti=e(nmax), obj_inertia=e(3 if spatial else 1))
+        ti=e(nmax), obj_inertia=e(3 if spatial else 1))  # the object's inertia, set once per run (run_compiled)
 
 
 def leader_law_stage(law, p: int):
@@ -499,8 +510,6 @@ def tick_sense(k, assemble, model, data):
     advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
     (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
      rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw  # TickWorkspace, in its field order
-    for a in range(obj_inertia.shape[0]):
-        obj_inertia[a] = obj[1 + a]
     out_int[1] = k
     kq = k if noise_q.shape[0] > 1 else 0  # a noise-free channel passes one row of zeros
     ko = k if noise_o.shape[0] > 1 else 0
@@ -509,11 +518,7 @@ def tick_sense(k, assemble, model, data):
     terms(x, P, status, cws_true)
     Y, dY, H, h, J, Jdq, W, w_free, S, Fw = _term_arrays(cws_true)
     if status[0] != 0:
-        out_int[0] = PLANT_ERROR
-        out_int[2] = status[0]
-        out_int[3] = status[1]
-        _copy(x_fail, x)
-        return PLANT_ERROR, False
+        return _plant_failed(status, x, x_fail, out_int), False
     if noisy_state:
         for c in range(nz - p):
             xm[c] = x[c] + noise_q[kq, c]
@@ -529,11 +534,7 @@ def tick_sense(k, assemble, model, data):
                 xm[nx - p + c] = np.rint(xm[nx - p + c] / q_obj) * q_obj
         terms(xm, P, status, cws_meas)
         if status[0] != 0:
-            out_int[0] = PLANT_ERROR
-            out_int[2] = status[0]
-            out_int[3] = status[1]
-            _copy(x_fail, xm)
-            return PLANT_ERROR, False
+            return _plant_failed(status, xm, x_fail, out_int), False
     for i in range(m):
         for a in range(p):
             v = Fw[i, a] + noise_f[kf, i * p + a]
