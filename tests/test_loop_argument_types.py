@@ -7,7 +7,6 @@ import pytest
 from numba import cfunc, typeof, types
 
 from coopctrl.loop.argument_types import argument_type, signature_of
-from coopctrl.loop.stages import pointers_in_use
 
 Pair = namedtuple("Pair", "a b")
 
@@ -61,6 +60,5 @@ def test_a_compiled_stage_is_typed_as_numba_types_it():
         return a + b
 
     stage = cfunc(types.float64(types.float64, types.float64))(add)
-    with pointers_in_use():  # numba's notice that function types are experimental, as in a run
-        assert argument_type(stage) == typeof(stage)
-        assert argument_type((stage, np.zeros(2))) == typeof((stage, np.zeros(2)))
+    assert argument_type(stage) == typeof(stage)
+    assert argument_type(Pair(stage, np.zeros(2))) == typeof(Pair(stage, np.zeros(2)))

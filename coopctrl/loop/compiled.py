@@ -37,9 +37,8 @@ import coopctrl.loop.charts as loop_charts
 from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace
-from coopctrl.loop.stages import pointers_in_use
-from coopctrl.loop.data import LoopData, TickRecord
-from coopctrl.loop.model import LoopModel
+from coopctrl.loop.data import LoopData, QPArrays, TickRecord
+from coopctrl.loop.model import LoopModel, QPConstants, RunOptions
 from coopctrl.loop.state import ChartState, LoopState
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
 
@@ -142,12 +141,13 @@ class CompiledLoop:
         cos_phi = pb._cos_phi.ravel().copy() if spatial else np.zeros(1)
         sin_phi = pb._sin_phi.ravel().copy() if spatial else np.zeros(1)
         tau_qp = np.concatenate([np.broadcast_to(t, (a.dof,)) for t, a in zip(loop._qp_tau_max, plant.arms)]).astype(float)
-        self.qp = (pb.W_diag.copy(), pb.W_inv_diag.copy(), pb.s_des.copy(), tau_qp, loop.tau_max.astype(float),
-                   cos_phi, sin_phi,
-                   np.array([cfg.eps_abs, pb._mu_c, float(cfg.max_iter), cfg.min_grip if cfg.min_grip is not None else 0.0,
-                             ANSWER_TOLERANCE_OF_LOAD]),
-                   np.array([int(pb.has_squeeze), rows.get("min_grip", -1), rows.get("friction", -1),
-                             rows.get("torque_limits", -1), nf, int(cfg.max_consecutive_failures)], dtype=np.int64))
+        self.qp = QPConstants(
+            W_diag=pb.W_diag.copy(), W_inv_diag=pb.W_inv_diag.copy(), s_des=pb.s_des.copy(), tau_qp=tau_qp,
+            tau_max=loop.tau_max.astype(float), cos_phi=cos_phi, sin_phi=sin_phi,
+            numbers=np.array([cfg.eps_abs, pb._mu_c, float(cfg.max_iter),
+                              cfg.min_grip if cfg.min_grip is not None else 0.0, ANSWER_TOLERANCE_OF_LOAD]),
+            rows=np.array([int(pb.has_squeeze), rows.get("min_grip", -1), rows.get("friction", -1),
+                           rows.get("torque_limits", -1), nf, int(cfg.max_consecutive_failures)], dtype=np.int64))
         self.n = n
         self.npairs = pb.E.shape[1]
         self.problem = pb
@@ -165,7 +165,7 @@ class CompiledLoop:
         return plant.workspace(), plant.control_workspace(), plant.control_workspace()
 
     def qp_arrays(self, problem=None):
-        """Fresh QP arrays ``(M, lo, hi, H, g, x, z, external, F_pref, E, A, y)`` with the fixed rows set.
+        """Fresh QP arrays (:class:`~coopctrl.loop.data.QPArrays`) with the fixed rows set.
 
         With ``problem`` (a fresh :class:`~coopctrl.load_distribution.problem.LoadDistributionProblem`
         of the reference path, its torque rows allocated) ``M, lo, hi, H, g, external, F_pref`` are that
@@ -173,8 +173,9 @@ class CompiledLoop:
         p, n, n_in = (6 if self.spatial else 3), self.n, self.n_in
         if problem is not None:
             pb = problem
-            return (pb.M, pb.lo, pb.hi, pb.P, pb.g, np.zeros(n), np.zeros(p + n_in), pb.external, pb.F_pref,
-                    np.zeros((n, max(self.npairs, 1))), np.zeros((p, p)), np.zeros(p))
+            return QPArrays(M=pb.M, lo=pb.lo, hi=pb.hi, H=pb.P, g=pb.g, x=np.zeros(n), z=np.zeros(p + n_in),
+                            external=pb.external, F_pref=pb.F_pref, E=np.zeros((n, max(self.npairs, 1))),
+                            A=np.zeros((p, p)), y=np.zeros(p))
         pb = self.problem
         M = np.zeros((p + n_in, n))
         M[:p] = pb._G0
@@ -185,8 +186,9 @@ class CompiledLoop:
         if "friction" in self.rows:
             r = p + self.rows["friction"]
             hi[r:r + pb.m * pb.n_facets] = 0.0
-        return (M, lo, hi, np.diag(pb.W_diag), np.zeros(n), np.zeros(n), np.zeros(p + n_in), np.zeros(n), np.zeros(n),
-                np.zeros((n, max(self.npairs, 1))), np.zeros((p, p)), np.zeros(p))
+        return QPArrays(M=M, lo=lo, hi=hi, H=np.diag(pb.W_diag), g=np.zeros(n), x=np.zeros(n), z=np.zeros(p + n_in),
+                        external=np.zeros(n), F_pref=np.zeros(n), E=np.zeros((n, max(self.npairs, 1))),
+                        A=np.zeros((p, p)), y=np.zeros(p))
 
     def options(self, loop, rec, passive: bool):
         """The kernel's ``opts`` of one run (see :func:`coopctrl.loop.kernel.run_ticks`): the switches, the
@@ -217,11 +219,12 @@ class CompiledLoop:
 
         leader = _inner(loop.leader)
         law = loop.leader_law if loop.leader_law is not None else computed_torque(leader.Kp, leader.Kd)
-        with pointers_in_use():
-            law_stage, law_params = K.leader_law_stage(law, p)
-        return (switches, reals, np.zeros((nodes, p)), np.zeros((nodes, p)), rec["energy"], rec["kinetic_energy"],
-                self.K_obj, np.zeros((n, n)), np.zeros((n, p)), np.zeros((p, p)), np.zeros((p, 2 * p)),
-                lead_off, r, v, g, d, law_stage, law_params)
+        law_stage, law_params = K.leader_law_stage(law, p)
+        return RunOptions(switches=switches, reals=reals, energy_F=np.zeros((nodes, p)), energy_dY0=np.zeros((nodes, p)),
+                          energy=rec["energy"], kinetic_energy=rec["kinetic_energy"], K_obj=self.K_obj,
+                          elastic_K=np.zeros((n, n)), elastic_KGt=np.zeros((n, p)), elastic_Rb=np.zeros((p, p)),
+                          elastic_work=np.zeros((p, 2 * p)), leader_offset=lead_off, probe_offset=r, probe_pi=v,
+                          probe_gain=g, probe_delay=d, leader_law=law_stage, law_params=law_params)
 
 
 #: Each loop's compiled constants, built at its first run (kept here, not on the loop: a run attaches
@@ -285,7 +288,7 @@ def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopSt
     pb = ld.problem
     if cl.joint_counts and "torque_limits" in cl.rows:
         pb._allocate(cl.joint_counts)
-    M, lo, hi, H, g, x, z = qa[:7]
+    M, lo, hi, H, g, x = qa.M, qa.lo, qa.hi, qa.H, qa.g, qa.x
     pb.M[:] = M
     pb.lo[:] = lo
     pb.hi[:] = hi
@@ -356,28 +359,17 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
 
 
 def _entry_point(dispatcher, args: tuple):
-    """The compiled entry point of the numba ``dispatcher`` for the types of ``args``, once compiled.
+    """The compiled entry point of the numba ``dispatcher`` for the types of ``args``: compiled for them, or
+    loaded from numba's cache, first if need be, by the public ``Dispatcher.compile`` (which returns it;
+    nothing runs).
 
-    Calling it skips numba's typing of every argument on every call (several microseconds for the
-    kernel's ~50 arguments, most of it for the function pointer of the plant's advance): the reference
-    path enters the kernel twice per tick. The arguments of later calls must have the same types (the
-    run's arrays are fixed; only the tick bounds change). Anything else than a dispatcher compiled for
-    these types is returned as it is."""
-    overloads = getattr(dispatcher, "overloads", None)
-    if overloads is None:
-        return dispatcher
-    compiled = overloads.get(argument_types.signature_of(args))  # numba's types, remembered (argument_types)
-    return dispatcher if compiled is None else compiled.entry_point
-
-
-def _loaded(dispatcher, args: tuple):
-    """The entry point of the numba ``dispatcher`` for the types of ``args`` (:func:`_entry_point`), compiled
-    for them, or loaded from numba's cache, first if need be (``Dispatcher.compile``: nothing runs)."""
-    entry = _entry_point(dispatcher, args)
-    if entry is dispatcher:
-        dispatcher.compile(argument_types.signature_of(args))
-        entry = _entry_point(dispatcher, args)
-    return entry
+    Calling it skips numba's typing of the arguments on every call (the run's model and data hold about
+    490 arrays: milliseconds a call); the types are those :mod:`coopctrl.loop.argument_types` remembers. The
+    arguments of later calls must have the same types (the run's arrays are fixed; only the tick bounds
+    change): the reference path enters the kernel once per tick. A callable that is not a numba dispatcher
+    (a wrapper around one) is returned as it is."""
+    compile_for = getattr(dispatcher, "compile", None)
+    return dispatcher if compile_for is None else compile_for(argument_types.signature_of(args))
 
 
 def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None, start: LoopState | None = None
@@ -467,10 +459,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     tw.obj_inertia[:] = cl.obj[1:]  # [kg m^2]: the object's inertia, as the tick reads it (obj = mass, inertia)
     sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
     t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
-    with pointers_in_use():
-        stages = K.tick_stages(cl.spatial, plan, P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
-                               cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int,
-                               out_float)
+    stages = K.tick_stages(cl.spatial, plan, P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
+                           cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int, out_float)
     stages_startup = _time.perf_counter() - t_stages
     # the run by name: its constants and what it writes (coopctrl.loop.model, coopctrl.loop.data)
     model = LoopModel(spatial=cl.spatial, N=N, k_base=kb, T=loop.T, steps=cl.steps, stages=stages, P=P, grasps=cl.grasps,
@@ -503,18 +493,13 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             t += hs
         return x
 
-    # a call that runs no tick: numba resolves the argument types and loads the compiled kernel from its
-    # cache here (about 0.1 s once per process), start-up that is not the loop's wall time
+    # numba loads the compiled kernel from its cache here (about 0.1 s once per process; or compiles it, the
+    # first run of a kind), start-up that is not the loop's wall time
     t_load = _time.perf_counter()
-    with pointers_in_use():
-        if ld is None or pending:  # a reference path that continues a run has its pending period advanced here
-            entry = _entry_point(run_ticks, (model, data, 0, 0))
-            if entry is run_ticks:  # not yet loaded for these types in this process: numba types and loads it here
-                advance(0, 0)
-                entry = _entry_point(run_ticks, (model, data, 0, 0))
-            run_ticks = entry
-        if ld is not None:  # the reference path: the tick's two phases around its solve, one entry a tick
-            step = _loaded(K.reference_step, (0, True, K.SPLIT_SOLVED, 0, 0, 0, True, model, data))
+    if ld is None or pending:  # a reference path that continues a run has its pending period advanced here
+        run_ticks = _entry_point(run_ticks, (model, data, 0, 0))
+    if ld is not None:  # the reference path: the tick's two phases around its solve, one entry a tick
+        step = _entry_point(K.reference_step, (0, True, K.SPLIT_SOLVED, 0, 0, 0, True, model, data))
     out_int[0] = out_int[1] = 0
     out_int[6] = -1
     if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not
@@ -551,7 +536,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         while code == K.DONE:
             if P_changed:
                 ld.problem.P_changed = True
-            split = ld.solve_assembled(_moment_arms(qa[0], m, p, npos))
+            split = ld.solve_assembled(_moment_arms(qa.M, m, p, npos))
             qp_solve_time[k] = split.solve_time_s
             qp_time += split.solve_time_s
             st, iterations = _QP_STATUS.index(split.status), int(split.iterations)
@@ -561,7 +546,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                                f"{', '.join(split.binding) or '-'}); holding the last feasible split"))
                 source, binding = K.SPLIT_HELD, 0
             else:
-                qa[5][:] = split.F.reshape(-1)
+                qa.x[:] = split.F.reshape(-1)
                 source, binding = K.SPLIT_SOLVED, sum(bits[f] for f in split.binding)
             sense_next = k + 1 != k_stop  # (tick N - 1 is recorded, not advanced: no next tick to sense)
             code, P_changed = step(k, True, source, st, iterations, binding, sense_next, model, data)

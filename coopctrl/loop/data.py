@@ -21,8 +21,8 @@ LoopData.__doc__ = """What one run of the compiled loop (:func:`~coopctrl.loop.k
 
 - ``plan``: the integration plan (:func:`coopctrl.integrators.compiled.make_plan`: its work arrays and the
   step-to-step state, an implicit scheme's Newton matrix); ``plant_ws`` = ``(rhs workspace, true control
-  workspace, measured control workspace)``: the plant kernels' work arrays; ``qp_arrays`` ``(M, lo, hi, H, g,
-  x, z, external, F_pref, E, A, y)``: the QP and its answer; ``ws``: the compiled QP's workspace (its warm
+  workspace, measured control workspace)``: the plant kernels' work arrays; ``qp_arrays``: the QP and its answer
+  (:class:`QPArrays`); ``ws``: the compiled QP's workspace (its warm
   start); ``tw``: the tick's work arrays (:func:`~coopctrl.loop.kernel.tick_workspace`); ``sq``: the squeeze's
   desired values and work arrays (:func:`coopctrl.loop.squeeze.squeeze_workspace`);
 - the loop state, updated in place (:class:`~coopctrl.loop.state.LoopState`, whose fields these are): ``x``
@@ -36,4 +36,15 @@ LoopData.__doc__ = """What one run of the compiled loop (:func:`~coopctrl.loop.k
   a held, passive or externally solved tick);
 - ``x_good``: the last state that passed the guards; ``x_fail``: the state a failure was met at; ``out_int``,
   ``out_float``: the stop's code and details (:func:`~coopctrl.loop.kernel.run_ticks`).
+"""
+
+
+#: The QP of a tick and its answer, by name (``LoopData.qp_arrays``).
+QPArrays = namedtuple("QPArrays", "M lo hi H g x z external F_pref E A y")
+QPArrays.__doc__ = """The load-distribution QP a tick assembles and its answer (``LoopData.qp_arrays``), by name.
+
+``lo <= M F <= hi`` with the cost ``F^T H F / 2 + g^T F``: ``M`` (p + n_in, n) the object's wrench rows (equal
+bounds: the required wrench) and the inequality rows; ``x`` (n,) the answer ``F`` [N, N m] and ``z`` its row
+multipliers; ``external`` (n,) and ``F_pref`` (n,) the external share and the preferred split [N, N m]; ``E``,
+``A`` (p, p), ``y`` (p,): the elastic split's work arrays.
 """

@@ -76,7 +76,7 @@ from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities, g
 from coopctrl.integrators.compiled import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
 from coopctrl.integrators.compiled import STEP_TOO_SMALL as STEP_TOO_SMALL_CODE
 from coopctrl.loop.squeeze import pair_squeeze_into
-from coopctrl.loop.stages import compile_stage
+from coopctrl.loop.stages import TickStages, compile_stage
 from coopctrl.loop.energy import plant_energy
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
@@ -110,7 +110,7 @@ SPLIT_SOLVED = 0    #: the QP's answer, in ``x`` of ``qp_arrays`` (it becomes th
 SPLIT_HELD = 1      #: the last feasible split (a failed solve, after the failure policy)
 SPLIT_NONE = 2      #: none: a passive run (zero wrenches, no controllers)
 
-#: Entries of ``opts[0]`` (int64 switches of a run).
+#: Entries of ``opts.switches`` (int64 switches of a run).
 OPT_PASSIVE = 0     #: no QP, no controllers, zero torques; energy recorded
 OPT_ENERGY = 1      #: evaluate the energy each tick (1: record it, 2: also guard ``max_energy``)
 OPT_ELASTIC = 2     #: ``split = "elastic"``: ``A_K`` and ``P = K^-1`` from the grasp stiffness
@@ -256,15 +256,17 @@ def _qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
     npos = 3 if spatial else 2
-    (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
+    W_diag, W_inv_diag, s_des, tau_qp = qp.W_diag, qp.W_inv_diag, qp.s_des, qp.tau_qp
+    cos_phi, sin_phi, qp_num, qp_int = qp.cos_phi, qp.sin_phi, qp.numbers, qp.rows
     mu_c = qp_num[1]
     has_squeeze = qp_int[0] != 0
     row_grip, row_fric, row_tau, n_fric = qp_int[1], qp_int[2], qp_int[3], qp_int[4]
     torque_limits = row_tau >= 0
     need_normals = row_grip >= 0 or row_fric >= 0
-    (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
-    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d, leader_law,
-     law_params) = opts
+    Mq, lo, hi, Hq, gq = qp_arrays.M, qp_arrays.lo, qp_arrays.hi, qp_arrays.H, qp_arrays.g
+    external, Fpref, Ework, Ak, yk = qp_arrays.external, qp_arrays.F_pref, qp_arrays.E, qp_arrays.A, qp_arrays.y
+    switches, K_obj = opts.switches, opts.K_obj
+    Kw, KGt, Rb, ework = opts.elastic_K, opts.elastic_KGt, opts.elastic_Rb, opts.elastic_work
     elastic = switches[OPT_ELASTIC] != 0
     for a in range(p):
         lo[a] = wN[a]
@@ -455,15 +457,16 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
                                          cws.S)
     arm_kind, arm_dof, q_off = P[0], P[1], P[2]
     Y0N = tw.wN  # (p,) float64, the type of a row of traj (which has none in a run of no tick)
-    Mq, lo, hi, Hq, gq, xq, zq = qp_arrays[:7]
-    switches, _, eF, eDY0 = opts[:4]
-    lead_off, leader_law, law_params = opts[11], opts[16], opts[17]
+    Mq, lo, hi, Hq, gq, xq, zq = (qp_arrays.M, qp_arrays.lo, qp_arrays.hi, qp_arrays.H, qp_arrays.g, qp_arrays.x,
+                                  qp_arrays.z)
+    switches, eF, eDY0 = opts.switches, opts.energy_F, opts.energy_dY0
+    lead_off, leader_law, law_params = opts.leader_offset, opts.leader_law, opts.law_params
     # the plant's period advance with numba's runtime (the implicit schemes' pinv fallback allocates)
     advance = compile_stage(_advance_stage, i64, plan, x, tau, P, tw.status, pws, cws, f64, steps, x_fail, out_int,
                             out_float, runtime=True)
     terms = compile_stage(_terms_stage, i64, x, P, tw.status, cws)
-    K_obj, Kw, KGt, Rb, ework = opts[6:11]
-    external, Ak, yk = qp_arrays[7], qp_arrays[10], qp_arrays[11]
+    K_obj, Kw, KGt, Rb, ework = opts.K_obj, opts.elastic_K, opts.elastic_KGt, opts.elastic_Rb, opts.elastic_work
+    external, Ak, yk = qp_arrays.external, qp_arrays.A, qp_arrays.y
     elastic = compile_stage(_elastic_stage if switches[OPT_ELASTIC] != 0 else _no_elastic_stage, types.Tuple((i64, b1)),
                             Mq, i64, K_obj, Y0N, b1, Kw, Hq, tw.wN, external, KGt, Ak, yk, Rb, ework)
     qp_rows = compile_stage(_qp_rows, types.Tuple((i64, b1)), b1, Y, Y0N, tw.wN, tw.ddYn, W, w_free, H, h, J, Jdq,
@@ -477,7 +480,8 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
                             tw.wm, tw.piv, tw.ti, leader_law, law_params)
     energy = compile_stage(_energy_stage if switches[OPT_ENERGY] != 0 else _no_energy_stage, types.Tuple((f64, f64, i64)),
                            x, P, cws, eF, eDY0)
-    return advance, terms, qp_rows, qp_answer, control, energy, elastic
+    return TickStages(advance=advance, terms=terms, qp_rows=qp_rows, qp_answer=qp_answer, control=control,
+                      energy=energy, elastic_split=elastic)
 
 
 @njit(cache=True, inline="always", _nrt=False)
@@ -499,7 +503,8 @@ def tick_sense(k, assemble, model, data):
     p = 6 if spatial else 3
     nx = x.shape[0]
     nz = nx // 2
-    (switches, reals, eF, eDY0, rec_E, rec_KE) = opts[:6]
+    switches, reals, eF, eDY0 = opts.switches, opts.reals, opts.energy_F, opts.energy_dY0
+    rec_E, rec_KE = opts.energy, opts.kinetic_energy
     passive = switches[OPT_PASSIVE] != 0
     energy_on = switches[OPT_ENERGY] != 0
     energy_guard = switches[OPT_ENERGY] == 2
@@ -507,9 +512,15 @@ def tick_sense(k, assemble, model, data):
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     q_joint, q_force, q_obj = noise_cfg[1], noise_cfg[4], noise_cfg[3]
     pws, cws_true, cws_meas = plant_ws
-    advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
-    (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
-     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw  # TickWorkspace, in its field order
+    # the stages, one a line (a tuple of functions would be unified into one function type, numba's experimental path)
+    terms = stages.terms
+    qp_rows = stages.qp_rows
+    energy = stages.energy
+    elastic_split = stages.elastic_split
+    # the tick's work arrays (TickWorkspace), by name
+    status, xm, Fm, wN, nrm, Jg, bias, d, Yn = tw.status, tw.xm, tw.Fm, tw.wN, tw.nrm, tw.Jg, tw.bias, tw.d, tw.Yn
+    dYn, ddYn, R3, v3, rc, r0, Wa, rhs_t, qdd = tw.dYn, tw.ddYn, tw.R3, tw.v3, tw.rc, tw.r0, tw.Wa, tw.rhs_t, tw.qdd
+    piv, wv, wm, obj_inertia = tw.piv, tw.wv, tw.wm, tw.obj_inertia
     out_int[1] = k
     kq = k if noise_q.shape[0] > 1 else 0  # a noise-free channel passes one row of zeros
     ko = k if noise_o.shape[0] > 1 else 0
@@ -618,19 +629,23 @@ def tick_act(k, source, qs, qit, qb, qact, model, data):
     p = 6 if spatial else 3
     npos = 3 if spatial else 2
     nu = tau.shape[0]
-    (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
-    (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
-    (switches, reals, eF, eDY0, rec_E, rec_KE, K_obj, Kw, KGt, Rb, ework, lead_off, pr_r, pr_v, pr_g, pr_d, leader_law,
-     law_params) = opts
+    tau_max = qp.tau_max
+    xq, external = qp_arrays.x, qp_arrays.external
+    switches, lead_off, law_params = opts.switches, opts.leader_offset, opts.law_params
+    leader_law = opts.leader_law
+    pr_r, pr_v, pr_g, pr_d = opts.probe_offset, opts.probe_pi, opts.probe_gain, opts.probe_delay
     passive = switches[OPT_PASSIVE] != 0
     probes = switches[OPT_PROBES] != 0
     plant_outside = switches[OPT_EXTERNAL_PLANT] != 0
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     pws, cws_true, cws_meas = plant_ws
-    advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
-    (F_cmd, F_seen, status, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, d, Yn, dYn, ddYn, R3, v3, pv, rc, r0, Wa,
-     rhs_t, qdd, piv, wv, wm, inc, corr, Yv, tp, ti, obj_inertia) = tw  # TickWorkspace, in its field order
-    sq_desired, sq_E, sq_W, sq_V, sq_sigma = sq  # SqueezeWork, in its field order
+    advance = stages.advance  # the stages, one a line (see tick_sense)
+    control = stages.control
+    # the tick's work arrays (TickWorkspace), by name
+    F_cmd, F_seen, status, xm, Fm, F_set, a_cmd = tw.F_cmd, tw.F_seen, tw.status, tw.xm, tw.Fm, tw.F_set, tw.a_cmd
+    err, Yn, dYn, ddYn, R3, pv, piv, wv, wm = tw.err, tw.Yn, tw.dYn, tw.ddYn, tw.R3, tw.pv, tw.piv, tw.wv, tw.wm
+    inc, corr, Yv, tp, ti = tw.inc, tw.corr, tw.Yv, tw.tp, tw.ti
+    sq_desired, sq_E, sq_W, sq_V, sq_sigma = sq.desired, sq.E, sq.W, sq.V, sq.sigma
     Y = cws_true.ws.Y
     if noisy_state:
         Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _term_arrays(cws_meas)
@@ -770,16 +785,19 @@ def run_ticks(model, data, k0, k_stop):
     arm_kind = P[0]
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
-    (W_diag, W_inv_diag, s_des, tau_qp, tau_max, cos_phi, sin_phi, qp_num, qp_int) = qp
+    W_diag, qp_num, qp_int = qp.W_diag, qp.numbers, qp.rows
     eps_abs, answer_rho = qp_num[0], qp_num[4]
     max_iter = int(qp_num[2])
     row_grip, row_fric, row_tau, n_fric = qp_int[1], qp_int[2], qp_int[3], qp_int[4]
-    (Mq, lo, hi, Hq, gq, xq, zq, external, Fpref, Ework, Ak, yk) = qp_arrays
+    Mq, lo, hi, Hq, gq, xq, zq = (qp_arrays.M, qp_arrays.lo, qp_arrays.hi, qp_arrays.H, qp_arrays.g, qp_arrays.x,
+                                  qp_arrays.z)
     n = W_diag.shape[0]
     n_in = Mq.shape[0] - p
-    passive = opts[0][OPT_PASSIVE] != 0
+    passive = opts.switches[OPT_PASSIVE] != 0
     pws, cws_true, cws_meas = plant_ws
-    advance, terms, qp_rows, qp_answer, control, energy, elastic_split = stages
+    advance = stages.advance  # the stages, one a line (see tick_sense)
+    terms = stages.terms
+    qp_answer = stages.qp_answer
     status = tw.status
     k = k0
     out_int[0] = DONE

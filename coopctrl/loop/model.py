@@ -17,7 +17,7 @@ LoopModel.__doc__ = """The constants of one run of the compiled loop (:func:`~co
 - ``spatial`` (bool); ``N`` ticks to record; ``k_base``: the index of the run's first tick in the motion (0,
   or where the run it continues ended); ``T`` [s] the control period; ``steps`` [s] the plant steps of one
   period;
-- ``stages``: the tick's large stages as function pointers (:func:`~coopctrl.loop.kernel.tick_stages`);
+- ``stages``: the tick's large stages as compiled functions, by name (:class:`~coopctrl.loop.stages.TickStages`);
 - ``P``: the plant's kernel arguments ``(arm_kind, arm_dof, q_off, tables, table_off, bases, tools, gravity,
   node_params, edge_index, edge_params, Y_ref, immobile)`` (``CooperativePlant.kernel`` without the status);
 - ``grasps`` (m, p) the grasp offsets; ``traj`` (3, N, p) the nominal object motion ``(Y, dY, ddY)`` per tick;
@@ -25,16 +25,40 @@ LoopModel.__doc__ = """The constants of one run of the compiled loop (:func:`~co
   frame [m]; ``max_deformation`` [m] and ``band`` (the Euler band's ``|cos theta|``): the guards;
 - ``ctrl``: ``(leader, Kp_l, Kd_l, kp_f, ki_f, Kp_f, Kd_f, force_loop, integral_limit)``; ``posture``: the
   null-space posture gains and rest angles; ``C_comp`` (m, p, p) the grasp compliances;
-- ``qp``: the QP's weights, desired squeeze, torque limits, friction facets, numbers ``(eps_abs, mu, max_iter,
-  min_grip, answer tolerance)`` and row layout ``(has_squeeze, grip row, friction row, torque row, facets,
-  max_consecutive_failures)``;
-- ``opts = (switches, reals, energy_scratch, zero_rates, rec_energy, rec_kinetic, K_obj, K, KGt, Rb, work,
-  leader_offset, r, v, g, d, leader_law, law_params)``: ``switches`` int64 (``OPT_*``); ``reals = (max_energy
-  [J],)``; the energy's scratch and record ``(N,)`` [J]; the elastic split's ``K_obj`` (m, p, p) object-frame
-  grasp stiffness [N/m, N m/rad] and its work arrays; the tuning probes: ``leader_offset`` (p,) [m, rad] and,
-  per arm (m, p), the followers' setpoint offset ``r`` and PI output ``v`` [N, N m], error gain ``g`` [-] and
-  measurement delay ``d`` (int64, ticks); ``leader_law``, ``law_params``: the leader's law
-  (:func:`~coopctrl.loop.kernel.leader_law_stage`) and its constants;
+- ``qp``: the QP's constants (:class:`QPConstants`); ``opts``: the run's switches, energy record, elastic split
+  arrays, tuning probes and leader law (:class:`RunOptions`);
 - ``noise_q``, ``noise_o``, ``noise_f``: the sensor noise drawn beforehand, a row per tick (one row of zeros
   for a noise-free channel); ``noise_cfg``: the noise levels and quantization steps.
+"""
+
+
+#: The QP's constants of a run, by name (``LoopModel.qp``).
+QPConstants = namedtuple("QPConstants", "W_diag W_inv_diag s_des tau_qp tau_max cos_phi sin_phi numbers rows")
+QPConstants.__doc__ = """The load-distribution QP's constants of a run (``LoopModel.qp``), by name.
+
+- ``W_diag``, ``W_inv_diag`` (n,): the weights of the contact wrenches and their inverses; ``s_des`` the desired
+  squeeze [N]; ``tau_qp`` (nu,) the joint torque limits the QP's torque rows use [N m]; ``tau_max`` (nu,) the
+  saturation limits [N m]; ``cos_phi``, ``sin_phi``: the friction cone's facet directions (spatial; one zero
+  otherwise);
+- ``numbers`` = ``(eps_abs, mu, max_iter, min_grip [N], answer tolerance)``;
+- ``rows`` (int64) = ``(has_squeeze, first min-grip row, first friction row, first torque row, facets,
+  max_consecutive_failures)``, a row -1 where the family is absent.
+"""
+
+#: The run's switches and per-run arrays, by name (``LoopModel.opts``).
+RunOptions = namedtuple("RunOptions", "switches reals energy_F energy_dY0 energy kinetic_energy K_obj elastic_K "
+                                      "elastic_KGt elastic_Rb elastic_work leader_offset probe_offset probe_pi "
+                                      "probe_gain probe_delay leader_law law_params")
+RunOptions.__doc__ = """What one run switches on and the arrays that go with it (``LoopModel.opts``), by name.
+
+- ``switches`` int64 (entries ``OPT_*`` of :mod:`coopctrl.loop.kernel`); ``reals = (max_energy [J],)``;
+- ``energy_F``, ``energy_dY0`` (m + 1, p): the energy's scratch; ``energy``, ``kinetic_energy`` (N,) [J]: its
+  record;
+- the elastic split: ``K_obj`` (m, p, p) the object-frame grasp stiffness [N/m, N m/rad] and its work arrays
+  ``elastic_K``, ``elastic_KGt``, ``elastic_Rb``, ``elastic_work``;
+- the tuning probes: ``leader_offset`` (p,) [m, rad] and, per arm (m, p), the followers' setpoint offset
+  ``probe_offset`` and PI output ``probe_pi`` [N, N m], error gain ``probe_gain`` [-] and measurement delay
+  ``probe_delay`` (int64, ticks);
+- ``leader_law``, ``law_params``: the leader's law (:func:`~coopctrl.loop.kernel.leader_law_stage`) and its
+  constants.
 """

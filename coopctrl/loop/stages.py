@@ -11,16 +11,16 @@ guard) is replaced by one that does nothing with the same signature, so it is ne
 
 :func:`compile_stage` is the one place a stage is made: ``function`` is a plain Python function
 (not ``@njit``: its cache entries would share a file name with the ``cfunc``'s), compiled for the
-numba types of example arguments, which must be those of the kernel's call.
+numba types of example arguments, which must be those of the kernel's call. :class:`TickStages` holds a
+run's stages by name: the tick reads each by its name, and numba types the named tuple field by field
+(a plain tuple of functions would be unified into one function type, numba's experimental path).
 """
 
 from __future__ import annotations
 
-import contextlib
-import warnings
+from collections import namedtuple
 
 from numba import cfunc, types
-from numba.core.errors import NumbaExperimentalFeatureWarning
 
 import coopctrl.loop.argument_types as argument_types
 
@@ -49,13 +49,13 @@ def compile_stage(function, restype: types.Type, *args, runtime: bool = False):
     return compiled
 
 
-@contextlib.contextmanager
-def pointers_in_use():
-    """Silence numba's notice that first-class functions (the stages' pointers) are experimental,
-    while the stages are compiled and the kernel is typed with them: the feature is used on purpose
-    and its results are checked against the reference path (``tests/test_closed_loop.py``); the
-    notice would reach every user's terminal. Other warnings pass."""
-    with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="First-class function type feature is experimental",
-                                category=NumbaExperimentalFeatureWarning)
-        yield
+#: A run's stages, by name (``LoopModel.stages``; built by :func:`coopctrl.loop.kernel.tick_stages`).
+TickStages = namedtuple("TickStages", "advance terms qp_rows qp_answer control energy elastic_split")
+TickStages.__doc__ = """The compiled stages one run's tick calls (``LoopModel.stages``), by name.
+
+``advance``: the plant over one control period (:func:`coopctrl.loop.integrate.zoh_advance`); ``terms``: the
+plant's control terms at a state; ``qp_rows``: the QP's rows of a tick; ``qp_answer``: the compiled solve and
+its check; ``control``: the leader's and the followers' laws; ``energy``: the plant's energy (or a stage
+that does nothing, for a run that needs none); ``elastic_split``: the elastic split's inputs (or nothing,
+for a pseudo-inverse split). Each is a numba ``cfunc`` (:func:`compile_stage`).
+"""
