@@ -283,6 +283,43 @@ def test_plans_by_scheme():
         integrate.make_plan(object(), 4)
 
 
+
+@pytest.mark.parametrize("name", ["euler", "symplectic_euler", "rk4", "implicit_midpoint", "implicit_euler", "rk23",
+                                  "rk45", "trbdf2"])
+def test_plan_slots_hold_every_family_in_one_type_and_give_back_its_own_arrays(name):
+    """``plan_slots`` puts a plan of any family in slots of one numba type (so the loop's tick is compiled
+    once for every integrator), and the family's ``*_plan_of`` gives back the plan: the same fields, the
+    very same arrays (the advance writes into the plan the loop state carries), in Python and compiled."""
+    import coopctrl.integrators.adaptive_plans as adaptive
+    from numba import njit, typeof
+
+    nx = 6
+    plan = integrate.make_plan(get_integrator(name), nx, 1e-3, 3)
+    slots = integrate.plan_slots(plan)
+    reference = integrate.plan_slots(integrate.make_plan(get_integrator("rk4"), nx))
+    assert typeof(slots) == typeof(reference)  # one type for every family
+    of = {integrate.ExplicitPlan: integrate.explicit_plan_of, integrate.ImplicitPlan: integrate.implicit_plan_of,
+          adaptive.EmbeddedPlan: adaptive.embedded_plan_of, adaptive.TRBDF2Plan: adaptive.trbdf2_plan_of}[type(plan)]
+    back = of(slots)
+    assert type(back) is type(plan) and len(back) == len(plan)
+    for a, b in zip(back, plan):
+        assert a is b or (not isinstance(b, np.ndarray) and a == b)
+
+    explicit = type(plan) is integrate.ExplicitPlan
+
+    @njit
+    def touch_y(slots, value):  # compiled: rebuild the plan, write through one of its fields
+        integrate.explicit_plan_of(slots).y[0] = value
+
+    @njit
+    def touch_memo(slots, value):
+        of(slots).memo[0] = value
+
+    (touch_y if explicit else touch_memo)(slots, 7.25)
+    field = plan.y if explicit else plan.memo
+    assert field[0] == 7.25  # the plan's own array
+
+
 def test_invert_into_inverts_and_reports_a_singular_matrix():
     """``invert_into`` reports an exactly singular matrix (where numpy.linalg.inv raises) and inverts
     a regular one to rounding (1e-12 on a seeded well-conditioned 12 x 12 matrix, condition < 10)."""

@@ -88,7 +88,7 @@ def test_energy_and_elastic_split_are_compiled_only_for_runs_that_use_them(passi
     rec = closed_loop(scenario).run(build.initial_state(scenario), 0.02)
     assert rec["status"] == "ok"
     # the stages by their functions' names (the kernel's own, not part of the API)
-    assert {f.__name__ for f in compiled} == {"_advance_stage", "_terms_stage", "_qp_rows", "_qp_answer", "_control",
+    assert {f.__name__ for f in compiled} == {"_advance_explicit_stage", "_terms_stage", "_qp_rows", "_qp_answer", "_control",
                                               "_energy_stage" if passive else "_no_energy_stage",
                                               "_elastic_stage" if elastic else "_no_elastic_stage",
                                               "computed_torque_law"}  # the leader's law (the shipped one)

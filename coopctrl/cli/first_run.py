@@ -28,22 +28,24 @@ from coopctrl.cli._core import PROG
 #: compiled)``, on the project's 2-core machine class at a load average of about 1. Measured on 2026-12-02
 #: with ``benchmarks/bench_startup.py`` (one run each, load 0.9): planar-explicit on an empty cache 59 s
 #: (``--scene planar_two_arm_lift``) and spatial-explicit 88 s (the carry); spatial-explicit after the
-#: planar kind 64 s more, planar-explicit after the spatial kind 34 s more, an implicit kind after its
-#: explicit one 33 s more (the carry with ``implicit_euler``). Derived, not measured alone: an implicit kind
-#: on an empty cache (its explicit kind's figure plus the implicit increment). A second kind compiles only
-#: what the first did not (the QP solver, the frames and the shared kernels are cached once). Under load
-#: the wall times grow two to six times: the figures are estimates, said as such.
+#: planar kind 64 s more, planar-explicit after the spatial kind 34 s more. An implicit kind after its
+#: explicit one took 33 s more while it also recompiled the tick (``run_ticks``); the tick now takes the
+#: plan in slots of one type for every family (``coopctrl.integrators.compiled.plan_slots``) and a new family
+#: compiles only its advance stage: measured side by side in one session on a busier machine, 34.8 s more
+#: against 66.5 s before (0.52x), so about 20 s here (0.52 x 33 s = 17 s, rounded up); the error-controlled
+#: kinds (rk23/rk45, trbdf2) are taken as the implicit one (not measured alone). Derived, not measured alone:
+#: a non-explicit kind on an empty cache (its explicit kind's figure plus that increment). A second kind
+#: compiles only what the first did not (the QP solver, the frames and the shared kernels are cached once).
+#: Under load the wall times grow two to six times: the figures are estimates, said as such.
 COMPILE_S = {
     "planar-explicit": (59.0, 34.0),
     "spatial-explicit": (88.0, 64.0),
-    "planar-implicit": (92.0, 33.0),
-    "spatial-implicit": (121.0, 33.0),
-    # the error-controlled kinds (rk23/rk45, trbdf2): derived as the implicit ones (a new integration plan
-    # recompiles the tick's advance stage and run_ticks, as an implicit plan does); not measured alone
-    "planar-embedded": (92.0, 33.0),
-    "spatial-embedded": (121.0, 33.0),
-    "planar-trbdf2": (92.0, 33.0),
-    "spatial-trbdf2": (121.0, 33.0),
+    "planar-implicit": (79.0, 20.0),
+    "spatial-implicit": (108.0, 20.0),
+    "planar-embedded": (79.0, 20.0),
+    "spatial-embedded": (108.0, 20.0),
+    "planar-trbdf2": (79.0, 20.0),
+    "spatial-trbdf2": (108.0, 20.0),
 }
 
 #: How often the ticker redraws [s].

@@ -58,6 +58,7 @@ from collections import namedtuple
 
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
 
 from coopctrl.integrators.compiled import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, first_rhs_into, stage_failed,
                                            invert_into, jacobian_into, rhs_into, _pinv_into)
@@ -85,6 +86,22 @@ EmbeddedPlan = namedtuple("EmbeddedPlan", "settings atol A B C E K y ynew memo s
 #: TR-BDF2: ``settings``, ``atol``; ``J``, ``Ah``, ``LU``, ``M`` (nx, nx); ``k1 k2 k3 known xs fs dk e y xp fp``
 #: (nx,) work; ``memo``; ``stats``.
 TRBDF2Plan = namedtuple("TRBDF2Plan", "settings atol J Ah LU M k1 k2 k3 known xs fs dk e y xp fp memo stats")
+
+
+
+@register_jitable
+def embedded_plan_of(slots):
+    """The :class:`EmbeddedPlan` held in ``slots`` (:func:`coopctrl.integrators.compiled.plan_slots`)."""
+    v, mat = slots.vectors, slots.matrices
+    return EmbeddedPlan(v[0], v[1], mat[0], v[2], v[3], v[4], mat[1], v[5], v[6], v[7], mat[2])
+
+
+@register_jitable
+def trbdf2_plan_of(slots):
+    """The :class:`TRBDF2Plan` held in ``slots`` (:func:`coopctrl.integrators.compiled.plan_slots`)."""
+    v, mat = slots.vectors, slots.matrices
+    return TRBDF2Plan(v[0], v[1], mat[0], mat[1], mat[2], mat[3], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9],
+                      v[10], v[11], v[12], v[13], mat[4])
 
 _GAMMA = 2.0 - math.sqrt(2.0)
 _D = _GAMMA / 2.0

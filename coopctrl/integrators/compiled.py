@@ -84,6 +84,58 @@ ImplicitPlan = namedtuple("ImplicitPlan", "settings tableau weights nodes M A LU
                                           "known k xs fs dk xp fp memo")
 
 
+#: How many float64 vectors and matrices a :class:`PlanSlots` holds: the most of any plan family (TR-BDF2's 14
+#: vectors; the implicit Runge-Kutta plan's 6 matrices).
+SLOT_VECTORS = 14
+SLOT_MATRICES = 6
+
+#: A plan of any family in slots of fixed types (see :func:`plan_slots`): ``ints`` int64 ``(1,)`` (an explicit
+#: plan's ``method``, else 0), ``vectors`` the plan's float64 ``(k,)`` arrays and ``matrices`` its float64
+#: ``(r, c)`` arrays, each in the order of the plan's fields, the unused slots empty.
+PlanSlots = namedtuple("PlanSlots", "ints vectors matrices")
+
+_NO_VECTOR = np.zeros(0)
+_NO_MATRIX = np.zeros((0, 0))
+
+
+def plan_slots(plan) -> PlanSlots:
+    """``plan`` (:class:`ExplicitPlan`, :class:`ImplicitPlan`, or an error-controlled scheme's
+    ``EmbeddedPlan`` or ``TRBDF2Plan``) in slots of the same numba type for every family: the loop's
+    compiled tick, which only hands the plan to the plant's advance, is then compiled once for all the
+    families, and each family's advance rebuilds its plan from the slots (:func:`explicit_plan_of`,
+    :func:`implicit_plan_of`, ``adaptive_plans.embedded_plan_of``, ``adaptive_plans.trbdf2_plan_of``).
+    The slots hold the plan's own arrays (no copy): what the advance writes is in ``plan``."""
+    ints = np.zeros(1, dtype=np.int64)
+    vectors, matrices = [], []
+    for value in plan:
+        if isinstance(value, np.ndarray) and value.ndim == 1:
+            vectors.append(value)
+        elif isinstance(value, np.ndarray) and value.ndim == 2:
+            matrices.append(value)
+        else:  # the explicit plan's method code
+            ints[0] = value
+    if len(vectors) > SLOT_VECTORS or len(matrices) > SLOT_MATRICES:
+        raise TypeError(f"a {type(plan).__name__} does not fit PlanSlots: {len(vectors)} vectors, {len(matrices)} matrices")
+    vectors += [_NO_VECTOR] * (SLOT_VECTORS - len(vectors))
+    matrices += [_NO_MATRIX] * (SLOT_MATRICES - len(matrices))
+    return PlanSlots(ints, tuple(vectors), tuple(matrices))
+
+
+@register_jitable
+def explicit_plan_of(slots):
+    """The :class:`ExplicitPlan` held in ``slots`` (:func:`plan_slots`), its own arrays."""
+    v = slots.vectors
+    return ExplicitPlan(slots.ints[0], v[0], v[1], v[2], v[3], v[4])
+
+
+@register_jitable
+def implicit_plan_of(slots):
+    """The :class:`ImplicitPlan` held in ``slots`` (:func:`plan_slots`), its own arrays."""
+    v, mat = slots.vectors, slots.matrices
+    return ImplicitPlan(v[0], mat[0], v[1], v[2], mat[1], mat[2], mat[3], mat[4], mat[5], v[3], v[4], v[5], v[6],
+                        v[7], v[8], v[9], v[10])
+
+
 def make_plan(integrator, nx: int, period: float | None = None, ticks: int = 1):
     """A fresh plan (work arrays, cold Newton state) for one run of ``integrator`` on a state of size ``nx``.
 

@@ -471,7 +471,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                         F_commanded=rec["F_commanded"], F_external=rec["F_external"], F_internal=rec["F_internal"],
                         r_contacts=rec["r_contacts"], squeeze=rec["squeeze"], qp_status=qs, qp_binding=qb,
                         qp_iterations=rec["qp_iterations"], qp_active_rows=rec["qp_active_rows"])
-    data = LoopData(plan=plan, plant_ws=plant_ws, qp_arrays=qa, ws=state.ws, tw=tw, sq=sq, x=state.x, tau=state.tau,
+    data = LoopData(plan=I.plan_slots(plan), plant_ws=plant_ws, qp_arrays=qa, ws=state.ws, tw=tw, sq=sq, x=state.x, tau=state.tau,
                     integrals=state.integrals, last_split=state.last_split, flags=state.flags,
                     saturated_joints=state.saturated_joints, hold=state.hold, record=record, x_good=x_good, x_fail=x_fail,
                     out_int=out_int, out_float=out_float)

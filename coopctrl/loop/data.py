@@ -20,7 +20,9 @@ LoopData = namedtuple("LoopData", "plan plant_ws qp_arrays ws tw sq x tau integr
 LoopData.__doc__ = """What one run of the compiled loop (:func:`~coopctrl.loop.kernel.run_ticks`) reads and writes, by name.
 
 - ``plan``: the integration plan (:func:`coopctrl.integrators.compiled.make_plan`: its work arrays and the
-  step-to-step state, an implicit scheme's Newton matrix); ``plant_ws`` = ``(rhs workspace, true control
+  step-to-step state, an implicit scheme's Newton matrix) in its slots
+  (:func:`~coopctrl.integrators.compiled.plan_slots`: one type for every integrator family, so that the tick is
+  compiled once for them all); ``plant_ws`` = ``(rhs workspace, true control
   workspace, measured control workspace)``: the plant kernels' work arrays; ``qp_arrays``: the QP and its answer
   (:class:`QPArrays`); ``ws``: the compiled QP's workspace (its warm
   start); ``tw``: the tick's work arrays (:func:`~coopctrl.loop.kernel.tick_workspace`); ``sq``: the squeeze's

@@ -73,7 +73,9 @@ from coopctrl.load_distribution.assembly import (
 from coopctrl.load_distribution.contact_model import contact_normals_into, torque_model_into
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities, gi_solve
-from coopctrl.integrators.compiled import STEP_NEWTON_FAILED, STEP_OK, zoh_advance
+from coopctrl.integrators.adaptive_plans import EmbeddedPlan, TRBDF2Plan, embedded_plan_of, trbdf2_plan_of
+from coopctrl.integrators.compiled import (STEP_NEWTON_FAILED, STEP_OK, ExplicitPlan, ImplicitPlan, explicit_plan_of,
+                                           implicit_plan_of, plan_slots, zoh_advance)
 from coopctrl.integrators.compiled import STEP_TOO_SMALL as STEP_TOO_SMALL_CODE
 from coopctrl.loop.squeeze import pair_squeeze_into
 from coopctrl.loop.stages import TickStages, compile_stage
@@ -153,8 +155,27 @@ def _term_arrays(cws):
     return cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free, cws.S, cws.Fw
 
 
-def _advance_stage(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
-    return zoh_advance(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+# The plant's period advance, one stage per integrator family: each takes the plan in its slots (the same type
+# for every family: run_ticks is compiled once for them all) and rebuilds its family's plan from them.
+def _advance_explicit_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
+    return zoh_advance(explicit_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+
+
+def _advance_implicit_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
+    return zoh_advance(implicit_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+
+
+def _advance_embedded_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
+    return zoh_advance(embedded_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+
+
+def _advance_trbdf2_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
+    return zoh_advance(trbdf2_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+
+
+#: The advance stage of each plan family (the class of the plan :func:`~coopctrl.integrators.compiled.make_plan` made).
+ADVANCE_STAGES = {ExplicitPlan: _advance_explicit_stage, ImplicitPlan: _advance_implicit_stage,
+                  EmbeddedPlan: _advance_embedded_stage, TRBDF2Plan: _advance_trbdf2_stage}
 
 
 def _elastic_stage(M, k, K_obj, Y0, spatial, K, P, w, external, KGt, A, y, Rb, work):
@@ -462,8 +483,9 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     switches, eF, eDY0 = opts.switches, opts.energy_F, opts.energy_dY0
     lead_off, leader_law, law_params = opts.leader_offset, opts.leader_law, opts.law_params
     # the plant's period advance with numba's runtime (the implicit schemes' pinv fallback allocates)
-    advance = compile_stage(_advance_stage, i64, plan, x, tau, P, tw.status, pws, cws, f64, steps, x_fail, out_int,
-                            out_float, runtime=True)
+    # (``plan`` is the family's plan, which picks the stage; the stage takes it in its slots, as run_ticks holds it)
+    advance = compile_stage(ADVANCE_STAGES[type(plan)], i64, plan_slots(plan), x, tau, P, tw.status, pws, cws, f64,
+                            steps, x_fail, out_int, out_float, runtime=True)
     terms = compile_stage(_terms_stage, i64, x, P, tw.status, cws)
     K_obj, Kw, KGt, Rb, ework = opts.K_obj, opts.elastic_K, opts.elastic_KGt, opts.elastic_Rb, opts.elastic_work
     external, Ak, yk = qp_arrays.external, qp_arrays.A, qp_arrays.y
