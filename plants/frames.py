@@ -20,7 +20,9 @@ Planar reduction: ``Y = (x, z, theta)``, rotation in the vertical x-z plane with
 measured from +x towards +z, ``L = 1``.
 
 All functions are ``numba.njit`` kernels so that the plant's right-hand side can call them;
-they are also callable from Python with numpy arrays.
+they are also callable from Python with numpy arrays. :func:`rotation_vector_into` is a plain
+Python function that a jitted caller compiles (``register_jitable``): the inverse kinematics call
+it from Python too, without loading a compiled function or scipy.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
 
 from plants.errors import EulerSingularityError
 
@@ -143,6 +146,57 @@ def euler_zyx_from_rotation(R):
     A[1] = math.atan2(-R[2, 0], math.sqrt(R[2, 1] * R[2, 1] + R[2, 2] * R[2, 2]))
     A[2] = math.atan2(R[2, 1], R[2, 2])
     return A
+
+
+@register_jitable
+def rotation_vector_into(M, out):
+    """Rotation vector [rad] of the rotation matrix ``M`` (3x3) into ``out`` (3,): the unit quaternion
+    ``(w, v)`` of ``M`` (Shepperd's choice of the largest of ``trace, M_00, M_11, M_22``), sign chosen
+    with ``w >= 0``, then
+
+    .. math::
+
+        \\theta = 2 \\operatorname{atan2}(|v|, w), \\qquad
+        out = \\frac{\\theta}{\\sin(\\theta / 2)} v
+
+    with ``theta / sin(theta / 2) = 2 + theta^2 / 12 + 7 theta^4 / 2880`` for ``theta <= 1e-3``. The
+    inverse kinematics' rotation error (``M = R_target R(q)^T``), in Python and compiled alike
+    (``register_jitable``: a plain Python function, compiled into a jitted caller)."""
+    tr = M[0, 0] + M[1, 1] + M[2, 2]
+    if tr >= M[0, 0] and tr >= M[1, 1] and tr >= M[2, 2]:
+        w = 1.0 + tr
+        x = M[2, 1] - M[1, 2]
+        y = M[0, 2] - M[2, 0]
+        z = M[1, 0] - M[0, 1]
+    elif M[0, 0] >= M[1, 1] and M[0, 0] >= M[2, 2]:
+        x = 1.0 + 2.0 * M[0, 0] - tr
+        y = M[0, 1] + M[1, 0]
+        z = M[0, 2] + M[2, 0]
+        w = M[2, 1] - M[1, 2]
+    elif M[1, 1] >= M[2, 2]:
+        x = M[0, 1] + M[1, 0]
+        y = 1.0 + 2.0 * M[1, 1] - tr
+        z = M[1, 2] + M[2, 1]
+        w = M[0, 2] - M[2, 0]
+    else:
+        x = M[0, 2] + M[2, 0]
+        y = M[1, 2] + M[2, 1]
+        z = 1.0 + 2.0 * M[2, 2] - tr
+        w = M[1, 0] - M[0, 1]
+    norm = math.sqrt(w * w + x * x + y * y + z * z)
+    if w < 0.0:
+        norm = -norm
+    w, x, y, z = w / norm, x / norm, y / norm, z / norm
+    s = math.sqrt(x * x + y * y + z * z)
+    theta = 2.0 * math.atan2(s, w)
+    if theta <= 1e-3:  # theta / sin(theta / 2) by its series
+        t2 = theta * theta
+        scale = 2.0 + t2 / 12.0 + 7.0 * t2 * t2 / 2880.0
+    else:
+        scale = theta / math.sin(0.5 * theta)
+    out[0] = scale * x
+    out[1] = scale * y
+    out[2] = scale * z
 
 
 @njit(cache=True)

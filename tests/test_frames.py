@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from numba import njit
 from scipy.spatial.transform import Rotation
 
 from plants.errors import EulerSingularityError
@@ -16,6 +17,7 @@ from plants.frames import (
     body_rate_map_inverse,
     euler_zyx_from_rotation,
     rotation_planar,
+    rotation_vector_into,
     rotation_zyx,
     rotation_zyx_partials,
 )
@@ -127,3 +129,30 @@ def test_planar_rotation():
     # the x-z plane rotation is the spatial rotation about -y (right-handed x, y, z)
     R3 = Rotation.from_euler("y", -th).as_matrix()
     np.testing.assert_allclose(R3[np.ix_([0, 2], [0, 2])], R, atol=EXACT_TOL)
+
+
+@njit
+def _compiled_rotation_vector(M, out):
+    """A jitted caller: ``rotation_vector_into`` compiled into it, as in pre-flight's inverse kinematics."""
+    rotation_vector_into(M, out)
+
+
+@pytest.mark.parametrize("call", [rotation_vector_into, _compiled_rotation_vector], ids=["python", "compiled"])
+def test_rotation_vector_matches_scipy_at_every_angle(call):
+    """Angles from 0 (the series branch) to pi (where the quaternion's scalar part vanishes), from Python
+    (the arms' inverse kinematics) and compiled into a jitted caller (pre-flight's): scipy's
+    ``Rotation.from_matrix(M).as_rotvec()`` is the reference."""
+    rng = np.random.default_rng(7)
+    out = np.empty(3)
+    for angle in [0.0, 1e-9, 1e-4, 0.5, 2.0, 3.0, np.pi - 1e-9, np.pi]:
+        for _ in range(20):
+            axis = rng.normal(size=3)
+            rv = angle * axis / np.linalg.norm(axis)
+            M = Rotation.from_rotvec(rv).as_matrix()
+            call(M, out)
+            expected = Rotation.from_matrix(M).as_rotvec()
+            if angle >= np.pi - 1e-9:  # +-axis * pi are the same rotation: compare the rotations
+                assert np.linalg.norm(out) == pytest.approx(np.linalg.norm(expected), abs=1e-7)
+                assert np.allclose(Rotation.from_rotvec(out).as_matrix(), M, atol=1e-12)
+            else:  # a few ulps of the matrix entries (EXACT_TOL)
+                assert np.allclose(out, expected, rtol=0.0, atol=EXACT_TOL), (angle, out, expected)

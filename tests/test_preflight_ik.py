@@ -4,29 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.spatial.transform import Rotation
 
-from coopctrl.analysis.preflight_ik import rotation_vector_into, warm_ik
+from coopctrl.analysis.preflight_ik import warm_ik
 from plants.arms import iiwa14, planar3r, puma560
 from plants.arms.puma560 import GRIPPER_TOOL
-
-
-def test_rotation_vector_matches_scipy_at_every_angle():
-    """Angles from 0 (the series branch) to pi (where the quaternion's scalar part vanishes)."""
-    rng = np.random.default_rng(7)
-    out = np.empty(3)
-    for angle in [0.0, 1e-9, 1e-4, 0.5, 2.0, 3.0, np.pi - 1e-9, np.pi]:
-        for _ in range(20):
-            axis = rng.normal(size=3)
-            rv = angle * axis / np.linalg.norm(axis)
-            M = Rotation.from_rotvec(rv).as_matrix()
-            rotation_vector_into(M, out)
-            expected = Rotation.from_matrix(M).as_rotvec()
-            if angle >= np.pi - 1e-9:  # +-axis * pi are the same rotation: compare the rotations
-                assert np.linalg.norm(out) == pytest.approx(np.linalg.norm(expected), abs=1e-7)
-                assert np.allclose(Rotation.from_rotvec(out).as_matrix(), M, atol=1e-12)
-            else:  # a few ulps of the matrix entries (1e-12 rad)
-                assert np.allclose(out, expected, rtol=0.0, atol=1e-12), (angle, out, expected)
 
 
 def _path(arm, q_start, dq, steps):

@@ -40,56 +40,13 @@ from plants.arms._chain_kernels import chain_arm_tip
 from plants.arms._planar_kernels import planar_arm_terms
 from plants.arms._spatial_kernels import spatial_arm_tip
 from plants.arms.spatial_ik import IK_TOLERANCE, POSTURE_ITERATIONS, POSTURE_STEP
-from plants.frames import rotation_zyx_into
+from plants.frames import rotation_vector_into, rotation_zyx_into
 
 #: Iteration budget of one solve (as :func:`plants.arms._dls_ik.damped_least_squares`).
 MAX_ITERATIONS = 200
 #: ``kind`` of a spatial arm: standard DH table (``SerialArm.dh_array``) or general chain
 #: (``ChainArm.kernel_table``).
 KIND_DH, KIND_CHAIN = 0, 1
-
-
-@njit(cache=True)
-def rotation_vector_into(M, out):
-    """Rotation vector [rad] of the rotation matrix ``M`` (3x3) into ``out`` (3,): the unit quaternion
-    ``(w, v)`` of ``M`` (Shepperd's choice of the largest of ``trace, M_00, M_11, M_22``), sign chosen
-    with ``w >= 0``, then ``theta = 2 atan2(|v|, w)`` and ``out = theta v / |v|`` (``2 v`` to third
-    order near ``theta = 0``)."""
-    tr = M[0, 0] + M[1, 1] + M[2, 2]
-    if tr >= M[0, 0] and tr >= M[1, 1] and tr >= M[2, 2]:
-        w = 1.0 + tr
-        x = M[2, 1] - M[1, 2]
-        y = M[0, 2] - M[2, 0]
-        z = M[1, 0] - M[0, 1]
-    elif M[0, 0] >= M[1, 1] and M[0, 0] >= M[2, 2]:
-        x = 1.0 + 2.0 * M[0, 0] - tr
-        y = M[0, 1] + M[1, 0]
-        z = M[0, 2] + M[2, 0]
-        w = M[2, 1] - M[1, 2]
-    elif M[1, 1] >= M[2, 2]:
-        x = M[0, 1] + M[1, 0]
-        y = 1.0 + 2.0 * M[1, 1] - tr
-        z = M[1, 2] + M[2, 1]
-        w = M[0, 2] - M[2, 0]
-    else:
-        x = M[0, 2] + M[2, 0]
-        y = M[1, 2] + M[2, 1]
-        z = 1.0 + 2.0 * M[2, 2] - tr
-        w = M[1, 0] - M[0, 1]
-    norm = math.sqrt(w * w + x * x + y * y + z * z)
-    if w < 0.0:
-        norm = -norm
-    w, x, y, z = w / norm, x / norm, y / norm, z / norm
-    s = math.sqrt(x * x + y * y + z * z)
-    theta = 2.0 * math.atan2(s, w)
-    if theta <= 1e-3:  # theta / sin(theta / 2) by its series
-        t2 = theta * theta
-        scale = 2.0 + t2 / 12.0 + 7.0 * t2 * t2 / 2880.0
-    else:
-        scale = theta / math.sin(0.5 * theta)
-    out[0] = scale * x
-    out[1] = scale * y
-    out[2] = scale * z
 
 
 @njit(cache=True)
