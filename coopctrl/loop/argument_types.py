@@ -19,7 +19,7 @@ with ``numba.typeof``: the result is numba's own type, equal to ``numba.typeof(v
 from __future__ import annotations
 
 import numpy as np
-from numba import typeof
+from numba import typeof, types
 from numba.core.ccallback import CFunc
 
 #: key -> numba type, for the keys of :func:`_key`.
@@ -65,6 +65,18 @@ def argument_type(value):
     if ty is None:
         ty = _TYPES[key] = typeof(value)
     return ty
+
+
+def signature_key(args):
+    """What decides the numba types of ``args`` (numba types among them stand for themselves), hashable
+    in C; ``None`` where :func:`_key` does not know an argument: equal keys give equal signatures."""
+    keys = []
+    for a in args:
+        k = ("type", a) if isinstance(a, types.Type) else _key(a)
+        if k is None:
+            return None
+        keys.append(k)
+    return tuple(keys)
 
 
 def signature_of(args) -> tuple:

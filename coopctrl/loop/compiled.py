@@ -369,7 +369,21 @@ def _entry_point(dispatcher, args: tuple):
     change): the reference path enters the kernel once per tick. A callable that is not a numba dispatcher
     (a wrapper around one) is returned as it is."""
     compile_for = getattr(dispatcher, "compile", None)
-    return dispatcher if compile_for is None else compile_for(argument_types.signature_of(args))
+    if compile_for is None:
+        return dispatcher
+    quick = argument_types.signature_key(args)  # hashed in C: numba's own lookup hashes its types in Python
+    key = None if quick is None else (dispatcher, quick)
+    entry = _ENTRY_POINTS.get(key) if key is not None else None
+    if entry is None:
+        entry = compile_for(argument_types.signature_of(args))
+        if key is not None:
+            _ENTRY_POINTS[key] = entry
+    return entry
+
+
+#: The entry points :func:`_entry_point` got in this process, by (dispatcher, the arguments'
+#: :func:`~coopctrl.loop.argument_types.signature_key`).
+_ENTRY_POINTS: dict = {}
 
 
 def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None, start: LoopState | None = None

@@ -121,30 +121,35 @@ class LoopRecord:
 
     # ---- the former dict's access
     def keys(self):
-        return [f.name for f in fields(self)]
+        return list(_NAMES)
 
     def values(self):
-        return [getattr(self, k) for k in self.keys()]
+        return [getattr(self, k) for k in _NAMES]
 
     def items(self):
-        return [(k, getattr(self, k)) for k in self.keys()]
+        return [(k, getattr(self, k)) for k in _NAMES]
 
     def __getitem__(self, key: str):
-        if key not in self.keys():
+        if key not in _NAME_SET:
             raise KeyError(key)
         return getattr(self, key)
 
     def __setitem__(self, key: str, value) -> None:
-        if key not in self.keys():
+        if key not in _NAME_SET:
             raise KeyError(f"{key!r} is not a field of LoopRecord")
         setattr(self, key, value)
 
     def __contains__(self, key) -> bool:
-        return key in self.keys()
+        return key in _NAME_SET
 
     def get(self, key: str, default=None):
-        return getattr(self, key) if key in self.keys() else default
+        return getattr(self, key) if key in _NAME_SET else default
 
     def update(self, other=(), **values) -> None:
         for key, value in dict(other, **values).items():
             self[key] = value
+
+
+#: The record's field names, in order (its keys), and as a set.
+_NAMES = tuple(f.name for f in fields(LoopRecord))
+_NAME_SET = frozenset(_NAMES)

@@ -24,7 +24,8 @@ from numba import cfunc, types
 
 import coopctrl.loop.argument_types as argument_types
 
-#: The stages compiled in this process, by (function, signature).
+#: The stages compiled in this process, by (function, signature, runtime), and by (function, restype, the
+#: arguments' :func:`~coopctrl.loop.argument_types.signature_key`, runtime).
 _COMPILED: dict = {}
 
 
@@ -41,11 +42,18 @@ def compile_stage(function, restype: types.Type, *args, runtime: bool = False):
     Returns:
         The compiled ``cfunc`` (the same object for the same function and types in this process).
     """
+    quick = argument_types.signature_key(args)  # hashed in C, not numba's types (a run's set-up pays it)
+    if quick is not None:
+        compiled = _COMPILED.get((function, restype, quick, runtime))
+        if compiled is not None:
+            return compiled
     signature = restype(*(a if isinstance(a, types.Type) else argument_types.argument_type(a) for a in args))
     key = (function, signature, runtime)
     compiled = _COMPILED.get(key)
     if compiled is None:
         compiled = _COMPILED[key] = cfunc(signature, cache=True, _nrt=runtime)(function)
+    if quick is not None:
+        _COMPILED[(function, restype, quick, runtime)] = compiled
     return compiled
 
 

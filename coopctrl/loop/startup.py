@@ -23,6 +23,7 @@ per source path.
 from __future__ import annotations
 
 import hashlib
+import os
 import threading
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -128,7 +129,8 @@ def is_cold(kind: KernelKind, directory: Path | None = None) -> bool:
         listed = [line for line in stamp_path(kind, directory).read_text(encoding="utf-8").splitlines() if line]
     except (OSError, UnicodeDecodeError):
         return True
-    return not listed or not all((directory / name).is_file() for name in listed)
+    root = os.fspath(directory)  # plain strings: a Path per listed file costs more than its stat
+    return not listed or not all(os.path.isfile(os.path.join(root, name)) for name in listed)
 
 
 def record_warm(kind: KernelKind, directory: Path | None = None) -> None:

@@ -55,8 +55,15 @@ _NOT_KEYS = {Scenario: {"source"}}
 
 
 def _keys(cls: type) -> list[str]:
-    skip = _NOT_KEYS.get(cls, set())
-    return [f.name for f in fields(cls) if f.init and f.name not in skip]
+    keys = _KEYS.get(cls)
+    if keys is None:
+        skip = _NOT_KEYS.get(cls, set())
+        keys = _KEYS[cls] = [f.name for f in fields(cls) if f.init and f.name not in skip]
+    return list(keys)
+
+
+#: Each section class's file keys (:func:`_keys`), once per class.
+_KEYS: dict = {}
 
 
 def _where(path: str) -> str:

@@ -56,10 +56,17 @@ def key(
 
 def spec(cls_or_obj: Any, name: str) -> dict:
     """The schema metadata of field ``name`` (empty dict if it was declared without :func:`key`)."""
-    for f in fields(cls_or_obj):
-        if f.name == name:
-            return dict(f.metadata.get("schema", {}))
-    raise KeyError(name)
+    cls = cls_or_obj if isinstance(cls_or_obj, type) else type(cls_or_obj)
+    table = _SCHEMAS.get(cls)
+    if table is None:  # once per class: a scenario's checks ask for about a hundred fields
+        table = _SCHEMAS[cls] = {f.name: f.metadata.get("schema", {}) for f in fields(cls)}
+    if name not in table:
+        raise KeyError(name)
+    return dict(table[name])
+
+
+#: Each configuration class's schema metadata by field name (:func:`spec`).
+_SCHEMAS: dict = {}
 
 
 def limits(cls_or_obj: Any, name: str) -> dict:

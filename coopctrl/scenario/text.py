@@ -69,6 +69,10 @@ def _key_path(prefix: str, key: str) -> str:
     return f"{prefix}.{key}" if prefix else key
 
 
+#: Leaf types a TOML tree holds that carry no text and no nesting.
+_LEAVES = frozenset({float, int, bool})
+
+
 def check_tree(data: Mapping[str, Any], prefix: str = "") -> None:
     """Check every key and string of a TOML-shaped tree (iteratively, so that any depth is safe):
     safe text (:func:`check_text`) and at most :data:`MAX_DEPTH` levels of tables and arrays.
@@ -79,15 +83,18 @@ def check_tree(data: Mapping[str, Any], prefix: str = "") -> None:
     stack: list[tuple[str, Any, int]] = [(prefix, data, 0)]
     while stack:
         path, node, depth = stack.pop()
-        if isinstance(node, str):
+        kind = type(node)
+        if kind in _LEAVES:  # most of a scene: numbers (an exact type test; the ABC test costs more)
+            continue
+        if kind is str or isinstance(node, str):
             check_text(path or "<scenario>", node)
             continue
-        if not isinstance(node, (Mapping, list, tuple)):
+        if not (kind is dict or kind is list or isinstance(node, (Mapping, list, tuple))):
             continue
         if depth >= MAX_DEPTH:
             raise ScenarioError(path, "...", f"at most {MAX_DEPTH} levels of nested tables and arrays "
                                 "(a scene needs 4)")
-        if isinstance(node, Mapping):
+        if kind is dict or isinstance(node, Mapping):
             for key, value in reversed(list(node.items())):  # reversed: the first offence is met first
                 if isinstance(key, str) and (len(key) > MAX_TEXT or bad_character(key) is not None):
                     where = _key_path(path, printable(key[:32]))
