@@ -34,7 +34,7 @@ class _Plant:
         x0 = build.initial_state(scene)
         self.x = x0 + 1e-3 * rng.standard_normal(x0.shape)
         self.tau = 0.1 * rng.standard_normal(plant.input_size)
-        self.P = plant.kernel_into[1][:-1]
+        self.P = plant.plant_args
         self.nz = plant.nz
 
     def f(self, t, y):

@@ -51,7 +51,7 @@ class _Plant:
         x0 = build.initial_state(scene)
         self.x = x0 + 1e-3 * rng.standard_normal(x0.shape)
         self.tau = 0.1 * rng.standard_normal(plant.input_size)
-        self.P = plant.kernel_into[1][:-1]  # without the status array
+        self.P = plant.plant_args  # the kernel arrays by name
 
     def kernel_steps(self, integrator, h: float, n: int):
         """``n`` steps of ``h`` by the kernel (one period of one step each, the plan kept between them):
@@ -346,7 +346,7 @@ _ALLOC_SCRIPT = textwrap.dedent("""
     plant = closed_loop(scene).plant
     x0 = build.initial_state(scene) + 1e-3 * np.random.default_rng(7).standard_normal(plant.state_size)
     tau = np.zeros(plant.input_size)
-    P = plant.kernel_into[1][:-1]
+    P = plant.plant_args
     for name in ("rk4", "implicit_midpoint", "implicit_euler"):
         plan = integrate.make_plan(get_integrator(name), x0.size)
         ws, status, out_int, out_float = plant.workspace(), np.zeros(2, np.int64), np.zeros(8, np.int64), np.zeros(2)

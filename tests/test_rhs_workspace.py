@@ -6,7 +6,7 @@
   spatial, every element and damping form, mobile and immobile; with a workspace that starts as
   NaN and is reused across plants' states (nothing stale is read).
 * ``control_terms_into`` gives what ``plant.control_terms`` gives; ``rhs_into_packed`` and
-  ``control_terms_packed`` (the arrays as one tuple) give the same bits as the unpacked entry points.
+  ``control_terms_packed`` (the arrays by name, ``plant_args``) give the same bits as the unpacked entry points.
 * Called 10^4 times inside a numba loop, neither allocates: numba's NRT allocation counters (on
   with ``NUMBA_NRT_STATS=1``, so checked in a subprocess) count the same allocations for 10 calls
   as for 10^4 + 10.
@@ -157,13 +157,14 @@ def test_control_terms_into_equals_control_terms(space, m):
 @pytest.mark.parametrize("space,m,unloaded_state", [("spatial", 2, "mobile"), ("spatial", 3, "immobile"),
                                                     ("planar", 3, "mobile")])
 def test_packed_entry_points_equal_the_unpacked_ones(space, m, unloaded_state):
-    """``rhs_into_packed`` / ``control_terms_packed`` (the plant's arrays as one tuple) call the same
+    """``rhs_into_packed`` / ``control_terms_packed`` (the plant's arrays by name, ``plant_args``) call the same
     kernels with the same arrays: the same bits, and the same status."""
     plant = random_plant(space, m, seed=41 + m, unloaded_state=unloaded_state)
     fn, args = plant.kernel_into
     cfn, cargs = plant.control_kernel_into
     kernels = sys.modules[fn.py_func.__module__]
-    P, status = args[:-1], args[-1]
+    P, status = plant.plant_args, args[-1]
+    assert len(P) == len(args) - 1 and all(a is b for a, b in zip(P, args))  # the raw kernels' arrays, by name
     rng = np.random.default_rng(9)
     for _ in range(3):
         x, tau = random_state(plant, rng)
@@ -241,7 +242,8 @@ def test_rhs_from_terms_equals_the_rhs(m, unloaded_state):
     plant = random_plant("spatial", m, seed=71 + m, unloaded_state=unloaded_state)
     fn, args = plant.kernel_into
     kernels = sys.modules[fn.py_func.__module__]
-    P, status = args[:-1], args[-1]
+    P, status = plant.plant_args, args[-1]
+    assert len(P) == len(args) - 1 and all(a is b for a, b in zip(P, args))  # the raw kernels' arrays, by name
     rng = np.random.default_rng(17)
     for _ in range(3):
         x, tau = random_state(plant, rng)

@@ -51,6 +51,7 @@ from numba.extending import overload, register_jitable
 
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
+from plants.cooperative.plant_args import is_spatial
 
 #: Explicit schemes (the run-time code ``ExplicitPlan.method``).
 METHOD_EULER = 0
@@ -192,14 +193,14 @@ def newton_failure(scheme: str, steps, out_int, out_float):
 def rhs_into(x, tau, P, status, ws, dx):
     """The plant's right-hand side into ``dx`` (the allocation-free ``rhs_into`` of
     ``plants.cooperative``), compiled for the spatial or the planar kernel by the type of ``P``'s
-    bases (``(m, 4, 4)`` spatial, ``(m, 3)`` planar). ``P`` = ``CooperativePlant._args`` without the
-    status array.
+    bases (``(m, 4, 4)`` spatial, ``(m, 3)`` planar). ``P`` = ``CooperativePlant.plant_args``
+    (:class:`~plants.cooperative.plant_args.PlantArgs`).
 
     Called from Python (the scheme functions run as they are): ``P`` is a
     :class:`~coopctrl.integrators.stepping.PythonRightHandSide` (a Python ``f(t, x, u)``), or the
     plant's kernel arrays (their compiled ``rhs_into_packed``)."""
     if isinstance(P, tuple):
-        (_sk if P[5].ndim == 3 else _pk).rhs_into_packed(x, tau, P, status, ws, dx)
+        (_sk if is_spatial(P) else _pk).rhs_into_packed(x, tau, P, status, ws, dx)
     else:
         P.evaluate(x, tau, status, dx)
 
@@ -221,7 +222,7 @@ def _at_time_typed(P, t):
 @overload(rhs_into)
 def _rhs_into_typed(x, tau, P, status, ws, dx):
     # the packed entry point: P passes whole, and is unpacked where nothing is reference-counted
-    kernel = _sk.rhs_into_packed if P[5].ndim == 3 else _pk.rhs_into_packed
+    kernel = _sk.rhs_into_packed if is_spatial(P) else _pk.rhs_into_packed
 
     def impl(x, tau, P, status, ws, dx):
         kernel(x, tau, P, status, ws, dx)
@@ -237,7 +238,7 @@ def first_rhs_into(x, tau, P, status, ws, terms, dx):
 
 @overload(first_rhs_into)
 def _first_rhs_into_typed(x, tau, P, status, ws, terms, dx):
-    if terms is not None and not isinstance(terms, types.NoneType) and P[5].ndim == 3:
+    if terms is not None and not isinstance(terms, types.NoneType) and is_spatial(P):
         def impl(x, tau, P, status, ws, terms, dx):
             _sk.rhs_from_terms_into(x, tau, P, status, terms, dx)
         return impl

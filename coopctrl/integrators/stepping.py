@@ -91,7 +91,7 @@ class Stepper:
         self.f, self.nx, self.period = f, nx, period
         self.plant = _plant_of(f)
         if self.plant is not None and self.plant.state_size == nx:
-            self.P = self.plant.kernel_into[1][:-1]  # without the status array
+            self.P = self.plant.plant_args  # the kernel arrays by name
             self.ws = self.plant.workspace()
         else:
             self.plant, self.P, self.ws = None, PythonRightHandSide(f), None

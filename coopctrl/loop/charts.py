@@ -213,15 +213,15 @@ class WorldChart:
     """The rotated world of one run in charts: re-centres it between kernel calls, remembers it tick by
     tick, and gives the record back in the book's world coordinates (module docstring).
 
-    ``P``: the run's plant arguments, whose ``bases`` (``P[5]``) and ``gravity`` (``P[7]``) are the run's own
-    copies, rotated in place; ``arm_kind``, ``q_off``: which arms are contact points and where their
+    ``P``: the run's plant arguments (:class:`~plants.cooperative.plant_args.PlantArgs`), whose ``P.bases`` and
+    ``P.gravity`` are the run's own copies, rotated in place; ``arm_kind``, ``q_off``: which arms are contact points and where their
     coordinates are; ``nz``: the size of ``z``."""
 
     def __init__(self, P, nz: int, motion):
         self.P = P
-        self.bases0 = P[5].copy()
-        self.gravity0 = P[7].copy()
-        arm_kind, q_off = P[0], P[2]
+        self.bases0 = P.bases.copy()
+        self.gravity0 = P.gravity.copy()
+        arm_kind, q_off = P.arm_kind, P.q_off
         #: Start in ``z`` of the object's and each contact point's 6 coordinates (a contact point's are its node's).
         self.free = [nz - 6] + [int(q_off[i]) for i in range(arm_kind.shape[0]) if arm_kind[i] == 1]
         #: Arm index -> start in ``z`` of a contact point (its input is a node force, rotated in the record).
@@ -295,11 +295,11 @@ class WorldChart:
         self.history = [(0, self.C.copy())]
 
     def _turn_world(self, C: np.ndarray) -> None:
-        """The run's bases (``P[5]``) and gravity (``P[7]``) in the world chart ``C``: ``C^T B``, ``C^T g``."""
+        """The run's bases (``P.bases``) and gravity (``P.gravity``) in the world chart ``C``: ``C^T B``, ``C^T g``."""
         for i, B in enumerate(self.bases0):
-            self.P[5][i, :3, :3] = C.T @ B[:3, :3]
-            self.P[5][i, :3, 3] = C.T @ B[:3, 3]
-        self.P[7][:] = C.T @ self.gravity0
+            self.P.bases[i, :3, :3] = C.T @ B[:3, :3]
+            self.P.bases[i, :3, 3] = C.T @ B[:3, 3]
+        self.P.gravity[:] = C.T @ self.gravity0
 
     def _in_world(self, history=None) -> bool:
         """True while the run never left the book's world (one chart, the identity): nothing to turn back.

@@ -101,7 +101,7 @@ class CompiledLoop:
         self.spatial = spatial = loop.space == "spatial"
         p = plant.p
         m = plant.arm_count
-        self.P = tuple(plant._args[:-1])  # the plant kernels' arguments without the status array
+        self.P = plant.plant_args  # the plant kernels' arrays by name (PlantArgs)
         self.grasps = np.ascontiguousarray(loop.grasps, dtype=float)
         self.obj = np.concatenate([[loop.object_mass], loop.object_inertia]).astype(float)
         self.rho = np.ascontiguousarray(loop._rho, dtype=float)
@@ -442,7 +442,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     rhs = plant.rhs
     if loop.rotations == "charts":  # the loop in a world chart re-centred between kernel calls (coopctrl.loop.charts)
         turned = plant.with_own_world()  # the run's own bases and gravity, turned in place with the chart
-        P = P[:5] + (turned.kernel[1][5], P[6], turned.kernel[1][7]) + P[8:]
+        P = P._replace(bases=turned.plant_args.bases, gravity=turned.plant_args.gravity)
         rhs = turned.rhs  # a Python integrator steps the same turned world as the kernel
         charts = loop_charts.WorldChart(P, plant.nz, loop_charts.target_motion(loop.trajectory, times))
         if state.chart is not None:  # continue in the chart the run ended in, from its state there
@@ -469,7 +469,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     from coopctrl.loop.euler_band import margin_cos
 
     band = margin_cos()  # charts: the band of the rotated world's angles (the object's is re-centred at 45.6 deg)
-    tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P[1])
+    tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P.arm_dof)
     tw.obj_inertia[:] = cl.obj[1:]  # [kg m^2]: the object's inertia, as the tick reads it (obj = mass, inertia)
     sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
     t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time

@@ -26,6 +26,7 @@ from plants.arms._planar_kernels import planar_arm_potential
 from plants.elastic import _planar_kernels as _pe
 from plants.elastic import _spatial_kernels as _se
 from plants.cooperative._spatial_kernel import ARM_CONTACT_POINT
+from plants.cooperative.plant_args import is_spatial
 
 
 @njit(cache=True)
@@ -64,8 +65,9 @@ def _gravity_potential(Y, node_params, gravity):
 
 @njit(cache=True)
 def _spatial_energy(x, P, cws, F, dY0):
-    arm_kind, arm_dof, q_off, tables, table_off, bases = P[0], P[1], P[2], P[3], P[4], P[5]
-    gravity, node_params, edge_index, edge_params, Y_ref, immobile = P[7], P[8], P[9], P[10], P[11], P[12]
+    arm_kind, arm_dof, q_off, tables, table_off, bases = P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases
+    gravity, node_params, edge_index, edge_params = P.gravity, P.node_params, P.edge_index, P.edge_params
+    Y_ref, immobile = P.Y_ref, P.immobile
     ws = cws.ws
     T = _kinetic(x, arm_kind, arm_dof, q_off, ws.Y, ws.dY, ws.H, cws.W)
     F[:, :] = 0.0
@@ -85,8 +87,9 @@ def _spatial_energy(x, P, cws, F, dY0):
 
 @njit(cache=True)
 def _planar_energy(x, P, cws, F, dY0):
-    arm_kind, arm_dof, q_off, tables, table_off, bases = P[0], P[1], P[2], P[3], P[4], P[5]
-    gravity, node_params, edge_index, edge_params, Y_ref, immobile = P[7], P[8], P[9], P[10], P[11], P[12]
+    arm_kind, arm_dof, q_off, tables, table_off, bases = P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases
+    gravity, node_params, edge_index, edge_params = P.gravity, P.node_params, P.edge_index, P.edge_params
+    Y_ref, immobile = P.Y_ref, P.immobile
     ws = cws.ws
     T = _kinetic(x, arm_kind, arm_dof, q_off, ws.Y, ws.dY, ws.H, cws.W)
     F[:, :] = 0.0
@@ -112,7 +115,7 @@ def plant_energy(x, P, cws, F, dY0):
 
 @overload(plant_energy)
 def _plant_energy_typed(x, P, cws, F, dY0):
-    energy = _spatial_energy if P[5].ndim == 3 else _planar_energy
+    energy = _spatial_energy if is_spatial(P) else _planar_energy
 
     def impl(x, P, cws, F, dY0):
         return energy(x, P, cws, F, dY0)

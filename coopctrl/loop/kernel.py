@@ -83,6 +83,7 @@ from coopctrl.loop.energy import plant_energy
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
 from plants.cooperative.loaded_state import body_rates_into, planar_motion_into, spatial_motion_into
+from plants.cooperative.plant_args import is_spatial
 from plants.frames import rotation_zyx_into
 
 # numba keys a cached function on its own file; the cache directory is keyed on every kernel source
@@ -135,7 +136,7 @@ def _terms(x, P, status, cws):
 @overload(_terms)
 def _terms_typed(x, P, status, cws):
     # the packed entry point (see coopctrl.loop.integrate.rhs_into)
-    terms_into = _sk.control_terms_packed if P[5].ndim == 3 else _pk.control_terms_packed
+    terms_into = _sk.control_terms_packed if is_spatial(P) else _pk.control_terms_packed
 
     def impl(x, P, status, cws):
         status[0] = 0
@@ -476,7 +477,7 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     pws, cws, _ = plant_ws
     Y, dY, H, h, J, Jdq, W, w_free, S = (cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free,
                                          cws.S)
-    arm_kind, arm_dof, q_off = P[0], P[1], P[2]
+    arm_kind, arm_dof, q_off = P.arm_kind, P.arm_dof, P.q_off
     Y0N = tw.wN  # (p,) float64, the type of a row of traj (which has none in a run of no tick)
     Mq, lo, hi, Hq, gq, xq, zq = (qp_arrays.M, qp_arrays.lo, qp_arrays.hi, qp_arrays.H, qp_arrays.g, qp_arrays.x,
                                   qp_arrays.z)
@@ -520,7 +521,7 @@ def tick_sense(k, assemble, model, data):
     noise_q, noise_o, noise_f, noise_cfg = model.noise_q, model.noise_o, model.noise_f, model.noise_cfg
     x, plant_ws, qp_arrays, tw = data.x, data.plant_ws, data.qp_arrays, data.tw
     x_good, x_fail, out_int, out_float = data.x_good, data.x_fail, data.out_int, data.out_float
-    arm_kind, arm_dof, gravity = P[0], P[1], P[7]
+    arm_kind, arm_dof, gravity = P.arm_kind, P.arm_dof, P.gravity
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
     nx = x.shape[0]
@@ -646,7 +647,7 @@ def tick_act(k, source, qs, qit, qb, qact, model, data):
     plan, plant_ws, qp_arrays, tw, sq, rec = data.plan, data.plant_ws, data.qp_arrays, data.tw, data.sq, data.record
     x, tau, integ, last, flags = data.x, data.tau, data.integrals, data.last_split, data.flags
     sat_joints, x_fail, out_int, out_float = data.saturated_joints, data.x_fail, data.out_int, data.out_float
-    arm_kind, arm_dof, q_off = P[0], P[1], P[2]
+    arm_kind, arm_dof, q_off = P.arm_kind, P.arm_dof, P.q_off
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
     npos = 3 if spatial else 2
@@ -804,7 +805,7 @@ def run_ticks(model, data, k0, k_stop):
     plan, plant_ws, qp_arrays, ws, tw, x, tau = data.plan, data.plant_ws, data.qp_arrays, data.ws, data.tw, data.x, data.tau
     flags, hold_status, x_good, x_fail, out_int, out_float = (data.flags, data.hold, data.x_good, data.x_fail, data.out_int,
                                                               data.out_float)
-    arm_kind = P[0]
+    arm_kind = P.arm_kind
     m = arm_kind.shape[0]
     p = 6 if spatial else 3
     W_diag, qp_num, qp_int = qp.W_diag, qp.numbers, qp.rows

@@ -18,8 +18,9 @@ LoopModel.__doc__ = """The constants of one run of the compiled loop (:func:`~co
   or where the run it continues ended); ``T`` [s] the control period; ``steps`` [s] the plant steps of one
   period;
 - ``stages``: the tick's large stages as compiled functions, by name (:class:`~coopctrl.loop.stages.TickStages`);
-- ``P``: the plant's kernel arguments ``(arm_kind, arm_dof, q_off, tables, table_off, bases, tools, gravity,
-  node_params, edge_index, edge_params, Y_ref, immobile)`` (``CooperativePlant.kernel`` without the status);
+- ``P``: the plant's kernel arrays by name (:class:`~plants.cooperative.plant_args.PlantArgs`: ``arm_kind``,
+  ``arm_dof``, ``q_off``, ``tables``, ``table_off``, ``bases``, ``tools``, ``gravity``, ``node_params``,
+  ``edge_index``, ``edge_params``, ``Y_ref``, ``immobile``; ``CooperativePlant.plant_args``);
 - ``grasps`` (m, p) the grasp offsets; ``traj`` (3, N, p) the nominal object motion ``(Y, dY, ddY)`` per tick;
   ``obj`` the object's mass [kg] and inertia [kg m^2]; ``rho`` (m, npos) the contact points in the object
   frame [m]; ``max_deformation`` [m] and ``band`` (the Euler band's ``|cos theta|``): the guards;

@@ -48,8 +48,7 @@ def torque_model(plant, terms, ddYn) -> tuple[list[np.ndarray], list[np.ndarray]
     node's world twist, ``bias_i = H_i qdd_i + h_i + J_i^T (W_i ddYn_i + w_free_i)`` (n_i,) with ``qdd_i``
     the joint acceleration that tracks ``ddYn_i`` (zero where the arm is singular)
     (:func:`~coopctrl.load_distribution.contact_model.torque_model_into`)."""
-    _, args = plant.kernel
-    arm_kind, arm_dof = args[0], args[1]
+    arm_kind, arm_dof = plant.plant_args.arm_kind, plant.plant_args.arm_dof
     p = plant.p
     dofs = [int(n) for n in arm_dof]
     nmax = max(p, *dofs)

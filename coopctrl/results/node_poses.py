@@ -75,10 +75,11 @@ def node_poses_of(x: np.ndarray, plant) -> np.ndarray:
     out = np.full((n, m, p), np.nan)
     if n == 0:
         return out
-    _, args = plant.kernel  # (arm_kind, arm_dof, q_off, links, links_off, bases, tools, gravity, ..., status)
+    P = plant.plant_args
     status = np.zeros(2, dtype=np.int64)
     poses = _spatial_poses if plant.space == "spatial" else _planar_poses
-    bad = poses(x, *args[:8], status, plant.workspace(), out)
+    bad = poses(x, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, P.gravity, status,
+                plant.workspace(), out)
     if bad >= 0:
         plant.node_poses(x[bad])  # the plant's own check raises its error
         raise RuntimeError(f"node kinematics failed at sample {bad} (status {int(status[0])})")  # not reached

@@ -5,5 +5,6 @@ from plants.cooperative.contact_point import ContactPoint
 from plants.cooperative.control_terms import ControlTerms
 from plants.cooperative.cooperative_plant import CooperativePlant
 from plants.cooperative.loaded_state import nominal_node_motion, nominal_node_poses
+from plants.cooperative.plant_args import PlantArgs
 
-__all__ = ["assemble_plant", "ContactPoint", "ControlTerms", "CooperativePlant", "nominal_node_motion", "nominal_node_poses"]
+__all__ = ["assemble_plant", "ContactPoint", "ControlTerms", "CooperativePlant", "nominal_node_motion", "nominal_node_poses", "PlantArgs"]

@@ -160,14 +160,14 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, links_all, links_off, bases, tool
 
 @njit(cache=True, _nrt=False)
 def rhs_into_packed(x, tau, P, status, ws, dx):
-    """:func:`rhs_into` with the plant's packed arrays as one tuple ``P`` (``arm_kind .. immobile``: the
-    first 13 of ``CooperativePlant.kernel_into[1]``, without ``status``).
+    """:func:`rhs_into` with the plant's packed arrays as one named tuple ``P``
+    (:class:`~plants.cooperative.plant_args.PlantArgs`, ``CooperativePlant.plant_args``).
 
     For a compiled caller with numba's reference counting (one that allocates): taking the 13 arrays
     out of its tuple costs it an atomic increment and decrement each, on every call (about 0.3 us);
     passed whole, ``P`` is unpacked here, where nothing is counted."""
-    rhs_into(x, tau, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
-             status, ws, dx)
+    rhs_into(x, tau, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, P.gravity,
+             P.node_params, P.edge_index, P.edge_params, P.Y_ref, P.immobile, status, ws, dx)
 
 
 @njit(cache=True)
@@ -297,6 +297,6 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, links_all, links_off, bases,
 
 @njit(cache=True, _nrt=False)
 def control_terms_packed(x, P, status, cws):
-    """:func:`control_terms_into` with the packed arrays as one tuple ``P`` (see :func:`rhs_into_packed`)."""
-    control_terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
-                       status, cws)
+    """:func:`control_terms_into` with the packed arrays as one named tuple ``P`` (see :func:`rhs_into_packed`)."""
+    control_terms_into(x, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, P.gravity,
+                       P.node_params, P.edge_index, P.edge_params, P.Y_ref, P.immobile, status, cws)

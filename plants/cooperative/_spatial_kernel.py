@@ -254,7 +254,8 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         x: State ``(z, z')``, float64 (2 nz,), C-contiguous.
         tau: Inputs (nz - 6,): joint torques [N m] (or node forces of a contact point).
         arm_kind ... immobile: The plant's packed arrays, in the order of
-            ``CooperativePlant.kernel_into[1]`` (which ends with ``status``).
+            ``CooperativePlant.kernel_into[1]`` (which ends with ``status``; by name
+            :class:`~plants.cooperative.plant_args.PlantArgs`).
         status: int64 (2,): receives a status code (``plants.elastic._layout.STATUS_*``) and
             the node index it concerns; ``STATUS_OK`` = 0.
         ws: A :class:`SpatialWorkspace` from :func:`make_workspace` (``CooperativePlant.workspace()``),
@@ -302,14 +303,14 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
 
 @njit(cache=True, _nrt=False)
 def rhs_into_packed(x, tau, P, status, ws, dx):
-    """:func:`rhs_into` with the plant's packed arrays as one tuple ``P`` (``arm_kind .. immobile``: the
-    first 13 of ``CooperativePlant.kernel_into[1]``, without ``status``).
+    """:func:`rhs_into` with the plant's packed arrays as one named tuple ``P``
+    (:class:`~plants.cooperative.plant_args.PlantArgs`, ``CooperativePlant.plant_args``).
 
     For a compiled caller with numba's reference counting (one that allocates): taking the 13 arrays
     out of its tuple costs it an atomic increment and decrement each, on every call (about 0.3 us);
     passed whole, ``P`` is unpacked here, where nothing is counted."""
-    rhs_into(x, tau, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
-             status, ws, dx)
+    rhs_into(x, tau, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, P.gravity,
+             P.node_params, P.edge_index, P.edge_params, P.Y_ref, P.immobile, status, ws, dx)
 
 
 @njit(cache=True)
@@ -513,9 +514,9 @@ def control_terms_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools
 
 @njit(cache=True, _nrt=False)
 def control_terms_packed(x, P, status, cws):
-    """:func:`control_terms_into` with the packed arrays as one tuple ``P`` (see :func:`rhs_into_packed`)."""
-    control_terms_into(x, P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12],
-                       status, cws)
+    """:func:`control_terms_into` with the packed arrays as one named tuple ``P`` (see :func:`rhs_into_packed`)."""
+    control_terms_into(x, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, P.gravity,
+                       P.node_params, P.edge_index, P.edge_params, P.Y_ref, P.immobile, status, cws)
 
 
 
@@ -526,8 +527,8 @@ def rhs_from_terms_into(x, tau, P, status, cws, dx):
     interconnection forces and the accelerations are evaluated. The same operations in the same order
     as :func:`rhs_into`, so the same bits. ``P`` as in :func:`rhs_into_packed`; ``cws`` must hold the
     terms of ``x`` (a closed-loop tick's sensors at the true state, before the plant step)."""
-    arm_kind, arm_dof, q_off, node_params = P[0], P[1], P[2], P[8]
-    edge_index, edge_params, Y_ref, immobile = P[9], P[10], P[11], P[12]
+    arm_kind, arm_dof, q_off, node_params = P.arm_kind, P.arm_dof, P.q_off, P.node_params
+    edge_index, edge_params, Y_ref, immobile = P.edge_index, P.edge_params, P.Y_ref, P.immobile
     ws = cws.ws
     nz = x.shape[0] // 2
     status[0] = STATUS_OK

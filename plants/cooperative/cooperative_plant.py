@@ -9,6 +9,7 @@ import numpy as np
 from plants.cooperative import _planar_kernel, _spatial_kernel
 from plants.cooperative.contact_point import ContactPoint
 from plants.cooperative.control_terms import ControlTerms
+from plants.cooperative.plant_args import PlantArgs
 from plants.elastic import ElasticSystem
 from plants import charts as _charts
 from plants.elastic._layout import (
@@ -160,9 +161,17 @@ class CooperativePlant:
         self._charted = self._node_params.shape[1] > NODE_CHART_KIND
 
     def _pack_args(self) -> None:
-        self._args = (self._arm_kind, self._arm_dof, self._q_off, self._dh_all, self._dh_off,
-                      self._bases, self._tools, self._gravity, self._node_params, self._edge_index,
-                      self._edge_params, self._Y_ref, self._immobile, self._status)
+        self._plant_args = PlantArgs(self._arm_kind, self._arm_dof, self._q_off, self._dh_all, self._dh_off,
+                                     self._bases, self._tools, self._gravity, self._node_params, self._edge_index,
+                                     self._edge_params, self._Y_ref, self._immobile)
+        self._args = (*self._plant_args, self._status)
+
+    @property
+    def plant_args(self) -> PlantArgs:
+        """The kernel arrays by name (:class:`~plants.cooperative.plant_args.PlantArgs`): what a compiled
+        caller passes the packed kernels (``rhs_into_packed``, ``control_terms_packed``); the plant's own
+        arrays, not copies."""
+        return self._plant_args
 
     @property
     def charted(self) -> bool:
@@ -185,7 +194,7 @@ class CooperativePlant:
 
     def with_own_world(self) -> "CooperativePlant":
         """This plant with arm bases and gravity of its own, which the caller may turn in place: the
-        arrays ``kernel[1][5]`` (bases, (m, 4, 4) [m]) and ``kernel[1][7]`` (gravity, (3,) [m/s^2]) of the
+        arrays ``plant_args.bases`` ((m, 4, 4) [m]) and ``plant_args.gravity`` ((3,) [m/s^2]) of the
         copy are its :meth:`rhs`'s. A loop that runs in a world frame turned by ``C`` keeps them as the
         world's turned by ``C^T`` (coopctrl's world chart), so its kernel and a Python integrator's
         :meth:`rhs` see one turned world. A shallow copy: the other packed parameters are shared."""

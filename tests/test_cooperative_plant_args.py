@@ -1,0 +1,46 @@
+"""``plants.cooperative.plant_args``: the plant's kernel arrays by name, the same arrays its raw kernels take by
+position, and the space read from them as from their numba type."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from numba import typeof
+
+from plants.cooperative import PlantArgs
+from plants.cooperative.plant_args import is_spatial
+from test_rhs_workspace import random_plant
+
+#: The fields in the raw kernels' order (``rhs_into``'s positional arrays).
+NAMES = ("arm_kind", "arm_dof", "q_off", "tables", "table_off", "bases", "tools", "gravity", "node_params",
+         "edge_index", "edge_params", "Y_ref", "immobile")
+
+
+@pytest.mark.parametrize("space,m,unloaded_state", [("spatial", 2, "mobile"), ("spatial", 3, "immobile"),
+                                                    ("planar", 3, "mobile")])
+def test_plant_args_are_the_raw_kernels_arrays_by_name(space, m, unloaded_state):
+    """Field by field, the very arrays ``plant.kernel`` passes by position (before its status array), and
+    each field the shape its documentation states."""
+    plant = random_plant(space, m, seed=5 + m, unloaded_state=unloaded_state)
+    P = plant.plant_args
+    _, args = plant.kernel
+    assert type(P) is PlantArgs
+    assert len(P) == len(NAMES) == len(args) - 1
+    for name, raw in zip(NAMES, args):
+        assert getattr(P, name) is raw, name
+    assert args[-1].dtype == np.int64 and args[-1].shape == (2,)  # the status, not a field
+    p = 6 if space == "spatial" else 3
+    assert P.arm_kind.shape == P.arm_dof.shape == P.q_off.shape == P.table_off.shape == (m,)
+    assert P.bases.shape == ((m, 4, 4) if space == "spatial" else (m, 3))
+    assert P.gravity.shape == ((3,) if space == "spatial" else (2,))
+    assert P.node_params.shape[0] == P.Y_ref.shape[0] == m + 1 and P.Y_ref.shape[1] == p
+    assert P.edge_index.shape == (P.edge_params.shape[0], 4)  # nodes i, j, element, damping form
+    assert P.immobile is (unloaded_state == "immobile")
+
+
+@pytest.mark.parametrize("space", ["spatial", "planar"])
+def test_space_from_the_arrays_and_from_their_numba_type(space):
+    """``is_spatial`` picks the kernel from the values (Python) and from their numba type (an overload)."""
+    P = random_plant(space, 2, seed=3).plant_args
+    assert is_spatial(P) is (space == "spatial")
+    assert is_spatial(typeof(P)) is (space == "spatial")
