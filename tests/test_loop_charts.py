@@ -15,6 +15,7 @@ from coopctrl.simulator import closed_loop
 from coopctrl.trajectory import GeodesicTrajectory
 from coopctrl.trajectory.quaternion import from_zyx
 from coopctrl.trajectory.quaternion import matrix as quat_matrix
+from plants.cooperative import PlantArgs
 from plants.frames import body_rate_map, rotation_zyx
 
 SCENE = "scenarios/euler_singularity.toml"  # in charts, geodesic springs
@@ -78,7 +79,9 @@ def test_the_trajectory_table_in_a_world_chart_is_the_euler_view_turned():
     path = GeodesicTrajectory([0.0, 1.0], [[0, 0, 0.5, 0.3, 0.2, -0.1], [0.1, 0, 0.6, -0.4, 0.9, 0.5]])
     t = np.linspace(0.0, 1.0, 11)
     motion = target_motion(path, t)
-    P = (np.array([1, 1]), None, np.array([0, 6]), None, None, np.tile(np.eye(4), (2, 1, 1)), None, np.array([0, 0, -9.81]))
+    P = PlantArgs(arm_kind=np.array([1, 1]), arm_dof=None, q_off=np.array([0, 6]), tables=None, table_off=None,
+                  bases=np.tile(np.eye(4), (2, 1, 1)), tools=None, gravity=np.array([0, 0, -9.81]), node_params=None,
+                  edge_index=None, edge_params=None, Y_ref=None, immobile=False)  # what the chart reads
     chart = WorldChart(P, 18, motion)
     traj = np.zeros((3, 11, 6))
     chart.table(traj, 0)
