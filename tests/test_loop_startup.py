@@ -71,3 +71,31 @@ def test_a_kind_names_its_bad_field(field, value):
 def test_family_of_refuses_a_non_name():
     with pytest.raises(TypeError, match="integrator = 3 is invalid: expected an integrator name"):
         startup.family_of(3)
+
+
+def test_validating_a_scene_and_asking_if_its_kernels_are_compiled_imports_neither_numba_nor_scipy():
+    """A bad input is refused, a first run announced and a sweep's runs validated before numba and scipy
+    load (about 0.5 s of a process's start): the QP's classes and the loop's state are imported on first use."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from coopctrl.scenario import load_scenario\n"
+        "from coopctrl.loop.startup import is_cold, kind_of\n"
+        "from coopctrl.sweep.plan import plan_sweep\n"
+        "from coopctrl.sweep.grid import SweepGrid\n"
+        "s = load_scenario('spatial_two_puma_carry')\n"
+        "is_cold(kind_of(s))\n"
+        "plan_sweep('scenarios/spatial_two_puma_carry.toml', SweepGrid.parse(['simulation.seed=1,2']), {})\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in ('numba', 'llvmlite', 'scipy')))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO, check=True)
+    assert proc.stdout.strip() == "[]"
+    import coopctrl.load_distribution as ld
+    import coopctrl.loop as loop
+
+    assert ld.LoadDistribution.__name__ == "LoadDistribution" and loop.LoopState.__name__ == "LoopState"
+    assert {"LoadDistribution", "QPStats", "make_solver"} <= set(dir(ld))
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        ld.nothing  # noqa: B018 - the lazy lookup still refuses an unknown name

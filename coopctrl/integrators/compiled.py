@@ -49,18 +49,14 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload, register_jitable
 
+from coopctrl.integrators.methods import (METHOD_ADAPTIVE, METHOD_EULER, METHOD_RK4, METHOD_SDIRK,  # noqa: F401 (API)
+                                          METHOD_SYMPLECTIC_EULER)
 from plants.cooperative import _planar_kernel as _pk
 from plants.cooperative import _spatial_kernel as _sk
 from plants.cooperative.plant_args import is_spatial
 
-#: Explicit schemes (the run-time code ``ExplicitPlan.method``).
-METHOD_EULER = 0
-METHOD_SYMPLECTIC_EULER = 1
-METHOD_RK4 = 2
-#: The diagonally implicit Runge-Kutta schemes (an :class:`ImplicitPlan`; the tableau says which).
-METHOD_SDIRK = 3
-#: The error-controlled schemes (:mod:`coopctrl.integrators.adaptive_plans`: an ``EmbeddedPlan`` or a ``TRBDF2Plan``).
-METHOD_ADAPTIVE = 4
+# The run-time codes of the schemes (METHOD_EULER, ..., METHOD_ADAPTIVE) are written once, in
+# coopctrl.integrators.methods, and imported above.
 
 #: Results of :func:`zoh_advance`.
 STEP_OK = 0  #: the period is integrated

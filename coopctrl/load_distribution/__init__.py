@@ -7,15 +7,42 @@ the plant's terms, the contact normals and the torque-limit model, in numba: wri
 compiled tick and :mod:`coopctrl.loop.qp_inputs`), :mod:`.problem` (the QP arrays),
 :mod:`.solvers` (backends and :class:`QPStats`), :mod:`.load_split` (:class:`LoadSplit`) and
 :mod:`.load_distribution` (:class:`LoadDistribution`, with the failure policy).
+
+The configuration and the grasp matrix load with numpy alone; the QP's classes are imported on first use
+(:func:`__getattr__`, PEP 562), so that validating a scenario (which reads :class:`LoadDistributionConfig`)
+does not import scipy and numba: a bad input is refused, and a sweep's runs are validated, before those load.
 """
+
+import importlib
 
 from .config import LoadDistributionConfig
 from .grasp_matrix import (contact_pairs, grasp_matrix, internal_force_basis, internal_null_basis, pair_tensions,
                            virtual_linkage_squeeze)
-from .load_distribution import LoadDistribution
-from .load_split import LoadSplit
-from .problem import LoadDistributionProblem
-from .solvers import ProxsuiteSolver, QPStats, QpsolversSolver, make_solver
+
+#: The names imported on first use, and their modules.
+_LAZY = {
+    "LoadDistribution": ".load_distribution",
+    "LoadSplit": ".load_split",
+    "LoadDistributionProblem": ".problem",
+    "ProxsuiteSolver": ".solvers",
+    "QPStats": ".solvers",
+    "QpsolversSolver": ".solvers",
+    "make_solver": ".solvers",
+}
+
+
+def __getattr__(name: str):
+    """Import one of :data:`_LAZY`'s names from its module on first use (then it is a plain attribute)."""
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
 
 __all__ = [
     "LoadDistribution",

@@ -3,8 +3,19 @@ that runs a :class:`~coopctrl.closed_loop.ClosedLoop` with it (:mod:`.compiled`)
 (:mod:`.record`), why a run stopped (:mod:`.diagnosis`), the loaded start (:mod:`.loaded_start`), the
 Euler-angle band (:mod:`.euler_band`) and the QP's contact inputs for the loaded start (:mod:`.qp_inputs`,
 wrapping their one definition in :mod:`coopctrl.load_distribution.contact_model`). Nothing here
-imports ``coopctrl.analysis``."""
+imports ``coopctrl.analysis``.
 
-from coopctrl.loop.state import LoopState
+:class:`LoopState` is imported on first use (PEP 562): its module loads numba, and the start-up check of
+:mod:`.startup` (is this kind of kernel compiled yet?) must not pay for that before saying so."""
 
 __all__ = ["LoopState"]
+
+
+def __getattr__(name: str):
+    """``LoopState``, imported from :mod:`.state` on first use."""
+    if name == "LoopState":
+        from coopctrl.loop.state import LoopState
+
+        globals()[name] = LoopState
+        return LoopState
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

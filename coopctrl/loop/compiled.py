@@ -30,6 +30,9 @@ import numpy as np
 
 from coopctrl.errors import DivergenceError, InfeasibleLoad, StepTooSmall
 from coopctrl.integrators import ExplicitEuler
+# the integrators the kernel implements, by name: the explicit ones share a compiled loop; the implicit
+# ones (Newton in the kernel, their settings read from the integrator) another
+from coopctrl.integrators.methods import METHODS
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 import coopctrl.integrators.compiled as I
 import coopctrl.loop.argument_types as argument_types
@@ -41,12 +44,6 @@ from coopctrl.loop.data import LoopData, QPArrays, TickRecord
 from coopctrl.loop.model import LoopModel, QPConstants, RunOptions
 from coopctrl.loop.state import ChartState, LoopState
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
-
-#: Integrators the kernel implements, by name (:mod:`coopctrl.loop.integrate`): the explicit ones share a
-#: compiled loop; the implicit ones (Newton in the kernel, their settings read from the integrator) another.
-METHODS = {"euler": I.METHOD_EULER, "symplectic_euler": I.METHOD_SYMPLECTIC_EULER, "rk4": I.METHOD_RK4,
-           "implicit_midpoint": I.METHOD_SDIRK, "implicit_euler": I.METHOD_SDIRK,
-           "rk23": I.METHOD_ADAPTIVE, "rk45": I.METHOD_ADAPTIVE, "trbdf2": I.METHOD_ADAPTIVE}
 
 #: QP status names of the kernel's codes (as the compiled backend reports them).
 _QP_STATUS = ("solved", "infeasible", "max_iter", "failed")

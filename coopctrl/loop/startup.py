@@ -74,13 +74,12 @@ def family_of(integrator: str) -> str:
     (an integrator the kernel lacks steps in Python and runs the explicit kernels)."""
     if not isinstance(integrator, str):
         raise TypeError(f"integrator = {integrator!r} is invalid: expected an integrator name (str)")
-    import coopctrl.loop.compiled as compiled
-    import coopctrl.integrators.compiled as integrate
+    from coopctrl.integrators import methods  # the codes alone: this check does not import the compiler
 
-    method = compiled.METHODS.get(integrator)
-    if method == integrate.METHOD_ADAPTIVE:
+    method = methods.METHODS.get(integrator)
+    if method == methods.METHOD_ADAPTIVE:
         return "trbdf2" if integrator == "trbdf2" else "embedded"
-    return "implicit" if method == integrate.METHOD_SDIRK else "explicit"
+    return "implicit" if method == methods.METHOD_SDIRK else "explicit"
 
 
 def kind_of(scenario) -> KernelKind:
