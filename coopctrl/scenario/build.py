@@ -20,7 +20,10 @@ from plants.elastic import Interconnection, Node
 from plants.errors import EulerSingularityError, ParameterError, UnreachablePoseError
 from plants.frames import rotation_zyx
 
-_CACHE: dict[int, tuple] = {}
+#: Scenes whose plant and unloaded state :func:`_build` keeps [-]: a notebook or a benchmark alternating
+#: between a few scenes (or a run's scene and a sweep's variant of it) does not build them again.
+BUILD_CACHE_SIZE = 4
+_CACHE: dict[int, tuple] = {}  # id(scenario) -> (scenario, (plant, x0)), the least recently used first
 
 
 def pose_matrix(pose) -> np.ndarray:
@@ -92,7 +95,8 @@ def _spatial_arm(scenario, k: int):
 
 def _build(scenario):
     key = id(scenario)
-    if key in _CACHE and _CACHE[key][0] is scenario:
+    if key in _CACHE and _CACHE[key][0] is scenario:  # held here, so its id is not reused while cached
+        _CACHE[key] = _CACHE.pop(key)  # now the most recently used
         return _CACHE[key][1]
     space = scenario.space
     obj = scenario.object
@@ -116,7 +120,8 @@ def _build(scenario):
     except ParameterError as exc:
         raise ScenarioError(exc.parameter, exc.value, exc.allowed, scenario.source) from None
     _check_static_torques(scenario, plant, x0)
-    _CACHE.clear()
+    while len(_CACHE) >= BUILD_CACHE_SIZE:
+        del _CACHE[next(iter(_CACHE))]
     _CACHE[key] = (scenario, (plant, x0))
     return plant, x0
 

@@ -16,6 +16,12 @@ MAX_MAGNITUDE = 1e6
 
 def check_magnitude(where: str, value, bound: float = MAX_MAGNITUDE) -> None:
     """Raise unless ``value`` (scalar or array) is finite with every magnitude <= ``bound``."""
+    if type(value) is float:  # the common case, without numpy's overhead (the same checks and messages)
+        if not math.isfinite(value):
+            raise ParameterError(where, value, "finite numbers")
+        if abs(value) > bound:
+            raise ParameterError(where, value, f"numbers of magnitude <= {bound:g} (SI units)")
+        return
     arr = np.asarray(value, dtype=float)
     shown = arr.tolist() if arr.ndim else float(arr)  # a list prints on one line, an array may not
     if not np.all(np.isfinite(arr)):
@@ -26,6 +32,10 @@ def check_magnitude(where: str, value, bound: float = MAX_MAGNITUDE) -> None:
 
 def check_finite(where: str, value) -> None:
     """Raise if ``value`` (scalar or array) is not finite everywhere."""
+    if type(value) is float:  # the common case, without numpy's overhead (the same check and message)
+        if not math.isfinite(value):
+            raise ParameterError(where, value, "a finite number")
+        return
     arr = np.asarray(value, dtype=float)
     if not np.all(np.isfinite(arr)):
         raise ParameterError(where, arr.tolist() if arr.ndim else value, "a finite number")

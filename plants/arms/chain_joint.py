@@ -65,7 +65,9 @@ class ChainJoint:
         where = f"joint '{self.name}'"
         if self.kind not in JOINT_KINDS:
             raise ParameterError(f"{where}.type", self.kind, f"one of {list(JOINT_KINDS)} (fixed joints are folded in)")
-        object.__setattr__(self, "origin", check_pose4(f"{where}.origin", self.origin))
+        origin = check_pose4(f"{where}.origin", self.origin)
+        origin.setflags(write=False)  # immutable, as the joint: a serial arm's joints are shared (SerialArm.chain_joints)
+        object.__setattr__(self, "origin", origin)
         axis = np.array(self.axis, dtype=float).reshape(-1)
         if axis.shape != (3,) or not np.all(np.isfinite(axis)) or np.linalg.norm(axis) < 1e-12:
             raise ParameterError(f"{where}.axis", self.axis, "a non-zero 3-vector")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from plants.arms.dh_link import DHLink
@@ -50,6 +52,19 @@ def puma560(base=None, tool=None, motor_inertia: bool = False, viscous_friction:
 
     Torque limits are :data:`PUMA560_TAU_MAX`, joint limits :data:`PUMA560_Q_LIMITS`.
     """
+    return SerialArm(
+        name=name,
+        links=_puma_links(bool(motor_inertia), bool(viscous_friction)),
+        base=np.eye(4) if base is None else base,
+        tool=np.eye(4) if tool is None else tool,
+        tau_max=PUMA560_TAU_MAX,
+        q_limits=PUMA560_Q_LIMITS,
+    )
+
+
+@functools.lru_cache(maxsize=4)
+def _puma_links(motor_inertia: bool, viscous_friction: bool) -> tuple:
+    """The six :class:`DHLink` of :data:`PUMA_TABLE` (frozen: built and checked once, then shared)."""
     links = []
     for i, (a, alpha, d, m, rc, inertia, Jm, G, B) in enumerate(PUMA_TABLE):
         links.append(
@@ -68,14 +83,7 @@ def puma560(base=None, tool=None, motor_inertia: bool = False, viscous_friction:
                 check_triangle_inequality=False,
             )
         )
-    return SerialArm(
-        name=name,
-        links=tuple(links),
-        base=np.eye(4) if base is None else base,
-        tool=np.eye(4) if tool is None else tool,
-        tau_max=PUMA560_TAU_MAX,
-        q_limits=PUMA560_Q_LIMITS,
-    )
+    return tuple(links)
 
 
 #: Node frame of a Puma 560 gripper [4x4]: the node's x axis is the flange's approach axis (z6),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -84,26 +85,14 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
         ``L_k = L_{k-1} G_{k-1} Rz(offset_k) Rz(q_k)``: joint ``k``'s origin is
         ``G_{k-1} Rz(offset_k)`` (``G_0 = I``), its axis +z, and link ``k``'s mass properties are
         carried from DH frame ``k`` to ``L_k`` by ``G_k``. The node frame in ``L_n`` is
-        :meth:`kernel_tool`.
+        :meth:`kernel_tool`. Built once per arm name and DH table (both immutable) and shared.
         """
-        joints = []
-        G_prev = np.eye(4)
-        for k, link in enumerate(self.links):
-            Rz = np.eye(4)
-            c, s = np.cos(link.offset), np.sin(link.offset)
-            Rz[:2, :2] = [[c, -s], [s, c]]
-            G = _dh_fixed(link)
-            RG = G[:3, :3]
-            joints.append(ChainJoint(
-                name=f"{self.name}.links[{k}]", kind="revolute", origin=G_prev @ Rz, axis=(0.0, 0.0, 1.0),
-                mass=link.mass, com=G[:3, :3] @ np.array(link.rc) + G[:3, 3], inertia=RG @ link.inertia_matrix() @ RG.T,
-                motor_inertia=link.motor_inertia, viscous=link.viscous))
-            G_prev = G
-        return tuple(joints)
+        return _chain_joints(self.name, self.links)
 
     def kernel_table(self) -> np.ndarray:
-        """The (n, 32) joint table of :mod:`plants.arms._chain_kernels` for this arm."""
-        return np.ascontiguousarray(np.array([j.row() for j in self.chain_joints()]))
+        """The (n, 32) joint table of :mod:`plants.arms._chain_kernels` for this arm (a new array: the
+        table is computed once per arm name and DH table, and copied)."""
+        return _kernel_table(self.name, self.links).copy()
 
     def kernel_tool(self) -> np.ndarray:
         """The node frame in the last link frame of :meth:`chain_joints`, 4x4 [m]."""
@@ -155,6 +144,33 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
         if arr.shape != (self.dof,):
             raise ParameterError(where, value, f"{self.dof} joint values (got shape {np.shape(value)})")
         return arr
+
+
+@functools.lru_cache(maxsize=64)
+def _chain_joints(name: str, links: tuple) -> tuple:
+    """:meth:`SerialArm.chain_joints` of an arm named ``name`` with the DH ``links`` (frozen, hashable)."""
+    joints = []
+    G_prev = np.eye(4)
+    for k, link in enumerate(links):
+        Rz = np.eye(4)
+        c, s = np.cos(link.offset), np.sin(link.offset)
+        Rz[:2, :2] = [[c, -s], [s, c]]
+        G = _dh_fixed(link)
+        RG = G[:3, :3]
+        joints.append(ChainJoint(
+            name=f"{name}.links[{k}]", kind="revolute", origin=G_prev @ Rz, axis=(0.0, 0.0, 1.0),
+            mass=link.mass, com=G[:3, :3] @ np.array(link.rc) + G[:3, 3], inertia=RG @ link.inertia_matrix() @ RG.T,
+            motor_inertia=link.motor_inertia, viscous=link.viscous))
+        G_prev = G
+    return tuple(joints)
+
+
+@functools.lru_cache(maxsize=64)
+def _kernel_table(name: str, links: tuple) -> np.ndarray:
+    """The (n, 32) joint table of :func:`_chain_joints` (read-only: callers get a copy)."""
+    table = np.ascontiguousarray(np.array([j.row() for j in _chain_joints(name, links)]))
+    table.setflags(write=False)
+    return table
 
 
 def _dh_fixed(link) -> np.ndarray:
