@@ -59,7 +59,7 @@ def non_finite_signal(rec: dict, controlled: bool = True) -> str | None:
     return None
 
 
-def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None) -> SimulationResult:
+def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, node_poses: bool = True) -> SimulationResult:
     """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`.
 
     A run whose recorded signals are not finite, or too large for finite metrics (a sensor noise of
@@ -70,6 +70,9 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None) -
         progress: Show a progress bar on the terminal.
         loop: ``closed_loop(scenario)`` when the caller has already built it (``coopctrl run`` builds it
             once, for pre-flight and the run; a run changes nothing of it), else ``None`` to build it here.
+        node_poses: Compute the kept samples' node poses ``Y_nodes`` (one compiled pass, about 2 us a sample
+            on the two-Puma carry); ``False`` leaves ``Y_nodes = None`` (``coopctrl run`` without ``--out``:
+            the summary does not read them).
 
     Raises:
         TypeError: ``scenario`` is not a :class:`~coopctrl.scenario.Scenario` (a path, a dict: load it
@@ -78,13 +81,15 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None) -
     """
     wiring.check_scenario(scenario)
     progress = arguments.flag("progress", progress)
+    node_poses = arguments.flag("node_poses", node_poses)
     if loop is None:
         loop = closed_loop(scenario)
     elif not isinstance(loop, ClosedLoop) or loop.plant.state_size != scenario.state_size:
         raise TypeError(f"loop={loop!r} is not closed_loop(scenario) of this scenario: pass the loop built "
                         "from it, or None to build it here")
     # the metrics of every tick (run_result), then the kept samples with their node poses (finish_record)
-    return finish_record(run_result(scenario, loop, progress=progress), loop.plant, scenario.simulation.record_every)
+    return finish_record(run_result(scenario, loop, progress=progress), loop.plant if node_poses else None,
+                         scenario.simulation.record_every)
 
 
 def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> SimulationResult:

@@ -165,7 +165,7 @@ def fake_simulate(monkeypatch):
     calls = []
 
     def install(status="ok", exc=None):
-        def simulate(scenario, progress=False, loop=None):  # the real simulate's signature
+        def simulate(scenario, progress=False, loop=None, node_poses=True):  # the real simulate's signature
             calls.append((scenario, progress))
             if exc is not None:
                 raise exc

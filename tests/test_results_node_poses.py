@@ -44,3 +44,24 @@ def test_spatial_poses_equal_the_plants_bit_for_bit():
 def test_no_samples_give_an_empty_array_of_the_pose_shape():
     plant, x = _states(load_scenario("planar_two_arm_lift"), 1, seed=3)
     assert node_poses_of(x[:0], plant).shape == (0, plant.arm_count, plant.p)
+
+
+def test_a_run_without_node_poses_is_the_same_run_with_y_nodes_none():
+    """``simulate(..., node_poses=False)`` (what ``coopctrl run`` does without ``--out``) skips only the
+    poses: every other array and the summary are those of the run with them, whose poses are the plant's."""
+    import pytest
+
+    from coopctrl import simulator
+
+    scenario = load_scenario("planar_two_arm_lift", {"simulation.duration": 0.02, "simulation.record_every": 3})
+    full = simulator.simulate(scenario)
+    bare = simulator.simulate(scenario, node_poses=False)
+    assert bare.Y_nodes is None and full.Y_nodes.shape == (len(full.t), 2, 3)
+    np.testing.assert_array_equal(full.Y_nodes, node_poses_of(full.x, build.build_plant(scenario)))
+    for name in ("t", "x", "tau", "F_measured", "F_commanded", "squeeze"):
+        np.testing.assert_array_equal(getattr(bare, name), getattr(full, name))
+    drop = ("wall_time_s", "realtime_factor", "startup_s")  # timing: not the run's outcome
+    assert {k: v for k, v in bare.summary().items() if k not in drop} == \
+        {k: v for k, v in full.summary().items() if k not in drop}
+    with pytest.raises(TypeError, match="node_poses"):
+        simulator.simulate(scenario, node_poses="no")

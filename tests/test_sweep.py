@@ -16,6 +16,7 @@ import time
 import pytest
 
 from coopctrl import cli
+from coopctrl.errors import ScenarioError
 from coopctrl.sweep import (TIMING_COLUMNS, GridError, MissingExtra, SchedulerError, SerialExecutor, SweepGrid,
                             SweepInterrupted, make_executor, plan_sweep, run_sweep, split_values)
 from test_cli import REPO, assert_user_error, coopctrl
@@ -256,6 +257,31 @@ def exit_on_run_0(run):
         os._exit(3)  # the worker process dies without a word, as after a segfault
     time.sleep(0.2)  # runs 1..3 are still in flight when run 0 kills the pool
     return fake_summary(run)
+
+
+def preloaded_module_seen(run):
+    """A run function whose figure says whether its worker had imported ``colorsys`` before the run (a
+    module nothing else of a worker imports): its ``preload`` asks for it."""
+    return {"status": "ok", "reason": "", "object_position_error_rms_m": float("colorsys" in sys.modules)}
+
+
+preloaded_module_seen.preload = ("colorsys",)
+
+
+def test_local_workers_import_the_run_functions_preload_as_they_start():
+    result = run_sweep(LIFT, SweepGrid.parse(["simulation.seed=0,1,2,3"]), jobs=2, run_function=preloaded_module_seen)
+    assert [r["object_position_error_rms_m"] for r in result.rows] == [1.0] * 4
+
+
+def test_a_bad_run_stops_the_workers_started_before_the_validation():
+    """The local workers start before the runs are validated (their imports overlap it): a bad run is
+    still bad input, and no worker outlives the error."""
+    import multiprocessing
+
+    before = set(multiprocessing.active_children())
+    with pytest.raises(ScenarioError, match="simulation.duration"):
+        run_sweep(LIFT, SweepGrid.parse(["simulation.duration=0.1,-1"]), jobs=2, run_function=fake_summary)
+    assert set(multiprocessing.active_children()) - before == set()
 
 
 def test_exception_in_a_run_becomes_a_row():

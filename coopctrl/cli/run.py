@@ -93,7 +93,7 @@ def cmd_run(args) -> int:
         simulate = simulate_function()
         progress = not (args.quiet or args.json) and sys.stderr.isatty()
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
-            result = simulate(scenario, progress=progress, loop=loop)
+            result = simulate(scenario, progress=progress, loop=loop, node_poses=args.out is not None)  # only files hold them
             if notice is not None:
                 notice.close()
             with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so

@@ -67,7 +67,8 @@ def node_poses(result: "SimulationResult", plant) -> np.ndarray:
 
 def finish_record(result: "SimulationResult", plant, record_every: int = 1) -> "SimulationResult":
     """The returned record of a run: thinned to every ``record_every``-th tick (:func:`thin`), with the
-    node poses of the kept samples (:func:`node_poses`)."""
+    node poses of the kept samples (:func:`node_poses`) of ``plant`` (``None``: without them)."""
     result = thin(result, record_every)
-    result.Y_nodes = node_poses(result, plant)
+    if plant is not None:
+        result.Y_nodes = node_poses(result, plant)
     return result

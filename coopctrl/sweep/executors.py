@@ -8,6 +8,9 @@
   the same on Linux, macOS and Windows. A worker's start-up costs about 0.85 s (imports, and the compiled
   kernels loaded from their on-disk cache), paid once per worker; ``forkserver`` measured the same. It is
   not a run's time: a run's timeout and wall time start at its first tick (:mod:`coopctrl.sweep.worker`).
+  :func:`~coopctrl.sweep.runner.run_sweep` starts the workers (:meth:`LocalProcessPool.start`) before it
+  validates the runs, and each imports the run function's modules (its ``preload``) as it starts, so that
+  the two overlap; a bad run stops them before the sweep reports it.
   Workers ignore SIGINT: Ctrl-C reaches the sweep, which stops them itself. Workers die with the sweep:
   on Linux the kernel sends them SIGKILL when their parent dies (``prctl(PR_SET_PDEATHSIG)``, which also
   covers a SIGKILL of the sweep); elsewhere a watchdog thread in each worker exits when its parent
@@ -23,6 +26,7 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import importlib
 import multiprocessing
 import os
 import signal
@@ -98,22 +102,35 @@ def _die_with_parent(parent_pid: int) -> None:
         threading.Thread(target=watch, name="coopctrl-parent-watchdog", daemon=True).start()
 
 
-def _init_worker(parent_pid: int) -> None:
+def _init_worker(parent_pid: int, preload: tuple[str, ...] = ()) -> None:
     """Worker initializer: ignore SIGINT (Ctrl-C in a terminal signals the whole process group; only the
-    sweep acts on it), restore the default SIGTERM, and die with the sweep's process."""
+    sweep acts on it), restore the default SIGTERM, die with the sweep's process, then import the modules
+    ``preload`` names. A module that fails to import is left to the run that needs it, which reports the
+    error as its row."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     _die_with_parent(parent_pid)
+    for name in preload:
+        try:
+            importlib.import_module(name)
+        except Exception:  # noqa: BLE001 - the run meets it again and makes it its row
+            pass
 
 
 class LocalProcessPool(ProcessPoolExecutor):
     """A :class:`~concurrent.futures.ProcessPoolExecutor` of ``jobs`` spawned workers that ignore SIGINT
-    and die with this process."""
+    and die with this process; each imports the modules ``preload`` names as it starts."""
 
-    def __init__(self, jobs: int):
+    def __init__(self, jobs: int, preload: tuple[str, ...] = ()):
         super().__init__(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"), initializer=_init_worker,
-                         initargs=(os.getpid(),))
+                         initargs=(os.getpid(), tuple(preload)))
         self.workers = jobs
+
+    def start(self) -> "LocalProcessPool":
+        """Start the workers now, rather than at the first run (they import and initialise while this
+        process does other work, such as validating the runs); returns the pool."""
+        self.submit(int)  # the pool starts every worker at its first task
+        return self
 
     def interrupt(self) -> None:
         """Drop the queued runs and terminate the workers (their running runs are lost; finished
@@ -192,9 +209,11 @@ class DaskExecutor(Executor):
         self.shutdown(wait=False, cancel_futures=True)
 
 
-def make_executor(jobs: int | None = None, scheduler: str | None = None, *, timeout_s: float = CONNECT_TIMEOUT_S) -> Executor:
+def make_executor(jobs: int | None = None, scheduler: str | None = None, *, timeout_s: float = CONNECT_TIMEOUT_S,
+                  preload: tuple[str, ...] = ()) -> Executor:
     """The executor of a sweep: serial for ``jobs = 1``, a local process pool of ``jobs`` workers
-    (default ``os.cpu_count()``), or a Dask cluster when ``scheduler`` is given.
+    (default ``os.cpu_count()``) that import the modules ``preload`` names as they start, or a Dask
+    cluster when ``scheduler`` is given.
 
     Raises:
         SweepError: ``jobs < 1``, or both ``jobs`` and ``scheduler``.
@@ -209,4 +228,4 @@ def make_executor(jobs: int | None = None, scheduler: str | None = None, *, time
         jobs = os.cpu_count() or 1
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise SweepError(f"--jobs = {jobs!r} is invalid: expected an integer >= 1 (1 runs in this process)")
-    return SerialExecutor() if jobs == 1 else LocalProcessPool(jobs)
+    return SerialExecutor() if jobs == 1 else LocalProcessPool(jobs, preload)

@@ -3,6 +3,8 @@
 Guarantees:
 
 - Nothing runs unless every combination's scenario is valid (:func:`~coopctrl.sweep.plan.plan_sweep`).
+  Local workers start while the runs are validated (their imports overlap it); a bad run terminates them
+  before the error propagates.
 - A failed run (divergence, infeasible QP, any exception) is a row with its status and reason; it
   never loses the other rows. If a worker process dies (a crash, the out-of-memory killer), the
   runs in flight on that pool become ``error`` rows naming ``BrokenProcessPool`` and the remaining
@@ -146,14 +148,23 @@ def run_sweep(
         raise ValueError("run_sweep: give either an executor or jobs/scheduler, not both")
     if run_timeout_s is not None and not (run_timeout_s > 0 and run_timeout_s < float("inf")):
         raise SweepError(f"--run-timeout = {run_timeout_s!r} is invalid: expected a finite number of seconds > 0")
-    plan = plan_sweep(scenario_path, grid, sets)
     owned = executor is None
-    if owned:
-        if scheduler is None and jobs is None:
-            jobs = os.cpu_count() or 1
-        if isinstance(jobs, int) and jobs > len(plan.runs):
-            jobs = len(plan.runs)  # no idle workers to start
-        executor = make_executor(jobs, scheduler)
+    preload = tuple(getattr(run_function, "preload", ()) or ())
+    if owned and scheduler is None and jobs is None:
+        jobs = os.cpu_count() or 1
+    if owned and isinstance(jobs, int) and jobs > len(grid):
+        jobs = len(grid)  # no idle workers to start (len(grid): the runs, counted without expanding them)
+    if owned and scheduler is None and isinstance(jobs, int) and not isinstance(jobs, bool) and jobs > 1:
+        # local workers start now: their imports overlap the validation of every run below (a bad run stops them)
+        executor = make_executor(jobs, None, preload=preload).start()
+    try:
+        plan = plan_sweep(scenario_path, grid, sets)
+    except BaseException:
+        if owned and executor is not None:
+            executor.interrupt()
+        raise
+    if owned and executor is None:
+        executor = make_executor(jobs, scheduler, preload=preload)
     # Serial: submit one run at a time so that rows stream. Otherwise keep every worker busy with one
     # more run queued each; an executor of unknown size gets every run at once.
     workers = getattr(executor, "workers", None)
@@ -192,7 +203,7 @@ def run_sweep(
                         future = _failed(exc)
                     else:
                         executor.shutdown(wait=False, cancel_futures=True)
-                        executor = make_executor(jobs, scheduler)
+                        executor = make_executor(jobs, scheduler, preload=preload)
                         future = executor.submit(execute_run, run_function, run, run_timeout_s)
                 pending[future] = run
             if not pending:
@@ -218,7 +229,7 @@ def run_sweep(
                                          now - started[future]))
                     redo = [pending.pop(future) for future in sorted(pending, key=lambda f: pending[f].index)]
                     started.clear()
-                    executor = make_executor(jobs, scheduler)
+                    executor = make_executor(jobs, scheduler, preload=preload)
                     for run in redo:
                         pending[executor.submit(execute_run, run_function, run, run_timeout_s)] = run
     except BaseException as exc:

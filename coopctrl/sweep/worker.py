@@ -113,6 +113,9 @@ def simulate_run(run: SweepRun) -> dict[str, Any]:
 
 
 simulate_run.start_up_allowance_s = STARTUP_ALLOWANCE_S
+#: What a local worker of a sweep of :func:`simulate_run` imports as it starts, while the sweep validates its
+#: runs (:class:`~coopctrl.sweep.executors.LocalProcessPool`).
+simulate_run.preload = ("coopctrl.simulator",)
 
 
 @contextmanager
