@@ -70,9 +70,9 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, n
         progress: Show a progress bar on the terminal.
         loop: ``closed_loop(scenario)`` when the caller has already built it (``coopctrl run`` builds it
             once, for pre-flight and the run; a run changes nothing of it), else ``None`` to build it here.
-        node_poses: Compute the kept samples' node poses ``Y_nodes`` (one compiled pass, about 2 us a sample
-            on the two-Puma carry); ``False`` leaves ``Y_nodes = None`` (``coopctrl run`` without ``--out``:
-            the summary does not read them).
+        node_poses: Compute the kept samples' node poses ``Y_nodes`` (one compiled pass over the record);
+            ``False`` leaves ``Y_nodes = None`` (``coopctrl run`` without ``--out``: the summary does not read
+            them).
 
     Raises:
         TypeError: ``scenario`` is not a :class:`~coopctrl.scenario.Scenario` (a path, a dict: load it
