@@ -1,0 +1,67 @@
+"""The suite's one hook: before a distributed run of the whole suite (``pytest -n``, which
+``pyproject.toml``'s ``addopts`` asks for), compile the closed loop's kernels of each space side by side,
+one process per space (``tests/_warm_kernels.py``), when the kernel cache lacks any of them.
+
+Without it each test worker compiles, on an empty cache, the same kernels as the other at the same time:
+the two cores of the CI machine would do the same minutes of compiling twice. A run of chosen tests (any
+path or ``-k`` on the command line), a serial run (``-n 0``) and a warm cache skip it: a test compiles what
+it needs on first use, as a user's run does. A warm-up that fails is reported and the run goes on (the
+tests that need those kernels then show the failure)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+HERE = Path(__file__).resolve().parent
+#: Seconds a warm-up process may take (a space's four families compile in about ten minutes on a slow
+#: 2-core machine; the limit only stops a hung one).
+WARM_TIMEOUT_S = 3600
+
+
+def _whole_suite(config) -> bool:
+    """Whether this run is the distributed run of the whole suite, in the controller process."""
+    if hasattr(config, "workerinput"):  # an xdist worker
+        return False
+    if not getattr(config.option, "numprocesses", None) or getattr(config.option, "dist", "no") == "no":
+        return False
+    chosen = [a for a in config.invocation_params.args if not str(a).startswith("-")]
+    return not chosen and not config.option.keyword and not config.option.markexpr
+
+
+def _cold_spaces() -> list[str]:
+    from coopctrl.loop.startup import FAMILIES, SPACES, KernelKind, is_cold
+
+    return [s for s in SPACES if any(is_cold(KernelKind(s, f)) for f in FAMILIES)]
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionstart(session):
+    config = session.config
+    if not _whole_suite(config):
+        return
+    spaces = _cold_spaces()
+    if not spaces:
+        return
+    reporter = config.pluginmanager.get_plugin("terminalreporter")
+    say = (lambda text: reporter.write_line(text)) if reporter is not None else print
+    say(f"compiling the kernels of {' and '.join(spaces)} scenes, one process each, before the workers start")
+    t0 = time.perf_counter()
+    script = str(HERE / "_warm_kernels.py")
+    children = {s: subprocess.Popen([sys.executable, script, s], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                    text=True, env=os.environ.copy()) for s in spaces}
+    for space, child in children.items():
+        try:
+            out, _ = child.communicate(timeout=WARM_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            child.kill()
+            out, _ = child.communicate()
+            say(f"the {space} warm-up took over {WARM_TIMEOUT_S} s and was stopped")
+        if child.returncode != 0:
+            say(f"the {space} warm-up failed (exit {child.returncode}); the tests compile what they need:\n{out}")
+    say(f"kernels compiled in {time.perf_counter() - t0:.0f} s")
