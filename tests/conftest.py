@@ -1,6 +1,6 @@
 """The suite's one hook: before a distributed run of the whole suite (``pytest -n``, which
-``pyproject.toml``'s ``addopts`` asks for), compile the closed loop's kernels of each space side by side,
-one process per space (``tests/_warm_kernels.py``), when the kernel cache lacks any of them.
+``pyproject.toml``'s ``addopts`` asks for), compile the closed loop's kernels of both spaces on every
+worker's core (``tests/_warm_kernels.py``), when the kernel cache lacks any of them.
 
 Without it each test worker compiles, on an empty cache, the same kernels as the other at the same time:
 the two cores of the CI machine would do the same minutes of compiling twice. A run of chosen tests (any
@@ -10,17 +10,14 @@ tests that need those kernels then show the failure)."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 import time
-from pathlib import Path
 
 import pytest
 
-HERE = Path(__file__).resolve().parent
-#: Seconds a warm-up process may take (a space's four families compile in about ten minutes on a slow
-#: 2-core machine; the limit only stops a hung one).
+import _warm_kernels
+
+#: Seconds the warm-up may take (both spaces' kernels compiled in about five minutes on a slow 2-core
+#: machine; the limit only stops a hung one).
 WARM_TIMEOUT_S = 3600
 
 
@@ -50,18 +47,8 @@ def pytest_sessionstart(session):
         return
     reporter = config.pluginmanager.get_plugin("terminalreporter")
     say = (lambda text: reporter.write_line(text)) if reporter is not None else print
-    say(f"compiling the kernels of {' and '.join(spaces)} scenes, one process each, before the workers start")
+    jobs = max(1, int(getattr(config.option, "numprocesses", 1) or 1))
+    say(f"compiling the kernels of {' and '.join(spaces)} scenes before the workers start, {jobs} processes:")
     t0 = time.perf_counter()
-    script = str(HERE / "_warm_kernels.py")
-    children = {s: subprocess.Popen([sys.executable, script, s], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                    text=True, env=os.environ.copy()) for s in spaces}
-    for space, child in children.items():
-        try:
-            out, _ = child.communicate(timeout=WARM_TIMEOUT_S)
-        except subprocess.TimeoutExpired:
-            child.kill()
-            out, _ = child.communicate()
-            say(f"the {space} warm-up took over {WARM_TIMEOUT_S} s and was stopped")
-        if child.returncode != 0:
-            say(f"the {space} warm-up failed (exit {child.returncode}); the tests compile what they need:\n{out}")
+    _warm_kernels.warm(spaces, jobs=jobs, timeout_s=WARM_TIMEOUT_S, say=say)
     say(f"kernels compiled in {time.perf_counter() - t0:.0f} s")
