@@ -109,3 +109,22 @@ def test_coopctrl_run_prints_no_numba_notice_and_raises_none():
         assert result.stderr == ""
     sources = [f for d in ("coopctrl", "plants") for f in (ROOT / d).rglob("*.py")]
     assert sources and not [f for f in sources if "NumbaExperimentalFeatureWarning" in f.read_text()]
+
+
+def test_a_stages_type_before_it_is_compiled_is_the_type_of_the_compiled_stage():
+    """``compile_stage(..., types_only=True)`` compiles nothing and gives what ``numba.typeof`` gives the
+    compiled stage: what :mod:`coopctrl.loop.compile_ahead` compiles the tick for, in another process."""
+    a = np.arange(5.0)
+    ahead = stages.compile_stage(_scaled_sum, types.float64, a, types.float64, types_only=True)
+    assert isinstance(ahead, types.Type)
+    compiled = stages.compile_stage(_scaled_sum, types.float64, a, types.float64)
+    assert typeof(compiled) == ahead
+    other = stages.compile_stage(_scaled_sum, types.float64, a, types.int64, types_only=True)
+    assert other != ahead  # another signature: another type
+    named = stages.TickStages(advance=compiled, terms=compiled, qp_rows=compiled, qp_answer=compiled,
+                              control=compiled, energy=compiled, elastic_split=compiled)
+    typed = stages.TickStages(*([ahead] * 7))
+    from coopctrl.loop import argument_types
+
+    assert argument_types.signature_of((named, a, 0)) == argument_types.signature_of((typed, a, 0))
+    assert argument_types.signature_of((typed, a, 0)) == (typeof(named), typeof(a), typeof(0))

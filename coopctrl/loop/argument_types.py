@@ -79,6 +79,26 @@ def signature_key(args):
     return tuple(keys)
 
 
+def _holds_type(value) -> bool:
+    """Whether ``value`` is a numba type or a (named) tuple holding one, at any depth."""
+    if isinstance(value, types.Type):
+        return True
+    return isinstance(value, tuple) and any(_holds_type(v) for v in value)
+
+
+def _type_with_types(value):
+    """:func:`argument_type` of ``value``, where numba types in it (at any depth of its tuples) stand for
+    themselves: the type of the same value holding, in their place, objects of those types (as
+    ``numba.typeof`` types a tuple: ``BaseTuple.from_types`` of its items' types and its class)."""
+    if isinstance(value, types.Type):
+        return value
+    if isinstance(value, tuple) and _holds_type(value):
+        return types.BaseTuple.from_types([_type_with_types(v) for v in value], type(value))
+    return argument_type(value)
+
+
 def signature_of(args) -> tuple:
-    """The numba types of the arguments ``args``, in order (:func:`argument_type` of each)."""
-    return tuple(argument_type(a) for a in args)
+    """The numba types of the arguments ``args``, in order (:func:`argument_type` of each); a numba type
+    among them, or in their tuples, stands for itself (a compiled stage's type before it is compiled:
+    :mod:`coopctrl.loop.compile_ahead`)."""
+    return tuple(_type_with_types(a) for a in args)

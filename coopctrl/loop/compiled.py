@@ -37,6 +37,7 @@ from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOA
 import coopctrl.integrators.compiled as I
 import coopctrl.loop.argument_types as argument_types
 import coopctrl.loop.charts as loop_charts
+import coopctrl.loop.compile_ahead as compile_ahead
 from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
 from coopctrl.loop.squeeze import squeeze_workspace
@@ -469,15 +470,6 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P.arm_dof)
     tw.obj_inertia[:] = cl.obj[1:]  # [kg m^2]: the object's inertia, as the tick reads it (obj = mass, inertia)
     sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
-    t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
-    stages = K.tick_stages(cl.spatial, plan, P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
-                           cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int, out_float)
-    stages_startup = _time.perf_counter() - t_stages
-    # the run by name: its constants and what it writes (coopctrl.loop.model, coopctrl.loop.data)
-    model = LoopModel(spatial=cl.spatial, N=N, k_base=kb, T=loop.T, steps=cl.steps, stages=stages, P=P, grasps=cl.grasps,
-                      traj=traj, obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation, band=band, ctrl=cl.ctrl,
-                      posture=cl.posture, C_comp=cl.C, qp=cl.qp, opts=opts, noise_q=noise_q, noise_o=noise_o,
-                      noise_f=noise_f, noise_cfg=noise_cfg)
     record = TickRecord(t=rec["t"], x=rec["x"], tau=rec["tau"], Y0_nominal=rec["Y0_nominal"], F_measured=rec["F_measured"],
                         F_commanded=rec["F_commanded"], F_external=rec["F_external"], F_internal=rec["F_internal"],
                         r_contacts=rec["r_contacts"], squeeze=rec["squeeze"], qp_status=qs, qp_binding=qb,
@@ -486,6 +478,35 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                     integrals=state.integrals, last_split=state.last_split, flags=state.flags,
                     saturated_joints=state.saturated_joints, hold=state.hold, record=record, x_good=x_good, x_fail=x_fail,
                     out_int=out_int, out_float=out_float)
+
+    def loop_model(stages) -> LoopModel:
+        """The run by name: its constants (coopctrl.loop.model), with ``stages`` (compiled, or their types)."""
+        return LoopModel(spatial=cl.spatial, N=N, k_base=kb, T=loop.T, steps=cl.steps, stages=stages, P=P, grasps=cl.grasps,
+                         traj=traj, obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation, band=band, ctrl=cl.ctrl,
+                         posture=cl.posture, C_comp=cl.C, qp=cl.qp, opts=opts, noise_q=noise_q, noise_o=noise_o,
+                         noise_f=noise_f, noise_cfg=noise_cfg)
+
+    t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
+    stage_args = (cl.spatial, plan, P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl, cl.posture, cl.C,
+                  state.x, state.tau, state.integrals, state.flags, x_fail, out_int, out_float)
+    kind = S.kind_of_run(cl.spatial, S.family_of(loop.integrator.name) if not cl.plant_outside else "explicit")
+    ahead = None
+    if S.is_cold(kind):  # a first run of its kind: the tick compiled by a second process meanwhile
+        typed = loop_model(K.tick_stages(*stage_args, types_only=True))
+        jobs = []
+        if ld is None or pending:
+            jobs.append(("run_ticks", argument_types.signature_of((typed, data, 0, 0))))
+        if ld is not None:
+            jobs.append(("reference_step", argument_types.signature_of((0, True, K.SPLIT_SOLVED, 0, 0, 0, True, typed, data))))
+        ahead = compile_ahead.start(jobs)
+    try:
+        stages = K.tick_stages(*stage_args)
+    except BaseException:  # an interrupted or failed compile: the child goes too
+        if ahead is not None:
+            ahead.stop()
+        raise
+    stages_startup = _time.perf_counter() - t_stages
+    model = loop_model(stages)
     run_ticks = K.run_ticks
     qp_solve_time = rec["qp_solve_time_s"]
 
@@ -507,6 +528,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     # numba loads the compiled kernel from its cache here (about 0.1 s once per process; or compiles it, the
     # first run of a kind), start-up that is not the loop's wall time
     t_load = _time.perf_counter()
+    if ahead is not None:
+        ahead.wait()  # then numba finds the tick in its cache (or, if the child failed, compiles it here)
     if ld is None or pending:  # a reference path that continues a run has its pending period advanced here
         run_ticks = _entry_point(run_ticks, (model, data, 0, 0))
     if ld is not None:  # the reference path: the tick's two phases around its solve, one entry a tick
@@ -516,7 +539,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not
         state.flags[6] = 1
     # the kind is warm now (its stamp, once per process: start-up too, like the listeners it tells)
-    S.started(S.kind_of_run(cl.spatial, S.family_of(loop.integrator.name) if not cl.plant_outside else "explicit"), _time.perf_counter() - t_load + stages_startup + setup)
+    S.started(kind, _time.perf_counter() - t_load + stages_startup + setup)
     startup = _time.perf_counter() - t_load + stages_startup + setup
     bar = None
     if progress:  # after the start-up (a first run's compile has its own notice: coopctrl.cli.first_run)

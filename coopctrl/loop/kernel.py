@@ -462,7 +462,7 @@ def leader_law_stage(law, p: int):
 
 
 def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, opts, ws, tw, ctrl, posture, C_comp, x,
-                tau, integ, flags, x_fail, out_int, out_float) -> tuple:
+                tau, integ, flags, x_fail, out_int, out_float, types_only: bool = False) -> tuple:
     """The stages :func:`run_ticks` calls through their addresses (its ``stages``), compiled for the
     types of the run's arrays (the arguments of :func:`run_ticks` of the same names) by
     :func:`coopctrl.loop.stages.compile_stage`: ``(advance, terms, qp_rows, qp_answer, control,
@@ -472,8 +472,11 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     (:func:`coopctrl.load_distribution.elastic_assembly.fill_elastic_split`, which ``_qp_rows`` calls
     through the pointer it is given). A run that evaluates no energy, or splits the load by the
     pseudo-inverse, gets a stage with the same signature that does nothing: those are compiled only
-    for the runs that use them."""
+    for the runs that use them. With ``types_only`` nothing is compiled: each stage is its numba type as an
+    argument of :func:`run_ticks` (:func:`~coopctrl.loop.stages.compile_stage`), which is all that compiling
+    :func:`run_ticks` needs (:mod:`coopctrl.loop.compile_ahead`)."""
     i64, f64, b1 = types.int64, types.float64, types.boolean
+    t = types_only
     pws, cws, _ = plant_ws
     Y, dY, H, h, J, Jdq, W, w_free, S = (cws.ws.Y, cws.ws.dY, cws.ws.H, cws.ws.h, cws.ws.J, cws.ws.Jdq, cws.W, cws.w_free,
                                          cws.S)
@@ -486,23 +489,23 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     # the plant's period advance with numba's runtime (the implicit schemes' pinv fallback allocates)
     # (``plan`` is the family's plan, which picks the stage; the stage takes it in its slots, as run_ticks holds it)
     advance = compile_stage(ADVANCE_STAGES[type(plan)], i64, plan_slots(plan), x, tau, P, tw.status, pws, cws, f64,
-                            steps, x_fail, out_int, out_float, runtime=True)
-    terms = compile_stage(_terms_stage, i64, x, P, tw.status, cws)
+                            steps, x_fail, out_int, out_float, runtime=True, types_only=t)
+    terms = compile_stage(_terms_stage, i64, x, P, tw.status, cws, types_only=t)
     K_obj, Kw, KGt, Rb, ework = opts.K_obj, opts.elastic_K, opts.elastic_KGt, opts.elastic_Rb, opts.elastic_work
     external, Ak, yk = qp_arrays.external, qp_arrays.A, qp_arrays.y
     elastic = compile_stage(_elastic_stage if switches[OPT_ELASTIC] != 0 else _no_elastic_stage, types.Tuple((i64, b1)),
-                            Mq, i64, K_obj, Y0N, b1, Kw, Hq, tw.wN, external, KGt, Ak, yk, Rb, ework)
+                            Mq, i64, K_obj, Y0N, b1, Kw, Hq, tw.wN, external, KGt, Ak, yk, Rb, ework, types_only=t)
     qp_rows = compile_stage(_qp_rows, types.Tuple((i64, b1)), b1, Y, Y0N, tw.wN, tw.ddYn, W, w_free, H, h, J, Jdq,
                             arm_kind, arm_dof, qp, qp_arrays, opts, tw.rc, tw.r0, tw.nrm, tw.Jg, tw.bias, tw.Wa, tw.rhs_t,
-                            tw.qdd, tw.piv, tw.wv, tw.wm, tw.R3, elastic)
+                            tw.qdd, tw.piv, tw.wv, tw.wm, tw.R3, elastic, types_only=t)
     qp_answer = compile_stage(_qp_answer, types.Tuple((i64, i64, b1, i64)), Hq, gq, Mq, lo, hi, xq, zq, ws, b1, flags,
-                              i64, i64, i64, i64, f64, i64, f64, i64, i64, i64, i64)
+                              i64, i64, i64, i64, f64, i64, f64, i64, i64, i64, i64, types_only=t)
     control = compile_stage(_control, types.UniTuple(i64, 2), b1, b1, ctrl, posture, C_comp, arm_kind, arm_dof, q_off,
                             f64, tw.F_set, tw.F_cmd, tw.F_seen, Y0N, tw.Yn, tw.dYn, tw.ddYn, Y, dY, H, h, J, Jdq, W, w_free,
                             S, x, lead_off, integ, tau, tw.R3, tw.pv, tw.inc, tw.Yv, tw.err, tw.a_cmd, tw.corr, tw.tp, tw.wv,
-                            tw.wm, tw.piv, tw.ti, leader_law, law_params)
+                            tw.wm, tw.piv, tw.ti, leader_law, law_params, types_only=t)
     energy = compile_stage(_energy_stage if switches[OPT_ENERGY] != 0 else _no_energy_stage, types.Tuple((f64, f64, i64)),
-                           x, P, cws, eF, eDY0)
+                           x, P, cws, eF, eDY0, types_only=t)
     return TickStages(advance=advance, terms=terms, qp_rows=qp_rows, qp_answer=qp_answer, control=control,
                       energy=energy, elastic_split=elastic)
 

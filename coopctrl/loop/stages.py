@@ -29,7 +29,7 @@ import coopctrl.loop.argument_types as argument_types
 _COMPILED: dict = {}
 
 
-def compile_stage(function, restype: types.Type, *args, runtime: bool = False):
+def compile_stage(function, restype: types.Type, *args, runtime: bool = False, types_only: bool = False):
     """``function`` compiled as a numba ``cfunc`` returning ``restype`` for the types of ``args``.
 
     Args:
@@ -38,10 +38,16 @@ def compile_stage(function, restype: types.Type, *args, runtime: bool = False):
         args: Example arguments, or numba types, in the order of the kernel's call.
         runtime: Compile with numba's runtime (reference counting), for a stage that may allocate
             (the implicit integrators' ``pinv`` fallback); without it otherwise, as the kernel.
+        types_only: Compile nothing: return the numba type the compiled stage has as an argument of
+            the tick (``numba.typeof`` of it: the function type of its signature).
 
     Returns:
-        The compiled ``cfunc`` (the same object for the same function and types in this process).
+        The compiled ``cfunc`` (the same object for the same function and types in this process), or
+        with ``types_only`` its numba type.
     """
+    if types_only:
+        return types.FunctionType(restype(*(a if isinstance(a, types.Type) else argument_types.argument_type(a)
+                                            for a in args)))
     quick = argument_types.signature_key(args)  # hashed in C, not numba's types (a run's set-up pays it)
     if quick is not None:
         compiled = _COMPILED.get((function, restype, quick, runtime))
