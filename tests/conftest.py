@@ -27,8 +27,8 @@ def _whole_suite(config) -> bool:
         return False
     if not getattr(config.option, "numprocesses", None) or getattr(config.option, "dist", "no") == "no":
         return False
-    chosen = [a for a in config.invocation_params.args if not str(a).startswith("-")]
-    return not chosen and not config.option.keyword and not config.option.markexpr
+    whole = config.args_source is pytest.Config.ArgsSource.TESTPATHS  # no path given: pyproject's testpaths
+    return whole and not config.option.keyword and not config.option.markexpr
 
 
 def _cold_spaces() -> list[str]:

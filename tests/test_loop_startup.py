@@ -99,3 +99,17 @@ def test_validating_a_scene_and_asking_if_its_kernels_are_compiled_imports_neith
     assert {"LoadDistribution", "QPStats", "make_solver"} <= set(dir(ld))
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         ld.nothing  # noqa: B018 - the lazy lookup still refuses an unknown name
+
+
+def test_a_kind_recorded_warm_in_this_process_is_not_read_from_the_disk_again(tmp_path, monkeypatch):
+    """``compiles_here``: ``is_cold`` in this tree's cache until this process records the kind warm there;
+    then no stamp is read (a sweep's later runs), even if the stamp goes."""
+    monkeypatch.setattr(startup, "cache_directory", lambda: tmp_path)
+    kind = KernelKind("spatial", "trbdf2")
+    assert startup.compiles_here(kind)
+    _index(tmp_path, "integrate._trbdf2_step-100.py311.nbi")
+    startup.record_warm(kind, tmp_path)
+    assert not startup.compiles_here(kind)
+    startup.stamp_path(kind, tmp_path).unlink()
+    assert startup.is_cold(kind, tmp_path)  # the disk says cold
+    assert not startup.compiles_here(kind)  # this process already loaded it

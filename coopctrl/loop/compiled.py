@@ -491,7 +491,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                   state.x, state.tau, state.integrals, state.flags, x_fail, out_int, out_float)
     kind = S.kind_of_run(cl.spatial, S.family_of(loop.integrator.name) if not cl.plant_outside else "explicit")
     ahead = None
-    if S.is_cold(kind):  # a first run of its kind: the tick compiled by a second process meanwhile
+    if S.compiles_here(kind):  # a first run of its kind: the tick compiled by a second process meanwhile
         typed = loop_model(K.tick_stages(*stage_args, types_only=True))
         jobs = []
         if ld is None or pending:

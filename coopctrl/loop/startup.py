@@ -132,6 +132,14 @@ def is_cold(kind: KernelKind, directory: Path | None = None) -> bool:
     return not listed or not all(os.path.isfile(os.path.join(root, name)) for name in listed)
 
 
+def compiles_here(kind: KernelKind) -> bool:
+    """Whether a run of ``kind`` in this process may compile its kernels: :func:`is_cold` in this tree's
+    cache, unless this process has already recorded ``kind`` warm there (:func:`record_warm`), which a
+    sweep's later runs then do not read from the disk again (about 1 ms a run)."""
+    directory = cache_directory()
+    return (kind, str(directory)) not in _recorded and is_cold(kind, directory)
+
+
 def record_warm(kind: KernelKind, directory: Path | None = None) -> None:
     """Write the stamp of ``kind`` (the index files the cache ``directory`` holds now) unless it is
     there: called once the kind's kernels are compiled or loaded. A cache that cannot be written keeps
