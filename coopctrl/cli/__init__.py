@@ -99,7 +99,8 @@ def _main_with_signals(argv: Sequence[str] | None, program: bool) -> int:
         """A signal's exception raised where Python cannot propagate it (a callback: a weak reference's, an
         import lock's) would be printed as "Exception ignored" with its traceback, and the work would go on:
         the signal is sent again 1 ms later instead (from a timer thread, after this hook has returned), and
-        its handler raises it where it propagates."""
+        its handler raises it where it propagates. After a SIGTERM, a finalizer's error is its consequence
+        (an object it interrupted half-built) and is not printed: the stop's one line stands."""
         if isinstance(hook.exc_value, KeyboardInterrupt):
             import threading
 
@@ -109,6 +110,8 @@ def _main_with_signals(argv: Sequence[str] | None, program: bool) -> int:
             resend.append(timer)
             timer.start()
             return
+        if terminated:  # SIGTERM stopped the work: an object whose construction it cut short (a compiler's
+            return      # handle, freed with the interruption's frames) fails in its finalizer; the one line says why
         previous_hook(hook)
 
     try:
