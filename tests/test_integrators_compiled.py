@@ -376,3 +376,29 @@ def test_steps_allocate_nothing():
         assert int(many) == int(few), f"{name}: {few} allocations for 5 steps, {many} for 505"
         if name != "rk4":
             assert int(jacobians) >= 1 + 4 + 504  # each period's first step keeps the last period's matrix
+
+
+def test_scheme_functions_are_copied_into_their_callers_never_compiled_alone():
+    """The scheme functions are ``@njit(inline="always")``: a compiled caller gets their code without numba
+    compiling them on their own (``signatures`` stays empty), and Python runs the same code through
+    ``integrate.PYTHON``, whose functions call each other's Python selves."""
+    from numba import njit
+
+    @njit
+    def caller(y, status, x_fail, out_int):  # a new function: compiled here, never loaded from a cache
+        return integrate.stage_failed(y, status, x_fail, out_int)
+
+    y, x_fail, out_int = np.array([1.0, 2.0]), np.zeros(2), np.zeros(8, dtype=np.int64)
+    assert caller(y, np.array([0, 0]), x_fail, out_int) is False
+    assert caller(y, np.array([3, 0]), x_fail, out_int) is True
+    np.testing.assert_array_equal(x_fail, y)  # the failing state kept
+    assert out_int[7] == 2  # both evaluations counted
+    for name in ("stage_failed", "explicit_period", "jacobian_into", "implicit_period"):
+        assert getattr(integrate, name).signatures == [], name
+        python = getattr(integrate.PYTHON, name)
+        assert python.__code__ is getattr(integrate, name).py_func.__code__  # one source
+        assert not hasattr(python, "signatures")  # a plain function
+        assert python.__globals__["jacobian_into"] is integrate.PYTHON.jacobian_into  # calls the Python selves
+    x_fail[:] = 0.0
+    assert integrate.PYTHON.stage_failed(y, np.array([1, 0]), x_fail, out_int) is True
+    np.testing.assert_array_equal(x_fail, y)

@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from coopctrl.loop import compile_ahead, startup
@@ -56,3 +57,67 @@ def test_the_first_run_of_a_kind_loads_the_tick_a_second_process_compiled(tmp_pa
     assert status == "ok"
     assert (int(hits), int(misses)) == (1, 0)
     assert list(target.rglob("kernel.run_ticks-*.nbi"))  # the child's compile, in the run's cache
+
+
+class _Child:
+    """A stand-in for a compiling child (:class:`compile_ahead.Ahead`): it records its jobs and waits."""
+
+    def __init__(self, jobs):
+        self.jobs, self.waited = jobs, 0
+
+    def wait(self, timeout_s=compile_ahead.WAIT_TIMEOUT_S):
+        self.waited += 1
+        return True
+
+    def stop(self):
+        pass
+
+
+def test_a_child_started_before_preflight_is_the_one_the_run_waits_for(monkeypatch):
+    """``compile_tick_ahead`` (``coopctrl run``, before pre-flight) starts the child of a cold kind; the run
+    of that loop then waits for it rather than starting another, and runs as without it. The kind is made
+    cold and the child a stand-in, so nothing compiles here."""
+    import coopctrl
+    from coopctrl.loop import compiled
+    from coopctrl.scenario import build
+    from coopctrl.simulator import closed_loop
+
+    scenario = coopctrl.load_scenario(None, {"simulation.duration": 0.02})
+    loop = closed_loop(scenario)
+    x0 = build.initial_state(scenario, loop)
+    expected = loop.run(x0, 0.02)
+    children = []
+
+    def start(jobs):
+        children.append(_Child(jobs))
+        return children[-1]
+
+    monkeypatch.setattr(compile_ahead, "start", start)
+    monkeypatch.setattr(startup, "compiles_here", lambda kind: True)
+    assert compiled.compile_tick_ahead(loop) is True
+    assert [name for name, _ in children[0].jobs] == ["run_ticks"]
+    assert compiled.compile_tick_ahead(loop) is True  # the same tick again: that child still compiles it
+    assert len(children) == 1
+    record = loop.run(x0, 0.02)
+    assert len(children) == 1 and children[0].waited == 1  # the run claimed it
+    np.testing.assert_array_equal(record["x"], expected["x"])
+    loop.run(x0, 0.02)  # a claimed child is not claimed twice: this run starts its own
+    assert len(children) == 2 and children[1].jobs == children[0].jobs
+
+
+def test_a_warm_kind_starts_no_child(monkeypatch):
+    import coopctrl
+    from coopctrl.loop import compiled
+    from coopctrl.simulator import closed_loop
+
+    monkeypatch.setattr(startup, "compiles_here", lambda kind: False)
+    monkeypatch.setattr(compile_ahead, "start", lambda jobs: pytest.fail("a warm kind started a child"))
+    assert compiled.compile_tick_ahead(closed_loop(coopctrl.load_scenario(None))) is False
+
+
+def test_children_still_running_at_exit_are_stopped():
+    """``stop_all`` (registered at exit) kills a child no run claimed, e.g. when pre-flight refused the task."""
+    ahead = compile_ahead.start([])  # a child that reads its (empty) jobs after importing the kernel
+    assert ahead.process is not None
+    compile_ahead.stop_all()
+    assert ahead.process.poll() is not None  # killed and reaped (or already done), never left behind

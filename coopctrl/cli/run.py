@@ -63,11 +63,17 @@ def cmd_run(args) -> int:
     notice = announce([scenario], ticker=not args.quiet)
     loop = None  # built once, for pre-flight and the run
     try:
+        if scenario.simulation.accuracy is None:  # the scene as given runs: its loop, and on a first run of its
+            from coopctrl.loop.compiled import compile_tick_ahead  # kind its tick compiling on a second core
+            from coopctrl.wiring import closed_loop  # while pre-flight compiles its own kernels here
+
+            loop = closed_loop(scenario)
+            compile_tick_ahead(loop)
         if not args.no_preflight:  # an impossible task is refused before the first tick (exit 1)
             from coopctrl.analysis.preflight import preflight
             from coopctrl.wiring import closed_loop
 
-            loop = closed_loop(scenario)
+            loop = loop if loop is not None else closed_loop(scenario)
             report = preflight(scenario, loop)
             if not report.ok:
                 if notice is not None:

@@ -21,12 +21,19 @@ steps and a remainder); the classes of :mod:`coopctrl.integrators` are its confi
   step to step, tick to tick; a new plan starts cold.
 
 One source, two ways to run it. The scheme functions (:func:`explicit_period`, :func:`implicit_period`,
-:func:`jacobian_into` and the steps they call) are ``numba.extending.register_jitable``: numba compiles
-them into their callers (the loop's kernel, :func:`advance_period`), and Python runs the same
-functions as they are when :meth:`Integrator.step <coopctrl.integrators.Integrator.step>` steps a
-right-hand side numba cannot call (any Python ``f(t, x, u)``; ``P`` is then a
-:class:`coopctrl.integrators.stepping.PythonRightHandSide` and :func:`rhs_into` calls it at the stage
-time set by :func:`at_time`). A cooperative plant's ``rhs`` is stepped compiled
+:func:`jacobian_into` and the steps they call) are ``@njit(inline="always")``: numba copies their code
+into each compiled caller (the loop's advance stages, :func:`advance_period`) before typing it, and
+never compiles them on their own. Python runs the same code, as it is written, when
+:meth:`Integrator.step <coopctrl.integrators.Integrator.step>` steps a right-hand side numba cannot call
+(any Python ``f(t, x, u)``; ``P`` is then a :class:`coopctrl.integrators.stepping.PythonRightHandSide`
+and :func:`rhs_into` calls it at the stage time set by :func:`at_time`): :data:`PYTHON` holds those
+functions with each other's names bound to their Python selves.
+
+Why not ``numba.extending.register_jitable`` with ``inline="always"``: numba types such a call by
+compiling the function on its own first, to machine code, and then copies its code in anyway; and every
+compiled function is optimized together with all it calls. A chain of such wrappers (the stage,
+:func:`zoh_advance`, :func:`explicit_period`, :func:`_explicit_step`) optimized the plant's right-hand
+side four times on an empty cache, once as it is run. A cooperative plant's ``rhs`` is stepped compiled
 (:func:`advance_period`). ``tests/_integrator_oracle.py`` keeps the former numpy arithmetic as an
 independent check, itself checked against :func:`scipy.integrate.solve_ivp`.
 
@@ -44,6 +51,7 @@ from __future__ import annotations
 
 import math
 from collections import namedtuple
+from types import FunctionType, SimpleNamespace
 
 import numpy as np
 from numba import njit, types
@@ -244,7 +252,7 @@ def _first_rhs_into_typed(x, tau, P, status, ws, terms, dx):
     return impl
 
 
-@register_jitable(inline="always")
+@njit(inline="always")
 def stage_failed(y, status, x_fail, out_int) -> bool:
     """After one right-hand-side evaluation at ``y``: count it (``out_int[7]``, the run's evaluations) and
     tell whether the plant failed there (``status[0] != 0``), keeping ``y`` in ``x_fail`` for the diagnosis."""
@@ -285,9 +293,9 @@ def zoh_advance(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, o
     step of :meth:`Integrator.step <coopctrl.integrators.Integrator.step>` on a Python ``f``.
     """
     if type(plan) is ImplicitPlan:
-        return implicit_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float)
+        return PYTHON.implicit_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float)
     if type(plan) is ExplicitPlan:
-        return explicit_period(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int)
+        return PYTHON.explicit_period(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int)
     raise TypeError(f"plan is a {type(plan).__name__}: from Python, zoh_advance steps an ExplicitPlan or an "
                     "ImplicitPlan (the error-controlled plans run compiled: advance_period)")
 
@@ -323,7 +331,7 @@ def advance_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_f
 
 
 # ---------------------------------------------------------------------------------------------- explicit
-@register_jitable(inline="always")
+@njit(inline="always")
 def explicit_period(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_int):
     """An :class:`ExplicitPlan` over the steps ``steps`` [s] from ``t`` [s] (:func:`zoh_advance`)."""
     ts = t
@@ -336,7 +344,7 @@ def explicit_period(plan, x, tau, P, status, ws, terms, t, steps, x_fail, out_in
     return STEP_OK
 
 
-@register_jitable(inline="always")
+@njit(inline="always")
 def _explicit_step(plan, x, tau, P, status, ws, terms, first, t, hs, x_fail, out_int):
     """One step of ``plan.method`` from ``t`` [s]:
 
@@ -465,7 +473,7 @@ def _pinv_into(A, M):
     M[:, :] = np.linalg.pinv(A)
 
 
-@register_jitable
+@njit(inline="always")
 def jacobian_into(J, x, tau, P, status, ws, fx, xp, fp, out_int, x_fail):
     """``J = df/dx`` at ``x`` (``fx = f(x)``) by forward differences: column ``j`` is
     ``(f(x + d_j e_j) - fx) / d_j`` with ``d_j = sqrt(eps) max(|x_j|, 1)`` rounded to a representable
@@ -487,7 +495,7 @@ def jacobian_into(J, x, tau, P, status, ws, fx, xp, fp, out_int, x_fail):
     return True
 
 
-@register_jitable(inline="always")
+@njit(inline="always")
 def _refresh(plan, x, tau, P, status, ws, fx, gh, out_int, x_fail):
     """``plan.M = (I - gh J)^-1`` with ``J`` the forward-difference Jacobian at ``x`` (``fx = f(x)``):
     column ``j`` is ``(f(x + d_j e_j) - fx) / d_j``.
@@ -505,7 +513,7 @@ def _refresh(plan, x, tau, P, status, ws, fx, gh, out_int, x_fail):
     return True
 
 
-@register_jitable
+@njit(inline="always")
 def implicit_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_float):
     """An :class:`ImplicitPlan` over the steps ``steps`` [s] from ``t`` [s] (:func:`zoh_advance`)."""
     ts = t
@@ -523,7 +531,7 @@ def implicit_period(plan, x, tau, P, status, ws, t, steps, x_fail, out_int, out_
     return STEP_OK
 
 
-@register_jitable
+@njit(inline="always")
 def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
     """One step of the diagonally implicit Runge-Kutta scheme of
     :class:`~coopctrl.integrators.DiagonallyImplicitRungeKutta` on ``x`` in place (its docstring states
@@ -633,3 +641,20 @@ def _sdirk_step(plan, x, tau, P, status, ws, t, h, x_fail, out_int):
         for c in range(n):
             x[c] += bh * slopes[i, c]
     return STEP_OK, 0, 0.0
+
+
+def _python_functions(namespace: dict, names) -> SimpleNamespace:
+    """The functions ``names`` of ``namespace`` (``@njit(inline="always")`` dispatchers, which numba only
+    copies into compiled callers) as plain Python functions of the same code, each calling the others'
+    Python selves by their names."""
+    bound = dict(namespace)
+    for name in names:
+        f = namespace[name].py_func
+        bound[name] = FunctionType(f.__code__, bound, f.__name__, f.__defaults__, f.__closure__)
+    return SimpleNamespace(**{name: bound[name] for name in names})
+
+
+#: The scheme functions as Python runs them (:func:`zoh_advance` called from Python, on a Python ``f``):
+#: their own code, calling each other in Python.
+PYTHON = _python_functions(globals(), ("stage_failed", "explicit_period", "_explicit_step", "jacobian_into",
+                                       "_refresh", "implicit_period", "_sdirk_step"))

@@ -8,8 +8,8 @@ Newton matrix and stage slopes kept from step to step), through the functions th
 - ``f`` the ``rhs`` of a cooperative plant (a :class:`plants.cooperative.CooperativePlant`): compiled,
   :func:`~coopctrl.integrators.compiled.advance_period` on the plant's kernel arrays;
 - any other Python ``f(t, x, u) -> dx``: compiled code cannot call it, so Python runs the same scheme
-  functions (:func:`~coopctrl.integrators.compiled.zoh_advance`, ``register_jitable``) with ``f``
-  wrapped in a :class:`PythonRightHandSide`.
+  functions as they are written (:func:`~coopctrl.integrators.compiled.zoh_advance`, through
+  ``compiled.PYTHON``) with ``f`` wrapped in a :class:`PythonRightHandSide`.
 
 Both give the bits of the loop's kernel for the same scheme, state and step.
 """

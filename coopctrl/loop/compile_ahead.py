@@ -11,13 +11,21 @@ into the kernel cache (:mod:`plants.numba_cache`), while the run compiles the st
 the child (:meth:`Ahead.wait`) and loads the tick from the cache through numba's public
 ``Dispatcher.compile``, which reads the cache's index from disk.
 
+``coopctrl run`` starts the child earlier still, before pre-flight
+(:func:`coopctrl.loop.compiled.compile_tick_ahead`): pre-flight compiles its own kernels (inverse
+kinematics, the QP, the torque model) on one core while the child compiles the tick, which shares none of
+them, on the other; the run then claims that child.
+
 Nothing depends on the child: if it cannot start, fails, or compiled another signature, the run compiles
 the tick itself, as before (only the time is lost). The machine code is the same either way (LLVM is
-deterministic; the records of every shipped scene are bit-identical).
+deterministic; the records of every shipped scene are bit-identical). A child still running when this
+process exits (one no run claimed: pre-flight refused the task, or the run was interrupted) is killed
+(:func:`stop_all`).
 """
 
 from __future__ import annotations
 
+import atexit
 import os
 import pickle
 import subprocess
@@ -75,7 +83,19 @@ def start(jobs: list[tuple[str, tuple]]) -> Ahead:
         process.stdin.close()
     except Exception:  # noqa: BLE001 - any failure only means the run compiles the tick itself
         return Ahead(None)
+    _STARTED.append(process)
     return Ahead(process)
+
+
+#: The children this process started (reaped ones are dropped by :func:`stop_all`).
+_STARTED: list = []
+
+
+@atexit.register
+def stop_all() -> None:
+    """Kill and reap every child this process started that still runs (at exit: none outlives the run)."""
+    while _STARTED:
+        Ahead(_STARTED.pop()).stop()
 
 
 def _compile_from_stdin() -> None:

@@ -384,13 +384,30 @@ def _entry_point(dispatcher, args: tuple):
 _ENTRY_POINTS: dict = {}
 
 
-def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None, start: LoopState | None = None
-                 ) -> dict:
+#: Children compiling a tick before its run (:func:`compile_tick_ahead`), by their jobs, until a run claims one.
+_EARLY: dict = {}
+
+
+def compile_tick_ahead(loop) -> bool:
+    """On the first run of a kind in this process, start compiling ``loop``'s tick in a second process
+    now (:mod:`coopctrl.loop.compile_ahead`), for the run that follows: ``coopctrl run`` calls it before
+    pre-flight, whose kernels (inverse kinematics, the QP, the torque model) this process compiles
+    meanwhile; the tick shares none of them. The next :func:`run_compiled` of the same tick types waits
+    for this child instead of starting its own. Returns whether a child was started (False on a warm kind).
+    A child no run claims is stopped at exit (:func:`compile_ahead.stop_all
+    <coopctrl.loop.compile_ahead.stop_all>`)."""
+    return run_compiled(loop, loop.empty_record(1), np.zeros(loop.plant.state_size), 1, ahead_only=True)
+
+
+def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None, start: LoopState | None = None,
+                 ahead_only: bool = False) -> dict:
     """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``.
     ``integrals``: the followers' force-error integrals to start from (arm index -> (p,) [N s, N m s]);
     zero otherwise. ``start``: a :class:`~coopctrl.loop.state.LoopState` to continue from (a run's
     ``final_state``; ``x0`` and ``integrals`` are then unused): its ticks follow on from those of the run
-    that ended there, as in one long run, and it is left unchanged."""
+    that ended there, as in one long run, and it is left unchanged. ``ahead_only``: only start the child
+    that compiles the tick of a cold kind, for a later run (:func:`compile_tick_ahead`), and return whether
+    it started; the types of the tick do not depend on ``x0`` or ``N``."""
     plant = loop.plant
     why = _unsupported_parts(loop)
     if why is not None:
@@ -498,7 +515,16 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             jobs.append(("run_ticks", argument_types.signature_of((typed, data, 0, 0))))
         if ld is not None:
             jobs.append(("reference_step", argument_types.signature_of((0, True, K.SPLIT_SOLVED, 0, 0, 0, True, typed, data))))
-        ahead = compile_ahead.start(jobs)
+        key = tuple(jobs)
+        if ahead_only:
+            if key not in _EARLY:
+                _EARLY[key] = compile_ahead.start(jobs)
+            return True
+        ahead = _EARLY.pop(key, None)  # started before pre-flight (compile_tick_ahead), or now
+        if ahead is None:
+            ahead = compile_ahead.start(jobs)
+    elif ahead_only:
+        return False
     try:
         stages = K.tick_stages(*stage_args)
     except BaseException:  # an interrupted or failed compile: the child goes too

@@ -20,7 +20,7 @@ arrays of a :class:`~coopctrl.loop.state.LoopState` and writes the record rows i
    redundant arm;
 6. **saturation** at ``tau_max``;
 7. **plant**: zero-order hold over the period, one integrator step per entry of ``steps``
-   (:func:`coopctrl.loop.integrate.zoh_advance` with the run's plan ``method``: an
+   (:func:`coopctrl.integrators.compiled.zoh_advance` with the run's plan ``method``: an
    ``ExplicitPlan`` for euler, symplectic Euler and RK4, an ``ImplicitPlan`` for implicit
    midpoint and implicit Euler, their Newton iteration included), each the arithmetic of the
    Python integrator.
@@ -73,9 +73,10 @@ from coopctrl.load_distribution.assembly import (
 from coopctrl.load_distribution.contact_model import contact_normals_into, torque_model_into
 from coopctrl.load_distribution.elastic_assembly import fill_elastic_split
 from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities, gi_solve
-from coopctrl.integrators.adaptive_plans import EmbeddedPlan, TRBDF2Plan, embedded_plan_of, trbdf2_plan_of
-from coopctrl.integrators.compiled import (STEP_NEWTON_FAILED, STEP_OK, ExplicitPlan, ImplicitPlan, explicit_plan_of,
-                                           implicit_plan_of, plan_slots, zoh_advance)
+from coopctrl.integrators.adaptive_plans import (EmbeddedPlan, TRBDF2Plan, embedded_advance, embedded_plan_of,
+                                                 trbdf2_advance, trbdf2_plan_of)
+from coopctrl.integrators.compiled import (STEP_NEWTON_FAILED, STEP_OK, ExplicitPlan, ImplicitPlan, explicit_period,
+                                           explicit_plan_of, implicit_period, implicit_plan_of, plan_slots)
 from coopctrl.integrators.compiled import STEP_TOO_SMALL as STEP_TOO_SMALL_CODE
 from coopctrl.loop.squeeze import pair_squeeze_into
 from coopctrl.loop.stages import TickStages, compile_stage
@@ -129,13 +130,13 @@ def _terms(x, P, status, cws):
     """Fill the control workspace ``cws`` with the terms at ``x`` (:func:`_term_arrays`: ``(Y, dY, H, h,
     J, Jdq, W, w_free, S, Fw)``): the kernel form of ``CooperativePlant.control_terms``
     (``control_terms_into``); returns ``status[0]``, nonzero at a singularity. Compiled per kind (spatial or planar) by the type of ``P``'s
-    bases, as :func:`coopctrl.loop.integrate.rhs_into`."""
+    bases, as :func:`coopctrl.integrators.compiled.rhs_into`."""
     raise NotImplementedError("called from numba only")
 
 
 @overload(_terms)
 def _terms_typed(x, P, status, cws):
-    # the packed entry point (see coopctrl.loop.integrate.rhs_into)
+    # the packed entry point (see coopctrl.integrators.compiled.rhs_into)
     terms_into = _sk.control_terms_packed if is_spatial(P) else _pk.control_terms_packed
 
     def impl(x, P, status, cws):
@@ -157,21 +158,23 @@ def _term_arrays(cws):
 
 
 # The plant's period advance, one stage per integrator family: each takes the plan in its slots (the same type
-# for every family: run_ticks is compiled once for them all) and rebuilds its family's plan from them.
+# for every family: run_ticks is compiled once for them all), rebuilds its family's plan from them and calls
+# that family's branch of zoh_advance itself (the fixed-step schemes are copied into the stage, not compiled
+# on their own: coopctrl.integrators.compiled).
 def _advance_explicit_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
-    return zoh_advance(explicit_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+    return explicit_period(explicit_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int)
 
 
 def _advance_implicit_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
-    return zoh_advance(implicit_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+    return implicit_period(implicit_plan_of(slots), x, tau, P, status, ws, t, steps, x_fail, out_int, out_float)
 
 
 def _advance_embedded_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
-    return zoh_advance(embedded_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+    return embedded_advance(embedded_plan_of(slots), x, tau, P, status, ws, terms, t, x_fail, out_int, out_float)
 
 
 def _advance_trbdf2_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float):
-    return zoh_advance(trbdf2_plan_of(slots), x, tau, P, status, ws, terms, t, steps, x_fail, out_int, out_float)
+    return trbdf2_advance(trbdf2_plan_of(slots), x, tau, P, status, ws, terms, t, x_fail, out_int, out_float)
 
 
 #: The advance stage of each plan family (the class of the plan :func:`~coopctrl.integrators.compiled.make_plan` made).
@@ -466,7 +469,7 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
     """The stages :func:`run_ticks` calls through their addresses (its ``stages``), compiled for the
     types of the run's arrays (the arguments of :func:`run_ticks` of the same names) by
     :func:`coopctrl.loop.stages.compile_stage`: ``(advance, terms, qp_rows, qp_answer, control,
-    energy, elastic)``, the plant's period advance (:func:`coopctrl.loop.integrate.zoh_advance`),
+    energy, elastic)``, the plant's period advance (:func:`coopctrl.integrators.compiled.zoh_advance`),
     :func:`_terms`, :func:`_qp_rows`, :func:`_qp_answer`, :func:`_control`, the plant's energy
     (:func:`coopctrl.loop.energy.plant_energy`) and the elastic split's inputs
     (:func:`coopctrl.load_distribution.elastic_assembly.fill_elastic_split`, which ``_qp_rows`` calls
@@ -761,7 +764,7 @@ def tick_act(k, source, qs, qit, qb, qact, model, data):
         out_int[0] = PLANT_EXTERNAL
         out_int[1] = k + 1
         return PLANT_EXTERNAL
-    # ---- plant, zero-order hold over the period (coopctrl.loop.integrate: the Python integrators' arithmetic)
+    # ---- plant, zero-order hold over the period (coopctrl.integrators.compiled: the Python integrators' arithmetic)
     step_code = advance(plan, x, tau, P, status, pws, cws_true, t, steps, x_fail, out_int, out_float)
     if step_code != STEP_OK:
         # the Python loop keeps the state of the tick (the exception leaves ``advance``)

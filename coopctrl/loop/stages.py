@@ -67,7 +67,7 @@ def compile_stage(function, restype: types.Type, *args, runtime: bool = False, t
 TickStages = namedtuple("TickStages", "advance terms qp_rows qp_answer control energy elastic_split")
 TickStages.__doc__ = """The compiled stages one run's tick calls (``LoopModel.stages``), by name.
 
-``advance``: the plant over one control period (:func:`coopctrl.loop.integrate.zoh_advance`); ``terms``: the
+``advance``: the plant over one control period (:func:`coopctrl.integrators.compiled.zoh_advance`); ``terms``: the
 plant's control terms at a state; ``qp_rows``: the QP's rows of a tick; ``qp_answer``: the compiled solve and
 its check; ``control``: the leader's and the followers' laws; ``energy``: the plant's energy (or a stage
 that does nothing, for a run that needs none); ``elastic_split``: the elastic split's inputs (or nothing,
