@@ -400,7 +400,7 @@ def compile_tick_ahead(loop) -> bool:
 
 
 def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None, start: LoopState | None = None,
-                 ahead_only: bool = False) -> dict:
+                 ahead_only: bool = False) -> dict | bool:
     """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``.
     ``integrals``: the followers' force-error integrals to start from (arm index -> (p,) [N s, N m s]);
     zero otherwise. ``start``: a :class:`~coopctrl.loop.state.LoopState` to continue from (a run's
