@@ -12,7 +12,7 @@ import pytest
 from numba import types
 
 from coopctrl.load_distribution import contact_model
-from coopctrl.loop.qp_inputs import contact_normals, torque_model
+from coopctrl.loop.qp_inputs import TorqueModel, contact_normals, torque_model
 from coopctrl.scenario import build, load_scenario
 from plants.cooperative import ContactPoint
 from plants.frames import rotation_zyx
@@ -159,3 +159,26 @@ def test_the_wrappers_use_the_kernels_specialisation():
         assert sigs, fname
         for sig in sigs:
             assert tuple(sig) == want, (fname, sig)
+
+
+@pytest.mark.parametrize("name", ["three_iiwa_tray", "contact_points_only"])
+def test_torque_model_workspace_gives_the_same_rows_call_after_call(name):
+    """:class:`TorqueModel` (pre-flight's, one workspace) returns at each call exactly :func:`torque_model`'s
+    rows at that call's terms (the same kernel on the same inputs: bit for bit), as views that the next call
+    overwrites: the 7-joint iiwa (a redundant arm) and contact points. Seeded random states."""
+    scenario, plant = _scene(name)
+    rng = np.random.default_rng(7)
+    model = TorqueModel(plant)
+    first = None
+    for _ in range(3):
+        terms = plant.control_terms(_random_state(scenario, plant, rng))
+        ddYn = rng.normal(scale=1.0, size=(plant.arm_count + 1, plant.p))
+        jac, bias = model(terms, ddYn)
+        jac_ref, bias_ref = torque_model(plant, terms, ddYn)
+        for i in range(plant.arm_count):
+            assert np.array_equal(jac[i], jac_ref[i]) and np.array_equal(bias[i], bias_ref[i])
+        if first is None:
+            first = [b.copy() for b in bias], bias
+    assert first[1] is bias  # the same views, refilled
+    if name == "three_iiwa_tray":  # random states: the bias torques moved
+        assert not all(np.array_equal(a, b) for a, b in zip(first[0], bias))

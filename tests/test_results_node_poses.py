@@ -1,6 +1,7 @@
 """coopctrl.results.node_poses: the compiled pass over a run's states equals the plant's own node poses."""
 
 import numpy as np
+import pytest
 
 from coopctrl import load_scenario
 from coopctrl.results.node_poses import node_poses_of
@@ -36,8 +37,14 @@ def test_planar_poses_equal_the_plants_bit_for_bit_and_nan_where_the_state_is_no
     assert np.isnan(got[2]).all() and np.isnan(got[4]).all() and np.isfinite(got[0]).all()
 
 
-def test_spatial_poses_equal_the_plants_bit_for_bit():
-    plant, x = _states(load_scenario("spatial_two_puma_carry"), 5, seed=2)
+@pytest.mark.parametrize("name, rotations", [("spatial_two_puma_carry", "charts"), ("spatial_two_puma_carry", "book"),
+                                             ("ur5e_panda_carry", "charts"), ("contact_points_only", "book")])
+def test_spatial_poses_equal_the_plants_bit_for_bit(name, rotations):
+    """The spatial pass runs the forward kinematics alone (``node_poses_into``); the plant's ``node_poses`` runs
+    the whole ``node_state_into`` (rates and dynamics too): the same link frames and tip, so equal bit for bit.
+    DH arms (the Pumas) and URDF chains (UR5e, Panda), in their own charts and in the book's world angles, and
+    contact points."""
+    plant, x = _states(load_scenario(name, {"scene.rotations": rotations}), 5, seed=2)
     np.testing.assert_array_equal(node_poses_of(x, plant), _expected(plant, x))
 
 

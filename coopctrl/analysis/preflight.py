@@ -46,7 +46,7 @@ from coopctrl.errors import CoopctrlError, InfeasibleLoad
 from coopctrl.io.number_text import numbers_text
 from coopctrl.load_distribution import LoadDistribution
 from coopctrl.loop.diagnosis import static_instability
-from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, contact_normals, qp_torque_limits, torque_model
+from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, TorqueModel, contact_normals, qp_torque_limits
 from plants.cooperative import ContactPoint
 from plants.cooperative.control_terms import ControlTerms
 from plants.errors import PlantError
@@ -256,14 +256,15 @@ def preflight(scenario, loop=None) -> PreflightReport:
     F = None
     ld = LoadDistribution(loop.ld.config, space, m)  # warm started sample to sample; a failure is re-solved afresh
     control_terms = _ControlTermsAt(plant, slices)
+    torques = TorqueModel(plant)  # one workspace: each sample's rows are used before the next sample's
     for t in times:
         t = float(t)
         Y0N, dY0N, ddY0N = motion[t]
         Yn, dYn, ddYn = nominal_node_motion(Y0N, dY0N, ddY0N, loop.grasps, space)
         w_N = required_object_wrench(space, loop.object_mass, loop.object_inertia, loop.gravity, Y0N, dY0N, ddY0N)
         for _ in range(2 if F is None else 1):  # the first sample: the rigid pose, then the deformed one
-            issue, terms, jac, bias, split = _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn,
-                                                     ddYn, w_N, reach, names, via_times, tau_max)
+            issue, terms, jac, bias, split = _sample(loop, plant, ld, control_terms, torques, x, t, F, Y0N, dY0N, Yn,
+                                                     dYn, ddYn, w_N, reach, names, via_times, tau_max)
             if issue is not None:
                 return fail(issue)
             F = split.F
@@ -295,16 +296,16 @@ def _peak_note(t: float, via_times) -> str:
 
 def _worst_joint(plant, jac, bias, F, limits):
     """``(arm, joint, |tau| [N m], |tau| / limit)`` of the joint nearest its limit under the split ``F``
-    (``tau_i = J_i^T F_i + bias_i``), or ``None`` when no arm has joints."""
+    (``tau_i = J_i^T F_i + bias_i``), or ``None`` when no arm has joints. A joint without a positive limit
+    binds first (ratio ``inf``); the first of equal ratios wins."""
     best = None
     for i, arm in enumerate(plant.arms):
         if isinstance(arm, ContactPoint):
             continue
         need = np.abs(jac[i].T @ F[i] + bias[i])
-        lim = np.asarray(limits[i], dtype=float)
-        ratio = np.full(need.shape, np.inf)  # a joint without a positive limit binds first
-        np.divide(need, lim, out=ratio, where=lim > 0)
-        j = int(np.argmax(ratio))
+        limited = limits[i] > 0
+        ratio = np.where(limited, need, np.inf) / np.where(limited, limits[i], 1.0)
+        j = int(ratio.argmax())
         if best is None or ratio[j] > best[3]:
             best = (i, j, float(need[j]), float(ratio[j]))
     return best
@@ -363,10 +364,11 @@ def _unreachable(t, i, name, target, exc, via_times) -> PreflightIssue:
         f"limits (best inverse-kinematics residual {exc.residual:.3g}); move the waypoint, the grasp "
         f"({name}.grasp) or the arm base ({name}.base) closer"), i + 1)
 
-def _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, via_times, tau_max):
+def _sample(loop, plant, ld, control_terms, torques, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w_N, reach, names, via_times,
+            tau_max):
     """Reach, then the load distribution (``ld``, the run's :class:`LoadDistribution`), at one instant:
     ``(issue or None, terms, jac, bias, split)``; ``x`` gets the arms' joints and rates. ``control_terms``:
-    a :class:`_ControlTermsAt` of the plant."""
+    a :class:`_ControlTermsAt` of the plant; ``torques``: its :class:`~coopctrl.loop.qp_inputs.TorqueModel`."""
     nz, p, npos, space, m = plant.nz, plant.p, loop.npos, loop.space, plant.arm_count
     none = (None, None, None, None)
     # 1. reach: each node's pose deformed by the previous split (rigid before the first split)
@@ -387,7 +389,7 @@ def _sample(loop, plant, ld, control_terms, x, t, F, Y0N, dY0N, Yn, dYn, ddYn, w
     kwargs = {}
     if config.min_grip is not None or config.friction_coefficient is not None:
         kwargs["normals"] = contact_normals(loop.plant, terms)
-    jac, bias = torque_model(loop.plant, terms, ddYn)
+    jac, bias = torques(terms, ddYn)
     if loop.torque_limits:
         kwargs["jacobians"], kwargs["biases"], kwargs["tau_max"] = jac, bias, qp_torque_limits(plant)
     if config.split == "elastic":

@@ -3,7 +3,8 @@
 - :func:`contact_normals`: each contact node's inward normal (its frame's approach axis), for the
   ``min_grip`` and ``friction`` families;
 - :func:`torque_model`: the ``torque_limits`` family's rows ``tau_i = Jg_i^T F_i + bias_i`` at the
-  nominal node accelerations, planned within :data:`TORQUE_HEADROOM` of each joint's limit.
+  nominal node accelerations, planned within :data:`TORQUE_HEADROOM` of each joint's limit
+  (:class:`TorqueModel`: the same into one reused workspace).
 
 Both are defined once, by the numba functions of :mod:`coopctrl.load_distribution.contact_model`
 (which the compiled tick calls on its measured terms): the functions here only give them the arrays of a
@@ -47,17 +48,33 @@ def torque_model(plant, terms, ddYn) -> tuple[list[np.ndarray], list[np.ndarray]
     node accelerations ``ddYn`` ((m+1, p) [m/s^2, rad/s^2]); ``Jg_i`` (p, n_i) maps the joint rates to the
     node's world twist, ``bias_i = H_i qdd_i + h_i + J_i^T (W_i ddYn_i + w_free_i)`` (n_i,) with ``qdd_i``
     the joint acceleration that tracks ``ddYn_i`` (zero where the arm is singular)
-    (:func:`~coopctrl.load_distribution.contact_model.torque_model_into`)."""
-    arm_kind, arm_dof = plant.plant_args.arm_kind, plant.plant_args.arm_dof
-    p = plant.p
-    dofs = [int(n) for n in arm_dof]
-    nmax = max(p, *dofs)
-    Jg = np.zeros((plant.arm_count, p, nmax))
-    bias = np.zeros(sum(dofs))
-    wv, wm = control_work(nmax)
-    torque_model_into(plant.space == "spatial", _f64(terms.Y), _f64(ddYn), _f64(terms.W), _f64(terms.w_free),
-                      _f64(terms.H), _f64(terms.h), _f64(terms.J), _f64(terms.Jdq), arm_kind, arm_dof, Jg, bias,
-                      np.empty(p), np.empty(p), np.empty(nmax), np.empty(nmax, np.int64), wv, wm, np.empty((3, 3, 3)))
-    offsets = np.concatenate(([0], np.cumsum(dofs)))
-    return ([Jg[i, :, :n].copy() for i, n in enumerate(dofs)],
-            [bias[offsets[i]:offsets[i + 1]].copy() for i in range(len(dofs))])
+    (:func:`~coopctrl.load_distribution.contact_model.torque_model_into`). New arrays; :class:`TorqueModel`
+    reuses one workspace from call to call."""
+    jacobians, biases = TorqueModel(plant)(terms, ddYn)
+    return [J.copy() for J in jacobians], [b.copy() for b in biases]
+
+
+class TorqueModel:
+    """:func:`torque_model` of one plant into one workspace, allocated once: a call returns
+    ``(jacobians, biases)`` as views of that workspace, overwritten by the next call (pre-flight calls it
+    at every sample)."""
+
+    def __init__(self, plant):
+        self.spatial = plant.space == "spatial"
+        self.arm_kind, self.arm_dof = plant.plant_args.arm_kind, plant.plant_args.arm_dof
+        p = plant.p
+        dofs = [int(n) for n in self.arm_dof]
+        nmax = max(p, *dofs)
+        self.Jg = np.zeros((plant.arm_count, p, nmax))
+        self.bias = np.zeros(sum(dofs))
+        offsets = np.concatenate(([0], np.cumsum(dofs)))
+        self.jacobians = [self.Jg[i, :, :n] for i, n in enumerate(dofs)]
+        self.biases = [self.bias[offsets[i]:offsets[i + 1]] for i in range(len(dofs))]
+        wv, wm = control_work(nmax)
+        self.scratch = (np.empty(p), np.empty(p), np.empty(nmax), np.empty(nmax, np.int64), wv, wm, np.empty((3, 3, 3)))
+
+    def __call__(self, terms, ddYn) -> tuple[list[np.ndarray], list[np.ndarray]]:
+        torque_model_into(self.spatial, _f64(terms.Y), _f64(ddYn), _f64(terms.W), _f64(terms.w_free),
+                          _f64(terms.H), _f64(terms.h), _f64(terms.J), _f64(terms.Jdq), self.arm_kind, self.arm_dof,
+                          self.Jg, self.bias, *self.scratch)
+        return self.jacobians, self.biases

@@ -3,11 +3,14 @@
     Y_nodes[k, i] = Phi_i(q_i(t_k))   [m, rad]
 
 for every sample ``k`` whose state ``x[k]`` is finite (``NaN`` elsewhere), each arm's node pose
-(docs/model.md section 2). The pass calls the plant's own compiled kinematics
-(``node_state_into`` of :mod:`plants.cooperative`, the function behind
-:meth:`CooperativePlant.node_poses <plants.cooperative.CooperativePlant.node_poses>`) once per sample
-inside one numba loop, so the poses are bit for bit those of ``plant.node_poses(x[k])``, without a
-Python call per sample (2501 such calls cost 30 to 60 ms on the two-Puma carry, the loop about 2 ms).
+(docs/model.md section 2). The pass calls the plant's own compiled kinematics once per sample inside one
+numba loop, so the poses are bit for bit those of :meth:`CooperativePlant.node_poses
+<plants.cooperative.CooperativePlant.node_poses>` at ``x[k]``, without a Python call per sample (2501 such
+calls cost 30 to 60 ms on the two-Puma carry). Spatial: the forward kinematics alone
+(``node_poses_into``, the same link frames and tip as ``node_state_into``, which also computes the rates
+and the arm dynamics: 2.9 ms against 8.2 ms for the carry's 2501 samples,
+``benchmarks/bench_node_poses.py``); planar:
+``node_state_into`` (three-link arms: the dynamics cost little).
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from plants.cooperative import _spatial_kernel as _sk
 
 
 @njit(cache=True)
-def _spatial_poses(X, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws, out):
+def _spatial_poses(X, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, status, ws, out):
     """Spatial plant: ``out[k]`` (m, 6) for each finite row ``X[k]``; returns the first row whose
     kinematics reported a nonzero ``status[0]``, or -1."""
     n, width = X.shape
@@ -33,7 +36,7 @@ def _spatial_poses(X, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gr
                 break
         if not finite:
             continue
-        _sk.node_state_into(X[k], arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity, status, ws)
+        _sk.node_poses_into(X[k], arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, status, ws)
         if status[0] != 0:
             return k
         for i in range(m):
@@ -77,9 +80,12 @@ def node_poses_of(x: np.ndarray, plant) -> np.ndarray:
         return out
     P = plant.plant_args
     status = np.zeros(2, dtype=np.int64)
-    poses = _spatial_poses if plant.space == "spatial" else _planar_poses
-    bad = poses(x, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, P.gravity, status,
-                plant.workspace(), out)
+    if plant.space == "spatial":
+        bad = _spatial_poses(x, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, status,
+                             plant.workspace(), out)
+    else:
+        bad = _planar_poses(x, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, P.gravity,
+                            status, plant.workspace(), out)
     if bad >= 0:
         plant.node_poses(x[bad])  # the plant's own check raises its error
         raise RuntimeError(f"node kinematics failed at sample {bad} (status {int(status[0])})")  # not reached

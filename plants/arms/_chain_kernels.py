@@ -139,6 +139,62 @@ def _link_frame(p, row, qk, c):
         c[_O + i] = o
 
 
+@njit(cache=True, inline="always")
+def tip_pose(e, tool, own_chart, Y):
+    """Write the node pose ``Y`` (6) from the last link's frame ``e`` (a work row: ``_R``, ``_O``) and ``tool``
+    (4x4): ``R_tip = R_n tool_R``, ``p_tip = o_n + R_n tool_p``; the angles are ZYX Euler angles of ``R_tip``
+    (``theta = atan2(-R_20, sqrt(R_21^2 + R_22^2))``), or zero in the node's own chart. Returns
+    ``(px, py, pz, R_tip row by row, cos theta, sin theta)`` (``1, 0`` in the own chart). The one tip
+    computation of :func:`chain_arm_terms_into`, :func:`chain_arm_pose_into` and the DH kernel
+    :func:`plants.arms._spatial_kernels.spatial_arm_terms` (whose frame rows also hold ``_R`` at 0 and ``_O``
+    at 9)."""
+    Rn = e[_R:_R + 9]
+    t00 = Rn[0] * tool[0, 0] + Rn[1] * tool[1, 0] + Rn[2] * tool[2, 0]
+    t10 = Rn[3] * tool[0, 0] + Rn[4] * tool[1, 0] + Rn[5] * tool[2, 0]
+    t20 = Rn[6] * tool[0, 0] + Rn[7] * tool[1, 0] + Rn[8] * tool[2, 0]
+    t01 = Rn[0] * tool[0, 1] + Rn[1] * tool[1, 1] + Rn[2] * tool[2, 1]
+    t11 = Rn[3] * tool[0, 1] + Rn[4] * tool[1, 1] + Rn[5] * tool[2, 1]
+    t21 = Rn[6] * tool[0, 1] + Rn[7] * tool[1, 1] + Rn[8] * tool[2, 1]
+    t02 = Rn[0] * tool[0, 2] + Rn[1] * tool[1, 2] + Rn[2] * tool[2, 2]
+    t12 = Rn[3] * tool[0, 2] + Rn[4] * tool[1, 2] + Rn[5] * tool[2, 2]
+    t22 = Rn[6] * tool[0, 2] + Rn[7] * tool[1, 2] + Rn[8] * tool[2, 2]
+    px = e[_O] + Rn[0] * tool[0, 3] + Rn[1] * tool[1, 3] + Rn[2] * tool[2, 3]
+    py = e[_O + 1] + Rn[3] * tool[0, 3] + Rn[4] * tool[1, 3] + Rn[5] * tool[2, 3]
+    pz = e[_O + 2] + Rn[6] * tool[0, 3] + Rn[7] * tool[1, 3] + Rn[8] * tool[2, 3]
+    Y[0], Y[1], Y[2] = px, py, pz
+    if own_chart:
+        Y[3] = 0.0
+        Y[4] = 0.0
+        Y[5] = 0.0
+        cth, sth = 1.0, 0.0
+    else:
+        cth = math.sqrt(t21 * t21 + t22 * t22)
+        sth = -t20
+        Y[3] = math.atan2(t10, t00)
+        Y[4] = math.atan2(sth, cth)
+        Y[5] = math.atan2(t21, t22)
+    return px, py, pz, t00, t01, t02, t10, t11, t12, t20, t21, t22, cth, sth
+
+
+@njit(cache=True, _nrt=False)
+def chain_arm_pose_into(q, table, base, tool, own_chart, wk, Y):
+    """The node pose ``Y`` (6) of :func:`chain_arm_terms_into` alone, bit for bit (the same link frames and
+    tip computation, :func:`tip_pose`), without the velocities, the dynamics or the Jacobian: forward
+    kinematics. ``wk`` as there (rows ``0..n`` overwritten). Returns 1 where :func:`chain_arm_terms_into`
+    does (the tip's Euler angles at the singularity of ``L``: ``cos theta < EULER_SINGULARITY_COS``), else
+    0. Allocates nothing."""
+    n = q.shape[0]
+    b = wk[0]
+    for i in range(3):
+        for j in range(3):
+            b[_R + 3 * i + j] = base[i, j]
+        b[_O + i] = base[i, 3]
+    for k in range(1, n + 1):
+        _link_frame(wk[k - 1], table[k - 1], q[k - 1], wk[k])
+    cth = tip_pose(wk[n], tool, own_chart, Y)[12]
+    return 1 if cth < EULER_SINGULARITY_COS else 0
+
+
 @njit(cache=True)
 def chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
     """:func:`chain_arm_terms_into` with a work array of its own (one allocation per call)."""
@@ -358,34 +414,11 @@ def chain_arm_terms_into(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq, wk,
 
     # ---- tip pose
     e = wk[n]
-    Rn = e[_R:_R + 9]
-    t00 = Rn[0] * tool[0, 0] + Rn[1] * tool[1, 0] + Rn[2] * tool[2, 0]
-    t10 = Rn[3] * tool[0, 0] + Rn[4] * tool[1, 0] + Rn[5] * tool[2, 0]
-    t20 = Rn[6] * tool[0, 0] + Rn[7] * tool[1, 0] + Rn[8] * tool[2, 0]
-    t01 = Rn[0] * tool[0, 1] + Rn[1] * tool[1, 1] + Rn[2] * tool[2, 1]
-    t11 = Rn[3] * tool[0, 1] + Rn[4] * tool[1, 1] + Rn[5] * tool[2, 1]
-    t21 = Rn[6] * tool[0, 1] + Rn[7] * tool[1, 1] + Rn[8] * tool[2, 1]
-    t02 = Rn[0] * tool[0, 2] + Rn[1] * tool[1, 2] + Rn[2] * tool[2, 2]
-    t12 = Rn[3] * tool[0, 2] + Rn[4] * tool[1, 2] + Rn[5] * tool[2, 2]
-    t22 = Rn[6] * tool[0, 2] + Rn[7] * tool[1, 2] + Rn[8] * tool[2, 2]
-    px = e[_O] + Rn[0] * tool[0, 3] + Rn[1] * tool[1, 3] + Rn[2] * tool[2, 3]
-    py = e[_O + 1] + Rn[3] * tool[0, 3] + Rn[4] * tool[1, 3] + Rn[5] * tool[2, 3]
-    pz = e[_O + 2] + Rn[6] * tool[0, 3] + Rn[7] * tool[1, 3] + Rn[8] * tool[2, 3]
-    Y[0], Y[1], Y[2] = px, py, pz
+    px, py, pz, t00, t01, t02, t10, t11, t12, t20, t21, t22, cth, sth = tip_pose(e, tool, own_chart, Y)
     if own_chart:
-        Y[3] = 0.0
-        Y[4] = 0.0
-        Y[5] = 0.0
-        cth, sth = 1.0, 0.0
         chart[0, 0], chart[0, 1], chart[0, 2] = t00, t01, t02
         chart[1, 0], chart[1, 1], chart[1, 2] = t10, t11, t12
         chart[2, 0], chart[2, 1], chart[2, 2] = t20, t21, t22
-    else:
-        cth = math.sqrt(t21 * t21 + t22 * t22)
-        sth = -t20
-        Y[3] = math.atan2(t10, t00)
-        Y[4] = math.atan2(sth, cth)
-        Y[5] = math.atan2(t21, t22)
 
     # ---- translational Jacobian rows and tip acceleration
     for k in range(1, n + 1):

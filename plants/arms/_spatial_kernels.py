@@ -38,6 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
+from plants.arms._chain_kernels import tip_pose
 from plants.frames import EULER_SINGULARITY_COS
 
 # Columns of the DH table.
@@ -58,6 +59,9 @@ _IW = 24  # 6: world inertia of link k about its COM: xx, yy, zz, xy, yz, xz
 _F = 30  # 3: inertial force of link k
 _N = 33  # 3: inertial moment of link k about its COM
 _WORK = 36
+# tip_pose (plants.arms._chain_kernels) reads a frame row's rotation at _R and its origin at _O: the same columns
+# as the chain kernel's rows
+assert _R == 0 and _O == 9
 
 
 @njit(cache=True)
@@ -246,27 +250,9 @@ def spatial_arm_terms(q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq):
             H[j - 1, i - 1] = v
             H[i - 1, j - 1] = v
 
-    # ---- tip pose
+    # ---- tip pose (the chain kernel's: frame rows hold _R and _O at the same columns here)
     e = wk[n]
-    Rn = e[_R:_R + 9]
-    t00 = Rn[0] * tool[0, 0] + Rn[1] * tool[1, 0] + Rn[2] * tool[2, 0]
-    t10 = Rn[3] * tool[0, 0] + Rn[4] * tool[1, 0] + Rn[5] * tool[2, 0]
-    t20 = Rn[6] * tool[0, 0] + Rn[7] * tool[1, 0] + Rn[8] * tool[2, 0]
-    t01 = Rn[0] * tool[0, 1] + Rn[1] * tool[1, 1] + Rn[2] * tool[2, 1]
-    t11 = Rn[3] * tool[0, 1] + Rn[4] * tool[1, 1] + Rn[5] * tool[2, 1]
-    t21 = Rn[6] * tool[0, 1] + Rn[7] * tool[1, 1] + Rn[8] * tool[2, 1]
-    t02 = Rn[0] * tool[0, 2] + Rn[1] * tool[1, 2] + Rn[2] * tool[2, 2]
-    t12 = Rn[3] * tool[0, 2] + Rn[4] * tool[1, 2] + Rn[5] * tool[2, 2]
-    t22 = Rn[6] * tool[0, 2] + Rn[7] * tool[1, 2] + Rn[8] * tool[2, 2]
-    px = e[_O] + Rn[0] * tool[0, 3] + Rn[1] * tool[1, 3] + Rn[2] * tool[2, 3]
-    py = e[_O + 1] + Rn[3] * tool[0, 3] + Rn[4] * tool[1, 3] + Rn[5] * tool[2, 3]
-    pz = e[_O + 2] + Rn[6] * tool[0, 3] + Rn[7] * tool[1, 3] + Rn[8] * tool[2, 3]
-    Y[0], Y[1], Y[2] = px, py, pz
-    cth = math.sqrt(t21 * t21 + t22 * t22)
-    sth = -t20
-    Y[3] = math.atan2(t10, t00)
-    Y[4] = math.atan2(sth, cth)
-    Y[5] = math.atan2(t21, t22)
+    px, py, pz, t00, t01, t02, t10, t11, t12, t20, t21, t22, cth, sth = tip_pose(e, tool, False, Y)
 
     # ---- translational Jacobian rows and tip acceleration
     for k in range(1, n + 1):

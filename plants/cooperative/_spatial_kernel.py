@@ -44,7 +44,7 @@ from numba import njit
 # Every spatial serial arm (DH or URDF) is evaluated by the general-chain kernel.
 from plants.arms._chain_kernels import chain_arm_potential as spatial_arm_potential
 from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
-from plants.arms._chain_kernels import chain_arm_terms_into
+from plants.arms._chain_kernels import chain_arm_pose_into, chain_arm_terms_into
 from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import NODE_CHART_KIND, STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
 from plants.frames import body_rate_map_inverse, rotation_zyx_into
@@ -338,6 +338,30 @@ def node_state_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, g
         dY[0, a] = x[2 * nz - 6 + a]
     _arm_pass(x[:nz], x[nz:], arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gravity,
               Y, dY, ws.H, ws.h, ws.J, ws.Jdq, ws.chain, ws.frames, status)
+
+
+@njit(cache=True, _nrt=False)
+def node_poses_into(x, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, status, ws):
+    """The node poses ``ws.Y`` (N, 6) of :func:`node_state_into` alone, bit for bit, by forward kinematics
+    (:func:`~plants.arms._chain_kernels.chain_arm_pose_into`: no rates, dynamics or Jacobians; a recorded
+    run's ``Y_nodes``). ``status`` as there; allocates nothing."""
+    nz = x.shape[0] // 2
+    Y = ws.Y
+    status[0] = STATUS_OK
+    for a in range(6):
+        Y[0, a] = x[nz - 6 + a]
+    for i in range(arm_kind.shape[0]):
+        n = arm_dof[i]
+        o = q_off[i]
+        if arm_kind[i] != ARM_CONTACT_POINT:
+            if chain_arm_pose_into(x[o:o + n], dh_all[dh_off[i]:dh_off[i] + n], bases[i], tools[i],
+                                   arm_kind[i] == ARM_SERIAL_OWN_CHART, ws.chain, Y[i + 1]) != 0:
+                status[0] = STATUS_EULER_SINGULAR
+                status[1] = i + 1
+                return
+        else:
+            for a in range(6):
+                Y[i + 1, a] = x[o + a]
 
 
 @njit(cache=True)
