@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit
 
 import coopctrl
+from coopctrl.errors import ScenarioError
 from coopctrl.results.node_poses import node_poses_of
 from coopctrl.simulator import closed_loop, run_result
 from plants.cooperative import _spatial_kernel as _sk
@@ -51,13 +52,17 @@ def main(argv=None) -> int:
         args.repeats, args.scenes = 3, "spatial_two_puma_carry"
     if args.repeats < 1:
         parser.error(f"--repeats {args.repeats} is invalid: expected an integer >= 1")
-    scenes = [s for s in args.scenes.split(",") if s] or list(SCENES)
+    scenarios = {}
+    for name in [s for s in args.scenes.split(",") if s] or list(SCENES):  # every scene checked before any work
+        try:
+            scenarios[name] = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml", {})
+        except ScenarioError as exc:
+            parser.error(f"--scenes {name}: {exc}")
+        if scenarios[name].space != "spatial":
+            parser.error(f"--scenes {name}: a spatial scene is expected (the planar pass is unchanged)")
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}; coopctrl from {Path(coopctrl.__file__).parent}")
     print(f"{'scene':26s} {'samples':>7s} {'node state ms':>13s} {'kinematics ms':>13s} {'ratio':>6s} bit-identical")
-    for name in scenes:
-        scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml", {})
-        if scenario.space != "spatial":
-            parser.error(f"--scenes {name}: a spatial scene is expected (the planar pass is unchanged)")
+    for name, scenario in scenarios.items():
         loop = closed_loop(scenario)
         x = np.ascontiguousarray(run_result(scenario, loop).x)
         x = x[np.all(np.isfinite(x), axis=1)]
