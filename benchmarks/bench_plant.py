@@ -151,7 +151,7 @@ def main(argv=None):
         fn, extra = plant.kernel
         fn_into, _ = plant.kernel_into
         fn_packed = sys.modules[fn_into.py_func.__module__].rhs_into_packed
-        P, status = extra[:-1], extra[-1]
+        P, status = plant.plant_args, extra[-1]
         old = ref.spatial_rhs_old if plant.space == "spatial" else ref.planar_rhs_old
         ws, dx = plant.workspace(), np.empty_like(x)
         # warm: compile (or load from the numba cache) before timing; check new == old here too
