@@ -66,6 +66,25 @@ def test_every_registered_subcommand_has_help(capsys):
         assert cli.main([name, "--help"]) == 0
 
 
+
+@pytest.mark.parametrize("argv", [
+    ["run"], ["run", "planar_two_arm_lift", "-q", "--set", "simulation.duration=1", "--json"],
+    ["check", "spatial_two_puma_carry"], ["list"], ["show", "planar_two_arm_lift"],
+    ["sweep", "planar_two_arm_lift", "--grid", "simulation.seed=0,1", "--jobs", "2"],
+    ["stability", "planar_two_arm_lift"], ["tradeoff"], ["fidelity", "planar_two_arm_lift"],
+    ["view", "planar_two_arm_lift"],
+])
+def test_a_command_lines_parser_is_its_subcommands_alone(argv):
+    """A command line builds its own subcommand's parser only (``build_parser(NAME)``: the other subcommands'
+    options cost milliseconds to build); it parses the line as the whole parser does."""
+    alone, whole = cli.build_parser(argv[0]), cli.build_parser()
+    assert vars(alone.parse_args(argv)) == vars(whole.parse_args(argv))
+    other = next(name for name in cli.SUBCOMMANDS if name != argv[0])
+    with pytest.raises(cli.UsageError, match="invalid choice"):
+        alone.parse_args([other])
+    listing = whole.format_help()
+    assert all(re.search(rf"^    {name}\b", listing, re.M) for name in cli.SUBCOMMANDS)  # the whole parser has them all
+
 # ---------------------------------------------------------------------- check
 def test_check_valid_file(scene):
     proc = coopctrl("check", scene)

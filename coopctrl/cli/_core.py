@@ -15,7 +15,8 @@ from coopctrl.errors import CoopctrlError, ScenarioError
 PROG = "coopctrl"
 
 #: Functions that each add one subcommand to the subparsers, in the order of ``--help``.
-SUBCOMMANDS: list[Callable[[argparse._SubParsersAction], None]] = []
+#: The subcommands' parser builders by name, in the order of ``--help`` (:func:`subcommand` registers them).
+SUBCOMMANDS: dict[str, Callable[[argparse._SubParsersAction], None]] = {}
 
 
 class UsageError(CoopctrlError, ValueError):
@@ -38,11 +39,16 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(f"{message}; see `{self.prog} --help`")
 
 
-def subcommand(configure: Callable[[argparse._SubParsersAction], None]):
-    """Register a function that adds a subcommand (``sub.add_parser(...)`` and
-    ``set_defaults(handler=...)``)."""
-    SUBCOMMANDS.append(configure)
-    return configure
+def subcommand(name: str):
+    """Register the function that adds the subcommand ``name`` (``sub.add_parser(name, ...)`` and
+    ``set_defaults(handler=...)``). A command line that starts with ``name`` builds that parser alone
+    (:func:`coopctrl.cli.build_parser`)."""
+
+    def register(configure: Callable[[argparse._SubParsersAction], None]):
+        SUBCOMMANDS[name] = configure
+        return configure
+
+    return register
 
 
 def scenarios_dir() -> Path:

@@ -36,7 +36,7 @@ def cmd_check(args) -> int:
     return 0
 
 
-@subcommand
+@subcommand("check")
 def _check_parser(sub) -> None:
     parser = sub.add_parser(
         "check", help="validate a scenario and check that its task is possible",

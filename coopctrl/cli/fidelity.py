@@ -54,7 +54,7 @@ def cmd_fidelity(args) -> int:
     return 1 if failed else 0
 
 
-@subcommand
+@subcommand("fidelity")
 def _fidelity_parser(sub) -> None:
     parser = sub.add_parser(
         "fidelity",

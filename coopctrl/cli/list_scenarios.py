@@ -26,7 +26,7 @@ def cmd_list(args) -> int:
     return 0
 
 
-@subcommand
+@subcommand("list")
 def _list_parser(sub) -> None:
     parser = sub.add_parser("list", help="list the built-in scenarios", description="List the scenarios (scenarios/*.toml) with their descriptions.")
     parser.add_argument("--dir", metavar="DIR", help="list DIR instead of the built-in scenarios directory")

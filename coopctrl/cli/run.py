@@ -157,7 +157,7 @@ def cmd_run(args) -> int:
     return 0
 
 
-@subcommand
+@subcommand("run")
 def _run_parser(sub) -> None:
     parser = sub.add_parser(
         "run",

@@ -13,7 +13,7 @@ def cmd_show(args) -> int:
     return 0
 
 
-@subcommand
+@subcommand("show")
 def _show_parser(sub) -> None:
     parser = sub.add_parser(
         "show",

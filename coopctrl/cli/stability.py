@@ -45,7 +45,7 @@ def cmd_stability(args) -> int:
     return 0
 
 
-@subcommand
+@subcommand("stability")
 def _stability_parser(sub) -> None:
     parser = sub.add_parser(
         "stability",

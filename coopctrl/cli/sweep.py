@@ -84,7 +84,7 @@ def cmd_sweep(args) -> int:
     return 0
 
 
-@subcommand
+@subcommand("sweep")
 def _sweep_parser(sub) -> None:
     parser = sub.add_parser(
         "sweep",

@@ -127,7 +127,7 @@ def cmd_tradeoff(args) -> int:
     return 0
 
 
-@subcommand
+@subcommand("tradeoff")
 def _tradeoff_parser(sub) -> None:
     parser = sub.add_parser(
         "tradeoff",

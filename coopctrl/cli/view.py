@@ -40,7 +40,7 @@ def cmd_view(args) -> int:
     return 0
 
 
-@subcommand
+@subcommand("view")
 def _view_parser(sub) -> None:
     parser = sub.add_parser(
         "view",
