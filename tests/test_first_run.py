@@ -120,3 +120,49 @@ def test_a_first_run_says_what_it_compiles_and_a_second_run_says_nothing(tmp_pat
     assert "startup (compile or load)" in cold.stdout
     warm = subprocess.run(command, capture_output=True, text=True, env=env, cwd=REPO, timeout=900)
     assert warm.returncode == 0 and warm.stderr == "", warm.stderr
+
+
+def test_the_machine_factor_is_the_median_of_the_first_runs_kept(tmp_path):
+    times = tmp_path / first_run.TIMES_FILE
+    assert first_run.machine_factor(times) == 1.0  # no file: the figures as they are
+    times.write_text("planar-explicit 59.0 118.0\nspatial-explicit 88.0 198.0\nplanar-implicit 20.0 30.0\n"
+                     "garbage\nplanar-explicit 0 5\nspatial-explicit 10 nan\n")
+    assert first_run.machine_factor(times) == 2.0  # ratios 2, 2.25 and 1.5; the bad lines left out
+    times.write_text("planar-explicit 1.0 100.0\n")
+    assert first_run.machine_factor(times) == first_run.FACTOR_RANGE[1]
+    for i in range(first_run.TIMES_KEPT + 3):
+        first_run.record_first_run(times, "planar-explicit", 59.0, float(i))
+    lines = times.read_text().splitlines()
+    assert lines == [f"planar-explicit 59.0 {i:.1f}" for i in range(3, first_run.TIMES_KEPT + 3)]
+
+
+def test_a_notice_scales_its_estimate_by_the_machine_and_keeps_the_time_of_a_first_run(tmp_path, monkeypatch):
+    """The estimate is the figures times this machine's factor; the time from the notice to the end of the
+    kind's start-up is kept when numba compiled meanwhile (here a stated 0.2 s compile event, with the
+    least kept compile lowered to 0.1 s), and not when it compiled nothing."""
+    from numba.core import event
+
+    planar = KernelKind("planar", "explicit")
+    times, cache = tmp_path / "times.txt", tmp_path / "cache"
+    times.write_text("planar-explicit 59.0 118.0\n")  # this machine took twice the figure
+    stream = io.StringIO()
+    notice = first_run.announce([Scenario()], stream=stream, directory=cache, times_file=times)
+    assert f"for this machine: {first_run.about(2.0 * first_run.estimate_s([planar]))} once; " in stream.getvalue()
+    assert "about 2 min" in stream.getvalue()  # 2 x 59 s
+    monkeypatch.setattr(first_run, "LEAST_COMPILE_S", 0.1)
+    event.start_event("numba:compile", data={"dispatcher": None, "args": None, "return_type": None})
+    time.sleep(0.2)
+    event.end_event("numba:compile", data={"dispatcher": None, "args": None, "return_type": None})
+    startup.started(KernelKind("spatial", "explicit"), 0.0, cache)  # another kind: not this notice's
+    assert times.read_text().splitlines() == ["planar-explicit 59.0 118.0"]
+    startup.started(planar, 0.0, cache)
+    notice.close()
+    kept = times.read_text().splitlines()
+    assert len(kept) == 2 and kept[1].startswith("planar-explicit 59.0 ")
+    assert float(kept[1].split()[2]) >= 0.2  # the notice to the end of the start-up, the compile included
+    # nothing compiled between the notice and the start-up's end: nothing kept
+    monkeypatch.setattr(first_run, "LEAST_COMPILE_S", 5.0)
+    notice = first_run.announce([Scenario()], stream=io.StringIO(), directory=cache, times_file=times)
+    startup.started(planar, 0.0, cache)
+    notice.close()
+    assert times.read_text().splitlines() == kept

@@ -6,9 +6,9 @@ or a numerical failure (overflow, a failed factorization) stopped it; 2 bad inpu
 ``coopctrl: error: ...`` on stderr, never a traceback); 130 interrupted (Ctrl-C, SIGINT); 143
 terminated (SIGTERM). On 130 and 143 no temporary file is left and finished files are whole.
 
-Adding a subcommand is one module with a function decorated with ``@subcommand(NAME)`` (:func:`subcommand`): it adds its parser to
-the subparsers and sets ``handler`` (``args -> int``), imported below. Keep start-up fast: numpy, matplotlib,
-control and the simulator are imported inside the handlers, never at module import.
+Adding a subcommand is one module with a function decorated with ``@subcommand(NAME)`` (:func:`subcommand`):
+it adds its parser to the subparsers and sets ``handler`` (``args -> int``), imported below. Keep start-up
+fast: numpy, matplotlib, control and the simulator are imported inside the handlers, never at module import.
 """
 
 from __future__ import annotations

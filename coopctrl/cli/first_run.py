@@ -9,13 +9,17 @@ stderr::
     coopctrl: compiling the spatial closed-loop kernels (explicit integrators: rk4) for this machine:
     about 45 s once; later runs load them from ~/.cache/coopctrl/numba/coopctrl-0123456789abcdef
 
-(on one line), with the estimate of :data:`COMPILE_S`. On a terminal (stderr is a TTY) an elapsed-time
-ticker follows on the next line until the kernels are ready (:func:`coopctrl.loop.startup.listening`),
-then is erased; nothing else is written when stderr is not a terminal. A warm run prints nothing.
+(on one line), with the estimate of :data:`COMPILE_S` times this machine's factor (:func:`machine_factor`:
+how much longer its earlier first runs took than those figures, kept in :data:`TIMES_FILE`). On a terminal
+(stderr is a TTY) an elapsed-time ticker follows on the next line until the kernels are ready
+(:func:`coopctrl.loop.startup.listening`), then is erased; nothing else is written when stderr is not a
+terminal. A warm run prints nothing.
 """
 
 from __future__ import annotations
 
+import math
+import statistics
 import sys
 import threading
 import time
@@ -51,15 +55,73 @@ COMPILE_S = {
 #: How often the ticker redraws [s].
 TICK_S = 1.0
 
+#: The file, in the kernel cache's base folder (the parent of ``coopctrl-<digest>``,
+#: :func:`plants.numba_cache.keyed_directory`: it outlives a change of the kernels), that keeps this
+#: machine's latest first runs, one line each: ``<kind> <estimate s> <measured s>``, the estimate from
+#: :data:`COMPILE_S` alone, the measure from the notice to the end of the run's start-up (:func:`record_first_run`).
+TIMES_FILE = "coopctrl-first-runs.txt"
+#: Lines of :data:`TIMES_FILE` kept (the latest).
+TIMES_KEPT = 8
+#: Least numba compiling [s] in a first run for its time to be kept: a kind that its stamp calls cold
+#: while its compiled files are in the cache compiles nothing, and its time says nothing of a compile
+#: (a real first run compiles for tens of seconds).
+LEAST_COMPILE_S = 5.0
+#: Bounds of :func:`machine_factor` [-]: a factor beyond them says more about the runs kept than the machine.
+FACTOR_RANGE = (0.25, 8.0)
 
-def estimate_s(kinds, warm_kinds=()) -> float:
+
+def machine_factor(times_file) -> float:
+    """How many times longer this machine's first runs took than :data:`COMPILE_S` says: the median of
+    ``measured / estimate`` over the lines of ``times_file`` (:data:`TIMES_FILE`), within
+    :data:`FACTOR_RANGE`; 1 when the file is missing or holds no valid line."""
+    try:
+        text = Path(times_file).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return 1.0
+    ratios = []
+    for line in text.splitlines():
+        try:
+            _, estimate, measured = line.split()
+            ratio = float(measured) / float(estimate)
+        except (ValueError, ZeroDivisionError):
+            continue
+        if math.isfinite(ratio) and ratio > 0.0:
+            ratios.append(ratio)
+    if not ratios:
+        return 1.0
+    low, high = FACTOR_RANGE
+    return min(max(statistics.median(ratios), low), high)
+
+
+def record_first_run(times_file, kind_name: str, estimate_s_: float, measured_s: float) -> None:
+    """Add ``<kind_name> <estimate_s_> <measured_s>`` to ``times_file`` (:data:`TIMES_FILE`), keeping the
+    latest :data:`TIMES_KEPT` lines; the file is replaced whole. A file that cannot be written keeps nothing
+    (the next notice then uses the figures as they are)."""
+    from coopctrl.io.atomic import atomic_write
+
+    path = Path(times_file)
+    try:
+        lines = [line for line in path.read_text(encoding="utf-8").splitlines() if line.strip()]
+    except (OSError, UnicodeDecodeError):
+        lines = []
+    lines = [*lines, f"{kind_name} {estimate_s_:.1f} {measured_s:.1f}"][-TIMES_KEPT:]
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_write(path) as f:
+            f.write("\n".join(lines) + "\n")
+    except OSError:
+        return
+
+
+def estimate_s(kinds, warm_kinds=(), factor: float = 1.0) -> float:
     """About how long compiling the cold ``kinds`` takes [s] (:data:`COMPILE_S`): the first at its
-    empty-cache figure when no kind is warm (``warm_kinds``), every other at its second figure."""
+    empty-cache figure when no kind is warm (``warm_kinds``), every other at its second figure; the sum
+    times ``factor`` (this machine's: :func:`machine_factor`)."""
     total = 0.0
     for i, kind in enumerate(kinds):
         alone, after = COMPILE_S[kind.name]
         total += alone if i == 0 and not warm_kinds else after
-    return total
+    return total * factor
 
 
 def about(seconds: float) -> str:
@@ -69,35 +131,71 @@ def about(seconds: float) -> str:
     return f"about {round(seconds / 60.0)} min"
 
 
-def notice_line(kinds: dict, directory: Path, warm_kinds=()) -> str:
+def notice_line(kinds: dict, directory: Path, warm_kinds=(), factor: float = 1.0) -> str:
     """The one line of the notice: ``kinds`` maps each cold :class:`~coopctrl.loop.startup.KernelKind`
-    to the integrator names that need it."""
+    to the integrator names that need it; ``factor``: this machine's (:func:`machine_factor`)."""
     from coopctrl.loop.startup import FAMILIES, SPACES
 
     order = sorted(kinds, key=lambda k: (SPACES.index(k.space), FAMILIES.index(k.family)))
     what = " and ".join(f"the {k.space} closed-loop kernels ({k.family} integrators: {', '.join(sorted(kinds[k]))})"
                         for k in order)
-    return (f"{PROG}: compiling {what} for this machine: {about(estimate_s(order, warm_kinds))} once; "
+    return (f"{PROG}: compiling {what} for this machine: {about(estimate_s(order, warm_kinds, factor))} once; "
             f"later runs load them from {directory}")
 
 
 class CompileNotice:
     """The notice of a first run (:func:`announce`): its ticker, stopped by :meth:`close` or by the end
-    of the run's start-up."""
+    of the run's start-up; and, for a notice of one kind with ``timing = (kind, estimate [s], times_file)``,
+    the time from the notice to the end of that kind's start-up, added to ``times_file`` (:func:`record_first_run`)
+    when numba compiled for at least :data:`LEAST_COMPILE_S` meanwhile (its ``numba:compile`` events,
+    :mod:`numba.core.event`)."""
 
-    def __init__(self, stream, ticker: bool) -> None:
+    def __init__(self, stream, ticker: bool, timing=None) -> None:
         self._stream = stream
         self._stop = threading.Event()
         self._thread = None
         self._width = 0
         self._listening = None
-        if ticker:
+        self._timing = timing
+        self._began = time.monotonic()
+        self._compiling = None
+        if timing is not None:
+            from numba.core import event
+
+            self._compiling = event.TimingListener()  # the outermost compiles' time (nested ones not twice)
+            event.register("numba:compile", self._compiling)
+        if ticker or timing is not None:
             from coopctrl.loop.startup import listening
 
-            self._listening = listening(lambda kind, seconds: self.stop_ticker())
+            self._listening = listening(self._ready)
             self._listening.__enter__()
+        if ticker:
             self._thread = threading.Thread(target=self._tick, name="coopctrl-compile-ticker", daemon=True)
             self._thread.start()
+
+    def _ready(self, kind, seconds: float) -> None:
+        """A run's start-up ended (:func:`coopctrl.loop.startup.started`): the ticker stops; the time of a
+        timed kind is kept."""
+        self.stop_ticker()
+        if self._timing is None or kind != self._timing[0]:
+            return
+        _, estimate, times_file = self._timing
+        measured = time.monotonic() - self._began
+        compiled = self._stop_timing()
+        if compiled >= LEAST_COMPILE_S:
+            record_first_run(times_file, kind.name, estimate, measured)
+
+    def _stop_timing(self) -> float:
+        """Stop listening to numba's compile events; the seconds they took (idempotent: 0 after the first call)."""
+        self._timing = None
+        if self._compiling is None:
+            return 0.0
+        from numba.core import event
+
+        event.unregister("numba:compile", self._compiling)
+        compiled = self._compiling.duration if self._compiling.done else 0.0
+        self._compiling = None
+        return compiled
 
     def _tick(self) -> None:
         began = time.monotonic()
@@ -125,8 +223,10 @@ class CompileNotice:
                 pass
 
     def close(self) -> None:
-        """Stop the ticker (if any) and stop listening."""
+        """Stop the ticker (if any), the timing (nothing is kept of a run that ended before its start-up did)
+        and stop listening."""
         self.stop_ticker()
+        self._stop_timing()
         if self._listening is not None:
             self._listening.__exit__(None, None, None)
             self._listening = None
@@ -145,24 +245,37 @@ def cold_kinds(scenarios: Iterable, directory: Path | None = None) -> dict:
 
 
 def announce(scenarios: Iterable, *, ticker: bool = True, stream=None,
-             directory: Path | None = None) -> CompileNotice | None:
+             directory: Path | None = None, times_file: Path | None = None,
+             keep_time: bool = True) -> CompileNotice | None:
     """Print the notice for the cold kinds among those of ``scenarios`` in the cache ``directory``
     (default: this tree's); ``None`` and nothing printed when all are warm. ``ticker``: draw the
-    elapsed-time ticker when ``stream`` (default stderr) is a terminal."""
+    elapsed-time ticker when ``stream`` (default stderr) is a terminal. ``times_file``: this machine's first
+    runs (:data:`TIMES_FILE`), which scale the estimate (:func:`machine_factor`) and keep this one's time
+    (a notice of one kind; :class:`CompileNotice`); by default :data:`TIMES_FILE` in the cache's base
+    folder when ``directory`` is the default, none when ``directory`` is given. ``keep_time=False``: read the
+    file, keep nothing (a sweep: its workers compile, not this process)."""
     from coopctrl.loop.startup import FAMILIES, SPACES, KernelKind, cache_directory, is_cold
 
     stream = sys.stderr if stream is None else stream
-    directory = cache_directory() if directory is None else Path(directory)
+    if directory is None:  # this tree's cache, coopctrl-<digest>, in the base folder that keeps the times
+        directory = cache_directory()
+        times_file = directory.parent / TIMES_FILE if times_file is None else times_file
+    directory = Path(directory)
     cold = cold_kinds(scenarios, directory)
     if not cold:
         return None
     warm = [k for k in (KernelKind(s, f) for s in SPACES for f in FAMILIES) if not is_cold(k, directory)]
-    print(notice_line(cold, directory, warm), file=stream, flush=True)
+    factor = machine_factor(times_file) if times_file is not None else 1.0
+    print(notice_line(cold, directory, warm, factor), file=stream, flush=True)
     try:
         tty = stream.isatty()
     except (AttributeError, ValueError):
         tty = False
-    return CompileNotice(stream, ticker and tty)
+    timing = None
+    if keep_time and times_file is not None and len(cold) == 1:
+        (kind,) = cold
+        timing = (kind, estimate_s([kind], warm), times_file)
+    return CompileNotice(stream, ticker and tty, timing)
 
 
 def sweep_scenarios(scenario_path, grid, sets) -> list:
@@ -199,4 +312,4 @@ def announce_sweep(scenario_path, grid, sets, run_function, *, ticker: bool = Tr
     from coopctrl.sweep.plan import plan_sweep
 
     plan_sweep(scenario_path, grid, sets)
-    return announce(scenarios, ticker=ticker)
+    return announce(scenarios, ticker=ticker, keep_time=False)
