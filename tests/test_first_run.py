@@ -126,10 +126,15 @@ def test_the_machine_factor_is_the_median_of_the_first_runs_kept(tmp_path):
     times = tmp_path / first_run.TIMES_FILE
     assert first_run.machine_factor(times) == 1.0  # no file: the figures as they are
     times.write_text("planar-explicit 59.0 118.0\nspatial-explicit 88.0 198.0\nplanar-implicit 20.0 30.0\n"
-                     "garbage\nplanar-explicit 0 5\nspatial-explicit 10 nan\n")
+                     "garbage\nplanar-explicit 0 5\nspatial-explicit 10 nan\nplanar-explicit -1 -9\n"
+                     "planar-explicit 1e-320 1e300\n")
     assert first_run.machine_factor(times) == 2.0  # ratios 2, 2.25 and 1.5; the bad lines left out
     times.write_text("planar-explicit 1.0 100.0\n")
     assert first_run.machine_factor(times) == first_run.FACTOR_RANGE[1]
+    times.write_bytes(b"\xff\xfe not text")
+    assert first_run.machine_factor(times) == 1.0
+    times.write_text("planar-explicit 59.0 177.0\n" + "x" * (2 * first_run.TIMES_READ_BYTES))  # read up to a bound
+    assert first_run.machine_factor(times) == 3.0
     for i in range(first_run.TIMES_KEPT + 3):
         first_run.record_first_run(times, "planar-explicit", 59.0, float(i))
     lines = times.read_text().splitlines()

@@ -74,23 +74,35 @@ def machine_factor(times_file) -> float:
     """How many times longer this machine's first runs took than :data:`COMPILE_S` says: the median of
     ``measured / estimate`` over the lines of ``times_file`` (:data:`TIMES_FILE`), within
     :data:`FACTOR_RANGE`; 1 when the file is missing or holds no valid line."""
-    try:
-        text = Path(times_file).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        return 1.0
-    ratios = []
-    for line in text.splitlines():
-        try:
-            _, estimate, measured = line.split()
-            ratio = float(measured) / float(estimate)
-        except (ValueError, ZeroDivisionError):
-            continue
-        if math.isfinite(ratio) and ratio > 0.0:
-            ratios.append(ratio)
+    ratios = [ratio for _, ratio in _kept(times_file)]
     if not ratios:
         return 1.0
     low, high = FACTOR_RANGE
     return min(max(statistics.median(ratios), low), high)
+
+
+#: Most bytes of :data:`TIMES_FILE` read (its :data:`TIMES_KEPT` lines take about 300): a file grown or
+#: replaced by something else costs no more than this to read.
+TIMES_READ_BYTES = 65536
+
+
+def _kept(times_file) -> list[tuple[str, float]]:
+    """The valid lines ``<kind> <estimate s> <measured s>`` among the first :data:`TIMES_READ_BYTES` of
+    ``times_file``, each with its ratio ``measured / estimate`` (finite, positive); none when it cannot be read."""
+    try:
+        with open(times_file, "rb") as f:
+            text = f.read(TIMES_READ_BYTES).decode("utf-8", errors="replace")
+    except OSError:
+        return []
+    kept = []
+    for line in text.splitlines():
+        try:
+            _, estimate, measured = (float(v) if i else v for i, v in enumerate(line.split()))
+        except ValueError:
+            continue
+        if estimate > 0.0 and measured > 0.0 and math.isfinite(measured / estimate):
+            kept.append((line, measured / estimate))
+    return kept
 
 
 def record_first_run(times_file, kind_name: str, estimate_s_: float, measured_s: float) -> None:
@@ -100,10 +112,7 @@ def record_first_run(times_file, kind_name: str, estimate_s_: float, measured_s:
     from coopctrl.io.atomic import atomic_write
 
     path = Path(times_file)
-    try:
-        lines = [line for line in path.read_text(encoding="utf-8").splitlines() if line.strip()]
-    except (OSError, UnicodeDecodeError):
-        lines = []
+    lines = [line for line, _ in _kept(path)]  # the valid ones: a damaged file mends itself
     lines = [*lines, f"{kind_name} {estimate_s_:.1f} {measured_s:.1f}"][-TIMES_KEPT:]
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
