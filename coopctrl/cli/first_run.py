@@ -109,17 +109,11 @@ def record_first_run(times_file, kind_name: str, estimate_s_: float, measured_s:
     """Add ``<kind_name> <estimate_s_> <measured_s>`` to ``times_file`` (:data:`TIMES_FILE`), keeping the
     latest :data:`TIMES_KEPT` lines; the file is replaced whole. A file that cannot be written keeps nothing
     (the next notice then uses the figures as they are)."""
-    from coopctrl.io.atomic import atomic_write
+    from coopctrl.io.atomic import write_text_if_possible
 
-    path = Path(times_file)
-    lines = [line for line, _ in _kept(path)]  # the valid ones: a damaged file mends itself
+    lines = [line for line, _ in _kept(times_file)]  # the valid ones: a damaged file mends itself
     lines = [*lines, f"{kind_name} {estimate_s_:.1f} {measured_s:.1f}"][-TIMES_KEPT:]
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with atomic_write(path) as f:
-            f.write("\n".join(lines) + "\n")
-    except OSError:
-        return
+    write_text_if_possible(times_file, "\n".join(lines) + "\n")
 
 
 def estimate_s(kinds, warm_kinds=(), factor: float = 1.0) -> float:

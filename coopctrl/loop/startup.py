@@ -154,15 +154,10 @@ def record_warm(kind: KernelKind, directory: Path | None = None) -> None:
     names = index_files(directory)
     if not names:  # nothing cached (an unwritable cache: the kernels were compiled in memory)
         return
-    from coopctrl.io.atomic import atomic_write
+    from coopctrl.io.atomic import write_text_if_possible
 
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with atomic_write(path) as f:
-            f.write("\n".join(names) + "\n")
-    except OSError:
-        return
-    _recorded.add((kind, str(directory)))
+    if write_text_if_possible(path, "\n".join(names) + "\n"):
+        _recorded.add((kind, str(directory)))
 
 
 def started(kind: KernelKind, startup_s: float, directory: Path | None = None) -> None:
