@@ -37,8 +37,8 @@ from coopctrl.cli import stability as _stability  # noqa: E402,F401
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The argument parser with every registered subcommand, or with the subcommand ``command`` alone: all a
-    command line that starts with it needs (:func:`_main`). Building every subcommand's options takes about
-    5 ms, a twentieth of a whole `coopctrl run` of the two-Puma carry; parsing takes microseconds."""
+    command line that starts with it needs (:func:`_main`). Building every subcommand's options took 3.4 to
+    4.4 ms, `run`'s alone 0.5 to 0.8 ms (docs/performance.md); parsing takes microseconds."""
     parser = _Parser(
         prog=PROG,
         description="Simulation and control of several robot arms carrying one object through elastic grasps.",

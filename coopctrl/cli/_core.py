@@ -14,7 +14,6 @@ from coopctrl.errors import CoopctrlError, ScenarioError
 
 PROG = "coopctrl"
 
-#: Functions that each add one subcommand to the subparsers, in the order of ``--help``.
 #: The subcommands' parser builders by name, in the order of ``--help`` (:func:`subcommand` registers them).
 SUBCOMMANDS: dict[str, Callable[[argparse._SubParsersAction], None]] = {}
 
