@@ -171,3 +171,21 @@ def test_a_notice_scales_its_estimate_by_the_machine_and_keeps_the_time_of_a_fir
     startup.started(planar, 0.0, cache)
     notice.close()
     assert times.read_text().splitlines() == kept
+
+
+def test_a_sweeps_notice_is_scaled_by_the_kept_times(tmp_path):
+    """A sweep's notice is scaled by this machine's kept times as a run's is, and only reads them (a fresh
+    process on an empty cache folder, so its kind is cold; nothing runs)."""
+    times = tmp_path / first_run.TIMES_FILE
+    times.write_text("planar-explicit 59.0 118.0\n")  # twice the figure
+    code = ("import sys; from coopctrl.cli import first_run; from coopctrl.sweep import SweepGrid; "
+            "from coopctrl.sweep.worker import simulate_run; "
+            "notice = first_run.announce_sweep(None, SweepGrid.parse(['simulation.seed=0,1']), [], simulate_run, "
+            "ticker=False); notice.close()")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path),
+           "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=REPO, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert "coopctrl: compiling the planar closed-loop kernels (explicit integrators: rk4) for this machine: " \
+        "about 2 min once" in done.stderr
+    assert times.read_text() == "planar-explicit 59.0 118.0\n"
