@@ -22,12 +22,12 @@ import numpy as np
 from numba import njit
 
 import coopctrl
-from coopctrl.errors import ScenarioError
 from coopctrl.results.node_poses import node_poses_of
 from coopctrl.simulator import closed_loop, run_result
 from plants.cooperative import _spatial_kernel as _sk
 
-REPO = Path(__file__).resolve().parent.parent
+from _scene_options import add_scene_options, chosen_scenarios
+
 SCENES = ("spatial_two_puma_carry", "ur5e_panda_carry", "three_iiwa_tray")
 
 
@@ -44,21 +44,12 @@ def _node_state_pass(X, arm_kind, arm_dof, q_off, tables, table_off, bases, tool
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=15, help="timed passes of each kind per scene (default 15)")
-    parser.add_argument("--scenes", default="", help=f"comma-separated spatial scenes (default: {','.join(SCENES)})")
-    parser.add_argument("--quick", action="store_true", help="a smoke run: spatial_two_puma_carry, 3 repeats")
+    add_scene_options(parser, 15, "timed passes of each kind per scene",
+                      f"comma-separated spatial scenes (default: {','.join(SCENES)})")
     args = parser.parse_args(argv)
-    if args.quick:
-        args.repeats, args.scenes = 3, "spatial_two_puma_carry"
-    if args.repeats < 1:
-        parser.error(f"--repeats {args.repeats} is invalid: expected an integer >= 1")
-    scenarios = {}
-    for name in [s for s in args.scenes.split(",") if s] or list(SCENES):  # every scene checked before any work
-        try:
-            scenarios[name] = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml", {})
-        except ScenarioError as exc:
-            parser.error(f"--scenes {name}: {exc}")
-        if scenarios[name].space != "spatial":
+    scenarios = chosen_scenarios(parser, args, SCENES)  # every scene checked before any work
+    for name, scenario in scenarios.items():
+        if scenario.space != "spatial":
             parser.error(f"--scenes {name}: a spatial scene is expected (the planar pass is unchanged)")
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}; coopctrl from {Path(coopctrl.__file__).parent}")
     print(f"{'scene':26s} {'samples':>7s} {'node state ms':>13s} {'kinematics ms':>13s} {'ratio':>6s} bit-identical")

@@ -22,8 +22,8 @@ from coopctrl.analysis.preflight import preflight
 from coopctrl.scenario import build
 from coopctrl.simulator import closed_loop
 
-REPO = Path(__file__).resolve().parent.parent
-SCENES = sorted(p.stem for p in (REPO / "scenarios").glob("*.toml"))
+from _scene_options import SCENES, add_scene_options, chosen_scenarios
+
 
 
 def _median_s(call, repeats: int) -> float:
@@ -39,20 +39,14 @@ def _median_s(call, repeats: int) -> float:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=9, help="timed calls per scene after a warm-up (default 9)")
-    parser.add_argument("--scenes", default="", help="comma-separated scene names (default: every shipped scene)")
-    parser.add_argument("--quick", action="store_true", help="a smoke run: spatial_two_puma_carry, 3 repeats")
+    add_scene_options(parser, 9, "timed calls per scene after a warm-up",
+                      "comma-separated scene names (default: every shipped scene)")
     args = parser.parse_args(argv)
-    if args.quick:
-        args.repeats, args.scenes = 3, "spatial_two_puma_carry"
-    if args.repeats < 1:
-        parser.error(f"--repeats {args.repeats} is invalid: expected an integer >= 1")
-    scenes = [s for s in args.scenes.split(",") if s] or SCENES
+    scenarios = chosen_scenarios(parser, args, SCENES)  # every scene checked before any work
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}; "
           f"coopctrl from {Path(coopctrl.__file__).parent}")
     print(f"{'scene':28s} {'instants':>8s} {'pre-flight ms':>13s} {'ticks ms':>9s} {'pre-flight/ticks':>16s}")
-    for name in scenes:
-        scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml", {})
+    for name, scenario in scenarios.items():
         report = preflight(scenario)
         pre = _median_s(lambda: preflight(scenario), args.repeats)
         loop = closed_loop(scenario)
