@@ -60,7 +60,7 @@ import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
-from coopctrl.integrators.compiled import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, first_rhs_into, stage_failed,
+from coopctrl.integrators.compiled import (STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL, copy_into, first_rhs_into, stage_failed,
                                            invert_into, jacobian_into, rhs_into, _pinv_into)
 
 #: Step controllers (``settings[S_CONTROLLER]``).
@@ -210,7 +210,7 @@ def embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out
         h_abs = initial_step(x, K[0], y, K[s], atol, rtol, st[S_ERROR_ORDER], period, tau, P, status, ws)
         out_int[7] += 1
         if h_abs < 0.0:
-            x_fail[:] = y
+            copy_into(x_fail, y)
             return STEP_PLANT_ERROR
     t_cur = t
     while t_cur < t_end:
@@ -219,7 +219,7 @@ def embedded_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out
             if h_abs < min_step and controller != CONTROLLER_FIXED:
                 out_float[0] = h_abs
                 out_float[1] = t_cur
-                x_fail[:] = x
+                copy_into(x_fail, x)
                 _record(plan.stats, k_tick, accepted, rejected, out_int[7] - evals0, hmin)
                 return STEP_TOO_SMALL
             proposal = h_abs
@@ -396,7 +396,7 @@ def trbdf2_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out_f
             proposal = initial_step(x, k1, y, k2, atol, rtol, 2.0, period, tau, P, status, ws)
             out_int[7] += 1
             if proposal < 0.0:
-                x_fail[:] = y
+                copy_into(x_fail, y)
                 return STEP_PLANT_ERROR
         parts = int(memo[M_PARTS])
         if parts < 1 or proposal < period / parts or proposal > 1.5 * period / parts:
@@ -408,7 +408,7 @@ def trbdf2_advance(plan, x, tau, P, status, ws, terms, t, x_fail, out_int, out_f
         if h < min_step:
             out_float[0] = h
             out_float[1] = t + done
-            x_fail[:] = x
+            copy_into(x_fail, x)
             _record(plan.stats, k_tick, accepted, rejected, out_int[7] - evals0, hmin)
             return STEP_TOO_SMALL
         if memo[M_HAVE_J] == 0.0:

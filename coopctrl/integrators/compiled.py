@@ -253,12 +253,20 @@ def _first_rhs_into_typed(x, tau, P, status, ws, terms, dx):
 
 
 @njit(inline="always")
+def copy_into(dst, src):
+    """``dst[:] = src`` as a loop: a slice assignment needs numba's reference counting, which the explicit and
+    error-controlled advance stages are compiled without."""
+    for c in range(src.shape[0]):
+        dst[c] = src[c]
+
+
+@njit(inline="always")
 def stage_failed(y, status, x_fail, out_int) -> bool:
     """After one right-hand-side evaluation at ``y``: count it (``out_int[7]``, the run's evaluations) and
     tell whether the plant failed there (``status[0] != 0``), keeping ``y`` in ``x_fail`` for the diagnosis."""
     out_int[7] += 1
     if status[0] != 0:
-        x_fail[:] = y
+        copy_into(x_fail, y)
         return True
     return False
 

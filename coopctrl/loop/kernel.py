@@ -177,6 +177,10 @@ def _advance_trbdf2_stage(slots, x, tau, P, status, ws, terms, t, steps, x_fail,
     return trbdf2_advance(trbdf2_plan_of(slots), x, tau, P, status, ws, terms, t, x_fail, out_int, out_float)
 
 
+#: The plan families whose advance may allocate (the Newton matrix's ``pinv`` fallback): their stage is compiled
+#: with numba's runtime.
+NEWTON_PLANS = (ImplicitPlan, TRBDF2Plan)
+
 #: The advance stage of each plan family (the class of the plan :func:`~coopctrl.integrators.compiled.make_plan` made).
 ADVANCE_STAGES = {ExplicitPlan: _advance_explicit_stage, ImplicitPlan: _advance_implicit_stage,
                   EmbeddedPlan: _advance_embedded_stage, TRBDF2Plan: _advance_trbdf2_stage}
@@ -489,10 +493,11 @@ def tick_stages(spatial: bool, plan, P, plant_ws, steps, traj, qp, qp_arrays, op
                                   qp_arrays.z)
     switches, eF, eDY0 = opts.switches, opts.energy_F, opts.energy_dY0
     lead_off, leader_law, law_params = opts.leader_offset, opts.leader_law, opts.law_params
-    # the plant's period advance with numba's runtime (the implicit schemes' pinv fallback allocates)
+    # the plant's period advance; with numba's runtime only where a scheme may allocate (the Newton schemes'
+    # pinv fallback): the runtime's reference counts cost the explicit schemes about 1.2 us a tick on the carry
     # (``plan`` is the family's plan, which picks the stage; the stage takes it in its slots, as run_ticks holds it)
     advance = compile_stage(ADVANCE_STAGES[type(plan)], i64, plan_slots(plan), x, tau, P, tw.status, pws, cws, f64,
-                            steps, x_fail, out_int, out_float, runtime=True, types_only=t)
+                            steps, x_fail, out_int, out_float, runtime=type(plan) in NEWTON_PLANS, types_only=t)
     terms = compile_stage(_terms_stage, i64, x, P, tw.status, cws, types_only=t)
     K_obj, Kw, KGt, Rb, ework = opts.K_obj, opts.elastic_K, opts.elastic_KGt, opts.elastic_Rb, opts.elastic_work
     external, Ak, yk = qp_arrays.external, qp_arrays.A, qp_arrays.y
