@@ -13,7 +13,7 @@ def cmd_view(args) -> int:
     folder is whole and consistent (:func:`coopctrl.results.folder.open_result_folder`)."""
     import sys
 
-    from coopctrl.io.console import OutputWriteError, say
+    from coopctrl.io.console import OutputWriteError, say, visible
     from coopctrl.results.folder import open_result_folder, rewrite_replay
 
     directory = Path(args.directory)
@@ -29,11 +29,11 @@ def cmd_view(args) -> int:
         path = rewrite_replay(result, scenario, directory)
     except OutputWriteError as err:
         if err.errno in (13, 30):  # EACCES, EROFS: a place the user cannot write is bad input
-            raise UsageError(f"DIR = {str(directory)!r} is invalid: expected a writable directory ({err.cause})") from None
-        print(f"coopctrl: failed: {err}; {directory} was left as it was", file=sys.stderr)
+            raise UsageError(f"DIR = '{visible(directory)}' is invalid: expected a writable directory ({err.cause})") from None
+        print(f"coopctrl: failed: {err}; {visible(directory)} was left as it was", file=sys.stderr)
         return 1
     try:
-        say(f"replay written to {path} (open it in a browser; works offline)")
+        say(f"replay written to {visible(path)} (open it in a browser; works offline)")
     except OutputWriteError as err:
         print(f"coopctrl: failed: {err} (the replay itself was written whole)", file=sys.stderr)
         return 1
