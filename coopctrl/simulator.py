@@ -133,6 +133,13 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
         if cause is not None:
             rec.update(status="diverged", reason=f"non-finite results: {cause}")
             rec["events"].append((float(rec["t"][-1]) if len(rec["t"]) else 0.0, "diverged", rec["reason"]))
+    if rec["status"] == "ok" and scenario.controllers.enabled:  # bounded, but not controlled (analysis.instability)
+        from coopctrl.analysis.instability import saturation_failure
+
+        why = saturation_failure(scenario, loop, rec)
+        if why:
+            rec.update(status="diverged", reason=why)
+            rec["events"].append((float(rec["t"][-1]), "diverged", why))
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]
