@@ -59,8 +59,14 @@ def non_finite_signal(rec: dict, controlled: bool = True) -> str | None:
     return None
 
 
-def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, node_poses: bool = True) -> SimulationResult:
+def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, node_poses: bool = True,
+             state=None) -> SimulationResult:
     """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`.
+
+    With ``state``, the final state of an earlier run of the same scenario (``result.final_state``, or a
+    loop record's ``final_state``), the run continues it for ``simulation.duration`` more (ticks at
+    ``t_end + T .. t_end + duration``; :meth:`ClosedLoop.run`): the continuation is a result like any other,
+    which can be plotted, saved, reopened, and continued again from its own ``final_state``.
 
     A run whose recorded signals are not finite, or too large for finite metrics (a sensor noise of
     1e300 N), is never ``ok``: its status is ``diverged`` with the signal named.
@@ -73,22 +79,31 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, n
         node_poses: Compute the kept samples' node poses ``Y_nodes`` (one compiled pass over the record);
             ``False`` leaves ``Y_nodes = None`` (``coopctrl run`` without ``--out``: the summary does not read
             them).
+        state: ``None`` (start from ``build.initial_state(scenario)``) or the
+            :class:`~coopctrl.loop.state.LoopState` of an earlier run's end to continue from.
 
     Raises:
         TypeError: ``scenario`` is not a :class:`~coopctrl.scenario.Scenario` (a path, a dict: load it
-            first), ``progress`` is not a bool, or ``loop`` is not a :class:`ClosedLoop` of this scenario's
-            plant size.
+            first), ``progress`` is not a bool, ``loop`` is not a :class:`ClosedLoop` of this scenario's
+            plant size, or ``state`` is not a loop state.
+        ValueError: ``state`` is the final state of a run that stopped early, or of another loop
+            (:meth:`ClosedLoop.run` names it).
     """
+    from coopctrl.loop.state import LoopState
+
     wiring.check_scenario(scenario)
     progress = arguments.flag("progress", progress)
     node_poses = arguments.flag("node_poses", node_poses)
+    if state is not None and not isinstance(state, LoopState):
+        raise arguments.invalid("state", state, "None or the final_state of an earlier run of this scenario "
+                                "(result.final_state)", TypeError)
     if loop is None:
         loop = closed_loop(scenario)
     elif not isinstance(loop, ClosedLoop) or loop.plant.state_size != scenario.state_size:
         raise TypeError(f"loop={loop!r} is not closed_loop(scenario) of this scenario: pass the loop built "
                         "from it, or None to build it here")
     # the metrics of every tick (run_result), then the kept samples with their node poses (finish_record)
-    return finish_record(run_result(scenario, loop, progress=progress), loop.plant if node_poses else None,
+    return finish_record(run_result(scenario, loop, x0=state, progress=progress), loop.plant if node_poses else None,
                          scenario.simulation.record_every)
 
 
@@ -97,7 +112,8 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
     every tick: what :func:`simulate` returns before it thins the record and adds the node poses (the
     summary is the same). ``x0``: ``build.initial_state(scenario)``, or ``None`` to compute it here. A sweep
     reuses one built loop and its start for the runs that differ only in the sensor noise seed
-    (:mod:`coopctrl.sweep.reuse`)."""
+    (:mod:`coopctrl.sweep.reuse`). ``x0`` may also be a :class:`~coopctrl.loop.state.LoopState`, the end of
+    an earlier run: the run continues it (:func:`simulate` with ``state``)."""
     from coopctrl.analysis.diagnosis import diagnose_record
 
     plant = loop.plant
@@ -117,6 +133,13 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
         if cause is not None:
             rec.update(status="diverged", reason=f"non-finite results: {cause}")
             rec["events"].append((float(rec["t"][-1]) if len(rec["t"]) else 0.0, "diverged", rec["reason"]))
+    if rec["status"] == "ok" and scenario.controllers.enabled:  # bounded, but not controlled (analysis.instability)
+        from coopctrl.analysis.instability import saturation_failure
+
+        why = saturation_failure(scenario, loop, rec)
+        if why:
+            rec.update(status="diverged", reason=why)
+            rec["events"].append((float(rec["t"][-1]), "diverged", why))
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]
@@ -138,7 +161,7 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
         duration_s=sim.duration, integration_statistics=stats,
         wall_time_s=rec["wall_time_s"], startup_s=rec["startup_s"], leader=scenario.leader, followers=list(scenario.followers),
         qp_active_constraints=rec["qp_binding_counts"], qp_time_s=rec["qp_time_s"],
-        torque_saturated_ticks=rec["saturated_ticks"],
+        torque_saturated_ticks=rec["saturated_ticks"], final_state=rec.get("final_state"),
         energy=None if scenario.controllers.enabled else rec["energy"],
         kinetic_energy=None if scenario.controllers.enabled else rec["kinetic_energy"],
         energy_conserving=(not scenario.controllers.enabled and all(

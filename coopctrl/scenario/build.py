@@ -126,6 +126,9 @@ def _build(scenario):
                             "(ZYX Euler singularity)", scenario.source) from None
     except ParameterError as exc:
         raise ScenarioError(exc.parameter, exc.value, exc.allowed, scenario.source) from None
+    from coopctrl.scenario.structure import check_structure
+
+    check_structure(scenario, plant.elastic)  # every grasp supported: before any use of the plant
     _check_static_torques(scenario, plant, x0)
     while len(_CACHE) >= BUILD_CACHE_SIZE:
         del _CACHE[next(iter(_CACHE))]

@@ -461,17 +461,28 @@ class ElasticSystem:
         N, p = self.node_count, self.p
         K = np.zeros((N * p, N * p))
         for e in range(len(self.interconnections)):
-            i, j = self.edge_index[e, :2]
-            if self.edge_index[e, 2] == ELEMENT_MATRIX:  # its linearization K_lin (D_lin), packed once
-                col = (MATRIX_LINEAR_SPATIAL if self.space == "spatial" else MATRIX_LINEAR_PLANAR) + linear_block * 4 * p * p
-                block = self.edge_params[e, col:col + 4 * p * p].reshape(2 * p, 2 * p)
-                dofs = np.r_[i * p:(i + 1) * p, j * p:(j + 1) * p]
-                K[np.ix_(dofs, dofs)] += block
-                continue
-            kd = np.diag(diag_of(self.edge_params[e]))
-            for a, b, s in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
-                K[a * p:(a + 1) * p, b * p:(b + 1) * p] += s * kd
+            dofs, block = self._edge_block(e, diag_of, linear_block)
+            K[np.ix_(dofs, dofs)] += block
         return K
+
+    def _edge_block(self, e: int, diag_of, linear_block: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """``(dofs, block)``: interconnection ``e``'s (2p x 2p) matrix of the immobile model and the rows of
+        its two nodes ``(y_i, y_j)``: a matrix or beam element's packed linearization, else the vector
+        spring ``[[k, -k], [-k, k]]`` with ``k = diag(diag_of(params))``."""
+        p = self.p
+        i, j = self.edge_index[e, :2]
+        dofs = np.r_[i * p:(i + 1) * p, j * p:(j + 1) * p]
+        if self.edge_index[e, 2] == ELEMENT_MATRIX:  # its linearization K_lin (D_lin), packed once
+            col = (MATRIX_LINEAR_SPATIAL if self.space == "spatial" else MATRIX_LINEAR_PLANAR) + linear_block * 4 * p * p
+            return dofs, self.edge_params[e, col:col + 4 * p * p].reshape(2 * p, 2 * p).copy()
+        kd = np.diag(diag_of(self.edge_params[e]))
+        return dofs, np.block([[kd, -kd], [-kd, kd]])
+
+    def edge_stiffness(self, e: int) -> tuple[np.ndarray, np.ndarray]:
+        """Interconnection ``e``'s stiffness in the immobile model (4.5): ``(dofs, K_e)``, ``K_e`` (2p x 2p)
+        [N/m, N, N m/rad] on the rows ``dofs`` of :meth:`stiffness_matrix` (node i's then node j's);
+        :meth:`stiffness_matrix` is their sum."""
+        return self._edge_block(int(e), self._stiffness_diagonal)
 
     def stiffness_matrix(self) -> np.ndarray:
         """Constant ``K`` of the immobile unloaded state (4.5): vector springs
