@@ -8,10 +8,12 @@ namespace nb = nanobind;
 namespace coopctrl::binding {
 void bind_control_laws(nb::module_& m);
 void bind_integrators(nb::module_& m);
+void bind_tick_checks(nb::module_& m);
 }  // namespace coopctrl::binding
 
 NB_MODULE(_core, m) {
     m.doc() = "The control layer's compiled stages (C++, built at install; coopctrl/core).";
     coopctrl::binding::bind_control_laws(m);
     coopctrl::binding::bind_integrators(m);
+    coopctrl::binding::bind_tick_checks(m);
 }
