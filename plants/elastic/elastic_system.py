@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 
 from plants import _validation as v
-from plants.elastic import _planar_kernels, _spatial_kernels
+from plants.elastic import _compiled_kernels
 from plants.elastic._layout import (
     CHART_STORED,
     CHART_WORLD,
@@ -131,7 +131,8 @@ class ElasticSystem:
             raise ParameterError("interconnections", [], "at least one interconnection")
         self.node_params = np.array([[nd.mass, *nd.inertia] for nd in self.nodes], dtype=float)
         self.edge_index, self.edge_params = self._pack_edges()
-        self._kern = _spatial_kernels if space == "spatial" else _planar_kernels
+        # the compiled core's kernels (plants/core/elastic_*.h), bit-identical to the numba ones
+        self._kern = _compiled_kernels.spatial if space == "spatial" else _compiled_kernels.planar
         self.immobile = unloaded_state == "immobile"
         self._set_charts(charts)
 
@@ -178,6 +179,12 @@ class ElasticSystem:
             self._node_rows = self.node_params
         C.setflags(write=False)
         self.charts = C
+
+    @property
+    def node_rows(self) -> np.ndarray:
+        """The node rows the kernels read (:mod:`plants.elastic._layout`): :attr:`node_params` ``(mass, inertia)``,
+        or the wider ``CHARTED_NODE`` rows with each node's chart when :attr:`charted`."""
+        return self._node_rows
 
     @property
     def charted(self) -> bool:
@@ -324,7 +331,7 @@ class ElasticSystem:
         return np.ascontiguousarray(arr.reshape(self.node_count, self.p))
 
     def _frames(self, Y):
-        """Every node's world frames in its chart (``plants.elastic._spatial_kernels.node_frames_charted``)."""
+        """Every node's world frames in its chart (``plants._core.spatial_node_frames``)."""
         return self._kern.node_frames_charted(Y, self._node_rows)
 
     def _raise(self, status, where="elastic system"):
@@ -406,7 +413,8 @@ class ElasticSystem:
             if self.space == "spatial":
                 W[o:o + 3, o:o + 3] = m * np.eye(3)
                 Wr = np.empty((3, 3))
-                _spatial_kernels.node_rotational_terms(Y[k, 3:6], np.zeros(3), self.node_params[k, 1:4], Wr, np.empty(3))
+                _compiled_kernels.spatial.node_rotational_terms(
+                    np.ascontiguousarray(Y[k, 3:6]), np.zeros(3), self.node_params[k, 1:4], Wr, np.empty(3))
                 W[o + 3:o + 6, o + 3:o + 6] = Wr
             else:
                 W[o:o + 3, o:o + 3] = np.diag([m, m, self.node_params[k, 1]])
