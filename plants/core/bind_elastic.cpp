@@ -275,6 +275,11 @@ int planar_elastic_accelerations_(Matrix Y, Matrix dY, Matrix Fc, Matrix node_pa
 nb::dict elastic_layout() {
     nb::dict out;
     {
+        nb::dict fields;  // int64 columns: the same 8 bytes as a double
+        FIELD(ElasticEdge, i); FIELD(ElasticEdge, j); FIELD(ElasticEdge, kind); FIELD(ElasticEdge, damping_form);
+        out["ElasticEdge"] = fields;
+    }
+    {
         nb::dict fields;
         FIELD(SpatialSpring, stiffness); FIELD(SpatialSpring, torsion); FIELD(SpatialSpring, rest_length);
         FIELD(SpatialSpring, rest_angles); FIELD(SpatialSpring, rest_offset); FIELD(SpatialSpring, damping);

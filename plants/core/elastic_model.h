@@ -40,6 +40,8 @@ struct ElasticEdge {
     std::int64_t damping_form;  ///< DampingForm
 };
 
+static_assert(sizeof(ElasticEdge) == 4 * sizeof(double), "an edge_index row: four int64, 8 bytes each");
+
 /// A spatial central or offset spring and its dampers: the first 28 doubles of a spatial edge row.
 struct SpatialSpring {
     double stiffness[3];        ///< [N/m] c per world axis (central) or per axis of node i's frame (offset)

@@ -60,6 +60,7 @@ class RowLayout:
         return slice(first, first + size)
 
 
+EDGE_HEADER = RowLayout("ElasticEdge", ("i", 1), ("j", 1), ("kind", 1), ("damping_form", 1))  # int64 columns
 SPATIAL_SPRING = RowLayout("SpatialSpring", ("stiffness", 3), ("torsion", 3), ("rest_length", 1),
                            ("rest_angles", 3), ("rest_offset", 3), ("damping", 1), ("torsion_damping", 1),
                            ("kappa", 3), ("rest_rotation", 9), ("rotation_form", 1))
@@ -85,6 +86,12 @@ DAMPING_FORMS = {"frame_invariant": DAMPING_FRAME_INVARIANT, "book": DAMPING_BOO
 ROTATION_BOOK = 0
 ROTATION_GEODESIC = 1
 ROTATION_FORMS = {"book": ROTATION_BOOK, "geodesic": ROTATION_GEODESIC}
+#: Columns of an edge index row (the element header), as the numba kernels read them.
+EDGE_NODE_I = EDGE_HEADER.col("i")
+EDGE_NODE_J = EDGE_HEADER.col("j")
+EDGE_KIND = EDGE_HEADER.col("kind")
+EDGE_DAMPING_FORM = EDGE_HEADER.col("damping_form")
+
 #: Column of the rotation form in a spatial central or offset edge row (0.0 book, 1.0 geodesic).
 ROTATION_FORM_COL = SPATIAL_SPRING.col("rotation_form")
 
