@@ -14,8 +14,8 @@ from plants import _core
 from plants.elastic import ElasticSystem, Interconnection, Node
 from plants.elastic import _planar_kernels as numba_planar
 from plants.elastic import _spatial_kernels as numba_spatial
-from plants.elastic._layout import (CHARTED_NODE, EDGE_HEADER, PLANAR_MATRIX, PLANAR_SPRING, SPATIAL_MATRIX, SPATIAL_SPRING,
-                                    STATUS_COINCIDENT_NODES, STATUS_OK)
+from plants.elastic._layout import (CHARTED_NODE, EDGE_HEADER, PLANAR_MATRIX, PLANAR_NODE, PLANAR_SPRING,
+                                    SPATIAL_MATRIX, SPATIAL_NODE, SPATIAL_SPRING, STATUS_COINCIDENT_NODES, STATUS_OK)
 from plants.elastic.fem import BeamElement, planar_beam_stiffness, spatial_beam_stiffness
 from plants.frames import rotation_zyx
 
@@ -109,7 +109,8 @@ def _state(es, seed, scale=0.1):
 
 def test_the_core_structs_name_the_columns_of_the_packed_rows():
     layout = _core.elastic_layout()
-    for rows in (EDGE_HEADER, SPATIAL_SPRING, SPATIAL_MATRIX, PLANAR_SPRING, PLANAR_MATRIX, CHARTED_NODE):
+    for rows in (EDGE_HEADER, SPATIAL_SPRING, SPATIAL_MATRIX, PLANAR_SPRING, PLANAR_MATRIX, SPATIAL_NODE, PLANAR_NODE,
+                 CHARTED_NODE):
         assert {name: tuple(v) for name, v in layout[rows.struct].items()} == rows.fields, rows.struct
     assert {name: tuple(v) for name, v in layout["NodeFrames"].items()} == {
         "R": (0, 9), "dR": (9, 27), "L": (9 * 4, 9), "chart": (9 * numba_spatial.FRAME_CHART, 9)}

@@ -312,6 +312,16 @@ nb::dict elastic_layout() {
     }
     {
         nb::dict fields;
+        FIELD(SpatialNode, mass); FIELD(SpatialNode, inertia);
+        out["SpatialNode"] = fields;
+    }
+    {
+        nb::dict fields;
+        FIELD(PlanarNode, mass); FIELD(PlanarNode, inertia);
+        out["PlanarNode"] = fields;
+    }
+    {
+        nb::dict fields;
         FIELD(ChartedSpatialNode, mass); FIELD(ChartedSpatialNode, inertia); FIELD(ChartedSpatialNode, chart_kind);
         FIELD(ChartedSpatialNode, chart);
         out["ChartedSpatialNode"] = fields;

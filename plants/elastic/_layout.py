@@ -71,6 +71,8 @@ PLANAR_SPRING = RowLayout("PlanarSpring", ("stiffness", 2), ("torsion", 1), ("re
                           ("rest_offset", 2), ("damping", 1), ("torsion_damping", 1))
 PLANAR_MATRIX = RowLayout("PlanarMatrixElement", ("stiffness_jj", 9), ("damping_jj", 9), ("rest_offset", 2),
                           ("frame_angle", 1), ("rest_angle", 1), ("stiffness_linear", 36), ("damping_linear", 36))
+SPATIAL_NODE = RowLayout("SpatialNode", ("mass", 1), ("inertia", 3))
+PLANAR_NODE = RowLayout("PlanarNode", ("mass", 1), ("inertia", 1))
 CHARTED_NODE = RowLayout("ChartedSpatialNode", ("mass", 1), ("inertia", 3), ("chart_kind", 1), ("chart", 9))
 
 ELEMENT_CENTRAL = 0
@@ -113,6 +115,11 @@ PLANAR_REST_ANGLE = PLANAR_SPRING.col("rest_angle")
 PLANAR_REST_OFFSET = PLANAR_SPRING.col("rest_offset")
 PLANAR_DAMPING = PLANAR_SPRING.col("damping")
 PLANAR_TORSION_DAMPING = PLANAR_SPRING.col("torsion_damping")
+
+#: Columns of a node row, spatial or planar: the mass and the first of the principal moments of inertia.
+NODE_MASS = SPATIAL_NODE.col("mass")
+NODE_INERTIA = SPATIAL_NODE.col("inertia")
+assert (NODE_MASS, NODE_INERTIA) == (PLANAR_NODE.col("mass"), PLANAR_NODE.col("inertia"))
 
 #: Node rows with charts: the chart kind column and the first column of the stored chart.
 NODE_CHART_KIND = CHARTED_NODE.col("chart_kind")

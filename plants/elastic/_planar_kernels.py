@@ -16,9 +16,10 @@ from numba import njit
 
 from plants.elastic._layout import (DAMPING_BOOK, EDGE_DAMPING_FORM, EDGE_KIND, EDGE_NODE_I, EDGE_NODE_J,
                                     ELEMENT_CENTRAL, ELEMENT_MATRIX, MATRIX_ALPHA_PLANAR, MATRIX_BETA_PLANAR,
-                                    MATRIX_C_PLANAR, MATRIX_K, MATRIX_LINEAR_PLANAR, MATRIX_U0_PLANAR, PLANAR_DAMPING,
-                                    PLANAR_REST_ANGLE, PLANAR_REST_LENGTH, PLANAR_REST_OFFSET, PLANAR_STIFFNESS,
-                                    PLANAR_TORSION, PLANAR_TORSION_DAMPING, STATUS_COINCIDENT_NODES, STATUS_OK)
+                                    MATRIX_C_PLANAR, MATRIX_K, MATRIX_LINEAR_PLANAR, MATRIX_U0_PLANAR, NODE_INERTIA,
+                                    NODE_MASS, PLANAR_DAMPING, PLANAR_REST_ANGLE, PLANAR_REST_LENGTH,
+                                    PLANAR_REST_OFFSET, PLANAR_STIFFNESS, PLANAR_TORSION, PLANAR_TORSION_DAMPING,
+                                    STATUS_COINCIDENT_NODES, STATUS_OK)
 from plants.elastic._spatial_kernels import COINCIDENT_FRACTION, linear_matrix_edge, wrap_angle
 
 
@@ -243,8 +244,8 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
     N = Y.shape[0]
     w = np.zeros((N, 3))
     for k in range(N):
-        w[k, 0] = -node_params[k, 0] * gravity[0]
-        w[k, 1] = -node_params[k, 0] * gravity[1]
+        w[k, 0] = -node_params[k, NODE_MASS] * gravity[0]
+        w[k, 1] = -node_params[k, NODE_MASS] * gravity[1]
     status = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
     if status != STATUS_OK:
         return np.zeros((N, 3)), status
@@ -252,5 +253,5 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
     for k in range(N):
         for a in range(3):
             f = (Fc[k, a] if k > 0 else 0.0) - w[k, a]
-            ddY[k, a] = f / (node_params[k, 0] if a < 2 else node_params[k, 1])
+            ddY[k, a] = f / (node_params[k, NODE_MASS] if a < 2 else node_params[k, NODE_INERTIA])
     return ddY, STATUS_OK

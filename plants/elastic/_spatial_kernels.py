@@ -33,6 +33,8 @@ from plants.elastic._layout import (
     MATRIX_U0_SPATIAL,
     NODE_CHART,
     NODE_CHART_KIND,
+    NODE_INERTIA,
+    NODE_MASS,
     ROTATION_FORM_COL,
     SPRING_DAMPING,
     SPRING_KAPPA,
@@ -553,10 +555,10 @@ def node_frames_terms_into(Y, dY, node_params, gravity, frames, Wr, w):
         L[0, 0], L[0, 1], L[0, 2] = -sth, 0.0, 1.0
         L[1, 0], L[1, 1], L[1, 2] = sph * cth, cph, 0.0
         L[2, 0], L[2, 1], L[2, 2] = cph * cth, -sph, 0.0
-        m = node_params[k, 0]
+        m = node_params[k, NODE_MASS]
         for a in range(3):
             w[k, a] = -m * gravity[a]
-        _rotational_terms_from_trig(cth, sth, cph, sph, dY[k, 3:6], node_params[k, 1:4], Wr[k], w[k, 3:6])
+        _rotational_terms_from_trig(cth, sth, cph, sph, dY[k, 3:6], node_params[k, NODE_INERTIA:NODE_INERTIA + 3], Wr[k], w[k, 3:6])
     if node_params.shape[1] > NODE_CHART_KIND:
         apply_charts_into(node_params, frames)
 
@@ -785,10 +787,10 @@ def node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, scratch
     zero[1] = 0.0
     zero[2] = 0.0
     for k in range(Y.shape[0]):
-        m = node_params[k, 0]
+        m = node_params[k, NODE_MASS]
         for a in range(3):
             w[k, a] = -m * gravity[a]
-        I = node_params[k, 1:4]
+        I = node_params[k, NODE_INERTIA:NODE_INERTIA + 3]
         if immobile:
             node_rotational_terms(Y_ref[k, 3:6], zero, I, Wr[k], g3)
             w[k, 3] = 0.0
@@ -873,7 +875,7 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
     b = np.empty(3)
     out = np.empty(3)
     for k in range(N):
-        m = node_params[k, 0]
+        m = node_params[k, NODE_MASS]
         for a in range(6):
             f = (Fc[k, a] if k > 0 else 0.0) - w[k, a]
             if a < 3:
@@ -881,7 +883,7 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
             else:
                 b[a - 3] = f
         A = Y_ref[k, 3:6] if immobile else Y[k, 3:6]
-        if not solve_node_rotation(A, node_params[k, 1:4], b, out):
+        if not solve_node_rotation(A, node_params[k, NODE_INERTIA:NODE_INERTIA + 3], b, out):
             return ddY, STATUS_EULER_SINGULAR
         ddY[k, 3] = out[0]
         ddY[k, 4] = out[1]
