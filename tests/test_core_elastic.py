@@ -7,6 +7,8 @@ binding."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -18,6 +20,8 @@ from plants.elastic._layout import (CHARTED_NODE, EDGE_HEADER, PLANAR_MATRIX, PL
                                     SPATIAL_MATRIX, SPATIAL_NODE, SPATIAL_SPRING, STATUS_COINCIDENT_NODES, STATUS_OK)
 from plants.elastic.fem import BeamElement, planar_beam_stiffness, spatial_beam_stiffness
 from plants.frames import rotation_zyx
+
+SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 # an aluminium bar section (as tests/test_elastic_matrix_element.py)
 E, G = 70e9, 26e9
@@ -273,6 +277,30 @@ def test_a_springs_stiffness_changed_by_name_changes_its_force_as_k_dx(space, el
         F = es.elastic_force(Y).reshape(2, p)
         np.testing.assert_allclose(F[1, 0], k * stretch, rtol=1e-12)
         np.testing.assert_allclose(F[0, 0], -k * stretch, rtol=1e-12)
+
+
+def test_the_carry_scenes_spring_stiffness_changed_by_name_changes_its_force_as_k_dx():
+    """The shipped two-Puma carry's elastic system: its spring named "springs[1]" (an offset element, object to
+    contact node 2) stretched by dx along the object's x axis from the unloaded poses. Its elongation in the
+    object's frame is (dx, 0, 0), so the force on node 2 is c_x dx along that axis; writing c_x by name into
+    the model's packed row changes it to the new k dx. The other spring stays at rest (its force is rounding
+    of r_j - r_i - rho, about 1e-16 of k |rho|): equal to 1e-9 relative."""
+    import coopctrl
+    from coopctrl.scenario.build import build_plant
+
+    es = build_plant(coopctrl.load_scenario(SCENARIOS / "spatial_two_puma_carry.toml")).elastic
+    e = next(k for k, ic in enumerate(es.interconnections) if ic.name == "springs[1]")
+    assert es.interconnections[e].element == "offset"
+    i, j = es.interconnections[e].pair
+    axis = rotation_zyx(es.Y_ref[i, 3:6])[:, 0]  # node i's x axis in the world
+    dx = 1e-3
+    Y = es.Y_ref.copy()
+    Y[j, :3] += dx * axis
+    for k in (2e4, 5e4, 3e3):
+        stiffness = es.edge_params[e, SPATIAL_SPRING["stiffness"]]
+        stiffness[0] = k  # the model's c_x, by name (a view of the packed row)
+        F = es.elastic_force(Y).reshape(-1, 6)
+        np.testing.assert_allclose(F[j, :3], k * dx * axis, rtol=1e-9, atol=1e-9 * k * dx)
 
 
 def test_the_binding_refuses_wrong_shapes_naming_the_argument():
