@@ -32,14 +32,14 @@ int terms(Vector q, Vector dq, Matrix links, Vector base, Vector tool, Vector gr
     const size_t n = static_cast<size_t>(arm.dof);
     expect_length(q.shape(0), n, "q");
     expect_length(dq.shape(0), n, "dq");
-    expect(H.shape(0) == n && H.shape(1) == n, "H", "shape (n, n)");
-    expect_length(h.shape(0), n, "h");
+    expect(H.shape(0) >= n && H.shape(1) >= n, "H", "shape (n, n) or larger (its leading block is filled)");
+    expect(h.shape(0) >= n, "h", "n entries or more");
     expect_length(Y.shape(0), 3, "Y");
-    expect(J.shape(0) == 3 && J.shape(1) == n, "J", "shape (3, n)");
+    expect(J.shape(0) == 3 && J.shape(1) >= n, "J", "shape (3, n) or (3, more than n)");
     expect_length(Jdq.shape(0), 3, "Jdq");
     std::vector<double> work((n + 1) * PLANAR_WORK_WIDTH);
-    return planar_arm_terms(arm, q.data(), dq.data(), H.data(), h.data(), Y.data(), J.data(), Jdq.data(),
-                            work.data());
+    return planar_arm_terms(arm, q.data(), dq.data(), H.data(), static_cast<int>(H.shape(1)), h.data(), Y.data(),
+                            J.data(), static_cast<int>(J.shape(1)), Jdq.data(), work.data());
 }
 
 double potential(Vector q, Matrix links, Vector base, Vector gravity) {

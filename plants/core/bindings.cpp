@@ -9,6 +9,7 @@ namespace plants::binding {
 void bind_planar_arm(nb::module_& m);
 void bind_frames(nb::module_& m);
 void bind_rigid_motion(nb::module_& m);
+void bind_cooperative(nb::module_& m);
 void bind_elastic(nb::module_& m);
 }  // namespace plants::binding
 
@@ -17,5 +18,6 @@ NB_MODULE(_core, m) {
     plants::binding::bind_planar_arm(m);
     plants::binding::bind_frames(m);
     plants::binding::bind_rigid_motion(m);
+    plants::binding::bind_cooperative(m);
     plants::binding::bind_elastic(m);
 }

@@ -14,8 +14,8 @@ constexpr int C = 6;   // 2: centre of mass of link k
 constexpr int F = 8;   // 2: inertial force of link k
 }  // namespace
 
-int planar_arm_terms(const PlanarArmModel& arm, const double* q, const double* dq, double* H, double* h,
-                     double* Y, double* J, double* Jdq, double* work) noexcept {
+int planar_arm_terms(const PlanarArmModel& arm, const double* q, const double* dq, double* H, int ldH, double* h,
+                     double* Y, double* J, int ldJ, double* Jdq, double* work) noexcept {
     const int n = arm.dof;
     const double gx = arm.gravity[0], gz = arm.gravity[1];
     double ox = arm.base[0], oz = arm.base[1];
@@ -81,13 +81,13 @@ int planar_arm_terms(const PlanarArmModel& arm, const double* q, const double* d
         Mc += m;
         // a unit acceleration of joint i: the force 1 x h = (-hz, hx)
         const double fx = -hz, fz = hx;
-        H[i * n + i] = Ic + link.motor_inertia;
+        H[i * ldH + i] = Ic + link.motor_inertia;
         for (int j = i - 1; j >= 0; --j) {
             const double* rj = work + j * PLANAR_WORK_WIDTH;
             const double rx = px - rj[O], rz = pz - rj[O + 1];
             const double v = Ic + (rx * fz - rz * fx);
-            H[j * n + i] = v;
-            H[i * n + j] = v;
+            H[j * ldH + i] = v;
+            H[i * ldH + j] = v;
         }
     }
 
@@ -99,8 +99,8 @@ int planar_arm_terms(const PlanarArmModel& arm, const double* q, const double* d
     for (int k = 0; k < n; ++k) {
         const double* r = work + k * PLANAR_WORK_WIDTH;
         J[k] = -(tz - r[O + 1]);
-        J[n + k] = tx - r[O];
-        J[2 * n + k] = 1.0;
+        J[ldJ + k] = tx - r[O];
+        J[2 * ldJ + k] = 1.0;
     }
     const double w2 = w * w;
     Jdq[0] = ax - w2 * (tx - ox) + gx;

@@ -28,11 +28,12 @@ struct PlanarArmModel {
 /// Doubles of planar_arm_terms's work array per row; it needs n + 1 rows.
 constexpr int PLANAR_WORK_WIDTH = 10;
 
-/// Fill H (n x n, row-major) [kg m^2], h (n) [N m], Y (3), J (3 x n, row-major), Jdq (3) in place at the
-/// joint angles q [rad] and rates dq [rad/s]; work holds (n + 1) * PLANAR_WORK_WIDTH doubles, overwritten.
+/// Fill H (n x n, row-major with ldH doubles a row) [kg m^2], h (n) [N m], Y (3), J (3 x n, row-major with ldJ
+/// doubles a row), Jdq (3) in place at the joint angles q [rad] and rates dq [rad/s] (ldH, ldJ >= n: the arm's
+/// block of arrays sized for the largest arm); work holds (n + 1) * PLANAR_WORK_WIDTH doubles, overwritten.
 /// Allocates nothing; returns 0.
-int planar_arm_terms(const PlanarArmModel& arm, const double* q, const double* dq, double* H, double* h,
-                     double* Y, double* J, double* Jdq, double* work) noexcept;
+int planar_arm_terms(const PlanarArmModel& arm, const double* q, const double* dq, double* H, int ldH, double* h,
+                     double* Y, double* J, int ldJ, double* Jdq, double* work) noexcept;
 
 /// The gravitational potential energy U = -sum_k m_k g . p_com_k [J] at the joint angles q [rad].
 double planar_arm_potential(const PlanarArmModel& arm, const double* q) noexcept;
