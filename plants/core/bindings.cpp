@@ -8,10 +8,12 @@ namespace nb = nanobind;
 namespace plants::binding {
 void bind_planar_arm(nb::module_& m);
 void bind_frames(nb::module_& m);
+void bind_arms(nb::module_& m);
 }  // namespace plants::binding
 
 NB_MODULE(_core, m) {
     m.doc() = "The plant's compiled kernels (C++, built at install; plants/core).";
     plants::binding::bind_planar_arm(m);
     plants::binding::bind_frames(m);
+    plants::binding::bind_arms(m);
 }
