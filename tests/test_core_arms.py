@@ -13,8 +13,9 @@ import pytest
 from plants import _core
 from plants.arms import _chain_kernels as chain_numba
 from plants.arms import _spatial_kernels as dh_numba
-from plants.arms import iiwa14, panda, puma560, ur5e
+from plants.arms import ChainArm, ChainJoint, iiwa14, panda, puma560, ur5e
 from plants.arms.puma560 import GRIPPER_TOOL
+from plants.errors import EulerSingularityError
 from plants.frames import rotation_zyx
 
 DRAWS = 25
@@ -171,6 +172,11 @@ def test_the_singular_tip_returns_1_with_zero_angular_rows_as_numba():
     Y = np.empty(6)
     assert _core.chain_arm_pose(q, table, np.eye(4), tool, False, Y) == 1
     assert _core.chain_arm_pose(q, table, np.eye(4), tool, True, Y) == 0
+    arm = ChainArm(name="pitched", joints=(ChainJoint(name="j", kind="revolute", origin=np.eye(4), mass=1.0),),
+                   tool=tool)
+    for query in (lambda: arm.pose([0.3]), lambda: arm.terms([0.3], [0.0])):
+        with pytest.raises(EulerSingularityError, match="pitched"):
+            query()
 
 
 def test_the_arm_classes_call_the_core():
