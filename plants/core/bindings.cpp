@@ -11,6 +11,7 @@ void bind_frames(nb::module_& m);
 void bind_rigid_motion(nb::module_& m);
 void bind_cooperative(nb::module_& m);
 void bind_elastic(nb::module_& m);
+void bind_arms(nb::module_& m);
 }  // namespace plants::binding
 
 NB_MODULE(_core, m) {
@@ -20,4 +21,5 @@ NB_MODULE(_core, m) {
     plants::binding::bind_rigid_motion(m);
     plants::binding::bind_cooperative(m);
     plants::binding::bind_elastic(m);
+    plants::binding::bind_arms(m);
 }
