@@ -1,0 +1,15 @@
+// coopctrl._core: the Python bindings of the control layer's compiled core (coopctrl/core). Each concern registers
+// its functions from its own bind_<concern>.cpp; a function checks its arguments' shapes once and calls the core,
+// which checks nothing; arrays pass without copies.
+#include <nanobind/nanobind.h>
+
+namespace nb = nanobind;
+
+namespace coopctrl::binding {
+void bind_qp(nb::module_& m);
+}  // namespace coopctrl::binding
+
+NB_MODULE(_core, m) {
+    m.doc() = "The control layer's compiled core (C++, built at install; coopctrl/core).";
+    coopctrl::binding::bind_qp(m);
+}
