@@ -29,7 +29,7 @@ struct OwnedWork {
     std::vector<int64_t> piv;
     ControlWork work{};
     explicit OwnedWork(int nmax)
-        : vectors(CONTROL_WORK_VECTORS * nmax), matrices(CONTROL_WORK_MATRICES * nmax * nmax), posture(nmax),
+        : vectors(WORK_VECTORS * nmax), matrices(WORK_MATRICES * nmax * nmax), posture(nmax),
           piv(nmax) {
         work.nmax = nmax;
         work.vectors = vectors.data();

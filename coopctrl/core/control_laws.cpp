@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "coopctrl/core/linear_algebra.h"
 #include "plants/core/frames.h"
 
 namespace coopctrl {
@@ -58,60 +59,6 @@ bool node_torque(const double* W, const double* w_free, const double* S, const d
     return ok;
 }
 
-/// qdd = J^# rhs with the inertia-weighted generalized inverse of a redundant arm: N = H + J^T W J (matrix 0),
-/// X = N^-1 J^T (matrix 1), A = J X (matrix 2, factored into matrix 3 with its swaps in piv), qdd = X A^-1 rhs.
-/// Returns false (qdd zero) when N or A is singular.
-bool consistent_acceleration(const double* W, const double* H, int ldH, const double* J, int ldJ,
-                             const double* rhs, int n, int p, ControlWork& work, double* qdd) noexcept {
-    const int ld = work.nmax;
-    double* Nm = work.matrix(0);
-    double* X = work.matrix(1);
-    double* A = work.matrix(2);
-    double* LU = work.matrix(3);
-    double* WJ = work.matrix(2);
-    for (int a = 0; a < p; ++a)
-        for (int c = 0; c < n; ++c) {
-            double t = 0.0;
-            for (int b = 0; b < p; ++b) t += W[a * p + b] * J[b * ldJ + c];
-            WJ[a * ld + c] = t;
-        }
-    for (int r = 0; r < n; ++r)
-        for (int c = 0; c <= r; ++c) {  // J^T W J is symmetric (W is): the lower triangle, mirrored
-            double s = 0.0;
-            for (int a = 0; a < p; ++a) s += J[a * ldJ + r] * WJ[a * ld + c];
-            Nm[r * ld + c] = H[r * ldH + c] + s;
-            Nm[c * ld + r] = H[c * ldH + r] + s;
-        }
-    double* col = work.vector(1);
-    if (!lu_factor(Nm, ld, n, LU, ld, work.piv)) {
-        for (int c = 0; c < n; ++c) qdd[c] = 0.0;
-        return false;
-    }
-    for (int c = 0; c < p; ++c) {
-        for (int r = 0; r < n; ++r) col[r] = J[c * ldJ + r];
-        lu_solve_factored(LU, ld, work.piv, n, col, col);
-        for (int r = 0; r < n; ++r) X[r * ld + c] = col[r];
-    }
-    for (int a = 0; a < p; ++a)
-        for (int c = 0; c < p; ++c) {
-            double s = 0.0;
-            for (int r = 0; r < n; ++r) s += J[a * ldJ + r] * X[r * ld + c];
-            A[a * ld + c] = s;
-        }
-    double* y = work.vector(2);
-    if (!lu_factor(A, ld, p, LU, ld, work.piv)) {
-        for (int c = 0; c < n; ++c) qdd[c] = 0.0;
-        return false;
-    }
-    lu_solve_factored(LU, ld, work.piv, p, rhs, y);
-    for (int r = 0; r < n; ++r) {
-        double s = 0.0;
-        for (int c = 0; c < p; ++c) s += X[r * ld + c] * y[c];
-        qdd[r] = s;
-    }
-    return true;
-}
-
 /// The computed torque of a redundant arm (n > p) plus the null-space posture torque tau_posture. Returns ok
 /// (tau zero when false).
 bool node_torque_redundant(const double* W, const double* w_free, const double* S, const double* H, int ldH,
@@ -123,7 +70,7 @@ bool node_torque_redundant(const double* W, const double* w_free, const double* 
     double* rhs = work.vector(3);
     for (int r = 0; r < p; ++r) rhs[r] = a_cmd[r] - Jdq[r];
     double* qdd = work.vector(4);
-    if (!consistent_acceleration(W, H, ldH, J, ldJ, rhs, n, p, work, qdd)) {
+    if (!consistent_acceleration(W, p, H, ldH, J, ldJ, p, rhs, n, work.vectors, work.matrices, ld, work.piv, qdd)) {
         for (int c = 0; c < n; ++c) tau[c] = 0.0;
         return false;
     }
@@ -150,60 +97,6 @@ bool node_torque_redundant(const double* W, const double* w_free, const double* 
 }
 
 }  // namespace
-
-bool lu_factor(const double* A, int ldA, int n, double* M, int ldM, int64_t* piv) noexcept {
-    double scale = 0.0;
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-            const double v = A[i * ldA + j];
-            M[i * ldM + j] = v;
-            const double a = std::fabs(v);
-            if (a > scale) scale = a;
-        }
-    const double tiny = 1e-13 * (scale > 0 ? scale : 1.0);
-    for (int c = 0; c < n; ++c) {
-        int p = c;
-        for (int r = c + 1; r < n; ++r)
-            if (std::fabs(M[r * ldM + c]) > std::fabs(M[p * ldM + c])) p = r;
-        piv[c] = p;
-        if (std::fabs(M[p * ldM + c]) <= tiny) return false;
-        if (p != c)
-            for (int j = 0; j < n; ++j) {
-                const double t = M[c * ldM + j];
-                M[c * ldM + j] = M[p * ldM + j];
-                M[p * ldM + j] = t;
-            }
-        const double inv = 1.0 / M[c * ldM + c];
-        M[c * ldM + c] = inv;
-        for (int r = c + 1; r < n; ++r) {
-            const double f = M[r * ldM + c] * inv;
-            for (int j = c + 1; j < n; ++j) M[r * ldM + j] -= f * M[c * ldM + j];
-            M[r * ldM + c] = f;
-        }
-    }
-    return true;
-}
-
-void lu_solve_factored(const double* M, int ldM, const int64_t* piv, int n, const double* b, double* x) noexcept {
-    for (int i = 0; i < n; ++i) x[i] = b[i];
-    for (int c = 0; c < n; ++c) {
-        const int64_t p = piv[c];
-        if (p != c) {
-            const double t = x[c];
-            x[c] = x[p];
-            x[p] = t;
-        }
-    }
-    for (int c = 0; c < n; ++c) {
-        const double xc = x[c];
-        for (int r = c + 1; r < n; ++r) x[r] -= M[r * ldM + c] * xc;
-    }
-    for (int c = n - 1; c >= 0; --c) {
-        double s = x[c];
-        for (int j = c + 1; j < n; ++j) s -= M[c * ldM + j] * x[j];
-        x[c] = s * M[c * ldM + c];
-    }
-}
 
 void pose_error(const double* target, const double* Y, int p, int npos, double* out) noexcept {
     for (int a = 0; a < p; ++a) {

@@ -6,13 +6,15 @@
 
 #include <cstdint>
 
+#include "coopctrl/core/linear_algebra.h"
+
 namespace coopctrl {
 
 /// Work arrays of the laws for arms of up to nmax joints (nmax >= p), allocated by the caller once per run.
 struct ControlWork {
     int nmax;         ///< the largest dof of an arm, and at least p
-    double* vectors;  ///< (CONTROL_WORK_VECTORS, nmax)
-    double* matrices; ///< (CONTROL_WORK_MATRICES, nmax, nmax)
+    double* vectors;  ///< (WORK_VECTORS, nmax) (linear_algebra.h)
+    double* matrices; ///< (WORK_MATRICES, nmax, nmax)
     int64_t* piv;     ///< (nmax,) row swaps of the LU factorizations
     double* posture;  ///< (nmax,) the posture torque tau_0 [N m]
     double R[27];     ///< three 3 x 3 rotations of the pose increment
@@ -21,15 +23,6 @@ struct ControlWork {
     double* vector(int k) const { return vectors + k * nmax; }
     double* matrix(int k) const { return matrices + k * nmax * nmax; }
 };
-constexpr int CONTROL_WORK_VECTORS = 8;
-constexpr int CONTROL_WORK_MATRICES = 4;
-
-/// Gaussian elimination with partial pivoting of A[:n, :n] (leading dimension ldA) into M (ld nmax: the
-/// multipliers below the diagonal, U above it and the reciprocals 1 / U_cc on it) and the row swaps piv[:n].
-/// Returns false for a numerically singular A (a pivot <= 1e-13 max|A|).
-bool lu_factor(const double* A, int ldA, int n, double* M, int ldM, int64_t* piv) noexcept;
-/// x[:n] = A^-1 b from lu_factor's (M, piv); b and x may alias.
-void lu_solve_factored(const double* M, int ldM, const int64_t* piv, int n, const double* b, double* x) noexcept;
 
 /// out = target - Y with the angles (a >= npos) wrapped into [-pi, pi): e = (e + pi) mod 2 pi - pi [m, rad].
 void pose_error(const double* target, const double* Y, int p, int npos, double* out) noexcept;

@@ -63,10 +63,6 @@ struct PlanarControlTerms {
     double* Fe;      ///< (N, 3) work
 };
 
-/// Solve A x = b for the symmetric positive-definite leading n x n block of A (row length lda; its lower
-/// triangle read, overwritten by the Cholesky factor). Returns false (x undefined) if A is not positive definite.
-bool cholesky_solve(double* A, int lda, const double* b, double* x, int n) noexcept;
-
 /// dx = f(x, tau) (nx = 2 nz). status[0] = ELASTIC_OK, or a failure (status[1] the node).
 void planar_rhs(const PlanarCooperativeModel& model, const double* x, int nx, const double* tau, int64_t* status,
                 PlanarCooperativeData& data, double* dx) noexcept;
