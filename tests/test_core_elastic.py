@@ -116,6 +116,8 @@ def test_the_core_structs_name_the_columns_of_the_packed_rows():
     for rows in (EDGE_HEADER, SPATIAL_SPRING, SPATIAL_MATRIX, PLANAR_SPRING, PLANAR_MATRIX, SPATIAL_NODE, PLANAR_NODE,
                  CHARTED_NODE):
         assert {name: tuple(v) for name, v in layout[rows.struct].items()} == rows.fields, rows.struct
+    assert SPATIAL_NODE.col("mass") == PLANAR_NODE.col("mass") and SPATIAL_NODE.col("inertia") == PLANAR_NODE.col(
+        "inertia")  # the kernels' NODE_MASS and NODE_INERTIA serve both spaces
     assert {name: tuple(v) for name, v in layout["NodeFrames"].items()} == {
         "R": (0, 9), "dR": (9, 27), "L": (9 * 4, 9), "chart": (9 * numba_spatial.FRAME_CHART, 9)}
 

@@ -25,29 +25,52 @@ using FramesIn = nb::ndarray<const double, nb::ndim<4>, nb::c_contig, nb::device
 
 constexpr size_t EDGE_HEADER_WIDTH = sizeof(ElasticEdge) / sizeof(std::int64_t);
 
+// The checks below build their messages only when they fail: a call costs no allocation when its arguments are
+// right.
+
+/// expect_length, the message built only on failure.
+inline void check_length(size_t got, size_t want, const char* name) {
+    if (got != want) expect_length(got, want, name);
+}
+
+/// n objects of T for one call: on the stack up to a small system's size, else on the heap.
+template <class T, size_t SMALL = 16>
+class Scratch {
+  public:
+    explicit Scratch(size_t n) : heap_(n > SMALL ? n : 0) {}
+    T* data() noexcept { return heap_.empty() ? small_ : heap_.data(); }
+
+  private:
+    T small_[SMALL];
+    std::vector<T> heap_;
+};
+
 /// The interconnections of N nodes with p coordinates each, checked: (E, 4) headers, (E, width) rows, node indices
 /// in 0..N-1 and two different, kinds and damping forms known.
 Interconnections interconnections(const Index& edge_index, const Matrix& edge_params, size_t N, int width) {
     const size_t E = edge_index.shape(0);
-    expect(edge_index.shape(1) == EDGE_HEADER_WIDTH, "edge_index", "4 columns (i, j, element kind, damping form)");
-    expect(edge_params.shape(0) == E && edge_params.shape(1) == static_cast<size_t>(width), "edge_params",
-           "shape (" + std::to_string(E) + ", " + std::to_string(width) + ") (one row per edge_index row)");
+    if (edge_index.shape(1) != EDGE_HEADER_WIDTH)
+        expect(false, "edge_index", "4 columns (i, j, element kind, damping form)");
+    if (edge_params.shape(0) != E || edge_params.shape(1) != static_cast<size_t>(width))
+        expect(false, "edge_params",
+               "shape (" + std::to_string(E) + ", " + std::to_string(width) + ") (one row per edge_index row)");
     const ElasticEdge* edges = reinterpret_cast<const ElasticEdge*>(edge_index.data());
     for (size_t e = 0; e < E; ++e) {
         const ElasticEdge& h = edges[e];
-        const std::string row = "row " + std::to_string(e);
-        expect(h.i >= 0 && h.j >= 0 && static_cast<size_t>(h.i) < N && static_cast<size_t>(h.j) < N && h.i != h.j,
-               "edge_index", "two different node indices in 0.." + std::to_string(N - 1) + " in " + row);
-        expect(h.kind == ELEMENT_CENTRAL || h.kind == ELEMENT_OFFSET || h.kind == ELEMENT_MATRIX, "edge_index",
-               "an element kind 0 (central), 1 (offset) or 2 (matrix) in " + row);
-        expect(h.damping_form == DAMPING_FRAME_INVARIANT || h.damping_form == DAMPING_BOOK, "edge_index",
-               "a damping form 0 (frame invariant) or 1 (book) in " + row);
+        if (!(h.i >= 0 && h.j >= 0 && static_cast<size_t>(h.i) < N && static_cast<size_t>(h.j) < N && h.i != h.j))
+            expect(false, "edge_index",
+                   "two different node indices in 0.." + std::to_string(N - 1) + " in row " + std::to_string(e));
+        if (!(h.kind == ELEMENT_CENTRAL || h.kind == ELEMENT_OFFSET || h.kind == ELEMENT_MATRIX))
+            expect(false, "edge_index", "an element kind 0 (central), 1 (offset) or 2 (matrix) in row " + std::to_string(e));
+        if (!(h.damping_form == DAMPING_FRAME_INVARIANT || h.damping_form == DAMPING_BOOK))
+            expect(false, "edge_index", "a damping form 0 (frame invariant) or 1 (book) in row " + std::to_string(e));
     }
     return Interconnections{static_cast<int>(E), edges, edge_params.data(), width};
 }
 
 void expect_poses(size_t rows, size_t cols, size_t N, size_t p, const char* name) {
-    expect(rows == N && cols == p, name,
+    if (rows == N && cols == p) return;
+    expect(false, name,
            "shape (" + std::to_string(N) + ", " + std::to_string(p) + "), got (" + std::to_string(rows) + ", " +
                std::to_string(cols) + ")");
 }
@@ -59,12 +82,16 @@ void expect_same_poses(const A& a, const Matrix& Y, const char* name) {
 
 template <class A>
 void expect_frames(const A& frames, size_t N) {
-    expect(frames.shape(0) == N && frames.shape(1) == NODE_FRAME_BLOCKS && frames.shape(2) == 3 &&
-               frames.shape(3) == 3,
-           "frames", "shape (" + std::to_string(N) + ", 6, 3, 3)");
+    if (frames.shape(0) == N && frames.shape(1) == NODE_FRAME_BLOCKS && frames.shape(2) == 3 && frames.shape(3) == 3)
+        return;
+    expect(false, "frames", "shape (" + std::to_string(N) + ", 6, 3, 3)");
 }
 
 void expect_node_rows(const Matrix& node_rows, size_t N, bool spatial) {
+    if (node_rows.shape(0) == N &&
+        (spatial ? node_rows.shape(1) == SPATIAL_NODE_WIDTH || node_rows.shape(1) == SPATIAL_NODE_WIDTH_CHARTED
+                 : node_rows.shape(1) == sizeof(PlanarNode) / sizeof(double)))
+        return;
     if (spatial)
         expect(node_rows.shape(0) == N && (node_rows.shape(1) == SPATIAL_NODE_WIDTH ||
                                            node_rows.shape(1) == SPATIAL_NODE_WIDTH_CHARTED),
@@ -76,13 +103,12 @@ void expect_node_rows(const Matrix& node_rows, size_t N, bool spatial) {
 }
 
 /// The frames the caller gave (checked), or the book's world frames of Y into own.
-const NodeFrames* frames_or_own(const std::optional<FramesIn>& frames, const Matrix& Y, std::vector<NodeFrames>& own) {
+const NodeFrames* frames_or_own(const std::optional<FramesIn>& frames, const Matrix& Y, Scratch<NodeFrames>& own) {
     const size_t N = Y.shape(0);
     if (frames) {
         expect_frames(*frames, N);
         return reinterpret_cast<const NodeFrames*>(frames->data());
     }
-    own.resize(N);
     node_frames(Y.data(), static_cast<int>(N), own.data());
     return own.data();
 }
@@ -93,7 +119,7 @@ nb::tuple spatial_elastic_edges_(Matrix Y, Index edge_index, Matrix edge_params,
     expect_poses(Y.shape(0), Y.shape(1), Y.shape(0), 6, "Y");
     const Interconnections ic = interconnections(edge_index, edge_params, Y.shape(0), SPATIAL_EDGE_WIDTH);
     expect_same_poses(F, Y, "F");
-    std::vector<NodeFrames> own;
+    Scratch<NodeFrames> own(frames ? 0 : Y.shape(0));
     const NodeFrames* fr = frames_or_own(frames, Y, own);
     double Pi = 0.0;
     const int status = spatial_elastic_edges(ic, Y.data(), fr, F.data(), &Pi);
@@ -106,7 +132,7 @@ double spatial_damping_edges_(Matrix Y, Matrix dY, Index edge_index, Matrix edge
     const Interconnections ic = interconnections(edge_index, edge_params, Y.shape(0), SPATIAL_EDGE_WIDTH);
     expect_same_poses(dY, Y, "dY");
     expect_same_poses(F, Y, "F");
-    std::vector<NodeFrames> own;
+    Scratch<NodeFrames> own(frames ? 0 : Y.shape(0));
     const NodeFrames* fr = frames_or_own(frames, Y, own);
     return spatial_damping_edges(ic, Y.data(), dY.data(), fr, F.data());
 }
@@ -127,7 +153,7 @@ int spatial_interconnection_terms_(Matrix Y, Matrix dY, Index edge_index, Matrix
     expect_same_poses(dY, Y, "dY");
     expect_same_poses(Y_ref, Y, "Y_ref");
     expect_same_poses(w, Y, "w");
-    std::vector<NodeFrames> frames(Y.shape(0));
+    Scratch<NodeFrames> frames(Y.shape(0));
     return spatial_interconnection_terms(ic, static_cast<int>(Y.shape(0)), Y.data(), dY.data(), Y_ref.data(),
                                          immobile, w.data(), frames.data());
 }
@@ -147,8 +173,9 @@ int spatial_node_terms_(Matrix Y, Matrix dY, Matrix node_params, Vector gravity,
     expect_same_poses(dY, Y, "dY");
     expect_same_poses(Y_ref, Y, "Y_ref");
     expect_node_rows(node_params, N, true);
-    expect_length(gravity.shape(0), 3, "gravity");
-    expect(Wr.shape(0) == N && Wr.shape(1) == 3 && Wr.shape(2) == 3, "Wr", "shape (" + std::to_string(N) + ", 3, 3)");
+    check_length(gravity.shape(0), 3, "gravity");
+    if (!(Wr.shape(0) == N && Wr.shape(1) == 3 && Wr.shape(2) == 3))
+        expect(false, "Wr", "shape (" + std::to_string(N) + ", 3, 3)");
     expect_same_poses(w, Y, "w");
     return node_terms(Y.data(), dY.data(), static_cast<int>(N), node_params.data(),
                       static_cast<int>(node_params.shape(1)), gravity.data(), Y_ref.data(), immobile, Wr.data(),
@@ -161,9 +188,10 @@ void spatial_node_frames_terms_(Matrix Y, Matrix dY, Matrix node_params, Vector 
     expect_poses(Y.shape(0), Y.shape(1), N, 6, "Y");
     expect_same_poses(dY, Y, "dY");
     expect_node_rows(node_params, N, true);
-    expect_length(gravity.shape(0), 3, "gravity");
+    check_length(gravity.shape(0), 3, "gravity");
     expect_frames(frames, N);
-    expect(Wr.shape(0) == N && Wr.shape(1) == 3 && Wr.shape(2) == 3, "Wr", "shape (" + std::to_string(N) + ", 3, 3)");
+    if (!(Wr.shape(0) == N && Wr.shape(1) == 3 && Wr.shape(2) == 3))
+        expect(false, "Wr", "shape (" + std::to_string(N) + ", 3, 3)");
     expect_same_poses(w, Y, "w");
     node_frames_terms(Y.data(), dY.data(), static_cast<int>(N), node_params.data(),
                       static_cast<int>(node_params.shape(1)), gravity.data(),
@@ -171,19 +199,19 @@ void spatial_node_frames_terms_(Matrix Y, Matrix dY, Matrix node_params, Vector 
 }
 
 void node_rotational_terms_(Vector A, Vector dA, Vector I, MatrixOut Wr, VectorOut g) {
-    expect_length(A.shape(0), 3, "A");
-    expect_length(dA.shape(0), 3, "dA");
-    expect_length(I.shape(0), 3, "I");
-    expect(Wr.shape(0) == 3 && Wr.shape(1) == 3, "Wr", "shape (3, 3)");
-    expect_length(g.shape(0), 3, "g");
+    check_length(A.shape(0), 3, "A");
+    check_length(dA.shape(0), 3, "dA");
+    check_length(I.shape(0), 3, "I");
+    if (!(Wr.shape(0) == 3 && Wr.shape(1) == 3)) expect(false, "Wr", "shape (3, 3)");
+    check_length(g.shape(0), 3, "g");
     node_rotational_terms(A.data(), dA.data(), I.data(), Wr.data(), g.data());
 }
 
 bool solve_node_rotation_(Vector A, Vector I, Vector b, VectorOut out) {
-    expect_length(A.shape(0), 3, "A");
-    expect_length(I.shape(0), 3, "I");
-    expect_length(b.shape(0), 3, "b");
-    expect_length(out.shape(0), 3, "out");
+    check_length(A.shape(0), 3, "A");
+    check_length(I.shape(0), 3, "I");
+    check_length(b.shape(0), 3, "b");
+    check_length(out.shape(0), 3, "out");
     return solve_node_rotation(A.data(), I.data(), b.data(), out.data());
 }
 
@@ -196,7 +224,7 @@ int spatial_elastic_accelerations_(Matrix Y, Matrix dY, Matrix Fc, Matrix node_p
     expect_same_poses(Y_ref, Y, "Y_ref");
     expect_same_poses(ddY, Y, "ddY");
     expect_node_rows(node_params, N, true);
-    expect_length(gravity.shape(0), 3, "gravity");
+    check_length(gravity.shape(0), 3, "gravity");
     SpatialElasticModel model{};
     model.node_count = static_cast<int>(N);
     model.node_rows = node_params.data();
@@ -205,8 +233,9 @@ int spatial_elastic_accelerations_(Matrix Y, Matrix dY, Matrix Fc, Matrix node_p
     model.gravity = gravity.data();
     model.Y_ref = Y_ref.data();
     model.immobile = immobile;
-    std::vector<NodeFrames> frames(N);
-    std::vector<double> Wr(9 * N), w(6 * N);
+    Scratch<NodeFrames> frames(N);
+    Scratch<double, 9 * 16> Wr(9 * N);
+    Scratch<double, 6 * 16> w(6 * N);
     return spatial_elastic_accelerations(model, Y.data(), dY.data(), Fc.data(), ddY.data(),
                                          SpatialElasticWork{frames.data(), Wr.data(), w.data()});
 }
@@ -257,7 +286,7 @@ int planar_elastic_accelerations_(Matrix Y, Matrix dY, Matrix Fc, Matrix node_pa
     expect_same_poses(Y_ref, Y, "Y_ref");
     expect_same_poses(ddY, Y, "ddY");
     expect_node_rows(node_params, N, false);
-    expect_length(gravity.shape(0), 2, "gravity");
+    check_length(gravity.shape(0), 2, "gravity");
     PlanarElasticModel model{};
     model.node_count = static_cast<int>(N);
     model.nodes = reinterpret_cast<const PlanarNode*>(node_params.data());
@@ -265,7 +294,7 @@ int planar_elastic_accelerations_(Matrix Y, Matrix dY, Matrix Fc, Matrix node_pa
     model.gravity = gravity.data();
     model.Y_ref = Y_ref.data();
     model.immobile = immobile;
-    std::vector<double> w(3 * N);
+    Scratch<double, 3 * 16> w(3 * N);
     return planar_elastic_accelerations(model, Y.data(), dY.data(), Fc.data(), ddY.data(), w.data());
 }
 

@@ -6,6 +6,7 @@
 
 namespace plants {
 
+using elastic_detail::EULER_SINGULARITY_COS;
 using elastic_detail::rotation_and_partials_from_trig;
 
 namespace {

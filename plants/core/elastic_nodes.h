@@ -7,9 +7,6 @@
 
 namespace plants {
 
-/// The ZYX Euler singularity: |cos theta| below this and L(A) is not invertible (plants/frames.py).
-constexpr double EULER_SINGULARITY_COS = 1e-6;
-
 /// Every node k's R(A_k), dR/dA and L(A_k) into frames[k] (N nodes; Y (N, 6) row-major poses (r [m], A [rad])).
 void node_frames(const double* Y, int N, NodeFrames* frames) noexcept;
 
@@ -38,7 +35,8 @@ int node_terms(const double* Y, const double* dY, int N, const double* node_rows
 void node_frames_terms(const double* Y, const double* dY, int N, const double* node_rows, int node_width,
                        const double* gravity, NodeFrames* frames, double* Wr, double* w) noexcept;
 
-/// Solve (L^T I L) out = b for one node as out = L^-1 I^-1 L^-T b; false at the Euler singularity.
+/// Solve (L^T I L) out = b for one node as out = L^-1 I^-1 L^-T b; false at the Euler singularity
+/// (|cos theta| < EULER_SINGULARITY_COS, elastic_rotation.h).
 bool solve_node_rotation(const double* A, const double* I, const double* b, double* out) noexcept;
 
 }  // namespace plants

@@ -1,6 +1,7 @@
 // Small rotation helpers of the elastic kernels (docs/model.md s.2-3), inline: the angle wrap, log on SO(3), and
-// R(A) = Rz(psi) Ry(theta) Rx(phi) with its partials. The rotation is a private copy of plants/frames.py's
-// rotation_and_partials_from_trig (the arms' port has its own; one shared plants/core/frames.h is to come).
+// R(A) = Rz(psi) Ry(theta) Rx(phi) with its partials, in plants::elastic_detail. The rotation and the Euler
+// singularity's bound are private copies of plants/frames.py's (the arms' port brings plants/core/frames.h; the
+// elastic kernels are to use it once both are on main).
 #pragma once
 
 #include <cmath>
@@ -8,6 +9,9 @@
 namespace plants::elastic_detail {
 
 constexpr double PI = 3.141592653589793;
+
+/// The ZYX Euler singularity: |cos theta| below this and L(A) is not invertible (plants.frames.EULER_SINGULARITY_COS).
+constexpr double EULER_SINGULARITY_COS = 1e-6;
 
 /// An angle difference [rad] mapped into (-pi, pi].
 inline double wrap_angle(double a) noexcept { return a - 2.0 * PI * std::floor((a + PI) / (2.0 * PI)); }

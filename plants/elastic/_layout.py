@@ -116,10 +116,10 @@ PLANAR_REST_OFFSET = PLANAR_SPRING.col("rest_offset")
 PLANAR_DAMPING = PLANAR_SPRING.col("damping")
 PLANAR_TORSION_DAMPING = PLANAR_SPRING.col("torsion_damping")
 
-#: Columns of a node row, spatial or planar: the mass and the first of the principal moments of inertia.
+#: Columns of a node row: the mass and the first principal moment of inertia (the same columns in
+#: ``SPATIAL_NODE`` and ``PLANAR_NODE``, so the planar kernels read them too).
 NODE_MASS = SPATIAL_NODE.col("mass")
 NODE_INERTIA = SPATIAL_NODE.col("inertia")
-assert (NODE_MASS, NODE_INERTIA) == (PLANAR_NODE.col("mass"), PLANAR_NODE.col("inertia"))
 
 #: Node rows with charts: the chart kind column and the first column of the stored chart.
 NODE_CHART_KIND = CHARTED_NODE.col("chart_kind")
