@@ -51,7 +51,7 @@ def render() -> str:
     for name, sub in subparsers(parser).items():
         parts += [f"## `coopctrl {name}`", "", f"```text\n{sub.format_usage().strip()}\n```", "",
                   _cell(sub.description or ""), ""]
-        rows = [_option_row(a) for a in sub._actions if not isinstance(a, argparse._HelpAction)]
+        rows = [_option_row(a) for a in sub._actions]
         if rows:
             parts += ["| option | meaning | default | choices |", "|---|---|---|---|", *rows, ""]
         if sub.epilog:
