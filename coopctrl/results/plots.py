@@ -68,7 +68,7 @@ def _small_axes_scientific(fig) -> None:
 
 
 #: SI prefixes for an error axis: (factor, prefix), from milli down to pico.
-_PREFIXES = ((1e3, "m"), (1e6, "u"), (1e9, "n"), (1e12, "p"))
+_PREFIXES = ((1e3, "m"), (1e6, "\u00b5"), (1e9, "n"), (1e12, "p"))
 
 
 def error_scale(values: np.ndarray, unit: str) -> tuple[float, str]:
@@ -319,7 +319,10 @@ def plot_qp_solve_times(r: "SimulationResult", path: str | Path | None = None):
         notes.append(f"not reported by this run's solver: {', '.join(missing)}"
                      + (" (the compiled solver is not timed per solve; load_distribution.solver = \"proxsuite\" is)"
                         if "solve time" in missing else ""))
-    fig, axes = _figure(max(1, len(series)), 2, height=2.4, width=5.0, sharex=False)
+    if series:
+        fig, axes = _figure(len(series), 2, height=2.4, width=5.0, sharex=False)
+    else:  # one line of text says what the run's QP did: no empty axes, no flat line
+        fig, axes = _figure(1, 1, height=0.6, width=10.0)
     failed = [k for k, s in enumerate(r.qp_status[:n]) if qp_failed(s)]
     from matplotlib.ticker import MaxNLocator
 
@@ -344,19 +347,15 @@ def plot_qp_solve_times(r: "SimulationResult", path: str | Path | None = None):
         ax_h.set_ylabel("solves [-]")
         ax_h.set_title(f"median {np.median(finite):.3g}, max {finite.max():.3g} ({finite.size} solves)")
     if not series:
-        for ax in axes[0]:
-            ax.set_yticks([])
-        if n == 0:
-            text = "no QP solve in this run"
-        else:
-            text = f"nothing varied over the {n} QP solves:\n" + "\n".join(notes)
-        axes[0, 0].text(0.02, 0.5, text, transform=axes[0, 0].transAxes, ha="left", va="center", wrap=True)
-        axes[0, 0].set_title("QP per control period")
-        axes[0, 1].set_visible(False)
-    for ax in axes[:, 0]:
-        ax.set_xlabel("t [s]")
-        if r.t.size > 1:
-            ax.set_xlim(float(r.t[0]), float(r.t[-1]))
+        ax = axes[0, 0]
+        ax.set_axis_off()
+        text = "no QP solve in this run" if n == 0 else f"nothing varied over the {n} QP solves:\n" + "\n".join(notes)
+        ax.text(0.5, 0.5, text, transform=ax.transAxes, ha="center", va="center")
+    else:
+        for ax in axes[:, 0]:
+            ax.set_xlabel("t [s]")
+            if r.t.size > 1:
+                ax.set_xlim(float(r.t[0]), float(r.t[-1]))
     if notes and series:
         fig.supxlabel("; ".join(notes), fontsize="small", color="0.3")
     _title(fig, r, "what did the load-distribution QP cost?")
