@@ -25,7 +25,7 @@ def _option_row(action: argparse.Action) -> str:
     else:
         names = f"`{action.metavar or action.dest}`"
     default = action.default
-    shown = "" if default in (None, False, argparse.SUPPRESS) or action.nargs == 0 else f"`{default}`"
+    shown = "" if default in (None, False, [], (), argparse.SUPPRESS) or action.nargs == 0 else f"`{default}`"
     choices = ", ".join(f"`{c}`" for c in action.choices) if action.choices else ""
     help_text = "" if action.help in (None, argparse.SUPPRESS) else action.help
     if help_text and "%(" in help_text:
