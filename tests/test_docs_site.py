@@ -137,6 +137,17 @@ def test_the_cli_hook_renders_every_option():
                 assert f"`{option}`" in sections[name], (name, option)
 
 
+def test_the_roles_hook_shows_code_as_sphinx_does():
+    sys.path.insert(0, str(DOCS / "hooks"))
+    try:
+        import sphinx_roles
+    finally:
+        sys.path.pop(0)
+    html_in = ":class:<code>~coopctrl.results.SimulationResult</code> from :func:<code>coopctrl.load_scenario</code>"
+    assert sphinx_roles.plain(html_in) == "<code>SimulationResult</code> from <code>coopctrl.load_scenario</code>"
+    assert sphinx_roles.plain("a <code>:x:</code> stays") == "a <code>:x:</code> stays"
+
+
 # ---------------------------------------------------------------------------------------------------
 # Pages without a diary
 
