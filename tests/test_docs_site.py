@@ -58,6 +58,24 @@ def test_the_site_builds_strictly_with_complete_references(tmp_path):
     check_cli_reference(site)
 
 
+@needs_mkdocs
+def test_the_build_is_strict_and_the_benchmark_table_is_included():
+    """The configuration makes every warning (a broken link or anchor, a page missing from the nav, an
+    unresolved reference) fail the build, and the benchmarks page includes the file run_all.py writes."""
+    import yaml
+
+    class _Loader(yaml.SafeLoader):  # mkdocs.yml may hold !!python tags; none are needed here
+        pass
+
+    config = yaml.load((REPO / "mkdocs.yml").read_text(encoding="utf-8"), Loader=_Loader)
+    assert config["strict"] is True
+    assert set(config["validation"].values()) == {"warn"}  # warnings, which strict makes errors
+    assert '--8<-- "data/benchmarks.md"' in (DOCS / "benchmarks.md").read_text(encoding="utf-8")
+    data = (DOCS / "data" / "benchmarks.md").read_text(encoding="utf-8")
+    for field in ("| command |", "| date (UTC) |", "| machine |", "| versions |", "| medians of |", "| ratio |"):
+        assert field in data, field
+
+
 def check_every_page(site: Path) -> None:
     nav_pages = re.findall(r":\s*([\w-]+\.md)\s*$", (REPO / "mkdocs.yml").read_text(encoding="utf-8"), re.M)
     assert len(nav_pages) >= 16
@@ -65,6 +83,7 @@ def check_every_page(site: Path) -> None:
         assert (DOCS / name).is_file(), name
         built = site / ("index.html" if name == "index.md" else f"{name[:-3]}/index.html")
         assert built.is_file(), name
+    assert "compiled us/tick" in (site / "benchmarks" / "index.html").read_text(encoding="utf-8")  # the table
     assert not [p.name for p in DOCS.glob("*.md") if p.name not in nav_pages], "a page is missing from the nav"
 
 
