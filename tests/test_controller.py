@@ -83,6 +83,18 @@ def test_restore_gives_the_same_torques(scene):
     assert a.state.steps == 400
 
 
+def test_reset_is_a_fresh_controller(carry):
+    """After steps, ``reset`` gives the first step of a fresh controller (bit for bit)."""
+    c, x0, F0 = carry
+    meas = c.measurement(x0, F0)
+    for k in range(3):
+        c.step(k * c.control_period, meas)
+    c.reset()
+    assert c.state.steps == 0 and not np.any(c.state.integrals) and c.state.flags[3] == 0
+    fresh = coopctrl.Controller(c.scenario)
+    assert np.array_equal(c.step(0.0, meas).tau, fresh.step(0.0, meas).tau)
+
+
 def test_state_is_a_frozen_copy(scene):
     scenario, rec = scene
     c = coopctrl.Controller(scenario)
@@ -137,6 +149,20 @@ def test_bad_measurement_is_refused_naming_the_field(carry, field, make, named):
     after = c.state
     for name in ("tau", "integrals", "last_split", "flags"):
         assert np.array_equal(getattr(before, name), getattr(after, name))
+
+
+def test_pitch_beyond_the_first_world_chart_is_refused(carry):
+    """The carry runs in rotation charts: the controller steps in the first chart (the book's world), so an
+    object pitched past the loop's re-centring bound (|cos theta| < 0.7, 45.6 deg) is refused, naming it."""
+    c, x0, F0 = carry
+    good = c.measurement(x0, F0)
+    pose = good.object_pose.copy()
+    pose[4] = 0.85  # [rad], 48.7 deg
+    with pytest.raises(MeasurementError, match=r"measurement\.object_pose\[4\] = 0\.85 is invalid: expected a "
+                                               r"pitch within 45\.6 deg"):
+        c.step(0.0, _with(good, object_pose=pose))
+    pose[4] = 0.75  # 43 deg: within
+    assert np.all(np.isfinite(c.step(0.0, _with(good, object_pose=pose)).tau))
 
 
 def test_measurement_from_lists_is_accepted(carry):
