@@ -75,7 +75,8 @@ def _bench(name: str, repeats: int) -> dict:
             built_us.append(perf() - t0)
         run = loop.run(x0, duration)
         tick_us.append(run["wall_time_s"] / len(run["t"]))
-    return {"ticks": len(meas), "step": statistics.median(step_us) * 1e6, "step_p90": float(np.percentile(step_us, 90)) * 1e6,
+    return {"ticks": len(meas), "step": statistics.median(step_us) * 1e6,
+            "step_p90": float(np.percentile(step_us, 90)) * 1e6,
             "built": statistics.median(built_us) * 1e6, "tick": statistics.median(tick_us) * 1e6,
             "pass": statistics.median(pass_us) * 1e6}
 

@@ -128,8 +128,10 @@ def _with(meas: Measurement, **fields) -> Measurement:
 @pytest.mark.parametrize("field, make, named", [
     ("q", lambda m: (m.q[0], np.r_[m.q[1][:2], np.nan, m.q[1][3:]]), r"measurement\.q\[1\]\[2\] = nan"),
     ("dq", lambda m: (np.r_[np.inf, m.dq[0][1:]], m.dq[1]), r"measurement\.dq\[0\]\[0\] = inf"),
-    ("wrench", lambda m: np.where(np.arange(12).reshape(2, 6) == 9, np.nan, m.wrench), r"measurement\.wrench\[1\]\[3\] = nan"),
-    ("object_pose", lambda m: np.r_[m.object_pose[:4], -np.inf, m.object_pose[5]], r"measurement\.object_pose\[4\] = -inf"),
+    ("wrench", lambda m: np.where(np.arange(12).reshape(2, 6) == 9, np.nan, m.wrench),
+     r"measurement\.wrench\[1\]\[3\] = nan"),
+    ("object_pose", lambda m: np.r_[m.object_pose[:4], -np.inf, m.object_pose[5]],
+     r"measurement\.object_pose\[4\] = -inf"),
     ("object_twist", lambda m: None, r"measurement\.object_twist = missing"),
     ("q", lambda m: (m.q[0],), r"measurement\.q = 1 arrays"),
     ("dq", lambda m: (m.dq[0], m.dq[1][:5]), r"measurement\.dq\[1\] = an array of shape \(5,\)"),

@@ -229,7 +229,8 @@ class Controller:
         return self._normalized(meas)
 
     def _normalized(self, meas) -> tuple:
-        """The measurement's fields converted to float64 arrays, or :class:`MeasurementError` naming the first bad one."""
+        """The measurement's fields converted to float64 arrays, or :class:`MeasurementError` naming the first
+        bad one."""
         q_shapes, w_shape, p_shape = self._shapes
         m = len(q_shapes)
         out = []
@@ -314,7 +315,8 @@ class Controller:
         nz, p = self._nz, self.p
         if x.shape != (2 * nz,):
             raise ValueError(f"x has shape {x.shape}: expected ({2 * nz},), the plant state (q, Y_0, dq, dY_0)")
-        return Measurement(q=tuple(x[s] for s in self._slices), dq=tuple(x[nz + s.start:nz + s.stop] for s in self._slices),
+        return Measurement(q=tuple(x[s] for s in self._slices),
+                           dq=tuple(x[nz + s.start:nz + s.stop] for s in self._slices),
                            wrench=np.ascontiguousarray(wrench, dtype=float), object_pose=x[nz - p:nz],
                            object_twist=x[2 * nz - p:])
 

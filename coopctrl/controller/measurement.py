@@ -11,8 +11,9 @@ import numpy as np
 class Measurement:
     """One control period's measurement, in the scene's world frame (the book's coordinates, ``docs/model.md``).
 
-    ``p`` is 6 for a spatial scene (``x, y, z, phi, theta, psi``: positions [m], ZYX Euler angles [rad]) and 3 for
-    a planar one (``x, z, theta``); ``n_i`` the joints of arm ``i``; ``m`` the arms (one grasp each).
+    ``p`` is 6 for a spatial scene (``x, y, z, psi, theta, phi``: positions [m], ZYX Euler angles [rad],
+    ``R = Rz(psi) Ry(theta) Rx(phi)``) and 3 for a planar one (``x, z, theta``); ``n_i`` the joints of arm ``i``;
+    ``m`` the arms (one grasp each).
 
     Attributes:
         q: Per arm, (n_i,) joint positions [rad] (a prismatic joint [m]).
