@@ -95,6 +95,41 @@ def test_reset_is_a_fresh_controller(carry):
     assert np.array_equal(c.step(0.0, meas).tau, fresh.step(0.0, meas).tau)
 
 
+def test_a_failed_split_holds_the_last_one_then_gives_up():
+    """The load distribution's failure policy, as in the loop: joint rates of 10 rad/s make bias torques beyond
+    the QP's torque rows (a scene with torque limits), so the solve fails; the step holds the last feasible split
+    and still returns saturated torques; the fifth failure in a row (``max_consecutive_failures``) raises
+    InfeasibleLoad, one line; a good measurement then solves again."""
+    from coopctrl.errors import InfeasibleLoad
+
+    scenario = _scenario("heavy_payload_torque_limits", duration=0.05)
+    c = coopctrl.Controller(scenario)
+    loop = wiring.closed_loop(scenario)
+    x0 = build.initial_state(scenario, loop)
+    good = c.measurement(x0, loop.plant.contact_wrenches(x0))
+    T = c.control_period
+    for k in range(3):
+        c.step(k * T, good)
+    saved = c.state
+    x = x0.copy()
+    nz = len(x) // 2
+    x[nz:nz + sum(c.joint_counts)] = 10.0  # [rad/s]
+    fast = c.measurement(x, good.wrench)
+    tau = c.step(3 * T, fast).tau
+    held = c.state
+    assert held.flags[1] == 1 and held.flags[3] == saved.flags[3] + 1  # one failed solve, counted
+    assert np.array_equal(held.last_split, saved.last_split)
+    assert np.all(np.isfinite(tau)) and np.all(np.abs(tau) <= np.concatenate(
+        [np.broadcast_to(a.tau_max, (a.dof,)) for a in loop.plant.arms]))
+    for k in range(4, 7):
+        c.step(k * T, fast)
+    with pytest.raises(InfeasibleLoad, match="5 consecutive failed solves") as info:
+        c.step(7 * T, fast)
+    assert "\n" not in str(info.value)
+    c.step(8 * T, good)
+    assert c.state.flags[1] == 0
+
+
 def test_state_is_a_frozen_copy(scene):
     scenario, rec = scene
     c = coopctrl.Controller(scenario)
