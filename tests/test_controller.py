@@ -16,12 +16,16 @@ from coopctrl.scenario import build
 
 SCENES = Path(__file__).resolve().parent.parent / "scenarios"
 
-#: The scenes of the step-equals-loop test: a spatial carry (two PUMAs) and a planar lift.
-STEP_SCENES = ("spatial_two_puma_carry", "planar_two_arm_lift")
+#: The scenes of the step-equals-loop test: a spatial carry (two PUMAs), a planar lift, and the lift with the
+#: elastic split (whose QP cost matrix and grasp stiffness carry over from step to step).
+STEP_SCENES = ("spatial_two_puma_carry", "planar_two_arm_lift", "planar_two_arm_lift:elastic")
 
 
 def _scenario(name: str, duration: float | None = None):
+    name, _, split = name.partition(":")
     overrides = {} if duration is None else {"simulation.duration": duration}
+    if split:
+        overrides["load_distribution.split"] = split
     return coopctrl.load_scenario(SCENES / f"{name}.toml", overrides)
 
 
