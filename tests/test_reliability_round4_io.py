@@ -270,6 +270,29 @@ def test_an_os_error_is_the_environment_not_a_bug(tmp_path, monkeypatch, capsys)
     assert one_clean_line(err) == f"coopctrl: failed: read-only file system: {tmp_path}/r\\x1bo"
 
 
+def test_an_unwritable_result_folder_is_one_line_exit_1(tmp_path, monkeypatch, capsys):
+    """`view` on a result folder the system will not let it write (EACCES while writing replay.html): exit 1,
+    one line naming the file and the cause; the folder is as it was."""
+    import errno
+
+    from coopctrl.io.console import OutputWriteError
+    from coopctrl.results import folder
+
+    out = tmp_path / "result"
+    code, _, err = run_cli(["run", LIFT, *SHORT, "-q", "--out", out], capsys)
+    assert code == 0, err
+    before = sorted(p.name for p in out.iterdir())
+
+    def refuse(result, scenario, directory):
+        raise OutputWriteError(str(directory / "replay.html"), PermissionError(errno.EACCES, os.strerror(errno.EACCES)))
+
+    monkeypatch.setattr(folder, "rewrite_replay", refuse)
+    code, stdout, err = run_cli(["view", out], capsys)
+    assert code == 1 and stdout == ""
+    assert one_clean_line(err) == f"coopctrl: failed: permission denied writing {out / 'replay.html'}; {out} was left as it was"
+    assert sorted(p.name for p in out.iterdir()) == before
+
+
 # ---------------------------------------------------------------------- 7. check is run without the run
 class _FirstTick(Exception):
     """Raised where `run` would start simulating: everything before was pre-run checking."""
