@@ -170,14 +170,12 @@ def _main(argv: Sequence[str] | None) -> int:
     except CoopctrlError as err:
         print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
         return 2
-    except (BrokenPipeError, ValueError) as exc:
-        if isinstance(exc, ValueError) and not _stdout_closed():
-            return _unexpected(exc)
-        return _environment(refused(sys.stdout, exc, True))  # a print() to a reader that stopped, or closed
     except Exception as exc:  # noqa: BLE001 - the command line never shows a traceback
         stop = interruption_in(exc)
         if stop is not None:
             return _stopped(stop, terminated=[])
+        if isinstance(exc, BrokenPipeError) or (isinstance(exc, ValueError) and _stdout_closed()):
+            return _environment(refused(sys.stdout, exc, True))  # a print() to a reader that stopped, or closed
         return _unexpected(exc)
 
 
