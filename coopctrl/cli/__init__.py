@@ -2,7 +2,9 @@
 
 Exit codes: 0 success; 1 the run ended with status ``"diverged"`` or ``"qp_failed"`` (one line on
 stderr says why), pre-flight (``check``, and ``run`` before its first tick) found the task impossible,
-or a numerical failure (overflow, a failed factorization) stopped it; 2 bad input or usage (one line
+a numerical failure (overflow, a failed factorization) stopped it, a run of a sweep failed, or the system
+refused an output (a full disk, a folder that cannot be written, a closed or full standard output: one line
+naming the place and the cause, never "internal error"); 2 bad input or usage (one line
 ``coopctrl: error: ...`` on stderr, never a traceback); 130 interrupted (Ctrl-C, SIGINT); 143
 terminated (SIGTERM). On 130 and 143 no temporary file is left and finished files are whole.
 
@@ -43,7 +45,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     parser = _Parser(
         prog=PROG,
         description="Simulation and control of several robot arms carrying one object through elastic grasps.",
-        epilog="Exit codes: 0 ok, 1 run diverged or QP failed or the task is impossible (pre-flight), 2 bad input, "
+        epilog="Exit codes: 0 ok, 1 run diverged or QP failed or the task is impossible (pre-flight) or a run of a "
+        "sweep failed or the system refused an output (a full disk, a closed standard output), 2 bad input, "
         "130 interrupted (SIGINT), 143 terminated (SIGTERM).",
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -167,14 +170,12 @@ def _main(argv: Sequence[str] | None) -> int:
     except CoopctrlError as err:
         print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
         return 2
-    except (BrokenPipeError, ValueError) as exc:
-        if isinstance(exc, ValueError) and not _stdout_closed():
-            return _unexpected(exc)
-        return _environment(refused(sys.stdout, exc, True))  # a print() to a reader that stopped, or closed
     except Exception as exc:  # noqa: BLE001 - the command line never shows a traceback
         stop = interruption_in(exc)
         if stop is not None:
             return _stopped(stop, terminated=[])
+        if isinstance(exc, BrokenPipeError) or (isinstance(exc, ValueError) and _stdout_closed()):
+            return _environment(refused(sys.stdout, exc, True))  # a print() to a reader that stopped, or closed
         return _unexpected(exc)
 
 

@@ -137,7 +137,7 @@ def _load(args):
 
     path = resolve_scenario(args.scenario) if args.scenario else None
     scenario = load_scenario(path, parse_sets(args.sets))
-    try:  # a URDF arm's file is read now (safely, without numba: plants.urdf_reader), before any long work
+    try:  # a URDF arm's file is read now (safely, in pure Python: plants.urdf_reader), before any long work
         scenario.dof_per_arm  # noqa: B018
     except ScenarioError as err:
         if err.source or scenario.source is None:

@@ -22,7 +22,7 @@ def cmd_fidelity(args) -> int:
     """Load the scenes (with the same ``--set`` overrides), compare them, print and save the report."""
     import json
 
-    from coopctrl.io.console import say, visible
+    from coopctrl.io.console import say, visible, visible_lines
     from coopctrl.scenario import load_scenario
 
     names = args.scenarios or list(DEFAULT_SCENARIOS)
@@ -46,7 +46,7 @@ def cmd_fidelity(args) -> int:
     if args.json:
         say(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:
-        say(report.table())
+        say(visible_lines(report.table()))
         if args.out is not None:
             say(f"outputs written to {visible(args.out)}")
     failed = [m for m in report.models if m.status != "ok"]

@@ -21,11 +21,10 @@ def cmd_list(args) -> int:
     if not files:
         print(f"no scenarios in {visible(directory)}", file=sys.stderr)
         return 0
-    rows = [(path.stem, _one_line(scene_description(path))) for path in files]
-    rows = [(_one_line(name), description) for name, description in rows]
+    rows = [(visible(path.stem), _one_line(scene_description(path))) for path in files]  # a name keeps its line breaks, escaped
     width = max(len(name) for name, _ in rows)
     for name, description in rows:
-        say(f"{_one_line(name).ljust(width)}  {description}".rstrip())
+        say(f"{name.ljust(width)}  {description}".rstrip())
     return 0
 
 

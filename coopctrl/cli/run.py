@@ -8,7 +8,7 @@ import sys
 from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, preflight_line,
                                 refuse_before_work, stdout_to_stderr, subcommand)
 from coopctrl.errors import DivergenceError, InfeasibleLoad
-from coopctrl.io.console import OutputWriteError, say, visible
+from coopctrl.io.console import OutputWriteError, say, visible, visible_lines
 
 
 def result_directory(text: str):
@@ -33,7 +33,7 @@ def _record_every(text: str) -> int:
 
 
 def simulate_function():
-    """The simulator ``run`` calls (imported lazily: it pulls in numpy, numba and the solvers); a test
+    """The simulator ``run`` calls (imported lazily: it pulls in numpy, the compiled kernels and the solvers); a test
     replaces this function to observe or fake the simulation."""
     from coopctrl.simulator import simulate
 
@@ -127,7 +127,7 @@ def cmd_run(args) -> int:
         if args.json:
             say(json.dumps(summary, indent=2, allow_nan=False))
         elif not args.quiet:
-            say(summary_table(summary))
+            say(visible_lines(summary_table(summary)))
             say(f"{'torque-saturated ticks'.ljust(28)}  {summary.get('torque_saturated_ticks', 0)} of {ticks}")
             if estimate is not None:
                 for line in estimate.lines():

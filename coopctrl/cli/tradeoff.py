@@ -7,7 +7,7 @@ import sys
 from coopctrl.cli._core import (PROG, UsageError, _add_set_option, _load, _one_line, int_range,
                                 output_directory, stdout_to_stderr, subcommand)
 from coopctrl.errors import ScenarioError
-from coopctrl.io.console import say, visible
+from coopctrl.io.console import say, visible, visible_lines
 
 #: Reference methods offered on the command line (see coopctrl.analysis.reference; kept here as
 #: plain strings so that the parser does not import numpy).
@@ -77,7 +77,7 @@ def _target_search(args, scenario, integrators, reference, progress) -> int:
         print(f"{PROG}: failed: {_one_line(TargetUnreachable(search))}", file=sys.stderr)
         return 1
     if not (args.json or args.quiet):
-        say(search.text())
+        say(visible_lines(search.text()))
     return 0
 
 
@@ -122,7 +122,7 @@ def cmd_tradeoff(args) -> int:
     if args.json:
         say(json.dumps(result.to_dict(), indent=2, allow_nan=False))
     elif not args.quiet:
-        say(result.table())
+        say(visible_lines(result.table()))
         if args.out is not None:
             say(f"outputs written to {visible(args.out)}")
     return 0

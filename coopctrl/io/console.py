@@ -67,6 +67,11 @@ def visible(text) -> str:
     return "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in text)
 
 
+def visible_lines(text) -> str:
+    """A table or a text of several lines with each line through :func:`visible` (its line breaks kept)."""
+    return "\n".join(visible(line) for line in str(text).split("\n"))
+
+
 def escaped(text: str, encoding: str = "ascii") -> str:
     """``text`` with every character that ``encoding`` cannot write (and lone surrogates) as a
     backslash escape, so that printing it cannot fail."""

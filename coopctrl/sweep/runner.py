@@ -200,7 +200,7 @@ def run_sweep(
     broken: dict[Executor, tuple[set[int], str]] = {}  # each replaced pool: its started runs, how its worker died
 
     def submit(pool, run: SweepRun) -> Future:
-        if isinstance(pool, LocalProcessPool):
+        if recover and isinstance(pool, LocalProcessPool):  # its own pools: marked, to recover from a lost worker
             future = pool.submit_run(run_function, run, run_timeout_s)
         else:
             future = pool.submit(execute_run, run_function, run, run_timeout_s)
