@@ -24,11 +24,12 @@ def test_budget_is_the_rate_times_the_periods():
 
 
 def test_compiled_scheme_beyond_its_budget_ends_through_the_cli(capsys, monkeypatch):
-    """rk45 at rtol 1e-10 takes more than 2 steps per 1 ms period on the default scene: with a budget of 2 per
-    period the run ends at its first check with exit 1, naming rk45 and the budget."""
-    monkeypatch.setattr(SB, "STEPS_PER_PERIOD", 2)
-    code, out, err = run_cli(["run", "-q", "--no-preflight", "--set", "simulation.integrator='rk45'", "--set",
-                              "simulation.rtol=1e-10", "--set", "simulation.duration=0.2"], capsys)
+    """rk45 on stiff_grasp_extreme (1e7 N/m grasps: its explicit step is limited below the 1 ms period) takes
+    about 2 steps per period (100 in its first 50): with a budget of 1 per period the run ends at its first
+    check with exit 1, naming rk45 and the budget."""
+    monkeypatch.setattr(SB, "STEPS_PER_PERIOD", 1)
+    code, out, err = run_cli(["run", "stiff_grasp_extreme", "-q", "--no-preflight", "--set",
+                              "simulation.integrator='rk45'", "--set", "simulation.duration=0.05"], capsys)
     assert code == 1, err
     line = err.strip().splitlines()[-1]
     assert line.startswith("coopctrl: diverged: ") and "rk45 took" in line and "beyond its budget of" in line
@@ -36,8 +37,12 @@ def test_compiled_scheme_beyond_its_budget_ends_through_the_cli(capsys, monkeypa
 
 
 def test_python_reference_beyond_its_budget_ends():
-    """The DOP853 reference (stepped in Python) with a budget of 1 step per period: it ends at once."""
-    scene = load_scenario(None, {"simulation.duration": 0.01})
+    """The DOP853 reference (stepped in Python) on stiff_grasp_extreme, several steps per period, with a budget
+    of 1 step per period: it ends at once, naming the budget."""
+    from pathlib import Path
+
+    scene = load_scenario(Path(__file__).resolve().parent.parent / "scenarios" / "stiff_grasp_extreme.toml",
+                          {"simulation.duration": 0.01})
     saved = SB.PYTHON_STEPS_PER_PERIOD
     SB.PYTHON_STEPS_PER_PERIOD = 1
     try:
