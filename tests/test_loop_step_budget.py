@@ -70,3 +70,31 @@ def test_fuzz_every_run_ends(capsys, monkeypatch):
         assert "Traceback" not in err and "internal error" not in err
         if code == 1:
             assert err.strip().splitlines()[-1].startswith("coopctrl: "), err
+
+
+def test_long_run_is_announced(monkeypatch):
+    """An error-controlled run whose stable step implies more than LONG_RUN_STEPS steps says so first: rk45 on
+    stiff_grasp_extreme (about 2 steps per 1 ms period) over 1 s, with the threshold at 10 steps; rk4 (fixed
+    step) never."""
+    from pathlib import Path
+
+    from coopctrl.simulator import closed_loop
+
+    path = Path(__file__).resolve().parent.parent / "scenarios" / "stiff_grasp_extreme.toml"
+    monkeypatch.setattr(SB, "LONG_RUN_STEPS", 10)
+    for scheme, said in (("rk45", True), ("rk4", False)):
+        scene = load_scenario(path, {"simulation.integrator": scheme})
+        loop = closed_loop(scene)
+        line = SB.long_run_notice(loop, build.initial_state(scene, loop), 1.0)
+        assert bool(line) == said and (not said or ("rk45 will take at least" in line and "budget" in line))
+
+
+def test_unreachable_accuracy_target_ends(capsys):
+    """The issue's case: simulation.accuracy = 1e-3 m with 1e10 N/m springs and euler over 0.1 s never ended;
+    now its reference meets its budget and the command ends with exit 1 and one line naming it."""
+    code, out, err = run_cli(["run", "-q", "--set", "simulation.accuracy=1e-3", "--set", "springs[0].stiffness=1e10",
+                              "--set", "springs[1].stiffness=1e10", "--set", "simulation.integrator='euler'",
+                              "--set", "simulation.duration=0.1"], capsys)
+    assert code == 1, err
+    line = err.strip().splitlines()[-1]
+    assert line.startswith("coopctrl: failed: simulation.accuracy: ") and "beyond its budget" in line
