@@ -126,6 +126,14 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
         rec.update(status="qp_failed", reason=f"at t = 0 s (loaded start): {exc}",
                    events=[(0.0, "qp_failed", str(exc))])
     else:
+        if progress:  # on a terminal: a long error-controlled run says so before it starts
+            import sys
+
+            from coopctrl.loop.step_budget import long_run_notice
+
+            notice = long_run_notice(loop, x0.x if hasattr(x0, "x") else x0, sim.duration)
+            if notice:
+                print(f"coopctrl: {notice}", file=sys.stderr)
         rec = loop.run(x0, sim.duration, progress=progress)
         diagnose_record(scenario, loop, rec)  # a divergence's causes, with the scenario (after the run)
     if rec["status"] == "ok":

@@ -81,23 +81,28 @@ def test_unstable_run_fails_with_the_gain_named(values, named, capsys):
 
 def test_fuzz_gains_through_check(capsys):
     """Seeded: leader and follower gains drawn log-uniformly over the reference's ranges; ``coopctrl check``
-    refuses (exit 2, a controllers.* field named) exactly the draws the sampled model finds unstable, and
-    passes the others (exit 0, or 1 for a task pre-flight finds impossible)."""
-    from coopctrl.analysis.gain_stability import _unstable_gain
-    from coopctrl.scenario import load_scenario
+    refuses (exit 2, the controllers.* field named) exactly the draws the sampled model finds unstable and the
+    scene's linearized loop confirms, and passes the others (exit 0, or 1 for a task pre-flight finds
+    impossible). Even draws come from the gains' lower decades, odd ones from the whole ranges, so that both
+    outcomes are met."""
+    from coopctrl.analysis.gain_stability import _loop_grows, _unstable_gain
+    from coopctrl.scenario import build, load_scenario
 
     rng = np.random.default_rng(45)
     seen = set()
-    for _ in range(5):
-        values = {"controllers__leader__natural_frequency": float(10 ** rng.uniform(0, 5)),
-                  "controllers__followers__force_kp": float(10 ** rng.uniform(-2, 3)),
-                  "controllers__followers__force_ki": float(10 ** rng.uniform(-1, 6))}
+    for draw in range(6):
+        whole = draw % 2
+        values = {"controllers__leader__natural_frequency": float(10 ** rng.uniform(0, 5 if whole else 2)),
+                  "controllers__followers__force_kp": float(10 ** rng.uniform(-2, 3 if whole else 0)),
+                  "controllers__followers__force_ki": float(10 ** rng.uniform(-1, 6 if whole else 2))}
         code, out, err = run_cli(["check", *sets(**{k: repr(v) for k, v in values.items()})], capsys)
-        found = _unstable_gain(load_scenario(None, {k.replace("__", "."): v for k, v in values.items()}))
+        scene = load_scenario(None, {k.replace("__", "."): v for k, v in values.items()})
+        found = _unstable_gain(scene)
+        refused = found is not None and _loop_grows(scene, build.initial_state(scene))
         assert "Traceback" not in err
-        if found is None:
-            assert code in (0, 1), err
-        else:
+        if refused:
             assert code == 2 and f"coopctrl: error: {found[0]} = " in err, err
-        seen.add(found is None)
+        else:
+            assert code in (0, 1), err
+        seen.add(refused)
     assert seen == {True, False}

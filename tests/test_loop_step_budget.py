@@ -24,11 +24,12 @@ def test_budget_is_the_rate_times_the_periods():
 
 
 def test_compiled_scheme_beyond_its_budget_ends_through_the_cli(capsys, monkeypatch):
-    """rk45 at rtol 1e-10 takes more than 2 steps per 1 ms period on the default scene: with a budget of 2 per
-    period the run ends at its first check with exit 1, naming rk45 and the budget."""
-    monkeypatch.setattr(SB, "STEPS_PER_PERIOD", 2)
-    code, out, err = run_cli(["run", "-q", "--no-preflight", "--set", "simulation.integrator='rk45'", "--set",
-                              "simulation.rtol=1e-10", "--set", "simulation.duration=0.2"], capsys)
+    """rk45 on stiff_grasp_extreme (1e7 N/m grasps: its explicit step is limited below the 1 ms period) takes
+    about 2 steps per period (100 in its first 50): with a budget of 1 per period the run ends at its first
+    check with exit 1, naming rk45 and the budget."""
+    monkeypatch.setattr(SB, "STEPS_PER_PERIOD", 1)
+    code, out, err = run_cli(["run", "stiff_grasp_extreme", "-q", "--no-preflight", "--set",
+                              "simulation.integrator='rk45'", "--set", "simulation.duration=0.05"], capsys)
     assert code == 1, err
     line = err.strip().splitlines()[-1]
     assert line.startswith("coopctrl: diverged: ") and "rk45 took" in line and "beyond its budget of" in line
@@ -36,8 +37,12 @@ def test_compiled_scheme_beyond_its_budget_ends_through_the_cli(capsys, monkeypa
 
 
 def test_python_reference_beyond_its_budget_ends():
-    """The DOP853 reference (stepped in Python) with a budget of 1 step per period: it ends at once."""
-    scene = load_scenario(None, {"simulation.duration": 0.01})
+    """The DOP853 reference (stepped in Python) on stiff_grasp_extreme, several steps per period, with a budget
+    of 1 step per period: it ends at once, naming the budget."""
+    from pathlib import Path
+
+    scene = load_scenario(Path(__file__).resolve().parent.parent / "scenarios" / "stiff_grasp_extreme.toml",
+                          {"simulation.duration": 0.01})
     saved = SB.PYTHON_STEPS_PER_PERIOD
     SB.PYTHON_STEPS_PER_PERIOD = 1
     try:
@@ -65,3 +70,31 @@ def test_fuzz_every_run_ends(capsys, monkeypatch):
         assert "Traceback" not in err and "internal error" not in err
         if code == 1:
             assert err.strip().splitlines()[-1].startswith("coopctrl: "), err
+
+
+def test_long_run_is_announced(monkeypatch):
+    """An error-controlled run whose stable step implies more than LONG_RUN_STEPS steps says so first: rk45 on
+    stiff_grasp_extreme (about 2 steps per 1 ms period) over 1 s, with the threshold at 10 steps; rk4 (fixed
+    step) never."""
+    from pathlib import Path
+
+    from coopctrl.simulator import closed_loop
+
+    path = Path(__file__).resolve().parent.parent / "scenarios" / "stiff_grasp_extreme.toml"
+    monkeypatch.setattr(SB, "LONG_RUN_STEPS", 10)
+    for scheme, said in (("rk45", True), ("rk4", False)):
+        scene = load_scenario(path, {"simulation.integrator": scheme})
+        loop = closed_loop(scene)
+        line = SB.long_run_notice(loop, build.initial_state(scene, loop), 1.0)
+        assert bool(line) == said and (not said or ("rk45 will take at least" in line and "budget" in line))
+
+
+def test_unreachable_accuracy_target_ends(capsys):
+    """The issue's case: simulation.accuracy = 1e-3 m with 1e10 N/m springs and euler over 0.1 s never ended;
+    now its reference meets its budget and the command ends with exit 1 and one line naming it."""
+    code, out, err = run_cli(["run", "-q", "--set", "simulation.accuracy=1e-3", "--set", "springs[0].stiffness=1e10",
+                              "--set", "springs[1].stiffness=1e10", "--set", "simulation.integrator='euler'",
+                              "--set", "simulation.duration=0.1"], capsys)
+    assert code == 1, err
+    line = err.strip().splitlines()[-1]
+    assert line.startswith("coopctrl: failed: simulation.accuracy: ") and "beyond its budget" in line
