@@ -233,8 +233,8 @@ def test_torques_by_arm(carry):
 
 
 def test_time_off_the_grid_and_bad_time(carry):
-    """A time between two periods reads the trajectory there (a time on the grid reads its table row: equal
-    up to the trajectory's own rounding); a negative or non-finite time is refused."""
+    """A time between two periods reads the trajectory there (a time within 1e-9 T of the grid reads its table
+    row); any time after the trajectory's end its last pose; a negative or non-finite time is refused."""
     c, x0, F0 = carry
     meas = c.measurement(x0, F0)
     saved = c.state
@@ -245,6 +245,14 @@ def test_time_off_the_grid_and_bad_time(carry):
     off = c.step(0.3e-3, meas).tau  # between ticks 0 and 1: the trajectory evaluated at t
     assert np.array_equal(on, near)
     assert np.all(np.isfinite(off)) and not np.array_equal(on, off)
+    after = []
+    for t in (2.0, 2.5, 2.2004, 7.3):  # [s] the carry's trajectory ends at 2 s: its last pose, held, at any time after
+        c.state = saved
+        after.append(c.step(t, meas).tau)
+    assert all(np.array_equal(after[0], a) for a in after[1:])  # (0.05 s of table: the trajectory evaluated)
+    whole = coopctrl.Controller(_scenario("spatial_two_puma_carry"))  # 2.5 s of table: its row at 2 s
+    whole.restore(saved)
+    assert np.array_equal(whole.step(7.3, meas).tau, after[0])
     for t in (-1e-3, float("nan"), float("inf")):
         with pytest.raises(ValueError, match=r"t = .* is invalid: expected a finite time >= 0 \[s\]"):
             c.step(t, meas)
