@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "plants/core/binding_checks.h"
 #include "coopctrl/core/control_laws.h"
 
 namespace nb = nanobind;
@@ -15,13 +16,10 @@ namespace coopctrl::binding {
 
 namespace {
 
-using Vector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using Matrix = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-using VectorOut = nb::ndarray<double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-
-void expect(bool ok, const char* name, const std::string& what) {
-    if (!ok) throw nb::value_error((std::string(name) + ": expected " + what).c_str());
-}
+using plants::binding::expect;
+using plants::binding::Matrix;
+using plants::binding::Vector;
+using plants::binding::VectorOut;
 
 /// The laws' work arrays for arms of up to nmax joints.
 struct OwnedWork {

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "plants/core/binding_checks.h"
 #include "coopctrl/core/tick_checks.h"
 
 namespace nb = nanobind;
@@ -12,13 +13,10 @@ namespace coopctrl::binding {
 
 namespace {
 
-using Vector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using Matrix = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-using VectorOut = nb::ndarray<double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-
-void expect(bool ok, const char* name, const std::string& what) {
-    if (!ok) throw nb::value_error((std::string(name) + ": expected " + what).c_str());
-}
+using plants::binding::expect;
+using plants::binding::Matrix;
+using plants::binding::Vector;
+using plants::binding::VectorOut;
 
 void required_wrench_py(bool spatial, double mass, Vector inertia, Vector gravity, Vector Y0, Vector dY0,
                         Vector ddY0, VectorOut out) {
