@@ -314,7 +314,7 @@ def mass_properties(scenario, plant=None) -> list[MassProperties]:
 #: MuJoCo's step is the control period divided into this many steps at least, and at most
 #: :data:`MAX_TIMESTEP` [s] long: the grasp wrenches are held over one MuJoCo step (explicit in them).
 MIN_STEPS_PER_PERIOD = 4
-MAX_TIMESTEP = 1e-4
+MAX_TIMESTEP = 2.5e-4
 
 
 def steps_per_period(control_period: float) -> int:

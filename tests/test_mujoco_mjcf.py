@@ -1,0 +1,129 @@
+"""coopctrl.mujoco.mjcf, state_map and plant: the MuJoCo model of each scene against the project's own kernels."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+mujoco = pytest.importorskip("mujoco")
+
+from coopctrl.mujoco.mjcf import node_body, scene_mjcf  # noqa: E402
+from coopctrl.mujoco.plant import MujocoPlant  # noqa: E402
+from coopctrl.mujoco.state_map import StateMap  # noqa: E402
+from coopctrl.scenario import load_scenario  # noqa: E402
+from coopctrl.scenario.build import build_plant  # noqa: E402
+from plants.arms._chain_kernels import COULOMB_SMOOTHING  # noqa: E402
+
+SCENES = ("two_panda_carry", "ur5e_panda_carry", "three_iiwa_tray", "spatial_two_puma_carry", "planar_two_arm_lift")
+#: Two recursions of the same rigid-body model (MuJoCo's CRB and RNE against the project's kernels) agree to
+#: round-off: measured below 2e-15 relative; 1e-12 leaves room for other BLAS and compilers, and is far below any
+#: modelling difference (a link's mass 1e-6 off would show at 1e-7).
+REL_TOL = 1e-12
+
+
+@pytest.fixture(scope="module", params=SCENES)
+def scene(request):
+    sc = load_scenario(request.param)
+    plant = build_plant(sc)
+    return sc, plant, MujocoPlant(sc, plant)
+
+
+def _random_states(plant, sc, count: int, seed: int = 0):
+    rng = np.random.default_rng(seed)
+    sm = StateMap.from_plant(plant)
+    n, nz = sm.n_q, sm.nz
+    for _ in range(count):
+        x = np.zeros(2 * nz)
+        x[:n] = rng.uniform(-1.0, 1.0, n)
+        x[nz:nz + n] = rng.uniform(-1.0, 1.0, n)
+        x[n:nz] = np.asarray(sc.object.pose) + rng.uniform(-0.2, 0.2, sm.p)
+        x[nz + n:] = rng.uniform(-0.5, 0.5, sm.p)
+        yield x
+
+
+def test_mass_matrix_and_bias_match_the_arm_kernels(scene):
+    """Each arm's ``N = H + J^T W J`` (node included) and ``n = h + J^T (W Jdq + w_free)`` (177, 183) equal MuJoCo's
+    joint-space inertia and bias forces (less its damper, plus the kernels' smoothed Coulomb) at seeded states."""
+    sc, plant, mp = scene
+    for x in _random_states(plant, sc, 4):
+        mp.set_state(x)
+        M = np.zeros((mp.model.nv, mp.model.nv))
+        mujoco.mj_fullM(mp.model, mp.data, M) if _fullM_takes_data() else mujoco.mj_fullM(mp.model, M, mp.data.qM)
+        terms = plant.control_terms(x)
+        off = 0
+        for i, arm in enumerate(plant.arms):
+            d = arm.dof
+            J = terms.J[i, :, :d]
+            W = terms.W[i + 1]
+            N = terms.H[i, :d, :d] + J.T @ W @ J
+            bias = terms.h[i, :d] + J.T @ (W @ terms.Jdq[i] + terms.w_free[i + 1])
+            sl = slice(off, off + d)
+            mj_bias = (mp.data.qfrc_bias[sl] - mp.data.qfrc_damper[sl]
+                       + mp.coulomb[sl] * np.tanh(mp.data.qvel[sl] / COULOMB_SMOOTHING))
+            assert np.max(np.abs(M[sl, sl] - N)) <= REL_TOL * np.max(np.abs(N)), (sc.name, i)
+            assert np.max(np.abs(mj_bias - bias)) <= REL_TOL * np.max(np.abs(bias)), (sc.name, i)
+            off += d
+
+
+def _fullM_takes_data() -> bool:
+    return not hasattr(mujoco.MjData, "qM")
+
+
+def test_nodes_and_state_map_are_exact(scene):
+    """MuJoCo's node bodies sit at the plant's nodes ``Phi_i(q_i)``, and ``x -> (qpos, qvel) -> x`` is the identity."""
+    sc, plant, mp = scene
+    for x in _random_states(plant, sc, 3, seed=1):
+        mp.set_state(x)
+        Y = plant.arm_terms(x)[0]
+        for i in range(plant.arm_count):
+            pos = mp.data.xpos[mp.node_bodies[i + 1]]
+            expected = Y[i + 1, :3] if plant.p == 6 else np.array([Y[i + 1, 0], 0.0, Y[i + 1, 1]])
+            assert np.max(np.abs(pos - expected)) < 1e-12
+        assert np.max(np.abs(mp.read_state() - x)) < 1e-12
+
+
+def test_force_sensors_carry_the_object_in_a_held_pose(scene):
+    """At the loaded start (a static equilibrium of the grasp), with the arms held by their inverse-dynamics torques,
+    the nodes' force sensors carry the object and the nodes: their world forces sum to ``(m_0 + sum m_i) g`` upward."""
+    from coopctrl.scenario.build import initial_state
+
+    sc, plant, mp = scene
+    x0 = initial_state(sc)
+    mp.set_state(x0)
+    mp.apply(np.zeros(mp.state_map.n_q))  # the grasp wrenches of x0 in xfrc_applied
+    d, m = mp.data, mp.model
+    d.qacc[:] = 0.0
+    mujoco.mj_inverse(m, d)
+    grasp = np.zeros(m.nv)  # J^T of the grasp wrenches
+    for b, w in zip(mp.node_bodies, d.xfrc_applied[mp.node_bodies]):
+        mujoco.mj_applyFT(m, d, w[:3].copy(), w[3:].copy(), d.xipos[b].copy(), int(b), grasp)
+    n = mp.state_map.n_q
+    # the object is in equilibrium under the grasp alone: the start is the elastic model's static state
+    assert np.max(np.abs(d.qfrc_inverse[n:] - grasp[n:])) < 1e-6 * sc.object.mass * sc.scene.gravity
+    d.qfrc_applied[:n] = d.qfrc_inverse[:n] - grasp[:n]
+    mujoco.mj_forward(m, d)
+    assert np.max(np.abs(d.qacc)) < 1e-6
+    total = np.zeros(3)
+    for i in range(plant.arm_count):
+        site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, node_body(i))
+        f_site = d.sensor(f"{node_body(i)}_force").data
+        total += d.site_xmat[site].reshape(3, 3) @ f_site
+    carried = (sc.object.mass + sum(a.node_mass for a in sc.arms)) * sc.scene.gravity
+    assert np.max(np.abs(np.abs(total) - np.array([0.0, 0.0, carried]))) < 1e-6 * carried
+
+
+def test_exported_model_loads_with_its_start_keyframe():
+    """The written XML compiles alone and its keyframe ``start`` is the plant state it was given."""
+    sc = load_scenario("planar_two_arm_lift")
+    plant = build_plant(sc)
+    x = next(_random_states(plant, sc, 1, seed=2))
+    model = mujoco.MjModel.from_xml_string(scene_mjcf(sc, x_start=x, plant=plant))
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, 0)
+    assert np.max(np.abs(StateMap.from_plant(plant).state(data.qpos, data.qvel) - x)) < 1e-12
+
+
+def test_contact_point_arms_have_no_body():
+    sc = load_scenario("contact_points_only")
+    with pytest.raises(ValueError, match="contact_point"):
+        scene_mjcf(sc)
