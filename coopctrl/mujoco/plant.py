@@ -29,7 +29,6 @@ from coopctrl.mujoco import mjcf
 from coopctrl.mujoco.requirement import import_mujoco
 from coopctrl.mujoco.state_map import StateMap
 from plants.arms._chain_kernels import COULOMB_SMOOTHING
-from plants.frames import body_rate_map, rotation_zyx
 
 
 def _charted(plant) -> bool:
@@ -119,10 +118,8 @@ class MujocoPlant:
         Y = self._Y
         out = np.zeros((Q.shape[0], 6))
         if self.spatial:
-            for k in range(Q.shape[0]):
-                A = Y[k, 3:6]
-                out[k, :3] = Q[k, :3]
-                out[k, 3:] = rotation_zyx(A) @ np.linalg.solve(body_rate_map(A).T, Q[k, 3:6])
+            out[:, :3] = Q[:, :3]
+            out[:, 3:] = world_couples(Y[:, 3:6], Q[:, 3:6])
         else:
             out[:, 0] = Q[:, 0]
             out[:, 2] = Q[:, 1]
@@ -152,6 +149,29 @@ class MujocoPlant:
             step(self.model, self.data)
         self.x = self.read_state()
         return self.x
+
+
+def world_couples(A, Q_A) -> np.ndarray:
+    r"""World couples ``n = R(A) L(A)^-T Q_A`` [N m] of the generalized forces ``Q_A`` [N m] on the ZYX angles ``A``
+    [rad], row by row ((k, 3) each): ``omega_body = L dA`` makes ``Q_A = L^T n_body`` (105).
+
+    .. math::
+        L^{-T} Q = (Q_2,\; s_\phi Q_0 / c_\theta + c_\phi Q_1 + s_\phi t_\theta Q_2,\;
+                    c_\phi Q_0 / c_\theta - s_\phi Q_1 + c_\phi t_\theta Q_2)
+    """
+    cps, sps = np.cos(A[:, 0]), np.sin(A[:, 0])
+    cth, sth = np.cos(A[:, 1]), np.sin(A[:, 1])
+    cph, sph = np.cos(A[:, 2]), np.sin(A[:, 2])
+    q0, q1, q2 = Q_A[:, 0], Q_A[:, 1], Q_A[:, 2]
+    b0 = q2
+    b1 = (sph * q0 + sth * sph * q2) / cth + cph * q1
+    b2 = (cph * q0 + sth * cph * q2) / cth - sph * q1
+    # R = Rz(psi) Ry(theta) Rx(phi) applied to b
+    y1 = cph * b1 - sph * b2           # Rx
+    z1 = sph * b1 + cph * b2
+    x2 = cth * b0 + sth * z1           # Ry
+    z2 = -sth * b0 + cth * z1
+    return np.stack([cps * x2 - sps * y1, sps * x2 + cps * y1, z2], axis=1)
 
 
 def restore_mass_properties(model, props) -> None:

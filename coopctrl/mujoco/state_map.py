@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from coopctrl.mujoco.mjcf import quaternion
-from plants.frames import body_rate_map, euler_zyx_from_rotation, rotation_zyx
+from plants.frames import body_rate_map, rotation_zyx
 
 
 def rotation_of_quaternion(quat) -> np.ndarray:
@@ -34,6 +34,23 @@ def rotation_of_quaternion(quat) -> np.ndarray:
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def euler_rates(A, omega) -> np.ndarray:
+    """``dA = L(A)^-1 omega`` [rad/s] of the body angular velocity ``omega`` [rad/s] at the ZYX angles ``A`` (105),
+    in closed form (``cos theta != 0``: the loop's guards keep the object out of the Euler-angle band)."""
+    cth, sth = math.cos(A[1]), math.sin(A[1])
+    cph, sph = math.cos(A[2]), math.sin(A[2])
+    w0, w1, w2 = float(omega[0]), float(omega[1]), float(omega[2])
+    a = (sph * w1 + cph * w2) / cth
+    return np.array([a, cph * w1 - sph * w2, w0 + sth * a])
+
+
+def euler_zyx(R) -> np.ndarray:
+    """ZYX Euler angles ``(psi, theta, phi)`` [rad] of the rotation matrix ``R``, theta in [-pi/2, pi/2] (as
+    :func:`plants.frames.euler_zyx_from_rotation`)."""
+    return np.array([math.atan2(R[1, 0], R[0, 0]), math.atan2(-R[2, 0], math.hypot(R[2, 1], R[2, 2])),
+                     math.atan2(R[2, 1], R[2, 2])])
 
 
 def _nearest_branch(a: float, reference: float) -> float:
@@ -89,14 +106,14 @@ class StateMap:
         x[:n] = qpos[:n]
         x[nz:nz + n] = qvel[:n]
         if self.spatial:
-            A = euler_zyx_from_rotation(rotation_of_quaternion(qpos[n + 3:n + 7]))
+            A = euler_zyx(rotation_of_quaternion(qpos[n + 3:n + 7]))
             if reference is not None:
                 A[0] = _nearest_branch(A[0], float(reference[n + 3]))
                 A[2] = _nearest_branch(A[2], float(reference[n + 5]))
             x[n:n + 3] = qpos[n:n + 3]
             x[n + 3:nz] = A
             x[nz + n:nz + n + 3] = qvel[n:n + 3]
-            x[nz + n + 3:] = np.linalg.solve(body_rate_map(A), np.asarray(qvel[n + 3:n + 6], dtype=float))
+            x[nz + n + 3:] = euler_rates(A, qvel[n + 3:n + 6])
         else:
             x[n:nz] = qpos[n:n + 3]
             x[nz + n:] = qvel[n:n + 3]

@@ -1,0 +1,55 @@
+"""coopctrl.mujoco.closed_loop, stepper and comparison: the shipped scenes run on MuJoCo with the same controller."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+mujoco = pytest.importorskip("mujoco")
+
+from coopctrl.mujoco.comparison import compare_plants  # noqa: E402
+from coopctrl.scenario import load_scenario  # noqa: E402
+from coopctrl.simulator import simulate  # noqa: E402
+
+SCENES = ("two_panda_carry", "ur5e_panda_carry", "three_iiwa_tray", "spatial_two_puma_carry", "planar_two_arm_lift")
+#: A short run: the start (the squeeze and the load taken up) and the first part of the motion. The full-length
+#: figures come from benchmarks/mujoco_plants.py (docs/data/mujoco_plants.md).
+DURATION = 0.3  # [s]
+#: The issue's bound on the object's position error RMS: 2x the elastic plant's or 1 mm, whichever is larger.
+FLOOR_M = 1e-3
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_scene_runs_on_mujoco_as_on_the_elastic_plant(name):
+    sc = load_scenario(name, {"simulation.duration": DURATION})
+    elastic = simulate(sc, node_poses=False).summary()
+    result = simulate(sc, node_poses=False, plant="mujoco")
+    s = result.summary()
+    assert s["status"] == "ok", s["reason"]
+    assert s["qp_failures"] == 0
+    assert s["integrator"].startswith("mujoco plant")  # the plant named in the summary (and the result folder)
+    assert s["object_position_error_rms_m"] <= max(2.0 * elastic["object_position_error_rms_m"], FLOOR_M)
+    assert np.isfinite(s["follower_force_error_rms_N"])
+    assert len(result.t) == len(simulate(sc, node_poses=False).t)  # every tick of the run recorded
+
+
+def test_compare_plants_starts_equal_and_names_the_largest_difference():
+    """Both runs start from the same state: every difference is zero at t = 0, and the largest is reported at a
+    time inside the run."""
+    sc = load_scenario("planar_two_arm_lift", {"simulation.duration": 0.2})
+    comparison = compare_plants(sc)
+    assert comparison.elastic["status"] == comparison.mujoco["status"] == "ok"
+    names = [d.signal for d in comparison.differences]
+    assert names == ["object position", "object orientation", "contact force", "contact couple", "joint torques"]
+    for d in comparison.differences:
+        assert 0.0 <= d.time_s <= 0.2 and np.isfinite(d.max_abs) and d.rms <= d.max_abs
+    position = comparison.differences[0]
+    assert position.max_abs < 1e-4  # [m]: integration error only (docs/mujoco.md); a model error shows in mm
+    lines = comparison.lines()
+    assert any(line.startswith("object position [m]") for line in lines)
+
+
+def test_unknown_plant_is_refused():
+    sc = load_scenario("planar_two_arm_lift")
+    with pytest.raises(ValueError, match="plant = 'bullet' is invalid: expected one of elastic, mujoco"):
+        simulate(sc, plant="bullet")
