@@ -82,6 +82,21 @@ def test_nodes_and_state_map_are_exact(scene):
         assert np.max(np.abs(mp.read_state() - x)) < 1e-12
 
 
+def test_readings_are_the_state_by_name(scene):
+    """``readings()`` (the fields of a controller's measurement) hold the plant state's parts, arm by arm, and the
+    grasp wrenches the loop's sensors read (``contact_wrenches``) at that state."""
+    sc, plant, mp = scene
+    x = next(_random_states(plant, sc, 1, seed=3))
+    mp.set_state(x)
+    r = mp.readings()
+    n, nz = mp.state_map.n_q, mp.state_map.nz
+    assert np.array_equal(np.concatenate(r["q"]), x[:n]) and np.array_equal(np.concatenate(r["dq"]), x[nz:nz + n])
+    assert [len(q) for q in r["q"]] == [a.dof for a in plant.arms]
+    assert np.allclose(r["object_pose"], x[n:nz], rtol=0, atol=1e-12)
+    assert np.allclose(r["object_twist"], x[nz + n:], rtol=0, atol=1e-12)
+    assert np.allclose(r["wrench"], plant.contact_wrenches(x), rtol=0, atol=1e-9)
+
+
 def test_force_sensors_carry_the_object_in_a_held_pose(scene):
     """At the loaded start, with the arms held still by their inverse-dynamics torques: MuJoCo's object
     acceleration is the elastic plant's (the start is the plant's static state, up to the loaded-state solve's

@@ -96,6 +96,23 @@ class MujocoPlant:
         """The plant state of MuJoCo's ``qpos``, ``qvel`` (the object's angles on the branch of the last state)."""
         return self.state_map.state(self.data.qpos, self.data.qvel, reference=self.x)
 
+    def readings(self) -> dict:
+        """What a robot's sensors would give at MuJoCo's current state, by name (the fields of
+        ``coopctrl.Measurement``): ``q``, ``dq`` per arm (n_i,) [rad, rad/s]; ``wrench`` (m, p) per grasp, the
+        wrench its elements apply to the object (world frame, force at the contact point [N], couple [N m]: what
+        a wrist force-torque sensor reads, as :meth:`CooperativePlant.contact_wrenches`); ``object_pose`` ``Y_0``
+        (p,) [m, rad] and ``object_twist`` ``dY_0`` (p,) [m/s, rad/s] (Euler-angle rates)."""
+        x = self.read_state()
+        plant, sm = self.plant, self.state_map
+        n, nz = sm.n_q, sm.nz
+        q, dq = [], []
+        for i in range(plant.arm_count):
+            sl = plant.q_slice(i)
+            q.append(x[sl].copy())
+            dq.append(x[nz + sl.start:nz + sl.stop].copy())
+        return {"q": tuple(q), "dq": tuple(dq), "wrench": plant.contact_wrenches(x),
+                "object_pose": x[n:nz].copy(), "object_twist": x[nz + n:].copy()}
+
     # ---------------------------------------------------------------- grasp wrenches
     def node_forces(self, x) -> np.ndarray:
         """The generalized forces ``Q`` (m + 1, p) the grasp elements apply to the nodes at state ``x``
