@@ -68,3 +68,14 @@ def test_run_plant_mujoco_writes_its_result_folder(tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "ok" and summary["integrator"].startswith("mujoco plant")
     assert (out / "replay.html").is_file() and (out / "result.npz").is_file()
+
+
+def test_compare_plants_prints_both_runs_and_their_differences(capsys):
+    pytest.importorskip("mujoco")
+    import json
+
+    assert main(["compare-plants", "planar_two_arm_lift", "--set", "simulation.duration=0.1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["elastic"]["status"] == out["mujoco"]["status"] == "ok"
+    assert out["mujoco"]["integrator"].startswith("mujoco plant")
+    assert [d["signal"] for d in out["differences"]][0] == "object position"
