@@ -153,3 +153,20 @@ def test_contact_point_arms_have_no_body():
     sc = load_scenario("contact_points_only")
     with pytest.raises(ValueError, match="contact_point"):
         scene_mjcf(sc)
+
+
+def test_closed_form_maps_match_the_frames_module():
+    """The plant's closed forms against ``plants.frames`` at seeded angles: ``world_couples`` is
+    ``R(A) L(A)^-T Q``, ``euler_rates`` is ``L(A)^-1 omega``, ``euler_zyx`` inverts ``R(A)``."""
+    from coopctrl.mujoco.plant import world_couples
+    from coopctrl.mujoco.state_map import euler_rates, euler_zyx
+    from plants.frames import body_rate_map, rotation_zyx
+
+    rng = np.random.default_rng(4)
+    A = rng.uniform(-1.4, 1.4, (8, 3))
+    Q = rng.normal(size=(8, 3))
+    expected = np.array([rotation_zyx(a) @ np.linalg.solve(body_rate_map(a).T, q) for a, q in zip(A, Q)])
+    assert np.max(np.abs(world_couples(A, Q) - expected)) < 1e-12 * np.max(np.abs(expected))
+    for a, w in zip(A, Q):
+        assert np.max(np.abs(euler_rates(a, w) - np.linalg.solve(body_rate_map(a), w))) < 1e-12 * np.max(np.abs(w)) / np.cos(a[1])
+        assert np.max(np.abs(euler_zyx(rotation_zyx(a)) - a)) < 1e-12

@@ -23,6 +23,8 @@ step, the torques over the period.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from coopctrl.mujoco import mjcf
@@ -176,19 +178,22 @@ def world_couples(A, Q_A) -> np.ndarray:
         L^{-T} Q = (Q_2,\; s_\phi Q_0 / c_\theta + c_\phi Q_1 + s_\phi t_\theta Q_2,\;
                     c_\phi Q_0 / c_\theta - s_\phi Q_1 + c_\phi t_\theta Q_2)
     """
-    cps, sps = np.cos(A[:, 0]), np.sin(A[:, 0])
-    cth, sth = np.cos(A[:, 1]), np.sin(A[:, 1])
-    cph, sph = np.cos(A[:, 2]), np.sin(A[:, 2])
-    q0, q1, q2 = Q_A[:, 0], Q_A[:, 1], Q_A[:, 2]
-    b0 = q2
-    b1 = (sph * q0 + sth * sph * q2) / cth + cph * q1
-    b2 = (cph * q0 + sth * cph * q2) / cth - sph * q1
-    # R = Rz(psi) Ry(theta) Rx(phi) applied to b
-    y1 = cph * b1 - sph * b2           # Rx
-    z1 = sph * b1 + cph * b2
-    x2 = cth * b0 + sth * z1           # Ry
-    z2 = -sth * b0 + cth * z1
-    return np.stack([cps * x2 - sps * y1, sps * x2 + cps * y1, z2], axis=1)
+    out = np.empty((len(A), 3))
+    cos, sin = math.cos, math.sin
+    for k in range(len(A)):  # scalar arithmetic: a few nodes, where numpy's per-call cost would dominate
+        psi, th, ph = A[k, 0], A[k, 1], A[k, 2]
+        q0, q1, q2 = Q_A[k, 0], Q_A[k, 1], Q_A[k, 2]
+        cps, sps, cth, sth, cph, sph = cos(psi), sin(psi), cos(th), sin(th), cos(ph), sin(ph)
+        b0 = q2
+        b1 = (sph * q0 + sth * sph * q2) / cth + cph * q1
+        b2 = (cph * q0 + sth * cph * q2) / cth - sph * q1
+        y1 = cph * b1 - sph * b2  # R = Rz(psi) Ry(theta) Rx(phi) applied to b
+        z1 = sph * b1 + cph * b2
+        x2 = cth * b0 + sth * z1
+        out[k, 0] = cps * x2 - sps * y1
+        out[k, 1] = sps * x2 + cps * y1
+        out[k, 2] = -sth * b0 + cth * z1
+    return out
 
 
 def restore_mass_properties(model, props) -> None:
