@@ -68,6 +68,15 @@ def test_run_plant_mujoco_writes_its_result_folder(tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "ok" and summary["integrator"].startswith("mujoco plant")
     assert (out / "replay.html").is_file() and (out / "result.npz").is_file()
+    assert "mujoco plant" in (out / "replay.html").read_text()  # the replay's title line names the plant
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from coopctrl.results import SimulationResult
+    from coopctrl.results.plots import plot_tracking
+
+    fig = plot_tracking(SimulationResult.load(out))
+    assert "on the mujoco plant" in fig._suptitle.get_text()
 
 
 def test_compare_plants_prints_both_runs_and_their_differences(capsys):
