@@ -89,6 +89,8 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, n
 
     if check_plant(plant) == "mujoco" and loop is None:
         loop = mujoco_closed_loop(scenario)
+    elif loop is not None and (getattr(loop.integrator, "plant_name", "elastic") != plant):
+        raise TypeError(f"loop={loop!r} does not run the {plant} plant: pass None to build the loop of plant={plant!r}")
     if loop is None:
         loop = closed_loop(scenario)
     elif not isinstance(loop, ClosedLoop) or loop.plant.state_size != scenario.state_size:

@@ -151,7 +151,7 @@ def test_exported_model_loads_with_its_start_keyframe():
 
 def test_contact_point_arms_have_no_body():
     sc = load_scenario("contact_points_only")
-    with pytest.raises(ValueError, match="contact_point"):
+    with pytest.raises(ValueError, match=r"arms\[0\].model = 'contact_point' is invalid"):
         scene_mjcf(sc)
 
 

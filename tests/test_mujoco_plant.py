@@ -71,3 +71,10 @@ def test_the_plants_differ_by_mujocos_first_order_step_only(monkeypatch):
         monkeypatch.setattr(mjcf, "MAX_TIMESTEP", 1.0)
         largest.append(differences(elastic, simulate(sc, node_poses=False, plant="mujoco"))[0].max_abs)
     assert 3.0 < largest[0] / largest[1] < 5.0, largest  # measured 4.0 on the 1 s lift
+
+
+def test_world_charts_scene_is_refused():
+    sc = load_scenario("two_panda_flip")
+    assert sc.scene.rotations == "charts"
+    with pytest.raises(ValueError, match="scene.rotations = 'charts' is invalid: expected 'book' for the mujoco plant"):
+        simulate(sc, plant="mujoco")

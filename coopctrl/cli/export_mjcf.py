@@ -27,7 +27,6 @@ def xml_file(text: str) -> Path:
 
 def cmd_export_mjcf(args) -> int:
     """Build the scene's MJCF (with its start as the keyframe ``start``), compile it with MuJoCo, write it whole."""
-    from coopctrl.cli._core import UsageError
     from coopctrl.io.atomic import atomic_write
     from coopctrl.io.console import say
     from coopctrl.mujoco.requirement import import_mujoco
@@ -38,11 +37,9 @@ def cmd_export_mjcf(args) -> int:
     from coopctrl.scenario.build import build_plant, check_path, initial_state
 
     check_path(scenario)
-    try:
-        plant = build_plant(scenario)
-        xml = scene_mjcf(scenario, x_start=initial_state(scenario), plant=plant)
-    except ValueError as exc:  # an arm MuJoCo cannot hold (contact_point)
-        raise UsageError(one_line(exc)) from None
+    plant = build_plant(scenario)
+    scene_mjcf(scenario, plant=plant)  # an arm MuJoCo cannot hold (contact_point) is refused before the start's solve
+    xml = scene_mjcf(scenario, x_start=initial_state(scenario), plant=plant)
     mujoco.MjModel.from_xml_string(xml)  # the file written always loads
     with atomic_write(args.out) as handle:
         handle.write(xml)

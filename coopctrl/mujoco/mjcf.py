@@ -211,7 +211,7 @@ def scene_mjcf(scenario, x_start=None, plant=None) -> str:
 
     Args:
         scenario: A :class:`~coopctrl.scenario.Scenario` whose arms are spatial (URDF, named, DH) or planar arms
-            (``contact_point`` arms have no MuJoCo body: ``ValueError``).
+            (``contact_point`` arms have no MuJoCo body: :class:`~coopctrl.errors.ScenarioError` naming the arm).
         x_start: The plant state of the keyframe ``start`` (``(q, Y_0, dq, dY_0)``), or ``None`` for none.
         plant: ``build_plant(scenario)`` when the caller has it, else ``None`` to build it here.
     """
@@ -220,10 +220,12 @@ def scene_mjcf(scenario, x_start=None, plant=None) -> str:
     from plants.cooperative import ContactPoint
 
     plant = build_plant(scenario) if plant is None else plant
+    from coopctrl.errors import ScenarioError
+
     for i, arm in enumerate(plant.arms):
         if isinstance(arm, ContactPoint):
-            raise ValueError(f"arms[{i}].model = 'contact_point' has no MuJoCo body: the mujoco plant runs arms only "
-                             "(spatial robots, DH tables and planar arms)")
+            raise ScenarioError(f"arms[{i}].model", "contact_point", "a robot, a DH table or a planar arm for MuJoCo "
+                                "(a contact point has no body to simulate)", scenario.source)
     spatial = plant.space == "spatial"
     nodes = plant.elastic.nodes
     g = float(scenario.scene.gravity)

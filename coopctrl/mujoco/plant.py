@@ -56,9 +56,12 @@ class MujocoPlant:
 
         self._mujoco = mujoco
         self.plant = plant = build_plant(scenario) if plant is None else plant
-        if _charted(plant):
-            raise ValueError("plant 'mujoco' needs the elastic system in world Euler angles (no charts): "
-                             "set simulation.rotations to its default")
+        if scenario.scene.rotations != "book" or _charted(plant):
+            from coopctrl.errors import ScenarioError
+
+            raise ScenarioError("scene.rotations", scenario.scene.rotations, "'book' for the mujoco plant (its state map "
+                                "is in the book's world Euler angles; the loop's world charts would re-centre them)",
+                                scenario.source)
         self.xml = mjcf.scene_mjcf(scenario, plant=plant)
         self.model = model = mujoco.MjModel.from_xml_string(self.xml)
         restore_mass_properties(model, mjcf.mass_properties(scenario, plant))
