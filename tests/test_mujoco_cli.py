@@ -88,3 +88,12 @@ def test_compare_plants_prints_both_runs_and_their_differences(capsys):
     assert out["elastic"]["status"] == out["mujoco"]["status"] == "ok"
     assert out["mujoco"]["integrator"].startswith("mujoco plant")
     assert [d["signal"] for d in out["differences"]][0] == "object position"
+
+
+@pytest.mark.parametrize("argv, field", [(["run", "two_panda_flip", "--plant", "mujoco"], "scene.rotations"),
+                                         (["compare-plants", "contact_points_only"], "arms[0].model")])
+def test_scene_mujoco_cannot_run_exits_2_naming_the_field(argv, field, capsys):
+    pytest.importorskip("mujoco")
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert f"{field} = " in err and len(err.strip().splitlines()) == 1

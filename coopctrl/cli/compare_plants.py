@@ -16,8 +16,10 @@ def cmd_compare_plants(args) -> int:
     import_mujoco()  # exit 2 naming the extra, before any work
     scenario = _load(args)
     from coopctrl.mujoco.comparison import compare_plants
+    from coopctrl.mujoco.closed_loop import check_scene
     from coopctrl.scenario.build import check_path
 
+    check_scene(scenario)
     check_path(scenario)
     comparison = compare_plants(scenario, progress=not args.json and sys.stderr.isatty())
     if args.json:

@@ -53,6 +53,10 @@ def cmd_run(args) -> int:
 
         import_mujoco()
     scenario = _load(args)
+    if args.plant == "mujoco":
+        from coopctrl.mujoco.closed_loop import check_scene
+
+        check_scene(scenario)
     if args.plant == "mujoco" and (scenario.simulation.accuracy is not None or args.estimate_error):
         from coopctrl.cli._core import UsageError
 

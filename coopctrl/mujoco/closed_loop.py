@@ -16,6 +16,22 @@ def check_plant(plant) -> str:
     return plant
 
 
+def check_scene(scenario) -> None:
+    """Refuse, before any work, a scene the MuJoCo plant cannot run: a ``contact_point`` arm (no body to simulate)
+    or ``scene.rotations = "charts"`` (the state map is in the book's world angles):
+    :class:`~coopctrl.errors.ScenarioError` naming the field (exit 2 from the command line)."""
+    from coopctrl.errors import ScenarioError
+
+    for i, arm in enumerate(scenario.arms):
+        if arm.model == "contact_point":
+            raise ScenarioError(f"arms[{i}].model", "contact_point", "a robot, a DH table or a planar arm for MuJoCo "
+                                "(a contact point has no body to simulate)", scenario.source)
+    if scenario.scene.rotations != "book":
+        raise ScenarioError("scene.rotations", scenario.scene.rotations, "'book' for the mujoco plant (its state map "
+                            "is in the book's world Euler angles; the loop's world charts would re-centre them)",
+                            scenario.source)
+
+
 def mujoco_closed_loop(scenario):
     """``closed_loop(scenario)`` whose plant is advanced by MuJoCo: one external step per control period.
 
@@ -29,5 +45,6 @@ def mujoco_closed_loop(scenario):
     from coopctrl.wiring import closed_loop
 
     import_mujoco()  # the missing extra named before any work
+    check_scene(scenario)
     stepper = MujocoStepper(scenario, build_plant(scenario))
     return closed_loop(scenario, integrator=stepper, step=scenario.simulation.control_period)
