@@ -17,7 +17,6 @@ import argparse
 import platform
 import sys
 from datetime import datetime, timezone
-from pathlib import Path
 
 SCENES = ("two_panda_carry", "ur5e_panda_carry", "three_iiwa_tray", "spatial_two_puma_carry", "planar_two_arm_lift")
 FLOOR_M = 1e-3  # [m]
