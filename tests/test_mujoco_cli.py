@@ -90,7 +90,7 @@ def test_compare_plants_prints_both_runs_and_their_differences(capsys):
     assert [d["signal"] for d in out["differences"]][0] == "object position"
 
 
-@pytest.mark.parametrize("argv, field", [(["run", "two_panda_flip", "--plant", "mujoco"], "scene.rotations"),
+@pytest.mark.parametrize("argv, field", [(["run", "two_panda_flip", "--plant", "mujoco"], "trajectory.via"),
                                          (["compare-plants", "contact_points_only"], "arms[0].model")])
 def test_scene_mujoco_cannot_run_exits_2_naming_the_field(argv, field, capsys):
     pytest.importorskip("mujoco")

@@ -73,8 +73,30 @@ def test_the_plants_differ_by_mujocos_first_order_step_only(monkeypatch):
     assert 3.0 < largest[0] / largest[1] < 5.0, largest  # measured 4.0 on the 1 s lift
 
 
-def test_world_charts_scene_is_refused():
+def test_scene_leaving_the_world_chart_is_refused():
+    """two_panda_flip pitches its box past 90 deg in world charts: the loop would re-centre its chart, which the
+    MuJoCo plant cannot follow. The shipped carries stay level and run (above)."""
     sc = load_scenario("two_panda_flip")
     assert sc.scene.rotations == "charts"
-    with pytest.raises(ValueError, match="scene.rotations = 'charts' is invalid: expected 'book' for the mujoco plant"):
+    with pytest.raises(ValueError, match=r"trajectory.via = 'a pitch of .* is invalid: expected a path within 0.795 rad"):
         simulate(sc, plant="mujoco")
+
+
+def test_a_turned_state_stops_the_stepper():
+    """After its start, the stepper takes only the state it returned: another one (the loop's chart re-centred)
+    raises StateChanged, a PlantError the loop reports as the run's stop."""
+    from coopctrl.mujoco.stepper import MujocoStepper, StateChanged
+    from coopctrl.scenario.build import initial_state
+
+    sc = load_scenario("planar_two_arm_lift")
+    stepper = MujocoStepper(sc)
+    stepper.reset()
+    x0 = initial_state(sc)
+    tau = np.zeros(6)
+    x1 = stepper.step(None, 0.0, x0, tau, sc.simulation.control_period)
+    stepper.step(None, 0.001, x1, tau, sc.simulation.control_period)  # its own state: goes on
+    with pytest.raises(StateChanged, match="t = 0.002 s"):
+        stepper.step(None, 0.002, x1, tau, sc.simulation.control_period)
+    stepper.reset()
+    with pytest.raises(StateChanged):
+        stepper.step(None, 0.003, x1, tau, sc.simulation.control_period)

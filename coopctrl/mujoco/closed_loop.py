@@ -17,19 +17,41 @@ def check_plant(plant) -> str:
 
 
 def check_scene(scenario) -> None:
-    """Refuse, before any work, a scene the MuJoCo plant cannot run: a ``contact_point`` arm (no body to simulate)
-    or ``scene.rotations = "charts"`` (the state map is in the book's world angles):
-    :class:`~coopctrl.errors.ScenarioError` naming the field (exit 2 from the command line)."""
+    """Refuse, before any work, a scene the MuJoCo plant cannot run (:class:`~coopctrl.errors.ScenarioError`
+    naming the field, exit 2 from the command line): a ``contact_point`` arm (no body to simulate), or a spatial
+    scene in world charts (``scene.rotations = "charts"``) whose nominal path tilts the object to
+    ``|cos theta| < RECENTRE_COS`` (:mod:`coopctrl.loop.charts`): the loop would re-centre its chart and turn the
+    state, which the state map (in the book's world angles) cannot follow."""
+    import math
+
+    import numpy as np
+
     from coopctrl.errors import ScenarioError
 
     for i, arm in enumerate(scenario.arms):
         if arm.model == "contact_point":
             raise ScenarioError(f"arms[{i}].model", "contact_point", "a robot, a DH table or a planar arm for MuJoCo "
                                 "(a contact point has no body to simulate)", scenario.source)
-    if scenario.scene.rotations != "book":
-        raise ScenarioError("scene.rotations", scenario.scene.rotations, "'book' for the mujoco plant (its state map "
-                            "is in the book's world Euler angles; the loop's world charts would re-centre them)",
-                            scenario.source)
+    if scenario.space == "spatial" and scenario.scene.rotations == "charts":
+        from coopctrl.loop.charts import RECENTRE_COS
+        from coopctrl.scenario.build import trajectory
+
+        sim = scenario.simulation
+        times = np.arange(int(round(sim.duration / sim.control_period)) + 1) * sim.control_period
+        path = trajectory(scenario)
+        pitch = np.zeros(len(times))
+        for k, t in enumerate(times):
+            try:
+                pitch[k] = path.evaluate(float(t))[0][4]
+            except ValueError:  # a geodesic path's Euler view within the band of +-90 deg: far out of the chart
+                pitch[k] = math.pi / 2
+                break
+        k = int(np.argmin(np.abs(np.cos(pitch))))
+        if abs(math.cos(pitch[k])) < RECENTRE_COS:
+            raise ScenarioError("trajectory.via", f"a pitch of {pitch[k]:.3g} rad at t = {times[k]:.3g} s",
+                                f"a path within {math.acos(RECENTRE_COS):.3g} rad of level pitch for the mujoco plant "
+                                "(further, the loop re-centres its world chart, which the MuJoCo plant cannot "
+                                "follow); run this scene on the elastic plant", scenario.source)
 
 
 def mujoco_closed_loop(scenario):

@@ -7,8 +7,8 @@ over a control period. Each MuJoCo step, before :func:`mujoco.mj_step`:
 2. the nodes ``Y = (Y_0, Phi_1(q_1), ...)`` and their rates ``dY`` come from the plant's own kinematics
    kernel (:meth:`CooperativePlant.arm_terms`), the same as the loop's;
 3. each grasp element's generalized force ``F = dPi/dY + dD/d(dY)`` (120, 121, 111) comes from the elastic
-   system's own element kernels (``elastic_edges``, ``damping_edges``; ``linear_edges`` for an immobile
-   unloaded state); node ``k`` receives ``Q_k = -F_k``;
+   system's own element kernels (:meth:`ElasticSystem.elastic_force` and ``damping_force``: ``elastic_edges``,
+   ``damping_edges``, or the linear elements of an immobile unloaded state); node ``k`` receives ``Q_k = -F_k``;
 4. ``Q_k`` becomes a world wrench at node ``k``'s mass centre: spatial ``f = Q[0:3]``,
    ``n = R(A_k) L(A_k)^-T Q[3:6]`` (``omega_body = L dA``, so ``Q_A = L^T n_body``); planar
    ``f = (Q_x, 0, Q_z)``, ``n = (0, -Q_theta, 0)`` (theta turns about -y); it is written into
@@ -56,12 +56,8 @@ class MujocoPlant:
 
         self._mujoco = mujoco
         self.plant = plant = build_plant(scenario) if plant is None else plant
-        if scenario.scene.rotations != "book" or _charted(plant):
-            from coopctrl.errors import ScenarioError
-
-            raise ScenarioError("scene.rotations", scenario.scene.rotations, "'book' for the mujoco plant (its state map "
-                                "is in the book's world Euler angles; the loop's world charts would re-centre them)",
-                                scenario.source)
+        if _charted(plant):  # the nodes in charts of their own (not the loop's world chart, which stepper guards)
+            raise ValueError("the mujoco plant needs the plant's nodes in the book's world angles, not in charts")
         self.xml = mjcf.scene_mjcf(scenario, plant=plant)
         self.model = model = mujoco.MjModel.from_xml_string(self.xml)
         restore_mass_properties(model, mjcf.mass_properties(scenario, plant))
@@ -82,9 +78,6 @@ class MujocoPlant:
             joints = mjcf.chain_joints(arm) if sm.spatial else ()
             coulomb.extend([j.coulomb for j in joints] if joints else [0.0] * arm.dof)
         self.coulomb = np.array(coulomb, dtype=float)
-        el = plant.elastic
-        self._kern, self._edges, self._params = el._kern, el.edge_index, el.edge_params
-        self._immobile, self._Y_ref = bool(el.immobile), np.ascontiguousarray(el.Y_ref)
         self.x = None  # the plant state of MuJoCo's state (None until set)
 
     # ---------------------------------------------------------------- state
@@ -121,18 +114,14 @@ class MujocoPlant:
     # ---------------------------------------------------------------- grasp wrenches
     def node_forces(self, x) -> np.ndarray:
         """The generalized forces ``Q`` (m + 1, p) the grasp elements apply to the nodes at state ``x``
-        [N, N m/rad]: ``-(dPi/dY + dD/d(dY))`` by the elastic system's element kernels."""
+        [N, N m/rad]: ``-(dPi/dY + dD/d(dY))`` (120, 121, 111) by the elastic system's own element kernels
+        (:meth:`ElasticSystem.elastic_force`, :meth:`ElasticSystem.damping_force`; the linear elements of an
+        immobile unloaded state included)."""
         Y, dY = self.plant.arm_terms(x)[:2]
-        F = np.zeros_like(Y)
-        if self._immobile:
-            self._kern.linear_edges(Y, dY, self._Y_ref, self._edges, self._params, F)
-        else:
-            _, status = self._kern.elastic_edges(Y, self._edges, self._params, F)
-            if status:
-                self.plant.elastic._raise(status)
-            self._kern.damping_edges(Y, dY, self._edges, self._params, F)
+        el = self.plant.elastic
+        F = el.elastic_force(Y) + el.damping_force(Y, dY)
         self._Y = Y
-        return -F
+        return -F.reshape(Y.shape)
 
     def node_wrenches(self, x) -> np.ndarray:
         """The world wrenches ``(f, n)`` (m + 1, 6) [N, N m] at the nodes' mass centres of :meth:`node_forces`."""

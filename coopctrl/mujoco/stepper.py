@@ -13,13 +13,30 @@ from __future__ import annotations
 import numpy as np
 
 from coopctrl.mujoco.plant import MujocoPlant
+from plants.errors import PlantError
+
+
+class StateChanged(PlantError, RuntimeError):
+    """The loop changed the plant state between two MuJoCo steps (its world chart re-centred on the object):
+    the MuJoCo plant cannot follow a turned state. The run stops with this reason.
+
+    Attributes:
+        time_s: The time of the step [s].
+    """
+
+    def __init__(self, time_s: float):
+        self.time_s = float(time_s)
+        super().__init__(f"the loop turned the state into a new world chart at t = {time_s:.6g} s (the object's pitch "
+                         "left the chart), which the MuJoCo plant cannot follow; run this scene on the elastic plant")
 
 
 class MujocoStepper:
     """``step(f, t, x, tau, h)`` advances a :class:`MujocoPlant` by ``h`` [s] with ``tau`` [N m] held.
 
-    MuJoCo's state is set from ``x`` when ``x`` is not the state the last step returned (a run's start, or a
-    state the caller changed); otherwise MuJoCo continues from its own state (warm starts included).
+    MuJoCo's state is set from ``x`` at a run's start (after :meth:`reset`, at ``t = 0``); afterwards every ``x``
+    must be the state the last step returned, and MuJoCo continues from its own state. A loop that turned the
+    state (its world chart re-centred: :meth:`reset` again, or another ``x``) stops the run with
+    :class:`StateChanged`.
 
     Args:
         scenario: The :class:`~coopctrl.scenario.Scenario`.
@@ -46,7 +63,9 @@ class MujocoStepper:
     def step(self, f, t: float, x, tau, h: float) -> np.ndarray:
         """The plant state ``h`` [s] after ``x`` with the joint torques ``tau`` held (``f``, ``t`` unused)."""
         mp = self.mujoco_plant
-        if self._last is None or not np.array_equal(self._last, x):
+        if self._last is None and t == 0.0:
             mp.set_state(x)
+        elif self._last is None or not np.array_equal(self._last, x):
+            raise StateChanged(t)
         self._last = mp.advance(tau, h).copy()
         return self._last.copy()
