@@ -3,7 +3,9 @@
 Public API (notebooks and outside checks use these names):
 
 - :func:`load_scenario` - a validated scenario from a TOML file (plus ``--set``-style overrides);
-- :func:`simulate` - run a scenario's closed loop and get a :class:`SimulationResult`.
+- :func:`simulate` - run a scenario's closed loop and get a :class:`SimulationResult`;
+- :class:`Controller` - the scenario's control layer as one object, stepped from your own loop with a
+  :class:`Measurement` (``docs/controller.md``).
 
 Each public function checks its arguments once per call, before any long work, and raises
 ``TypeError`` (wrong kind) or ``ValueError`` (wrong value) with one line naming the argument, its value
@@ -15,7 +17,7 @@ from __future__ import annotations
 
 import plants  # noqa: F401  first: it keys numba's cache on every kernel source (plants.numba_cache)
 
-__all__ = ["load_scenario", "simulate", "SimulationResult"]
+__all__ = ["load_scenario", "simulate", "SimulationResult", "Controller", "Measurement"]
 
 
 def load_scenario(path=None, overrides=None):
@@ -40,4 +42,8 @@ def __getattr__(name):
         from coopctrl.results import SimulationResult
 
         return SimulationResult
+    if name in ("Controller", "Measurement"):
+        import coopctrl.controller as controller
+
+        return getattr(controller, name)
     raise AttributeError(name)

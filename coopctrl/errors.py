@@ -108,3 +108,20 @@ def interruption_in(exc: BaseException | None) -> KeyboardInterrupt | None:
         seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
     return None
+
+
+class MeasurementError(CoopctrlError, ValueError):
+    """A measurement given to :meth:`coopctrl.Controller.step` is missing a field, has a field of the wrong
+    shape, or holds a value that is not finite.
+
+    Attributes:
+        field: The field's name, with its arm or grasp and component (``"q[1][3]"``, ``"wrench[0]"``).
+        value: The value received (a shape, or the bad number).
+        allowed: What would have been accepted, with its unit.
+    """
+
+    def __init__(self, field: str, value, allowed: str):
+        self.field = field
+        self.value = value
+        self.allowed = allowed
+        super().__init__(f"measurement.{field} = {value} is invalid: expected {allowed}")

@@ -60,8 +60,13 @@ def non_finite_signal(rec: dict, controlled: bool = True) -> str | None:
 
 
 def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, node_poses: bool = True,
-             plant: str = "elastic") -> SimulationResult:
+             state=None, plant: str = "elastic") -> SimulationResult:
     """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`.
+
+    With ``state``, the final state of an earlier run of the same scenario (``result.final_state``, or a
+    loop record's ``final_state``), the run continues it for ``simulation.duration`` more (ticks at
+    ``t_end + T .. t_end + duration``; :meth:`ClosedLoop.run`): the continuation is a result like any other,
+    which can be plotted, saved, reopened, and continued again from its own ``final_state``.
 
     A run whose recorded signals are not finite, or too large for finite metrics (a sensor noise of
     1e300 N), is never ``ok``: its status is ``diverged`` with the signal named.
@@ -74,20 +79,32 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, n
         node_poses: Compute the kept samples' node poses ``Y_nodes`` (one compiled pass over the record);
             ``False`` leaves ``Y_nodes = None`` (``coopctrl run`` without ``--out``: the summary does not read
             them).
+        state: ``None`` (start from ``build.initial_state(scenario)``) or the
+            :class:`~coopctrl.loop.state.LoopState` of an earlier run's end to continue from.
         plant: ``"elastic"`` (the book's plant, in the compiled loop) or ``"mujoco"`` (MuJoCo's arms and object
             with the scene's grasp elements, :mod:`coopctrl.mujoco`; needs ``pip install 'coopctrl[mujoco]'``).
 
     Raises:
         TypeError: ``scenario`` is not a :class:`~coopctrl.scenario.Scenario` (a path, a dict: load it
-            first), ``progress`` is not a bool, or ``loop`` is not a :class:`ClosedLoop` of this scenario's
-            plant size.
+            first), ``progress`` is not a bool, ``loop`` is not a :class:`ClosedLoop` of this scenario's
+            plant size, or ``state`` is not a loop state.
+        ValueError: ``state`` is the final state of a run that stopped early, or of another loop
+            (:meth:`ClosedLoop.run` names it).
     """
+    from coopctrl.loop.state import LoopState
+
     wiring.check_scenario(scenario)
     progress = arguments.flag("progress", progress)
     node_poses = arguments.flag("node_poses", node_poses)
+    if state is not None and not isinstance(state, LoopState):
+        raise arguments.invalid("state", state, "None or the final_state of an earlier run of this scenario "
+                                "(result.final_state)", TypeError)
     from coopctrl.mujoco.closed_loop import check_plant, mujoco_closed_loop
 
-    if check_plant(plant) == "mujoco" and loop is None:
+    if check_plant(plant) == "mujoco" and state is not None:
+        raise ValueError("state = a final_state is invalid with plant='mujoco': continuing a run is for the elastic "
+                         "plant (MuJoCo's own state does not travel in a loop state); run the whole duration at once")
+    if plant == "mujoco" and loop is None:
         loop = mujoco_closed_loop(scenario)
     elif loop is not None and (getattr(loop.integrator, "plant_name", "elastic") != plant):
         raise TypeError(f"loop={loop!r} does not run the {plant} plant: pass None to build the loop of plant={plant!r}")
@@ -97,7 +114,7 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, n
         raise TypeError(f"loop={loop!r} is not closed_loop(scenario) of this scenario: pass the loop built "
                         "from it, or None to build it here")
     # the metrics of every tick (run_result), then the kept samples with their node poses (finish_record)
-    return finish_record(run_result(scenario, loop, progress=progress), loop.plant if node_poses else None,
+    return finish_record(run_result(scenario, loop, x0=state, progress=progress), loop.plant if node_poses else None,
                          scenario.simulation.record_every)
 
 
@@ -106,7 +123,8 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
     every tick: what :func:`simulate` returns before it thins the record and adds the node poses (the
     summary is the same). ``x0``: ``build.initial_state(scenario)``, or ``None`` to compute it here. A sweep
     reuses one built loop and its start for the runs that differ only in the sensor noise seed
-    (:mod:`coopctrl.sweep.reuse`)."""
+    (:mod:`coopctrl.sweep.reuse`). ``x0`` may also be a :class:`~coopctrl.loop.state.LoopState`, the end of
+    an earlier run: the run continues it (:func:`simulate` with ``state``)."""
     from coopctrl.analysis.diagnosis import diagnose_record
 
     plant = loop.plant
@@ -119,6 +137,14 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
         rec.update(status="qp_failed", reason=f"at t = 0 s (loaded start): {exc}",
                    events=[(0.0, "qp_failed", str(exc))])
     else:
+        if progress:  # on a terminal: a long error-controlled run says so before it starts
+            import sys
+
+            from coopctrl.loop.step_budget import long_run_notice
+
+            notice = long_run_notice(loop, x0.x if hasattr(x0, "x") else x0, sim.duration)
+            if notice:
+                print(f"coopctrl: {notice}", file=sys.stderr)
         rec = loop.run(x0, sim.duration, progress=progress)
         diagnose_record(scenario, loop, rec)  # a divergence's causes, with the scenario (after the run)
     if rec["status"] == "ok":
@@ -126,6 +152,13 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
         if cause is not None:
             rec.update(status="diverged", reason=f"non-finite results: {cause}")
             rec["events"].append((float(rec["t"][-1]) if len(rec["t"]) else 0.0, "diverged", rec["reason"]))
+    if rec["status"] == "ok" and scenario.controllers.enabled:  # bounded, but not controlled (analysis.instability)
+        from coopctrl.analysis.instability import saturation_failure
+
+        why = saturation_failure(scenario, loop, rec)
+        if why:
+            rec.update(status="diverged", reason=why)
+            rec["events"].append((float(rec["t"][-1]), "diverged", why))
     p, nz = plant.p, plant.nz
     x = rec["x"]
     Y0 = x[:, nz - p:nz]
@@ -149,7 +182,7 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
         duration_s=sim.duration, integration_statistics=stats,
         wall_time_s=rec["wall_time_s"], startup_s=rec["startup_s"], leader=scenario.leader, followers=list(scenario.followers),
         qp_active_constraints=rec["qp_binding_counts"], qp_time_s=rec["qp_time_s"],
-        torque_saturated_ticks=rec["saturated_ticks"],
+        torque_saturated_ticks=rec["saturated_ticks"], final_state=rec.get("final_state"),
         energy=None if scenario.controllers.enabled else rec["energy"],
         kinetic_energy=None if scenario.controllers.enabled else rec["kinetic_energy"],
         energy_conserving=(not scenario.controllers.enabled and all(

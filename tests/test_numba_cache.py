@@ -16,18 +16,18 @@ from plants import numba_cache
 
 REPO = Path(__file__).resolve().parent.parent
 
-#: The offset element's energy: its kernel (plants/elastic/_spatial_kernels.py) calls the rotation of
-#: plants/frames.py, a callee in another file.
+#: The offset element's energy from its numba kernel (plants/elastic/_spatial_kernels.py; ElasticSystem itself
+#: calls the compiled core), which calls the rotation of plants/frames.py, a callee in another file.
 _SCRIPT = """
 import numpy as np
-from plants.elastic import ElasticSystem, Interconnection, Node
+from plants.elastic import ElasticSystem, Interconnection, Node, _spatial_kernels
 Y_ref = np.array([[0, 0, 0, 0, 0, 0], [0.3, 0, 0, 0, 0, 0.0]])
 el = ElasticSystem("spatial", [Node(1.0, (1, 1, 1)), Node(1.0, (1, 1, 1))],
                    [Interconnection((0, 1), 1000.0, torsion=10.0, element="offset")], Y_ref, gravity=0.0)
 Y = Y_ref.copy()
 Y[0, 3:] = (0.1, 0.2, 0.3)
 Y[1, :3] += 0.01
-print(repr(el.elastic_potential(Y)))
+print(repr(_spatial_kernels.elastic_edges(Y, el.edge_index, el.edge_params, np.zeros_like(Y))[0]))
 """
 
 

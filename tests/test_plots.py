@@ -146,3 +146,48 @@ def test_qp_plot_has_data_for_the_default_solver():
         assert y.shape == (n,) and np.isfinite(y).all(), label
     assert "solve time [us]" not in by_label  # not timed: no empty panel
     assert "solve time" in fig.get_supxlabel()
+
+
+def _tick_labels(fig: Figure) -> list[str]:
+    fig.canvas.draw()
+    return [t.get_text() for ax in fig.get_axes() for t in ax.get_yticklabels() if t.get_text()]
+
+
+def test_small_values_read_in_scientific_notation_and_errors_in_a_unit_that_fits():
+    """An angle that moves by 2e-8 rad is labelled ``2e-08``, not ``0.00000002``, and its error axis is in
+    nrad; a millimetre error stays in mm."""
+    from coopctrl.results.plots import error_scale
+
+    r = synthetic("spatial", 2)
+    r.Y0_nominal[:, 5] = 0.0
+    r.Y0[:, 5] = 3e-8 * np.sin(np.linspace(0.0, 6.0, r.t.size))
+    fig = plot_tracking(r)
+    labels = _tick_labels(fig)
+    assert not [t for t in labels if t.startswith(("0.0000", "-0.0000"))], labels
+    assert any("e-08" in t for t in labels)
+    assert "e_phi [nrad]" in [ax.get_ylabel() for ax in fig.get_axes()]
+    assert error_scale(np.array([2e-3, -1e-4]), "m") == (1e3, "mm")
+    assert error_scale(np.array([5e-6, np.nan]), "m") == (1e6, "\u00b5m")
+    assert error_scale(np.zeros(4), "rad") == (1e3, "mrad")
+    assert _offset_texts(fig) == []
+
+
+def test_qp_plot_says_what_did_not_vary_instead_of_drawing_it():
+    """The compiled solver on a carry without inequality rows: 0 iterations and 0 active rows at every solve,
+    no solve time. No flat line and no one-bar histogram: one text that says so."""
+    r = synthetic("spatial", 2)
+    r.qp_status = ["solved"] * r.t.size
+    r.qp_iterations = np.zeros(r.t.size, dtype=np.int64)
+    r.qp_active_rows = np.zeros(r.t.size, dtype=np.int64)
+    r.qp_solve_time_s = np.full(r.t.size, np.nan)
+    fig = plot_qp_solve_times(r)
+    assert not [ax for ax in fig.get_axes() if ax.lines or ax.patches]
+    text = " ".join(t.get_text() for ax in fig.get_axes() for t in ax.texts)
+    assert "iterations: 0 at every solve" in text and "active rows: 0 at every solve" in text
+    assert "not timed per solve" in text
+    # one quantity varies: it gets its panels (integer histogram bins), the constant one a note
+    r.qp_iterations[::7] = 2
+    fig = plot_qp_solve_times(r)
+    labels = {ax.get_ylabel() for ax in fig.get_axes()}
+    assert "QP iterations [-]" in labels and "active inequality rows [-]" not in labels
+    assert "active rows: 0 at every solve" in fig.get_supxlabel()

@@ -28,8 +28,24 @@ import pytest
 TESTS = Path(__file__).resolve().parent
 PACKAGES = ("coopctrl", "plants")
 
-#: Files being rewritten by another change of issue 18; each is removed from this list when its rewrite lands.
-ALLOWED: dict[str, str] = {}
+#: Why the compiled core's tests may read private names: each compares a kernel of the C++ core (the private
+#: modules plants._core and coopctrl._core, behind the public classes) with the numba kernel it replaces, bit for
+#: bit, while the numba loop still runs it; the entries go when numba leaves (docs/core.md).
+REASON_CORE = "compares the compiled core with the numba kernel it replaces, bit for bit, until numba leaves"
+
+ALLOWED: dict[str, str] = {
+    "test_core_arms.py": REASON_CORE,
+    "test_core_control_laws.py": REASON_CORE,
+    "test_core_cooperative.py": REASON_CORE,
+    "test_core_elastic.py": REASON_CORE,
+    "test_core_frames.py": REASON_CORE,
+    "test_core_goldfarb_idnani.py": REASON_CORE,
+    "test_core_integrators.py": REASON_CORE,
+    "test_core_planar_arm.py": REASON_CORE,
+    "test_core_qp_assembly.py": REASON_CORE,
+    "test_core_rigid_motion.py": REASON_CORE,
+    "test_core_tick_checks.py": REASON_CORE,
+}
 
 #: Calls whose second argument names an attribute.
 _NAMING_CALLS = {"getattr", "setattr", "hasattr", "delattr"}

@@ -405,7 +405,7 @@ def test_run_timeout_makes_a_timeout_row(capsys, monkeypatch):
     monkeypatch.setattr(cli.sweep, "worker_function", lambda: _stuck_run)
     code, out, err = run_cli(["sweep", LIFT, "--grid", "simulation.seed=0,1,2", "--jobs", "1", "--run-timeout", "0.5",
                               "--json"], capsys)
-    assert code == 0, err
+    assert code == 1, err  # a run failed (timeout): exit 1, every row on stdout
     rows = json.loads(out)["rows"]
     assert [r["status"] for r in rows] == ["ok", "timeout", "ok"]
     assert "--run-timeout" in rows[1]["reason"]
@@ -455,7 +455,7 @@ def test_run_timeout_stops_a_real_simulation(capsys):
     the 600 s in about 2.5 s, too close to the limit for the outcome not to depend on the machine.)"""
     code, out, err = run_cli(["sweep", LIFT, "--grid", "simulation.duration=600", "--set", "simulation.control_period=0.01",
                               "--set", "simulation.substeps=200", "--jobs", "1", "--run-timeout", "2", "--json"], capsys)
-    assert code == 0, err
+    assert code == 1, err  # the run failed (timeout)
     assert [r["status"] for r in json.loads(out)["rows"]] == ["timeout"]
 
 

@@ -3,9 +3,7 @@ from a checkout, and shipped in a wheel as the package data of coopctrl.scenario
 
 from __future__ import annotations
 
-import os
-import shutil
-import warnings
+import fnmatch
 import tomllib
 from pathlib import Path
 
@@ -53,47 +51,19 @@ def test_list_prints_every_shipped_scene(capsys):
     assert listed == [Path(n).stem for n in SCENES]
 
 
-def test_pyproject_lists_every_package_of_the_tree():
-    """The packages are listed (coopctrl.scenarios is a mapped folder, which discovery cannot add): every
-    package directory of the tree must be in the list, or a wheel would silently lack it."""
-    from setuptools import find_packages
-
-    config = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]
-    data_folders = {"coopctrl.replay.vendor", "plants.arms.data"}  # no __init__.py: listed, as setuptools asks
-    expected = set(find_packages(str(REPO), include=["plants*", "coopctrl*"])) | {"coopctrl.scenarios"} | data_folders
-    assert set(config["packages"]) == expected
-    assert config["package-dir"] == {"coopctrl.scenarios": "scenarios"}
-
-
-def test_build_puts_every_scene_into_the_package(tmp_path, monkeypatch):
-    """setuptools' build_py (the step of `pip wheel` / `pip install .` that lays out the package files)
-    on a copy of the project: every scenarios/*.toml lands in coopctrl/scenarios/ of the build."""
-    pytest.importorskip("setuptools.config.pyprojecttoml")
-    from setuptools.config.pyprojecttoml import apply_configuration
-    from setuptools.dist import Distribution
-
-    src = tmp_path / "src"
-    src.mkdir()
-    for name in ("pyproject.toml", "README.md"):
-        shutil.copy(REPO / name, src / name)
-    for name in ("coopctrl", "plants", "scenarios"):
-        shutil.copytree(REPO / name, src / name, ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
-    monkeypatch.chdir(src)  # setuptools reads the project relative to the working directory
-    dist = apply_configuration(Distribution({"script_name": "setup.py"}), "pyproject.toml")
-    build = dist.get_command_obj("build_py")
-    build.build_lib = os.fspath(tmp_path / "lib")
-    build.ensure_finalized()
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        build.run()
-    lib = tmp_path / "lib"
-    shipped = sorted(p.name for p in (lib / "coopctrl" / "scenarios").glob("*.toml"))
-    assert shipped == SCENES
-    assert (lib / "coopctrl" / "scenarios" / "__init__.py").is_file()
-    # the data folders ship too (the replay's three.js, the named robots' URDF files), declared as setuptools
-    # asks: a data folder left out of `packages` is deprecated and would be dropped by a later setuptools
-    assert (lib / "coopctrl" / "replay" / "vendor" / "three.min.js").is_file()
-    assert sorted(p.name for p in (lib / "plants" / "arms" / "data").glob("*.urdf")) == ["iiwa14.urdf", "panda.urdf",
-                                                                                         "ur5e.urdf"]
-    deprecated = [str(w.message).split("\n")[0] for w in caught if "as data is deprecated" in str(w.message)]
-    assert not deprecated, deprecated
+def test_pyproject_ships_every_package_of_the_tree():
+    """scikit-build-core ships every file under the folders pyproject.toml maps to packages: coopctrl, plants and
+    the scenes of scenarios/ as coopctrl.scenarios (a mapped folder, which no discovery finds). The wheel leaves
+    out only the C++ sources of the compiled core (built into its modules), never a scene, a robot or the replay's
+    page."""
+    config = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["scikit-build"]
+    assert config["wheel"]["packages"] == {"coopctrl": "coopctrl", "coopctrl/scenarios": "scenarios",
+                                           "plants": "plants"}
+    excluded = config["wheel"]["exclude"]
+    shipped = [*REPO.glob("scenarios/*.toml"), *REPO.glob("plants/arms/data/*.urdf"),
+               REPO / "coopctrl" / "replay" / "page.html", REPO / "coopctrl" / "replay" / "vendor" / "three.min.js"]
+    assert sorted(p.name for p in REPO.glob("scenarios/*.toml")) == SCENES
+    for path in shipped:
+        rel = path.relative_to(REPO).as_posix()
+        assert path.is_file(), rel
+        assert not any(fnmatch.fnmatch(rel, pattern.replace("**", "*")) for pattern in excluded), rel

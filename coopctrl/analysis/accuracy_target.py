@@ -66,6 +66,7 @@ meets the target or costs more than the best found so far (a tighter setting onl
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, replace
 from typing import Any, Callable, Sequence
 
@@ -458,6 +459,9 @@ def choose_setting(scenario, progress: Callable[[str], None] | None = None):
     target = scenario.simulation.accuracy
     if target is None:
         raise ValueError("simulation.accuracy is not set: there is no target to choose a setting for")
+    if progress is None and sys.stderr.isatty():  # a search of many runs: its progress on a terminal
+        def progress(label: str) -> None:
+            print(f"coopctrl: simulation.accuracy: {label}", file=sys.stderr, flush=True)
     search = recommend(scenario, target, progress=progress)
     if search.recommendation is None:
         raise TargetUnreachable(search)

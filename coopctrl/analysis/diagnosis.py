@@ -7,6 +7,9 @@ scenario, and writes that reason into the record. It lives here, above the loop,
 the closed loop of the scenario (:mod:`~coopctrl.analysis.closed_loop_stability`), which builds loops;
 nothing is attached to the loop for it. The causes, in the order they are reported:
 
+- **unstable gain**: a gain the sampled loop model finds unstable at the control period
+  (:func:`coopctrl.analysis.instability.gain_cause`), named with its stable limit; the torque
+  saturation such a loop drives is then its consequence and not named;
 - **static instability**: the object's translational stiffness with the contacts held has a negative
   eigenvalue at the start (:func:`coopctrl.loop.diagnosis.static_instability`; a squeezed
   central-spring grasp buckles);
@@ -131,6 +134,13 @@ def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back
     why = static_instability(loop, x0)
     if why:
         causes.append(why)
+    gain = ""
+    if loop.enabled:
+        from coopctrl.analysis.instability import gain_cause
+
+        gain = gain_cause(scenario)
+        if gain:  # an unstable gain first: what the loop does (saturation, a blow-up) follows from it
+            causes.append(gain)
     if loop.enabled:
         reach = unreachable_cause(loop, t_fail)
         if reach:
@@ -152,7 +162,7 @@ def diagnose_failure(loop, rec: dict, k_done: int, t_fail: float, x_back, t_back
     if loop.enabled:
         sat = saturation_cause(loop, rec, k_done)
         # an unstable step saturates the torques as it blows up: then saturation is named only if it came first
-        if sat and not (step_is_cause and not saturation_precedes_blow_up(rec, t_fail, t_back)):
+        if sat and not gain and not (step_is_cause and not saturation_precedes_blow_up(rec, t_fail, t_back)):
             causes.append(sat)
         held = held_split_cause(rec.get("events", ()))
         if held:

@@ -200,6 +200,9 @@ def preflight(scenario, loop=None) -> PreflightReport:
     plant = loop.plant
     if not scenario.controllers.enabled:  # a passive scene has no task to check
         return PreflightReport(scenario.name, 0)
+    from coopctrl.analysis.gain_stability import check_gains
+
+    check_gains(scenario)  # gains the sampled linear model shows unstable: bad input, before the task
     m, space = plant.arm_count, loop.space
     via_times = [v.time for v in scenario.trajectory.via]
     peaks = loop.trajectory.peak_times() if hasattr(loop.trajectory, "peak_times") else ()

@@ -113,6 +113,7 @@ class ReferenceIntegrator(Integrator):
 
     def reset(self) -> None:
         self._last_step = None
+        self.steps_taken = 0  # accepted steps since the reset (the loop's step budget counts them)
 
     def predicted_max_step(self, omega_max: float) -> float:
         check_omega_max(omega_max)
@@ -130,6 +131,7 @@ class ReferenceIntegrator(Integrator):
             raise DivergenceError(float(sol.t[-1]) if sol.t.size else t,
                                   f"reference solver {c.method} ({sol.message.rstrip('.')}) state max-norm",
                                   float(np.max(np.abs(x_next))) if x_next.size else math.nan)
+        self.steps_taken += max(1, sol.t.size - 1)
         if sol.t.size >= 2:
             self._last_step = float(np.max(np.diff(sol.t)))
         return x_next

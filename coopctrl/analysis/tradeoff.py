@@ -256,6 +256,11 @@ class _CountingIntegrator(Integrator):
     def predicted_max_step(self, omega_max: float, *args, **kwargs) -> float:
         return self.inner.predicted_max_step(omega_max, *args, **kwargs)
 
+    @property
+    def steps_taken(self):
+        """The inner integrator's step count since its reset (the loop's step budget), or ``None``."""
+        return getattr(self.inner, "steps_taken", None)
+
     def reset(self) -> None:
         self.inner.reset()
 

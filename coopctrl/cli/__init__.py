@@ -2,7 +2,9 @@
 
 Exit codes: 0 success; 1 the run ended with status ``"diverged"`` or ``"qp_failed"`` (one line on
 stderr says why), pre-flight (``check``, and ``run`` before its first tick) found the task impossible,
-or a numerical failure (overflow, a failed factorization) stopped it; 2 bad input or usage (one line
+a numerical failure (overflow, a failed factorization) stopped it, a run of a sweep failed, or the system
+refused an output (a full disk, a folder that cannot be written, a closed or full standard output: one line
+naming the place and the cause, never "internal error"); 2 bad input or usage (one line
 ``coopctrl: error: ...`` on stderr, never a traceback); 130 interrupted (Ctrl-C, SIGINT); 143
 terminated (SIGTERM). On 130 and 143 no temporary file is left and finished files are whole.
 
@@ -22,6 +24,7 @@ from typing import Sequence
 from coopctrl.cli._core import (PROG, SUBCOMMANDS, Terminated, UsageError, _Parser, _one_line,  # noqa: F401 (API)
                                 one_line, parse_sets, resolve_scenario, scenarios_dir, subcommand)
 from coopctrl.errors import CoopctrlError, DivergenceError, InfeasibleLoad, interruption_in
+from coopctrl.io.console import OutputWriteError, cause_of, flush_standard_output, refused, visible
 
 # Each module registers its subcommand on import, in the order of ``--help``.
 from coopctrl.cli import run as _run  # noqa: E402,F401
@@ -44,7 +47,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     parser = _Parser(
         prog=PROG,
         description="Simulation and control of several robot arms carrying one object through elastic grasps.",
-        epilog="Exit codes: 0 ok, 1 run diverged or QP failed or the task is impossible (pre-flight), 2 bad input, "
+        epilog="Exit codes: 0 ok, 1 run diverged or QP failed or the task is impossible (pre-flight) or a run of a "
+        "sweep failed or the system refused an output (a full disk, a closed standard output), 2 bad input, "
         "130 interrupted (SIGINT), 143 terminated (SIGTERM).",
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -149,24 +153,52 @@ def _main(argv: Sequence[str] | None) -> int:
         argv = sys.argv[1:] if argv is None else list(argv)
         command = str(argv[0]) if argv and str(argv[0]) in SUBCOMMANDS else None  # else every subcommand: --help, errors
         args = build_parser(command).parse_args(argv)
-        return int(args.handler(args))
+        code = int(args.handler(args))
+        flush_standard_output()  # here, not at the interpreter's exit: a refusal is then one line and exit 1
+        return code
     except SystemExit as exit_:  # --help / --version
+        try:
+            flush_standard_output()
+        except OutputWriteError as err:
+            return _environment(err)
         return exit_.code if isinstance(exit_.code, int) else (0 if exit_.code is None else 2)
     except KeyboardInterrupt as stop:
         return _stopped(stop, terminated=[])
+    except OutputWriteError as err:  # a full disk, a closed or full standard output: the system's, not a bug
+        return _environment(err)
     except (DivergenceError, InfeasibleLoad) as err:
         print(f"{PROG}: failed: {_one_line(err)}", file=sys.stderr)
         return 1
     except CoopctrlError as err:
         print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
         return 2
-    except BrokenPipeError:
-        return 0
     except Exception as exc:  # noqa: BLE001 - the command line never shows a traceback
         stop = interruption_in(exc)
         if stop is not None:
             return _stopped(stop, terminated=[])
+        if isinstance(exc, BrokenPipeError) or (isinstance(exc, ValueError) and _stdout_closed()):
+            return _environment(refused(sys.stdout, exc, True))  # a print() to a reader that stopped, or closed
         return _unexpected(exc)
+
+
+def _stdout_closed() -> bool:
+    return sys.stdout is not None and getattr(sys.stdout, "closed", False)
+
+
+def _environment(err: OSError) -> int:
+    """One line for a refusal of the system (a full disk, a folder that cannot be written, a closed output
+    stream) naming the place and the cause; exit 1. The message goes to stderr; if stderr refuses it too,
+    the exit code alone says it."""
+    if isinstance(err, OutputWriteError):
+        text = str(err)
+    else:
+        place = err.filename if err.filename is not None else None
+        text = cause_of(err) + ("" if place is None else f": {visible(os.fsdecode(place))}")
+    try:
+        print(f"{PROG}: failed: {text}", file=sys.stderr, flush=True)
+    except (OSError, ValueError, AttributeError):
+        pass
+    return 1
 
 
 def _unexpected(exc: Exception) -> int:
@@ -177,6 +209,8 @@ def _unexpected(exc: Exception) -> int:
         import traceback
 
         traceback.print_exception(exc)
+    if isinstance(exc, OSError) and exc.errno is not None:  # the system refused: a disk, a folder, a stream
+        return _environment(exc)
     numerical = (OverflowError, FloatingPointError, ZeroDivisionError, MemoryError)
     name = type(exc).__name__
     if isinstance(exc, numerical) or name == "LinAlgError":

@@ -137,7 +137,7 @@ def _load(args):
 
     path = resolve_scenario(args.scenario) if args.scenario else None
     scenario = load_scenario(path, parse_sets(args.sets))
-    try:  # a URDF arm's file is read now (safely, without numba: plants.urdf_reader), before any long work
+    try:  # a URDF arm's file is read now (safely, in pure Python: plants.urdf_reader), before any long work
         scenario.dof_per_arm  # noqa: B018
     except ScenarioError as err:
         if err.source or scenario.source is None:
@@ -146,12 +146,44 @@ def _load(args):
     return scenario
 
 
-def one_line(text) -> str:
-    """``text`` on one line, with any remaining control character or lone surrogate escaped (a message
-    quoting user input must not drive the terminal)."""
-    from coopctrl.scenario.text import printable
+def refuse_before_work(scenario) -> None:
+    """The refusals of a valid scene that ``run`` and ``check`` both make before any long work, with the
+    same line (exit 2): a record that cannot fit in memory (a lower bound: the state and the torques of every
+    tick, :func:`coopctrl.record_memory.check_record_fits`) and a nominal path through the Euler-angle band
+    (:func:`coopctrl.scenario.build.check_path`)."""
+    from coopctrl.record_memory import check_record_fits
+    from coopctrl.scenario.build import check_path
 
-    return printable(" ".join(str(text).splitlines()).strip())
+    sim = scenario.simulation  # before pre-flight, whose cost grows with the duration
+    check_record_fits(int(round(sim.duration / sim.control_period)) + 1, scenario.state_size + sum(scenario.dof_per_arm),
+                      sim.duration, sim.control_period)
+    check_path(scenario)
+
+
+def refuse_record(scenario, loop) -> None:
+    """The exact record check that the loop makes before its first tick (``ClosedLoop.run``), for ``check``
+    (which builds the loop but does not run it): same condition, same line."""
+    import numpy as np
+
+    from coopctrl.record_memory import check_record_fits
+
+    sim = scenario.simulation
+    floats = sum(v[:1].size for v in loop.empty_record(1).values() if isinstance(v, np.ndarray))
+    check_record_fits(int(round(sim.duration / loop.T)) + 1, floats, sim.duration, loop.T)
+
+
+def preflight_line(report) -> str:
+    """The one line of a pre-flight refusal, the same for ``run`` and ``check`` (after ``coopctrl: failed:``)."""
+    return f"pre-flight: {one_line(report.issues[0].message)}"
+
+
+def one_line(text) -> str:
+    """``text`` on one line, with every character a terminal would act on or hide escaped (control
+    characters, bidirectional overrides, lone surrogates: :func:`coopctrl.io.console.visible`): a message
+    quoting user input or a path must not drive the terminal."""
+    from coopctrl.io.console import visible
+
+    return visible(" ".join(str(text).splitlines()).strip())
 
 
 _one_line = one_line  # the name the subcommand modules import

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import sys
 
-from coopctrl.cli._core import PROG, _add_set_option, _load, _one_line, subcommand
+from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, preflight_line, refuse_before_work,
+                                refuse_record, subcommand)
+from coopctrl.io.console import say
 
 
 def cmd_check(args) -> int:
@@ -14,24 +16,26 @@ def cmd_check(args) -> int:
     node pose within reach, a feasible load distribution, the torques it needs within tau_max, a
     statically stable grasp) and the loaded initial state."""
     scenario = _load(args)
+    refuse_before_work(scenario)  # as `run`: the same refusals, in the same order, with the same lines
     scenario.plant()
     from coopctrl.analysis.preflight import preflight
     from coopctrl.scenario.scenario import rotations_text
     from coopctrl.simulator import closed_loop
 
     loop = closed_loop(scenario)  # refuses a nominal path near the Euler-angle singularity (coopctrl.analysis.euler_singularity)
+    refuse_record(scenario, loop)  # the loop's own check before its first tick
     report = preflight(scenario, loop)
     if not report.ok:
-        print(f"{PROG}: failed: pre-flight: {_one_line(report.issues[0].message)}", file=sys.stderr)
+        print(f"{PROG}: failed: {preflight_line(report)}", file=sys.stderr)
         return 1
     scenario.initial_state()
     torque = ("" if report.torque_ratio_max != report.torque_ratio_max else
               f"; planned max |tau| / tau_max {report.torque_ratio_max:.3g} at t = {report.torque_ratio_time_s:.4g} s")
     rotations = rotations_text(scenario)
-    print(
-        f"ok: {scenario.name} ({scenario.space}, {len(scenario.arms)} arms, state size {scenario.state_size}, "
+    say(
+        f"ok: {_one_line(scenario.name)} ({scenario.space}, {len(scenario.arms)} arms, state size {scenario.state_size}, "
         f"{scenario.simulation.control_steps} control steps of {scenario.simulation.control_period:g} s); "
-        f"pre-flight passed at {report.samples} instants{torque}" + (f"; {rotations}" if rotations else "")
+        f"pre-flight passed at {report.samples} instants{torque}" + (f"; {_one_line(rotations)}" if rotations else "")
     )
     return 0
 

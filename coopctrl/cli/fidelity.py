@@ -22,6 +22,7 @@ def cmd_fidelity(args) -> int:
     """Load the scenes (with the same ``--set`` overrides), compare them, print and save the report."""
     import json
 
+    from coopctrl.io.console import say, visible, visible_lines
     from coopctrl.scenario import load_scenario
 
     names = args.scenarios or list(DEFAULT_SCENARIOS)
@@ -43,14 +44,14 @@ def cmd_fidelity(args) -> int:
     if args.out is not None:
         report.save(args.out)
     if args.json:
-        print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
+        say(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:
-        print(report.table())
+        say(visible_lines(report.table()))
         if args.out is not None:
-            print(f"outputs written to {args.out}")
+            say(f"outputs written to {visible(args.out)}")
     failed = [m for m in report.models if m.status != "ok"]
     for m in failed:
-        print(f"{PROG}: {m.scenario}: {m.status}: {_one_line(m.reason) or 'no reason given'}", file=sys.stderr)
+        print(f"{PROG}: {visible(m.scenario)}: {m.status}: {_one_line(m.reason) or 'no reason given'}", file=sys.stderr)
     return 1 if failed else 0
 
 

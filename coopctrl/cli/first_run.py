@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Iterable
 
 from coopctrl.cli._core import PROG
+from coopctrl.io.console import visible
 
 #: Start-up of the first ``coopctrl run`` of a kind [s]: ``(on an empty cache, once another kind has been
 #: compiled)``, on the project's 2-core machine class at a load average of about 1. Measured on 2026-12-02
@@ -143,7 +144,7 @@ def notice_line(kinds: dict, directory: Path, warm_kinds=(), factor: float = 1.0
     what = " and ".join(f"the {k.space} closed-loop kernels ({k.family} integrators: {', '.join(sorted(kinds[k]))})"
                         for k in order)
     return (f"{PROG}: compiling {what} for this machine: {about(estimate_s(order, warm_kinds, factor))} once; "
-            f"later runs load them from {directory}")
+            f"later runs load them from {visible(directory)}")
 
 
 class CompileNotice:

@@ -6,6 +6,8 @@ import sys
 from pathlib import Path
 
 from coopctrl.cli._core import UsageError, _one_line, scenarios_dir, subcommand
+from coopctrl.io.console import say, visible
+
 
 def cmd_list(args) -> int:
     """Print the scenarios of the directory with their descriptions (each file read as ``load_scenario``
@@ -14,15 +16,15 @@ def cmd_list(args) -> int:
 
     directory = Path(args.dir) if args.dir else scenarios_dir()
     if args.dir and not directory.is_dir():
-        raise UsageError(f"--dir {args.dir!r} is invalid: expected an existing directory of scenario .toml files")
+        raise UsageError(f"--dir '{visible(args.dir)}' is invalid: expected an existing directory of scenario .toml files")
     files = sorted(directory.glob("*.toml"))
     if not files:
-        print(f"no scenarios in {directory}", file=sys.stderr)
+        print(f"no scenarios in {visible(directory)}", file=sys.stderr)
         return 0
-    rows = [(path.stem, _one_line(scene_description(path))) for path in files]
+    rows = [(visible(path.stem), _one_line(scene_description(path))) for path in files]  # a name keeps its line breaks, escaped
     width = max(len(name) for name, _ in rows)
     for name, description in rows:
-        print(f"{_one_line(name).ljust(width)}  {description}".rstrip())
+        say(f"{name.ljust(width)}  {description}".rstrip())
     return 0
 
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, stdout_to_stderr,
-                                subcommand)
+from coopctrl.cli._core import (PROG, _add_set_option, _load, _one_line, output_directory, preflight_line,
+                                refuse_before_work, stdout_to_stderr, subcommand)
 from coopctrl.errors import DivergenceError, InfeasibleLoad
-from coopctrl.io.console import OutputWriteError, say
+from coopctrl.io.console import OutputWriteError, say, visible, visible_lines
 
 
 def result_directory(text: str):
@@ -33,7 +33,7 @@ def _record_every(text: str) -> int:
 
 
 def simulate_function():
-    """The simulator ``run`` calls (imported lazily: it pulls in numpy, numba and the solvers); a test
+    """The simulator ``run`` calls (imported lazily: it pulls in numpy, the compiled kernels and the solvers); a test
     replaces this function to observe or fake the simulation."""
     from coopctrl.simulator import simulate
 
@@ -63,14 +63,7 @@ def cmd_run(args) -> int:
         what = "--estimate-error" if args.estimate_error else "simulation.accuracy"
         raise UsageError(f"--plant mujoco steps MuJoCo at its own fixed step: {what} (the elastic plant's integrator "
                          "settings) cannot apply; drop it or run the elastic plant")
-    from coopctrl.record_memory import check_record_fits
-
-    sim = scenario.simulation  # a record that cannot fit is refused before pre-flight, whose cost grows with the duration
-    check_record_fits(int(round(sim.duration / sim.control_period)) + 1, scenario.state_size + sum(scenario.dof_per_arm),
-                      sim.duration, sim.control_period)  # a lower bound (state and torques); the loop checks the exact size
-    from coopctrl.scenario.build import check_path
-
-    check_path(scenario)  # a path through the Euler-angle band is bad input (exit 2): before any notice or compile
+    refuse_before_work(scenario)  # a record that cannot fit, a path through the Euler-angle band: exit 2, as `check`
     # the first run of a kind compiles its kernels (pre-flight's too) for tens of seconds: it says so first
     from coopctrl.cli.first_run import announce
 
@@ -92,8 +85,7 @@ def cmd_run(args) -> int:
             if not report.ok:
                 if notice is not None:
                     notice.close()
-                print(f"{PROG}: failed: pre-flight: {_one_line(report.issues[0].message)} "
-                      "(--no-preflight runs it anyway)", file=sys.stderr)
+                print(f"{PROG}: failed: {preflight_line(report)} (--no-preflight runs it anyway)", file=sys.stderr)
                 return 1
         choice = None
         if scenario.simulation.accuracy is not None:  # simulation.accuracy: the cheapest setting meeting it
@@ -139,7 +131,7 @@ def cmd_run(args) -> int:
         print(f"{PROG}: {kind}: {_one_line(err)}", file=sys.stderr)
         return 1
     except OutputWriteError as err:
-        print(f"{PROG}: failed: {err}; {args.out} was left as it was", file=sys.stderr)
+        print(f"{PROG}: failed: {err}; {visible(args.out)} was left as it was", file=sys.stderr)
         return 1
     finally:
         if notice is not None:
@@ -151,13 +143,13 @@ def cmd_run(args) -> int:
         if args.json:
             say(json.dumps(summary, indent=2, allow_nan=False))
         elif not args.quiet:
-            say(summary_table(summary))
+            say(visible_lines(summary_table(summary)))
             say(f"{'torque-saturated ticks'.ljust(28)}  {summary.get('torque_saturated_ticks', 0)} of {ticks}")
             if estimate is not None:
                 for line in estimate.lines():
                     say(line)
             if args.out is not None:
-                say(f"outputs written to {args.out}")
+                say(f"outputs written to {visible(args.out)}")
     except OutputWriteError as err:
         print(f"{PROG}: failed: {err} (the run itself finished; its files, if any, are whole)", file=sys.stderr)
         return 1

@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from coopctrl.cli._core import _add_set_option, _load, subcommand
+from coopctrl.io.console import say
 
 
 def cmd_show(args) -> int:
     """Print the resolved scenario (after ``--set``) as TOML; it loads back to an equal scenario."""
     from coopctrl.scenario.to_toml import scenario_toml
 
-    print(scenario_toml(_load(args)), end="")
+    say(scenario_toml(_load(args)).rstrip("\n"))
     return 0
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from coopctrl.cli._core import PROG, UsageError, _add_set_option, _load, _one_line, subcommand
+from coopctrl.io.console import say, visible_lines
 
 #: The built-in integrators (kept here as plain strings so that the parser does not import numpy).
 _INTEGRATORS = ("euler", "symplectic_euler", "rk4", "implicit_midpoint", "implicit_euler")
@@ -34,9 +35,9 @@ def cmd_stability(args) -> int:
 
     report = stability_report(scenario, names, measure=not args.no_measure, progress=progress)
     if args.json:
-        print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
+        say(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:
-        print(report.table())
+        say(visible_lines(report.table()))
     ref = report.reference
     if ref and ref["status"] != "ok":
         print(f"{PROG}: failed: the reference run {ref['status']}, nothing measured: {_one_line(ref['reason'])}",

@@ -7,6 +7,7 @@ import sys
 
 from coopctrl.cli._core import (PROG, _add_set_option, float_range, int_range, output_directory, parse_sets,
                                 resolve_scenario, stdout_to_stderr, subcommand)
+from coopctrl.io.console import say, visible
 
 
 def worker_function():
@@ -33,18 +34,20 @@ def _sweep_directory(text: str):
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
-def _emit(result, args) -> None:
+def _emit(result, args, written: bool = True) -> None:
     if args.json:
-        print(result.to_json())
+        say(result.to_json())
     elif not args.quiet:
-        print(result.table())
-        if args.out is not None:
-            print(f"rows written to {args.out / 'sweep.csv'} and {args.out / 'sweep.json'}")
+        say(result.table())
+        if args.out is not None and written:
+            say(f"rows written to {visible(args.out / 'sweep.csv')} and {visible(args.out / 'sweep.json')}")
 
 
 def cmd_sweep(args) -> int:
-    """Validate every combination, run them, print the rows; exit 0 even when some runs failed (their
-    rows are results), 2 for bad input, 130 when interrupted (after saving the finished rows)."""
+    """Validate every combination, run them, print the rows; exit 0 when every run is ok, 1 when a run
+    failed (its row says why; a run whose worker died was retried once in a fresh worker first) or the
+    output could not be written, 2 for bad input, 130 when interrupted (after saving the finished rows)."""
+    from coopctrl.io.console import OutputWriteError
     from coopctrl.sweep import SweepGrid, SweepInterrupted, run_sweep
 
     grid = SweepGrid.parse(args.grid)
@@ -72,15 +75,29 @@ def cmd_sweep(args) -> int:
             notice.close()
         partial = stop.result
         _emit(partial, args)
-        kept = f"kept in {args.out}" if args.out is not None else "printed above (use --out DIR to keep them in files)"
+        kept = f"kept in {visible(args.out)}" if args.out is not None else "printed above (use --out DIR to keep them in files)"
         print(f"{PROG}: interrupted: {len(partial.rows)} of {partial.runs} runs finished, {kept}", file=sys.stderr)
         return 130
+    except OutputWriteError as err:  # the output refused (a full disk): the rows so far on stdout, one line why
+        if notice is not None:
+            notice.close()
+        partial = getattr(err, "partial", None)
+        done = ""
+        if partial is not None:
+            _emit(partial, args, written=False)
+            done = f"; the sweep stopped after {len(partial.rows)} of {partial.runs} runs, whose rows are printed above"
+        print(f"{PROG}: failed: {err}{done}", file=sys.stderr)
+        return 1
     finally:
         if notice is not None:
             notice.close()
     _emit(result, args)
+    if result.retried:
+        runs = ", ".join(f"run {run} (a worker of its pool {cause})" for run, cause in result.retried)
+        print(f"{PROG}: retried in a fresh worker after a worker process died: {runs}", file=sys.stderr)
     if result.failed:
         print(f"{PROG}: {len(result.failed)} of {result.runs} runs failed (see their status and reason)", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -93,8 +110,9 @@ def _sweep_parser(sub) -> None:
         "row per run. A grid has at most 10000 runs (the product of the axis lengths, counted before anything is expanded); "
         "every combination is validated before any run starts. A failed run (diverged, QP failed, error) "
         "is a row with its reason. Rows do not depend on --jobs except the timing columns (realtime_factor, wall_time_s). "
-        "Exit 0 when the sweep completes (even with failed runs), 2 for bad input, 130 when interrupted "
-        "(the finished rows are kept in --out).",
+        "A run whose worker process dies (SIGKILL, a crash, out of memory) is retried once in a fresh worker; the other "
+        "runs keep their results. Exit 0 when every run is ok, 1 when a run failed (its row says why) or the output "
+        "could not be written, 2 for bad input, 130 when interrupted (the finished rows are kept in --out).",
     )
     parser.add_argument("scenario", nargs="?", help="scenario .toml file or a name in scenarios/ (default: the built-in scene)")
     parser.add_argument(

@@ -7,6 +7,7 @@ import sys
 from coopctrl.cli._core import (PROG, UsageError, _add_set_option, _load, _one_line, int_range,
                                 output_directory, stdout_to_stderr, subcommand)
 from coopctrl.errors import ScenarioError
+from coopctrl.io.console import say, visible, visible_lines
 
 #: Reference methods offered on the command line (see coopctrl.analysis.reference; kept here as
 #: plain strings so that the parser does not import numpy).
@@ -71,12 +72,12 @@ def _target_search(args, scenario, integrators, reference, progress) -> int:
         if progress is not None:
             print("\r" + " " * 52 + "\r", end="", file=sys.stderr, flush=True)
     if args.json:
-        print(json.dumps(search.to_dict(), indent=2, allow_nan=False))
+        say(json.dumps(search.to_dict(), indent=2, allow_nan=False))
     if search.recommendation is None:
         print(f"{PROG}: failed: {_one_line(TargetUnreachable(search))}", file=sys.stderr)
         return 1
     if not (args.json or args.quiet):
-        print(search.text())
+        say(visible_lines(search.text()))
     return 0
 
 
@@ -119,11 +120,11 @@ def cmd_tradeoff(args) -> int:
     if args.out is not None:
         result.save(args.out)
     if args.json:
-        print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
+        say(json.dumps(result.to_dict(), indent=2, allow_nan=False))
     elif not args.quiet:
-        print(result.table())
+        say(visible_lines(result.table()))
         if args.out is not None:
-            print(f"outputs written to {args.out}")
+            say(f"outputs written to {visible(args.out)}")
     return 0
 
 

@@ -13,7 +13,7 @@ def cmd_view(args) -> int:
     folder is whole and consistent (:func:`coopctrl.results.folder.open_result_folder`)."""
     import sys
 
-    from coopctrl.io.console import OutputWriteError, say
+    from coopctrl.io.console import OutputWriteError, say, visible
     from coopctrl.results.folder import open_result_folder, rewrite_replay
 
     directory = Path(args.directory)
@@ -27,13 +27,11 @@ def cmd_view(args) -> int:
     result, scenario, _ = open_result_folder(directory, scenario)
     try:
         path = rewrite_replay(result, scenario, directory)
-    except OutputWriteError as err:
-        if err.errno in (13, 30):  # EACCES, EROFS: a place the user cannot write is bad input
-            raise UsageError(f"DIR = {str(directory)!r} is invalid: expected a writable directory ({err.cause})") from None
-        print(f"coopctrl: failed: {err}; {directory} was left as it was", file=sys.stderr)
+    except OutputWriteError as err:  # a full disk, a folder that cannot be written: the system's refusal, exit 1
+        print(f"coopctrl: failed: {err}; {visible(directory)} was left as it was", file=sys.stderr)
         return 1
     try:
-        say(f"replay written to {path} (open it in a browser; works offline)")
+        say(f"replay written to {visible(path)} (open it in a browser; works offline)")
     except OutputWriteError as err:
         print(f"coopctrl: failed: {err} (the replay itself was written whole)", file=sys.stderr)
         return 1
@@ -49,7 +47,7 @@ def _view_parser(sub) -> None:
         "DIR/result.npz in 3-D: arms, contact nodes, springs, object and contact forces, with play, pause, "
         "a time slider and speed. `coopctrl run ... --out DIR` writes it too. The folder is checked first: a damaged "
         "result.npz, a scenario.toml changed after the run or data that contradict the run's status are refused. "
-        "Exit 0, 1 when the page cannot be written (a full disk), 2 for bad input.",
+        "Exit 0, 1 when the page cannot be written (a full disk, a folder that cannot be written), 2 for bad input.",
     )
     parser.add_argument("directory", metavar="DIR", help="output directory of `coopctrl run --out DIR`")
     parser.add_argument("--scenario", metavar="FILE", help="the scenario of the run (default: DIR/scenario.toml)")

@@ -7,9 +7,9 @@ Newton matrix and stage slopes kept from step to step), through the functions th
 
 - ``f`` the ``rhs`` of a cooperative plant (a :class:`plants.cooperative.CooperativePlant`): compiled,
   :func:`~coopctrl.integrators.compiled.advance_period` on the plant's kernel arrays;
-- any other Python ``f(t, x, u) -> dx``: compiled code cannot call it, so Python runs the same scheme
-  functions as they are written (:func:`~coopctrl.integrators.compiled.zoh_advance`, through
-  ``compiled.PYTHON``) with ``f`` wrapped in a :class:`PythonRightHandSide`.
+- any other Python ``f(t, x, u) -> dx``: the compiled core's schemes (``coopctrl._core.zoh_advance``,
+  ``coopctrl/core/explicit_schemes.h`` and ``implicit_schemes.h``) call ``f`` back at each stage, the same
+  arithmetic as :func:`~coopctrl.integrators.compiled.zoh_advance` (``tests/test_core_integrators.py``).
 
 Both give the bits of the loop's kernel for the same scheme, state and step.
 """
@@ -127,9 +127,13 @@ class Stepper:
             raise NotImplementedError(f"{scheme.name!r} is error-controlled: it steps a cooperative plant's rhs "
                                       "(compiled, coopctrl.integrators.adaptive_plans) or runs in the loop; for "
                                       "another f(t, x, u) use scipy.integrate.solve_ivp")
-        else:
-            code = compiled.zoh_advance(self.plan, x, u, self.P, self.status, None, None, t, self.steps,
-                                        self.x_fail, self.out_int, self.out_float)
+        else:  # the compiled core's schemes on the Python f (coopctrl/core: explicit_schemes.h, implicit_schemes.h)
+            from coopctrl import _core
+
+            report = _core.zoh_advance(self.plan, f, x, u, t, self.steps, self.x_fail)
+            code = report["code"]
+            self.out_int[2], self.out_int[3] = report["failed_step"], report["newton_iterations"]
+            self.out_float[0], self.out_float[1] = report["last_correction"], report["failed_time"]
         if code == compiled.STEP_OK:
             return x
         if code == compiled.STEP_NEWTON_FAILED:

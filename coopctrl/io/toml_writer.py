@@ -14,6 +14,17 @@ from typing import Any, Mapping
 _BARE = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
+def toml_string(text: str) -> str:
+    """``text`` as a TOML basic string that loads back to it, with every character that is not printable
+    (controls, bidirectional overrides, invisible marks) written as a ``\\uXXXX`` or ``\\UXXXXXXXX`` escape:
+    printed on a terminal (``coopctrl show``), the file shows them instead of acting on them."""
+    quoted = json.dumps(text, ensure_ascii=False)  # quotes, backslashes and C0 controls escaped
+    if quoted.isprintable():
+        return quoted
+    return "".join(c if c.isprintable() else (f"\\u{ord(c):04x}" if ord(c) < 0x10000 else f"\\U{ord(c):08x}")
+                   for c in quoted)
+
+
 def _key(key: str) -> str:
     return key if _BARE.match(key) else json.dumps(key)
 
@@ -30,7 +41,7 @@ def _value(value: Any) -> str:
             return "inf" if value > 0 else "-inf"
         return repr(value)
     if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
+        return toml_string(value)
     if isinstance(value, Mapping):
         return "{" + ", ".join(f"{_key(str(k))} = {_value(v)}" for k, v in value.items()) + "}"
     if isinstance(value, (list, tuple)):

@@ -1,5 +1,8 @@
 """The compiled QP backend: the Goldfarb-Idnani solver of :mod:`.goldfarb_idnani`, warm started.
 
+It calls the C++ core's port of that solver (``coopctrl._core.gi_solve``, coopctrl/core/goldfarb_idnani.h:
+the same bits as the numba kernel, on the same workspace; the compiled tick still calls the numba kernel).
+
 Selected with ``load_distribution.solver = "compiled"``. It solves the same problem as the
 other backends,
 
@@ -18,7 +21,9 @@ import time
 
 import numpy as np
 
-from .goldfarb_idnani import STATUS_NAMES, gi_solve, gi_workspace
+from coopctrl._core import gi_solve
+
+from .goldfarb_idnani import STATUS_NAMES, WARM_ACTIVE, gi_workspace
 from .solvers import BackendResult
 
 #: Status names of the compiled solver mapped to those of :class:`~coopctrl.load_distribution.solvers.QPStats`.
@@ -49,7 +54,7 @@ class CompiledSolver:
     def reset(self) -> None:
         """Start the next solve cold (empty active set), e.g. after a failed or rejected solve."""
         if self._ws is not None:
-            self._ws[3][0] = 0
+            self._ws[3][WARM_ACTIVE] = 0
 
     def solve(self, problem) -> BackendResult:
         """Solve ``problem`` (a :class:`LoadDistributionProblem` after ``update``)."""

@@ -122,6 +122,11 @@ NOT_CONVEX = 3
 #: Names of the status codes, by code.
 STATUS_NAMES = ("solved", "infeasible", "max_iter", "not_convex")
 
+#: The warm start's scalar state, ``ws[3][0:4]`` by name (the fields of ``GIWarmState`` in
+#: coopctrl/core/goldfarb_idnani.h): the number of active constraints (0: cold start), 1 if ``mats[2]``
+#: holds the factor of the current ``H``, 1 if the last solve took the fast path, 1 if that ``H`` is diagonal.
+WARM_ACTIVE, WARM_FACTOR_VALID, WARM_FAST_PATH, WARM_H_DIAGONAL = 0, 1, 2, 3
+
 #: Relative size ``|d_2| / |d|`` below which a constraint is taken as linearly dependent on the
 #: active set (rounding of an exactly dependent row gives about 1e-16 to 1e-14).
 DEP_TOL = 1e-12

@@ -40,6 +40,7 @@ import coopctrl.loop.charts as loop_charts
 import coopctrl.loop.compile_ahead as compile_ahead
 from coopctrl.loop import kernel as K
 from coopctrl.loop import startup as S
+from coopctrl.loop import step_budget as SB
 from coopctrl.loop.squeeze import squeeze_workspace
 from coopctrl.loop.data import LoopData, QPArrays, TickRecord
 from coopctrl.loop.model import LoopModel, QPConstants, RunOptions
@@ -576,6 +577,17 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     k = 0
     exc = None
     qp_time = 0.0
+    # the step budget of an error-controlled scheme (coopctrl.loop.step_budget): counted between chunks
+    budgeted = hasattr(plan, "stats") and not cl.plant_outside
+    python_steps = cl.plant_outside and getattr(loop.integrator, "steps_taken", None) is not None
+    spent, k_counted = 0, 0
+    scheme = getattr(loop.integrator, "name", type(loop.integrator).__name__)
+
+    def budget_chunk(k_now: int, ticks: int) -> int:
+        """``ticks`` cut to about :data:`~coopctrl.loop.step_budget.CHECK_STEPS` steps at the rate so far."""
+        if not budgeted or spent == 0:
+            return ticks
+        return max(1, min(ticks, int(SB.CHECK_STEPS * max(k_now, 1) / spent)))
     bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
 
     def reference_ticks(k0: int, k_stop: int) -> None:
@@ -628,7 +640,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         if exc is not None:
             k_stop = 0
         elif charts is None:
-            chunk_end = _CHUNK
+            chunk_end = 10 if budgeted else _CHUNK  # an error-controlled run measures its step rate first
         elif next_check is None:
             charts.check(state.x, k, traj, state, plan)
             chunk_end = charts.ticks_ahead(state.x, loop.T)
@@ -652,10 +664,17 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             if code == K.CHUNK_END:
                 if bar is not None:
                     bar.update(k - bar.n)
+                if budgeted:  # the steps of the ticks since the last count (accepted and rejected)
+                    rows = plan.stats[kb + k_counted:kb + k]
+                    spent, k_counted = spent + int(rows[:, 0].sum() + rows[:, 1].sum()), k
+                    if spent > SB.step_budget(k, SB.STEPS_PER_PERIOD):
+                        exc = SB.StepBudgetExceeded((kb + k) * loop.T, spent, SB.step_budget(k, SB.STEPS_PER_PERIOD),
+                                                    scheme, SB.STEPS_PER_PERIOD)
+                        break
                 if charts is not None and charts.check(state.x, k, traj, state, plan):  # between two whole ticks
                     if cl.plant_outside and hasattr(loop.integrator, "reset"):
                         loop.integrator.reset()  # a Python integrator's Newton matrix was in the old axes
-                chunk_end = k + (_CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T))
+                chunk_end = k + budget_chunk(k, _CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T))
                 k_stop = min(chunk_end, N)
                 continue
             if code == K.PLANT_EXTERNAL:  # the plant over the period of tick k - 1, by the Python integrator
@@ -664,6 +683,12 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                         state.x[:] = step_period(state.x, (kb + k - 1) * loop.T)
                 except (DivergenceError, PlantError) as e:
                     exc = e
+                    k -= 1
+                    break
+                if python_steps and loop.integrator.steps_taken > SB.step_budget(k, SB.PYTHON_STEPS_PER_PERIOD):
+                    exc = SB.StepBudgetExceeded((kb + k) * loop.T, loop.integrator.steps_taken,
+                                                SB.step_budget(k, SB.PYTHON_STEPS_PER_PERIOD), scheme,
+                                                SB.PYTHON_STEPS_PER_PERIOD)
                     k -= 1
                     break
                 continue

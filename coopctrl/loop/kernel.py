@@ -42,6 +42,12 @@ with the compiled solve between them (both are inlined into it). The reference p
 solves in Python between them: :func:`reference_step` runs phase 2 of a tick and phase 1 of the next, so
 that path enters the kernel once per tick; the same tick, no re-entry.
 
+The parts of the tick that make the torques are stages of their own, which the tick's phases call:
+:func:`nominal_load` (step 3), :func:`assemble_split` and :func:`solve_split` (step 4), :func:`control_torques`
+(steps 5 and 6). :func:`coopctrl.loop.controller_step.controller_step` calls the same stages, in the same
+order, on a measurement given from outside instead of the plant's state (``coopctrl.Controller``): one source
+for the loop and the controller's step.
+
 The same tick serves every configuration (``opts``): a passive run (no QP, no controllers, zero
 torques, the energy recorded), the ``max_energy`` guard (:data:`ENERGY`), the elastic split, the
 tuning probes' signals; an integrator the kernel lacks stops after each tick's record
@@ -527,13 +533,12 @@ def tick_sense(k, assemble, model, data):
     ``out_int[0]``, its details as :func:`run_ticks` says) and False. The split is then solved (the compiled
     solver in :func:`run_ticks`, or the reference path's backend from Python) and :func:`tick_act` finishes
     the tick."""
-    spatial, P, traj, grasps, obj, rho = model.spatial, model.P, model.traj, model.grasps, model.obj, model.rho
-    band, max_deformation, qp, opts, stages = model.band, model.max_deformation, model.qp, model.opts, model.stages
+    spatial, P, rho = model.spatial, model.P, model.rho
+    band, max_deformation, opts, stages = model.band, model.max_deformation, model.opts, model.stages
     noise_q, noise_o, noise_f, noise_cfg = model.noise_q, model.noise_o, model.noise_f, model.noise_cfg
-    x, plant_ws, qp_arrays, tw = data.x, data.plant_ws, data.qp_arrays, data.tw
+    x, plant_ws, tw = data.x, data.plant_ws, data.tw
     x_good, x_fail, out_int, out_float = data.x_good, data.x_fail, data.out_int, data.out_float
-    arm_kind, arm_dof, gravity = P.arm_kind, P.arm_dof, P.gravity
-    m = arm_kind.shape[0]
+    m = P.arm_kind.shape[0]
     p = 6 if spatial else 3
     nx = x.shape[0]
     nz = nx // 2
@@ -548,13 +553,9 @@ def tick_sense(k, assemble, model, data):
     pws, cws_true, cws_meas = plant_ws
     # the stages, one a line (a tuple of functions would be unified into one function type, numba's experimental path)
     terms = stages.terms
-    qp_rows = stages.qp_rows
     energy = stages.energy
-    elastic_split = stages.elastic_split
     # the tick's work arrays (TickWorkspace), by name
-    status, xm, Fm, wN, nrm, Jg, bias, d, Yn = tw.status, tw.xm, tw.Fm, tw.wN, tw.nrm, tw.Jg, tw.bias, tw.d, tw.Yn
-    dYn, ddYn, R3, v3, rc, r0, Wa, rhs_t, qdd = tw.dYn, tw.ddYn, tw.R3, tw.v3, tw.rc, tw.r0, tw.Wa, tw.rhs_t, tw.qdd
-    piv, wv, wm, obj_inertia = tw.piv, tw.wv, tw.wm, tw.obj_inertia
+    status, xm, Fm, d, R3 = tw.status, tw.xm, tw.Fm, tw.d, tw.R3
     out_int[1] = k
     kq = k if noise_q.shape[0] > 1 else 0  # a noise-free channel passes one row of zeros
     ko = k if noise_o.shape[0] > 1 else 0
@@ -614,6 +615,26 @@ def tick_sense(k, assemble, model, data):
     _copy(x_good, x)
     out_int[6] = k  # the last tick whose state passed the guards
     # ---- nominal motion and load
+    code = nominal_load(k, model, data)
+    if code != DONE or not assemble:
+        return code, False
+    # ---- the QP of the split, from the measured terms
+    if noisy_state:
+        Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _term_arrays(cws_meas)
+    else:
+        Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = Y, dY, H, h, J, Jdq, W, w_free, S, Fw
+    return assemble_split(k, model, data, Ym, Wm, wm_free, Hm, hm, Jm, Jdqm)
+
+
+@njit(cache=True, inline="always", _nrt=False)
+def nominal_load(k, model, data):
+    """Stage of a tick (phase 1, and :func:`coopctrl.loop.controller_step.controller_step`): the nominal motion
+    of the nodes carried rigidly by the object at trajectory row ``k`` (148: ``Yn``, ``dYn``, ``ddYn`` of
+    ``data.tw``) and the object's required wrench ``w_N`` (``tw.wN`` [N, N m]). Returns :data:`DONE`, or
+    :data:`NOMINAL_SINGULAR` (``out_int[2]``: the node at the Euler singularity)."""
+    spatial, traj, grasps, obj, gravity = model.spatial, model.traj, model.grasps, model.obj, model.P.gravity
+    tw, out_int = data.tw, data.out_int
+    Yn, dYn, ddYn, R3, v3, wN, obj_inertia = tw.Yn, tw.dYn, tw.ddYn, tw.R3, tw.v3, tw.wN, tw.obj_inertia
     Y0N = traj[0, k]
     dY0N = traj[1, k]
     ddY0N = traj[2, k]
@@ -622,24 +643,60 @@ def tick_sense(k, assemble, model, data):
         if bad >= 0:
             out_int[0] = NOMINAL_SINGULAR
             out_int[2] = bad
-            return NOMINAL_SINGULAR, False
+            return NOMINAL_SINGULAR
     else:
         planar_motion_into(Y0N, dY0N, ddY0N, grasps, Yn, dYn, ddYn)
     required_wrench(spatial, obj[0], obj_inertia, gravity, Y0N, dY0N, ddY0N, wN, v3, R3[0])
-    if not assemble:
-        return DONE, False
-    # ---- the QP of the split, from the measured terms
-    if noisy_state:
-        Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = _term_arrays(cws_meas)
-    else:
-        Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, Fwm = Y, dY, H, h, J, Jdq, W, w_free, S, Fw
-    qcode, P_changed = qp_rows(spatial, Ym, Y0N, wN, ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, arm_kind, arm_dof, qp, qp_arrays,
-                               opts, rc, r0, nrm, Jg, bias, Wa, rhs_t, qdd, piv, wv, wm, R3, elastic_split)
+    return DONE
+
+
+@njit(cache=True, inline="always", _nrt=False)
+def assemble_split(k, model, data, Ym, Wm, wm_free, Hm, hm, Jm, Jdqm):
+    """Stage of a tick (phase 1, and the controller's step): the QP of the split (the ``qp_rows`` stage) into
+    ``data.qp_arrays`` from the measured terms ``Ym`` .. ``Jdqm`` and the nominal motion of
+    :func:`nominal_load` at row ``k``. Returns ``(code, P changed)``: :data:`DONE`, or :data:`QP_FAILED`
+    (``out_int[2]``: the assembly's failure detail) and False."""
+    spatial, traj, qp, opts, P = model.spatial, model.traj, model.qp, model.opts, model.P
+    qp_rows = model.stages.qp_rows
+    elastic_split = model.stages.elastic_split
+    tw, qp_arrays, out_int = data.tw, data.qp_arrays, data.out_int
+    qcode, P_changed = qp_rows(spatial, Ym, traj[0, k], tw.wN, tw.ddYn, Wm, wm_free, Hm, hm, Jm, Jdqm, P.arm_kind,
+                               P.arm_dof, qp, qp_arrays, opts, tw.rc, tw.r0, tw.nrm, tw.Jg, tw.bias, tw.Wa, tw.rhs_t,
+                               tw.qdd, tw.piv, tw.wv, tw.wm, tw.R3, elastic_split)
     if qcode != 0:
         out_int[0] = QP_FAILED
         out_int[2] = qcode
         return QP_FAILED, False
     return DONE, P_changed
+
+
+@njit(cache=True, inline="always", _nrt=False)
+def solve_split(model, data, P_changed):
+    """Stage of a tick (between the phases, and the controller's step): the compiled solve of the split the
+    QP arrays hold (the ``qp_answer`` stage: warm started, its answer check and binding families), then the
+    inequality rows active at the answer. Returns ``(ok, status, iterations, binding families, active
+    rows)``; not ``ok``: ``out_int = (QP_FAILED, -, status, iterations)``."""
+    qp, spatial = model.qp, model.spatial
+    qp_answer = model.stages.qp_answer
+    qp_arrays, ws, flags, out_int = data.qp_arrays, data.ws, data.flags, data.out_int
+    p = 6 if spatial else 3
+    m = model.P.arm_kind.shape[0]
+    W_diag, qp_num, qp_int = qp.W_diag, qp.numbers, qp.rows
+    eps_abs, answer_rho = qp_num[0], qp_num[4]
+    max_iter = int(qp_num[2])
+    row_grip, row_fric, row_tau, n_fric = qp_int[1], qp_int[2], qp_int[3], qp_int[4]
+    Mq = qp_arrays.M
+    n = W_diag.shape[0]
+    n_in = Mq.shape[0] - p
+    qs, qit, okqp, qb = qp_answer(qp_arrays.H, qp_arrays.g, Mq, qp_arrays.lo, qp_arrays.hi, qp_arrays.x, qp_arrays.z, ws,
+                                  P_changed, flags, p, m, n, n_in, eps_abs, max_iter, answer_rho, row_grip, row_fric,
+                                  row_tau, n_fric)
+    if not okqp:
+        out_int[0] = QP_FAILED
+        out_int[2] = qs
+        out_int[3] = qit
+        return False, qs, qit, qb, -1
+    return True, qs, qit, qb, gi_active_inequalities(ws, p)
 
 
 @njit(cache=True, inline="always", _nrt=False)
@@ -653,32 +710,19 @@ def tick_act(k, source, qs, qit, qb, qact, model, data):
     advanced to tick ``k + 1``), :data:`RECORDED` (tick ``k`` was the run's last: recorded, not advanced),
     :data:`PLANT_EXTERNAL` (recorded; the caller advances the plant) or the event (also in ``out_int[0]``)."""
     spatial, N, k_base, T, steps, P, traj = model.spatial, model.N, model.k_base, model.T, model.steps, model.P, model.traj
-    ctrl, posture, C_comp, qp, opts = model.ctrl, model.posture, model.C_comp, model.qp, model.opts
-    stages, noise_cfg = model.stages, model.noise_cfg
-    plan, plant_ws, qp_arrays, tw, sq, rec = data.plan, data.plant_ws, data.qp_arrays, data.tw, data.sq, data.record
-    x, tau, integ, last, flags = data.x, data.tau, data.integrals, data.last_split, data.flags
-    sat_joints, x_fail, out_int, out_float = data.saturated_joints, data.x_fail, data.out_int, data.out_float
-    arm_kind, arm_dof, q_off = P.arm_kind, P.arm_dof, P.q_off
-    m = arm_kind.shape[0]
+    opts, noise_cfg = model.opts, model.noise_cfg
+    plan, plant_ws, tw, sq, rec = data.plan, data.plant_ws, data.tw, data.sq, data.record
+    x, tau, last = data.x, data.tau, data.last_split
+    x_fail, out_int, out_float = data.x_fail, data.out_int, data.out_float
+    m = P.arm_kind.shape[0]
     p = 6 if spatial else 3
     npos = 3 if spatial else 2
-    nu = tau.shape[0]
-    tau_max = qp.tau_max
-    xq, external = qp_arrays.x, qp_arrays.external
-    switches, lead_off, law_params = opts.switches, opts.leader_offset, opts.law_params
-    leader_law = opts.leader_law
-    pr_r, pr_v, pr_g, pr_d = opts.probe_offset, opts.probe_pi, opts.probe_gain, opts.probe_delay
-    passive = switches[OPT_PASSIVE] != 0
-    probes = switches[OPT_PROBES] != 0
-    plant_outside = switches[OPT_EXTERNAL_PLANT] != 0
+    plant_outside = opts.switches[OPT_EXTERNAL_PLANT] != 0
     noisy_state = noise_cfg[0] != 0.0 or noise_cfg[1] != 0.0 or noise_cfg[2] != 0.0 or noise_cfg[3] != 0.0
     pws, cws_true, cws_meas = plant_ws
-    advance = stages.advance  # the stages, one a line (see tick_sense)
-    control = stages.control
+    advance = model.stages.advance  # the stages, one a line (see tick_sense)
     # the tick's work arrays (TickWorkspace), by name
-    F_cmd, F_seen, status, xm, Fm, F_set, a_cmd = tw.F_cmd, tw.F_seen, tw.status, tw.xm, tw.Fm, tw.F_set, tw.a_cmd
-    err, Yn, dYn, ddYn, R3, pv, piv, wv, wm = tw.err, tw.Yn, tw.dYn, tw.ddYn, tw.R3, tw.pv, tw.piv, tw.wv, tw.wm
-    inc, corr, Yv, tp, ti = tw.inc, tw.corr, tw.Yv, tw.tp, tw.ti
+    status, xm, Fm, F_set = tw.status, tw.xm, tw.Fm, tw.F_set
     sq_desired, sq_E, sq_W, sq_V, sq_sigma = sq.desired, sq.E, sq.W, sq.V, sq.sigma
     Y = cws_true.ws.Y
     if noisy_state:
@@ -689,61 +733,10 @@ def tick_act(k, source, qs, qit, qb, qact, model, data):
         zx = x
     Y0N = traj[0, k]
     t = (k_base + k) * T
-    # ---- the split
-    if source == SPLIT_SOLVED:
-        for i in range(m):
-            for a in range(p):
-                F_set[i, a] = xq[i * p + a]
-                last[0, i, a] = xq[i * p + a]
-                last[1, i, a] = external[i * p + a]
-                last[2, i, a] = xq[i * p + a] - external[i * p + a]
-        flags[0] = 1
-    elif source == SPLIT_HELD:
-        for i in range(m):
-            for a in range(p):
-                F_set[i, a] = last[0, i, a]
-    else:  # no QP (the caller records no split)
-        for i in range(m):
-            for a in range(p):
-                F_set[i, a] = 0.0
-    # the followers' setpoint and measured force (a tuning probe's F* + r + v and delayed, scaled error)
-    for i in range(m):
-        for a in range(p):
-            if probes:
-                fc = (F_set[i, a] + pr_r[i, a]) + pr_v[i, a]
-                j = max(k - pr_d[i, a], 0)  # the reading of tick j (recorded, or this tick's)
-                seen = Fm[i, a] if j == k else rec.F_measured[j, i, a]
-                F_cmd[i, a] = fc
-                F_seen[i, a] = fc - pr_g[i, a] * (fc - seen)
-            else:
-                F_cmd[i, a] = F_set[i, a]
-                F_seen[i, a] = Fm[i, a]
-    # ---- controllers: the leader on its nominal deformed node
-    ccode, carm = control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N,
-                          Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc,
-                          Yv, err, a_cmd, corr, tp, wv, wm, piv, ti, leader_law, law_params)
-    if ccode != DONE:
-        out_int[0] = ccode
-        out_int[2] = carm
-        return ccode
-    # ---- actuator saturation
-    sat = False
-    for c in range(nu):
-        if abs(tau[c]) > tau_max[c]:
-            sat = True
-    if sat:
-        flags[2] += 1
-        if flags[2] == 1:
-            flags[4] = k_base + k
-        flags[5] = k_base + k
-        for c in range(nu):
-            if abs(tau[c]) > tau_max[c]:
-                sat_joints[c] += 1
-        for c in range(nu):
-            if tau[c] < -tau_max[c]:
-                tau[c] = -tau_max[c]
-            elif tau[c] > tau_max[c]:
-                tau[c] = tau_max[c]
+    # ---- the split, the controllers and the saturation
+    code = control_torques(k, source, model, data, rec.F_measured, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx)
+    if code != DONE:
+        return code
     # ---- record
     rec.t[k] = t
     _copy(rec.x[k], x)
@@ -775,6 +768,96 @@ def tick_act(k, source, qs, qit, qb, qact, model, data):
         # the Python loop keeps the state of the tick (the exception leaves ``advance``)
         _copy(x, rec.x[k])
         return _step_failed(step_code, status, out_int)
+    return DONE
+
+
+@njit(cache=True, inline="always", _nrt=False)
+def control_torques(k, source, model, data, F_rec, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx):
+    """Stage of a tick (phase 2, and :func:`coopctrl.loop.controller_step.controller_step`): the split of tick ``k``
+    (``source``: :data:`SPLIT_SOLVED`, the QP's answer in ``x`` of ``qp_arrays``, which becomes the last
+    feasible split ``last_split``; :data:`SPLIT_HELD`, the last feasible split; :data:`SPLIT_NONE`, zero
+    wrenches), the followers' setpoints and measured wrenches (``tw.Fm`` [N, N m]; a tuning probe's offset,
+    delay and gain, its delayed readings from ``F_rec`` (rows, m, p)), the leader's and the followers' laws
+    (the ``control`` stage) on the measured terms ``Ym`` .. ``Sm`` and joint state ``zx`` into ``data.tau``
+    [N m], then the actuator saturation at ``tau_max`` (its tallies in ``flags`` and ``saturated_joints``).
+    Returns :data:`DONE`, or the controllers' event (also in ``out_int[0]``, the arm in ``out_int[2]``)."""
+    spatial, k_base, T, P, traj = model.spatial, model.k_base, model.T, model.P, model.traj
+    ctrl, posture, C_comp, qp, opts = model.ctrl, model.posture, model.C_comp, model.qp, model.opts
+    qp_arrays, tw = data.qp_arrays, data.tw
+    tau, integ, last, flags = data.tau, data.integrals, data.last_split, data.flags
+    sat_joints, out_int = data.saturated_joints, data.out_int
+    arm_kind, arm_dof, q_off = P.arm_kind, P.arm_dof, P.q_off
+    m = arm_kind.shape[0]
+    p = 6 if spatial else 3
+    nu = tau.shape[0]
+    tau_max = qp.tau_max
+    xq, external = qp_arrays.x, qp_arrays.external
+    switches, lead_off, law_params = opts.switches, opts.leader_offset, opts.law_params
+    leader_law = opts.leader_law
+    pr_r, pr_v, pr_g, pr_d = opts.probe_offset, opts.probe_pi, opts.probe_gain, opts.probe_delay
+    passive = switches[OPT_PASSIVE] != 0
+    probes = switches[OPT_PROBES] != 0
+    control = model.stages.control  # (a stage, one a line: see tick_sense)
+    # the tick's work arrays (TickWorkspace), by name
+    F_cmd, F_seen, Fm, F_set, a_cmd = tw.F_cmd, tw.F_seen, tw.Fm, tw.F_set, tw.a_cmd
+    err, Yn, dYn, ddYn, R3, pv, piv, wv, wm = tw.err, tw.Yn, tw.dYn, tw.ddYn, tw.R3, tw.pv, tw.piv, tw.wv, tw.wm
+    inc, corr, Yv, tp, ti = tw.inc, tw.corr, tw.Yv, tw.tp, tw.ti
+    Y0N = traj[0, k]
+    # ---- the split
+    if source == SPLIT_SOLVED:
+        for i in range(m):
+            for a in range(p):
+                F_set[i, a] = xq[i * p + a]
+                last[0, i, a] = xq[i * p + a]
+                last[1, i, a] = external[i * p + a]
+                last[2, i, a] = xq[i * p + a] - external[i * p + a]
+        flags[0] = 1
+    elif source == SPLIT_HELD:
+        for i in range(m):
+            for a in range(p):
+                F_set[i, a] = last[0, i, a]
+    else:  # no QP (the caller records no split)
+        for i in range(m):
+            for a in range(p):
+                F_set[i, a] = 0.0
+    # the followers' setpoint and measured force (a tuning probe's F* + r + v and delayed, scaled error)
+    for i in range(m):
+        for a in range(p):
+            if probes:
+                fc = (F_set[i, a] + pr_r[i, a]) + pr_v[i, a]
+                j = max(k - pr_d[i, a], 0)  # the reading of tick j (recorded, or this tick's)
+                seen = Fm[i, a] if j == k else F_rec[j, i, a]
+                F_cmd[i, a] = fc
+                F_seen[i, a] = fc - pr_g[i, a] * (fc - seen)
+            else:
+                F_cmd[i, a] = F_set[i, a]
+                F_seen[i, a] = Fm[i, a]
+    # ---- controllers: the leader on its nominal deformed node
+    ccode, carm = control(spatial, passive, ctrl, posture, C_comp, arm_kind, arm_dof, q_off, T, F_set, F_cmd, F_seen, Y0N,
+                          Yn, dYn, ddYn, Ym, dYm, Hm, hm, Jm, Jdqm, Wm, wm_free, Sm, zx, lead_off, integ, tau, R3, pv, inc,
+                          Yv, err, a_cmd, corr, tp, wv, wm, piv, ti, leader_law, law_params)
+    if ccode != DONE:
+        out_int[0] = ccode
+        out_int[2] = carm
+        return ccode
+    # ---- actuator saturation
+    sat = False
+    for c in range(nu):
+        if abs(tau[c]) > tau_max[c]:
+            sat = True
+    if sat:
+        flags[2] += 1
+        if flags[2] == 1:
+            flags[4] = k_base + k
+        flags[5] = k_base + k
+        for c in range(nu):
+            if abs(tau[c]) > tau_max[c]:
+                sat_joints[c] += 1
+        for c in range(nu):
+            if tau[c] < -tau_max[c]:
+                tau[c] = -tau_max[c]
+            elif tau[c] > tau_max[c]:
+                tau[c] = tau_max[c]
     return DONE
 
 
@@ -812,26 +895,14 @@ def run_ticks(model, data, k0, k_stop):
     the guards, right-hand-side evaluations)`` and ``out_float = (value, ...)``.
     """
     spatial, N, k_base, T, steps, stages, P = model.spatial, model.N, model.k_base, model.T, model.steps, model.stages, model.P
-    qp, opts = model.qp, model.opts
-    plan, plant_ws, qp_arrays, ws, tw, x, tau = data.plan, data.plant_ws, data.qp_arrays, data.ws, data.tw, data.x, data.tau
+    opts = model.opts
+    plan, plant_ws, tw, x, tau = data.plan, data.plant_ws, data.tw, data.x, data.tau
     flags, hold_status, x_good, x_fail, out_int, out_float = (data.flags, data.hold, data.x_good, data.x_fail, data.out_int,
                                                               data.out_float)
-    arm_kind = P.arm_kind
-    m = arm_kind.shape[0]
-    p = 6 if spatial else 3
-    W_diag, qp_num, qp_int = qp.W_diag, qp.numbers, qp.rows
-    eps_abs, answer_rho = qp_num[0], qp_num[4]
-    max_iter = int(qp_num[2])
-    row_grip, row_fric, row_tau, n_fric = qp_int[1], qp_int[2], qp_int[3], qp_int[4]
-    Mq, lo, hi, Hq, gq, xq, zq = (qp_arrays.M, qp_arrays.lo, qp_arrays.hi, qp_arrays.H, qp_arrays.g, qp_arrays.x,
-                                  qp_arrays.z)
-    n = W_diag.shape[0]
-    n_in = Mq.shape[0] - p
     passive = opts.switches[OPT_PASSIVE] != 0
     pws, cws_true, cws_meas = plant_ws
     advance = stages.advance  # the stages, one a line (see tick_sense)
     terms = stages.terms
-    qp_answer = stages.qp_answer
     status = tw.status
     k = k0
     out_int[0] = DONE
@@ -864,14 +935,10 @@ def run_ticks(model, data, k0, k_stop):
             hold_status[0] = 0
             source, qs, qit, qb, qact = SPLIT_HELD, hold_status[1], hold_status[2], 0, -1
         else:
-            qs, qit, okqp, qb = qp_answer(Hq, gq, Mq, lo, hi, xq, zq, ws, P_changed, flags, p, m, n, n_in, eps_abs,
-                                          max_iter, answer_rho, row_grip, row_fric, row_tau, n_fric)
+            okqp, qs, qit, qb, qact = solve_split(model, data, P_changed)
             if not okqp:
-                out_int[0] = QP_FAILED
-                out_int[2] = qs
-                out_int[3] = qit
                 return
-            source, qact = SPLIT_SOLVED, gi_active_inequalities(ws, p)
+            source = SPLIT_SOLVED
         code = tick_act(k, source, qs, qit, qb, qact, model, data)
         if code == RECORDED:
             break

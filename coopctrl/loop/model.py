@@ -41,10 +41,17 @@ QPConstants.__doc__ = """The load-distribution QP's constants of a run (``LoopMo
   squeeze [N]; ``tau_qp`` (nu,) the joint torque limits the QP's torque rows use [N m]; ``tau_max`` (nu,) the
   saturation limits [N m]; ``cos_phi``, ``sin_phi``: the friction cone's facet directions (spatial; one zero
   otherwise);
-- ``numbers`` = ``(eps_abs, mu, max_iter, min_grip [N], answer tolerance)``;
+- ``numbers`` = ``(eps_abs [N], mu_c, max_iter, min_grip [N], answer_rho)`` (:data:`QP_NUMBERS_FIELDS`; ``mu_c``
+  the inscribed pyramid's friction coefficient, ``answer_rho`` the answer tolerance's fraction of the load);
 - ``rows`` (int64) = ``(has_squeeze, first min-grip row, first friction row, first torque row, facets,
-  max_consecutive_failures)``, a row -1 where the family is absent.
+  max_consecutive_failures)`` (:data:`QP_ROWS_FIELDS`), a row -1 where the family is absent.
 """
+
+#: The names of ``QPConstants.numbers``, by index: the fields of the compiled core's ``QPNumbers``
+#: (coopctrl/core/qp_constants.h), which reads the row by these names.
+QP_NUMBERS_FIELDS = ("eps_abs", "mu_c", "max_iter", "min_grip", "answer_rho")
+#: The names of ``QPConstants.rows``, by index: the fields of the compiled core's ``QPRows``.
+QP_ROWS_FIELDS = ("has_squeeze", "min_grip", "friction", "torque_limits", "facets", "max_consecutive_failures")
 
 #: The run's switches and per-run arrays, by name (``LoopModel.opts``).
 RunOptions = namedtuple("RunOptions", "switches reals energy_F energy_dY0 energy kinetic_energy K_obj elastic_K "

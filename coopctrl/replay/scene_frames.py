@@ -21,6 +21,7 @@ from coopctrl.replay.chain_frames import chain_body_frames, chain_polyline
 from coopctrl.replay.urdf_visuals import ArmVisuals, urdf_arm_visuals
 from plants.arms.chain_arm import ChainArm
 from plants.arms.joint_frames import arm_polyline
+from plants.elastic._layout import PLANAR_MATRIX, SPATIAL_MATRIX
 from plants.frames import rotation_zyx
 
 #: At most this many frames are stored in the page (the run is subsampled evenly).
@@ -116,9 +117,10 @@ def _beam_tangents(plant, e: int, Y: np.ndarray, space: str) -> tuple[np.ndarray
     i, j = int(el.edge_index[e, 0]), int(el.edge_index[e, 1])
     row = el.edge_params[e]
     if space == "spatial":
-        return (_rotation(Y[i], space) @ row[75:84].reshape(3, 3)[:, 0],
-                _rotation(Y[j], space) @ row[84:93].reshape(3, 3)[:, 0])
-    ta, tb = Y[i, 2] + row[20], Y[j, 2] + row[20] - row[21]
+        return (_rotation(Y[i], space) @ row[SPATIAL_MATRIX["frame_in_i"]].reshape(3, 3)[:, 0],
+                _rotation(Y[j], space) @ row[SPATIAL_MATRIX["frame_in_j"]].reshape(3, 3)[:, 0])
+    alpha, beta = row[PLANAR_MATRIX.col("frame_angle")], row[PLANAR_MATRIX.col("rest_angle")]
+    ta, tb = Y[i, 2] + alpha, Y[j, 2] + alpha - beta
     return np.array([math.cos(ta), 0.0, math.sin(ta)]), np.array([math.cos(tb), 0.0, math.sin(tb)])
 
 

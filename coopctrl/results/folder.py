@@ -184,8 +184,10 @@ def check_consistent(result: "SimulationResult", directory: Path, digest: str | 
     rerun = f"rerun `coopctrl run {directory / SCENARIO_NAME} --out {directory}`"
     if digest is not None:
         if not result.scenario_sha256:
-            print(f"coopctrl: warning: {npz} holds no digest of its scenario (saved by SimulationResult.save or an "
-                  f"older coopctrl): {directory / SCENARIO_NAME} is taken as it is", file=sys.stderr)
+            from coopctrl.io.console import visible
+
+            print(f"coopctrl: warning: {visible(npz)} holds no digest of its scenario (saved by SimulationResult.save or "
+                  f"an older coopctrl): {visible(directory / SCENARIO_NAME)} is taken as it is", file=sys.stderr)
         elif result.scenario_sha256 != digest:
             raise _refuse(directory / SCENARIO_NAME,
                           f"its SHA-256 {digest[:12]}... differs from the {result.scenario_sha256[:12]}... recorded in "

@@ -47,8 +47,46 @@ def _figure(rows: int, cols: int, height: float = 2.2, width: float = 6.0, share
     return fig, axes
 
 
+#: An axis whose every value is below this in magnitude labels its ticks in scientific notation (``2e-08``):
+#: written plainly they read ``0.00000002``.
+SMALL_AXIS = 1e-3
+
+
+def _small_axes_scientific(fig) -> None:
+    """Label the ticks of an axis whose values are all small (< :data:`SMALL_AXIS`) in scientific notation,
+    each label on its own (``2e-08``), so no offset text is needed (:func:`plain_tick_labels`)."""
+    from matplotlib.ticker import FuncFormatter, ScalarFormatter
+
+    for ax in fig.get_axes():
+        if not ax.get_visible():
+            continue
+        for axis, limits in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+            if axis.get_scale() != "linear" or not isinstance(axis.get_major_formatter(), ScalarFormatter):
+                continue
+            if 0.0 < max(abs(limits[0]), abs(limits[1])) < SMALL_AXIS:
+                axis.set_major_formatter(FuncFormatter(lambda v, _: "0" if v == 0 else f"{v:.3g}"))
+
+
+#: SI prefixes for an error axis: (factor, prefix), from milli down to pico.
+_PREFIXES = ((1e3, "m"), (1e6, "\u00b5"), (1e9, "n"), (1e12, "p"))
+
+
+def error_scale(values: np.ndarray, unit: str) -> tuple[float, str]:
+    """``(factor, unit)`` for plotting an error series of ``unit`` (``m`` or ``rad``): the largest prefix
+    (milli to pico) under which the largest finite magnitude is at least 1, e.g. a 2e-8 rad error in
+    ``nrad`` (20) rather than ``mrad`` (0.00002). Milli for a series of zeros or no finite value."""
+    finite = np.abs(np.asarray(values, dtype=float))
+    finite = finite[np.isfinite(finite)]
+    peak = float(finite.max()) if finite.size else 0.0
+    for factor, prefix in _PREFIXES:
+        if peak == 0.0 or peak * factor >= 1.0:
+            return factor, prefix + unit
+    return _PREFIXES[-1][0], _PREFIXES[-1][1] + unit
+
+
 def _save(fig, path: str | Path | None):
     plain_tick_labels(fig)  # every tick label is the value itself: no "+2e1" offset on an axis
+    _small_axes_scientific(fig)
     if path is not None:
         with atomic_write(Path(path), "wb") as f:
             fig.savefig(f, format="png", dpi=100)
@@ -101,7 +139,8 @@ def _legend_outside(ax, **kwargs) -> None:
 # ---------------------------------------------------------------------- tracking
 def plot_tracking(r: "SimulationResult", path: str | Path | None = None):
     """Did the object track? Left: each pose coordinate against its nominal. Right: its error
-    (actual - nominal) in [mm] or [mrad]."""
+    (actual - nominal) in the unit that makes its largest value at least 1 (``mm`` down to ``pm``,
+    ``mrad`` down to ``prad``: :func:`error_scale`)."""
     names = pose_names(r.pose_size)
     fig, axes = _figure(len(names), 2, height=1.9)
     for k, name in enumerate(names):
@@ -113,9 +152,10 @@ def plot_tracking(r: "SimulationResult", path: str | Path | None = None):
         err = r.Y0[:, k] - r.Y0_nominal[:, k]
         if unit == "rad":
             err = (err + np.pi) % (2 * np.pi) - np.pi
-        axes[k, 1].plot(r.t, err * 1e3, color="C3")
+        factor, err_unit = error_scale(err, unit)
+        axes[k, 1].plot(r.t, err * factor, color="C3")
         axes[k, 1].axhline(0.0, color="0.6", linewidth=0.8)
-        axes[k, 1].set_ylabel(f"e_{name} [{'mm' if unit == 'm' else 'mrad'}]")
+        axes[k, 1].set_ylabel(f"e_{name} [{err_unit}]")
     _legend_outside(axes[0, 0])
     axes[0, 0].set_title("object pose against its nominal trajectory")
     axes[0, 1].set_title("tracking error (actual - nominal)")
@@ -263,8 +303,9 @@ def plot_qp_solve_times(r: "SimulationResult", path: str | Path | None = None):
     active set was still optimal), the inequality rows active at its answer (the compiled solver)
     and the solve time [us] (timed per solve for a backend outside the compiled loop, e.g.
     ``load_distribution.solver = "proxsuite"``); left over time (failed or held solves marked),
-    right as a histogram. A quantity the solver does not report is named in a note below the
-    panels, never drawn as an empty panel."""
+    right as a histogram. A quantity the solver does not report, or that is the same at every solve
+    (no iteration because the warm-started active set stayed optimal, no active row), is said in a note
+    below the panels, never drawn as a flat line; when nothing varies the note is the figure."""
     n = min(r.t.shape[0], len(r.qp_status)) if r.qp_status else 0
     t = r.t[:n]
     candidates = [
@@ -272,9 +313,19 @@ def plot_qp_solve_times(r: "SimulationResult", path: str | Path | None = None):
         ("active rows", "active inequality rows [-]", _per_tick(getattr(r, "qp_active_rows", None), n), True),
         ("solve time", "solve time [us]", _per_tick(r.qp_solve_time_s, n) * 1e6, False),
     ]
-    series = [c for c in candidates if np.isfinite(c[2]).any()]
-    missing = [c[0] for c in candidates if c not in series]
-    fig, axes = _figure(max(1, len(series)), 2, height=2.4, width=5.0, sharex=False)
+    reported = [c for c in candidates if np.isfinite(c[2]).any()]
+    missing = [c[0] for c in candidates if c not in reported]
+    constant = [c for c in reported if np.nanmin(c[2]) == np.nanmax(c[2])]
+    series = [c for c in reported if c not in constant]
+    notes = [f"{name}: {np.nanmin(values):.4g} at every solve" for name, _, values, _ in constant]
+    if missing:
+        notes.append(f"not reported by this run's solver: {', '.join(missing)}"
+                     + (" (the compiled solver is not timed per solve; load_distribution.solver = \"proxsuite\" is)"
+                        if "solve time" in missing else ""))
+    if series:
+        fig, axes = _figure(len(series), 2, height=2.4, width=5.0, sharex=False)
+    else:  # one line of text says what the run's QP did: no empty axes, no flat line
+        fig, axes = _figure(1, 1, height=0.6, width=10.0)
     failed = [k for k, s in enumerate(r.qp_status[:n]) if qp_failed(s)]
     from matplotlib.ticker import MaxNLocator
 
@@ -288,7 +339,8 @@ def plot_qp_solve_times(r: "SimulationResult", path: str | Path | None = None):
             _legend_outside(ax_t)
         finite = values[known]
         if integer:  # counts: one bar per value, integer ticks
-            ax_h.hist(finite, bins=np.arange(int(finite.min()), int(finite.max()) + 2) - 0.5)
+            _, _, bars = ax_h.hist(finite, bins=np.arange(int(finite.min()), int(finite.max()) + 2) - 0.5)
+            ax_h.bar_label(bars, fmt="%d", fontsize="small")  # a bar of 2 among 2500 is still read
             ax_t.yaxis.set_major_locator(MaxNLocator(integer=True))
             ax_h.xaxis.set_major_locator(MaxNLocator(integer=True))
         else:
@@ -299,19 +351,17 @@ def plot_qp_solve_times(r: "SimulationResult", path: str | Path | None = None):
         ax_h.set_ylabel("solves [-]")
         ax_h.set_title(f"median {np.median(finite):.3g}, max {finite.max():.3g} ({finite.size} solves)")
     if not series:
-        for ax in axes[0]:
-            ax.set_yticks([])
-        axes[0, 0].text(0.5, 0.5, "no QP solve in this run" if n == 0 else "the solver reported nothing per solve",
-                        transform=axes[0, 0].transAxes, ha="center", va="center")
-        axes[0, 1].set_visible(False)
-    for ax in axes[:, 0]:
-        ax.set_xlabel("t [s]")
-        if r.t.size > 1:
-            ax.set_xlim(float(r.t[0]), float(r.t[-1]))
-    if missing and series:
-        fig.supxlabel(f"not reported by this run's solver: {', '.join(missing)}"
-                 + (" (the compiled solver is not timed per solve; load_distribution.solver = \"proxsuite\" is)"
-                    if "solve time" in missing else ""), fontsize="small", color="0.3")
+        ax = axes[0, 0]
+        ax.set_axis_off()
+        text = "no QP solve in this run" if n == 0 else f"nothing varied over the {n} QP solves:\n" + "\n".join(notes)
+        ax.text(0.5, 0.5, text, transform=ax.transAxes, ha="center", va="center")
+    else:
+        for ax in axes[:, 0]:
+            ax.set_xlabel("t [s]")
+            if r.t.size > 1:
+                ax.set_xlim(float(r.t[0]), float(r.t[-1]))
+    if notes and series:
+        fig.supxlabel("; ".join(notes), fontsize="small", color="0.3")
     _title(fig, r, "what did the load-distribution QP cost?")
     _mark_failure(axes[:, 0], r)
     return _save(fig, path)

@@ -63,6 +63,9 @@ class SimulationResult:
             ``trbdf2``) over the run, or ``None`` (a fixed step): ``steps_accepted``,
             ``steps_rejected``, ``rejected_share`` [-], ``rhs_evaluations``, ``smallest_step_s`` and
             ``mean_step_s`` [s] (``step_s`` is then the mean step).
+        final_state: The :class:`~coopctrl.loop.state.LoopState` at the run's end, from which
+            ``simulate(scenario, state=result.final_state)`` continues it, or ``None`` (a result read from
+            files, which do not keep it).
     """
 
     scenario: str
@@ -108,6 +111,7 @@ class SimulationResult:
     qp_active_rows: np.ndarray | None = None
     integration_statistics: dict[str, Any] | None = None
     object_rotation: np.ndarray | None = None
+    final_state: Any = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.space not in ("planar", "spatial"):

@@ -111,14 +111,24 @@ def _build(scenario):
                                    unloaded_state=scenario.scene.unloaded_state, leader=scenario.leader, q0=q0)
     except UnreachablePoseError as exc:
         k = int(exc.arm.split("[")[1].split("]")[0]) if exc.arm.startswith("arms[") else 0
-        raise ScenarioError(f"arms[{k}].grasp", list(scenario.arms[k].grasp),
-                            f"a grasp within reach of the arm at base {list(scenario.arms[k].base)} "
+        arm = scenario.arms[k]
+        if arm.grasp_error is not None and any(arm.grasp_error):  # the plant holds grasp + grasp_error: name what was set
+            true = [float(v) for v in np.add(arm.grasp, arm.grasp_error)]
+            raise ScenarioError(f"arms[{k}].grasp_error", list(arm.grasp_error),
+                                f"an error that keeps the true grasp arms[{k}].grasp + grasp_error = {true} within reach "
+                                f"of the arm at base {list(arm.base)} (inverse kinematics residual {exc.residual:.3g})",
+                                scenario.source) from None
+        raise ScenarioError(f"arms[{k}].grasp", list(arm.grasp),
+                            f"a grasp within reach of the arm at base {list(arm.base)} "
                             f"(inverse kinematics residual {exc.residual:.3g})", scenario.source) from None
     except EulerSingularityError as exc:
         raise ScenarioError("arms[*].grasp", exc.where, "grasp orientations away from pitch = +-90 deg "
                             "(ZYX Euler singularity)", scenario.source) from None
     except ParameterError as exc:
         raise ScenarioError(exc.parameter, exc.value, exc.allowed, scenario.source) from None
+    from coopctrl.scenario.structure import check_structure
+
+    check_structure(scenario, plant.elastic)  # every grasp supported: before any use of the plant
     _check_static_torques(scenario, plant, x0)
     while len(_CACHE) >= BUILD_CACHE_SIZE:
         del _CACHE[next(iter(_CACHE))]

@@ -73,8 +73,9 @@ class SimulationConfig:
                                       why="absent = atol / control_period; above 100 m/s controls nothing")
     min_step: float = key(1e-10, unit="s", ge=1e-15, le=1.0,
                           why="a step of 1 fs is below any grasp's time scale; it must be below the control period")
-    accuracy: float | None = key(None, unit="m", gt=0, le=1.0,
-                                 why="absent = run the scene's own setting; above 1 m there is nothing to meet")
+    accuracy: float | None = key(None, unit="m", ge=1e-12, le=1.0,
+                                 why="absent = run the scene's own setting; 1e-12 m is the accuracy reference's own "
+                                 "error, below it nothing can be measured; above 1 m there is nothing to meet")
     seed: int = key(0, ge=0, le=MAX_SEED, why="a 64-bit signed integer, as TOML's integers")
     max_deformation: float = key(0.05, unit="m", gt=0, le=10.0, why="no grasp deforms by metres")
     max_energy: float | None = key(None, unit="J", gt=0, le=1e12, why="absent = no energy bound")

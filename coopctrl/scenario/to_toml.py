@@ -8,10 +8,11 @@ because it is the trajectory's first via pose.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import fields, is_dataclass
 
+from coopctrl.io.console import visible
+from coopctrl.io.toml_writer import toml_string
 from coopctrl.scenario.loader import SECTIONS, _keys
 from coopctrl.scenario.reference import _attributes, _unit_text
 from coopctrl.scenario.schema import spec
@@ -34,7 +35,7 @@ def _value(value) -> str:
             return "0.0"  # never "-0.0" (a pose computed as -1 * 0.0); equal when loaded back
         return repr(value)
     if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
+        return toml_string(value)
     if is_dataclass(value):
         inner = ", ".join(f"{f.name} = {_value(getattr(value, f.name))}" for f in fields(value)
                           if getattr(value, f.name) is not None)
@@ -84,6 +85,6 @@ def _section(lines: list[str], obj, prefix: str) -> None:
 
 def scenario_toml(scenario) -> str:
     """The scenario as TOML with every default filled in (see the module docstring)."""
-    lines = [f"# {scenario.name}: resolved by `coopctrl show` (every default filled in; units in comments)"]
+    lines = [f"# {visible(scenario.name)}: resolved by `coopctrl show` (every default filled in; units in comments)"]
     _section(lines, scenario, "")
     return "\n".join(lines) + "\n"

@@ -72,14 +72,23 @@ class TrajectoryConfig:
         return self.via[-1].time
 
 
+#: Tolerance [control periods] of :func:`check_segments`: far above the rounding of two via times (1e-16 s
+#: relative) and far below any segment a controller could tell from one period.
+SEGMENT_TOLERANCE_TICKS = 1e-9
+
+
 def check_segments(trajectory: TrajectoryConfig, control_period: float) -> None:
     """Refuse a segment shorter than the control period [s] (bad input, naming
     ``trajectory.via[i].time``): a minimum-jerk segment of duration ``T`` between poses ``D`` apart
     peaks at ``(10 / sqrt(3)) |D| / T^2`` (1e18 m/s^2 for 0.3 m in 1 ns); the loop samples it once
-    per control period at most, so it cannot be followed, only jumped."""
+    per control period at most, so it cannot be followed, only jumped.
+
+    The comparison is in control periods with a tolerance of :data:`SEGMENT_TOLERANCE_TICKS`: times that
+    are whole multiples of the period in decimal (0.008 s and 0.009 s at 1 ms) differ by a binary rounding
+    of about 1e-16 s, which must not refuse a segment of exactly one period."""
     for k in range(1, len(trajectory.via)):
         T = trajectory.via[k].time - trajectory.via[k - 1].time
-        if T < control_period:
+        if T < control_period * (1.0 - SEGMENT_TOLERANCE_TICKS):
             raise ScenarioError(
                 f"trajectory.via[{k}].time", trajectory.via[k].time,
                 f"a time >= trajectory.via[{k - 1}].time + simulation.control_period = "

@@ -125,6 +125,31 @@ class LocalProcessPool(ProcessPoolExecutor):
         super().__init__(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"), initializer=_init_worker,
                          initargs=(os.getpid(), tuple(preload)))
         self.workers = jobs
+        self.marks = None  # the RunMarks of submit_run, made at its first call
+
+    def submit_run(self, run_function, run, timeout_s: float | None = None) -> Future:
+        """Submit one run of a sweep, marked while it executes
+        (:func:`~coopctrl.sweep.lost_worker.execute_marked`): if a worker dies, :attr:`marks` tells which
+        runs had started."""
+        from coopctrl.sweep.lost_worker import RunMarks, execute_marked
+
+        if self.marks is None:
+            self.marks = RunMarks()
+        return self.submit(execute_marked, str(self.marks.folder), run_function, run, timeout_s)
+
+    def exit_codes(self, patience_s: float = 1.0) -> list[int | None]:
+        """The exit codes of the pool's worker processes (``None`` for one still running after ``patience_s``
+        [s]). Called once the pool is broken: a dead worker's pipe reads as closed a moment before the system
+        lets its exit code be read, and the pool stops the other workers itself."""
+        processes = list((getattr(self, "_processes", None) or {}).values())
+        for process in processes:
+            process.join(timeout=patience_s)
+        return [process.exitcode for process in processes]
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:  # noqa: D102
+        super().shutdown(wait=wait, cancel_futures=cancel_futures)
+        if self.marks is not None and wait:
+            self.marks.remove()
 
     def start(self) -> "LocalProcessPool":
         """Start the workers now, rather than at the first run (they import and initialise while this
@@ -142,6 +167,8 @@ class LocalProcessPool(ProcessPoolExecutor):
                 process.terminate()
         for process in processes:
             process.join(timeout=5.0)
+        if self.marks is not None:
+            self.marks.remove()
 
 
 def _close_half_made_client(exc: BaseException, client_type: type) -> None:

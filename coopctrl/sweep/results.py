@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from coopctrl.compact_repr import compact_repr
+from coopctrl.io.console import visible
 from coopctrl.sweep.grid import SweepGrid, value_of, value_text
 
 #: Status of a run: the simulation's own (``ok``, ``diverged``, ``qp_failed``), ``error`` when the
@@ -115,6 +116,9 @@ class SweepResult:
         sets: The fixed overrides ``(path, value text)``.
         rows: One dict per finished run, sorted by ``run`` (see the module docstring).
         runs: Number of runs planned (``len(rows) < runs`` after an interruption).
+        retried: ``(run, cause)`` of each run retried in a fresh worker because a worker process died while
+            it ran (``cause``: how that worker died, e.g. ``"killed by signal 9 (SIGKILL)"``;
+            :mod:`coopctrl.sweep.lost_worker`). Its row is the retry's.
     """
 
     scenario: str
@@ -123,6 +127,7 @@ class SweepResult:
     sets: tuple[tuple[str, Any], ...]
     rows: tuple[dict[str, Any], ...]
     runs: int
+    retried: tuple[tuple[int, str], ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rows", tuple(sorted(self.rows, key=lambda row: row["run"])))
@@ -165,6 +170,7 @@ class SweepResult:
             "finished": len(self.rows),
             "failed": len(self.failed),
             "complete": self.complete,
+            "retried": [{"run": run, "cause": cause} for run, cause in self.retried],
             "columns": list(self.columns),
             "rows": [dict(row) for row in self.rows],
         })
@@ -198,7 +204,8 @@ class SweepResult:
 
         lines = [fmt(header), *(fmt(line) for line in body)]
         lines += [f"run {row['run']} {row['status']}: {row['reason'] or 'no reason given'}" for row in self.failed]
-        return "\n".join(lines)
+        lines += [f"run {run} retried in a fresh worker: a worker of its pool {cause} while it ran" for run, cause in self.retried]
+        return "\n".join(visible(line) for line in lines)
 
     def save(self, directory: str | Path) -> list[Path]:
         """Write ``sweep.csv`` and ``sweep.json`` into ``directory`` as one unit: both are written into a

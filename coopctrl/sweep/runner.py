@@ -6,9 +6,12 @@ Guarantees:
   Local workers start while the runs are validated (their imports overlap it); a bad run terminates them
   before the error propagates.
 - A failed run (divergence, infeasible QP, any exception) is a row with its status and reason; it
-  never loses the other rows. If a worker process dies (a crash, the out-of-memory killer), the
-  runs in flight on that pool become ``error`` rows naming ``BrokenProcessPool`` and the remaining
-  runs go to a fresh pool.
+  never loses the other rows. If a worker process of a local pool dies (SIGKILL, a crash, the
+  out-of-memory killer), the pool's runs that had not started go to a fresh pool, and each run that had
+  started is retried once, alone, in a fresh worker (:mod:`coopctrl.sweep.lost_worker`): the run whose
+  worker dies again is an ``error`` row naming both deaths, the others keep their results. The result
+  lists the retried runs (:attr:`SweepResult.retried`). On an executor the sweep did not make (a Dask
+  cluster, a caller's pool) a lost run is an ``error`` row naming the executor's exception.
 - Rows are ordered by run index, whatever the executor and the order of completion.
 - With ``out``, ``sweep.csv`` and ``sweep.json`` are rewritten atomically as rows finish (at most
   every ``save_interval_s``) and once more at the end. On Ctrl-C (or an exception from ``on_row``)
@@ -24,9 +27,11 @@ from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, 
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
+from coopctrl.io.console import OutputWriteError
 from coopctrl.sweep import reuse
 from coopctrl.sweep.errors import SweepError, SweepInterrupted
 from coopctrl.sweep.executors import LocalProcessPool, SerialExecutor, make_executor
+from coopctrl.sweep.lost_worker import exit_cause
 from coopctrl.sweep.grid import SweepGrid
 from coopctrl.sweep.plan import SweepPlan, SweepRun, plan_sweep
 from coopctrl.sweep.results import SweepResult, make_row
@@ -63,10 +68,12 @@ class _Collector:
         self.save_interval_s = save_interval_s
         self.rows: dict[int, dict[str, Any]] = {}
         self._saved_at = -float("inf")
+        self.retried: dict[int, str] = {}  # run index -> how its first worker died
 
     def result(self) -> SweepResult:
         p = self.plan
-        return SweepResult(p.name, p.source, p.grid, p.sets, tuple(self.rows.values()), len(p.runs))
+        return SweepResult(p.name, p.source, p.grid, p.sets, tuple(self.rows.values()), len(p.runs),
+                           tuple(sorted(self.retried.items())))
 
     def add(self, row: dict[str, Any]) -> None:
         self.rows[row["run"]] = row
@@ -143,6 +150,8 @@ def run_sweep(
         ScenarioError, GridError: Bad input, before anything runs.
         SweepInterrupted: Ctrl-C (``KeyboardInterrupt``) during the sweep; its ``result`` holds the
             finished rows, already saved into ``out``.
+        OutputWriteError: the system refused to write ``out`` (a full disk): the sweep stops its workers;
+            the exception's ``partial`` is the :class:`SweepResult` of the rows finished so far.
     """
     if executor is not None and (jobs is not None or scheduler is not None):
         raise ValueError("run_sweep: give either an executor or jobs/scheduler, not both")
@@ -181,6 +190,22 @@ def run_sweep(
     # the outside stop of a stuck run: on a pool this function owns (it may replace it)
     backstop = run_timeout_s is not None and owned and isinstance(executor, LocalProcessPool)
     started: dict[Future, float] = {}  # when each pending run was first seen running [s, monotonic]
+    # a lost worker (see lost_worker): runs to resubmit, runs to retry alone, the retries' own pools
+    recover = owned and isinstance(executor, LocalProcessPool)
+    resubmit: list[SweepRun] = []
+    retries: list[SweepRun] = []
+    alone: dict[Future, LocalProcessPool] = {}
+    pool_of: dict[Future, Executor] = {}
+    losses: dict[int, int] = {}  # run index -> times it was lost with a broken pool
+    broken: dict[Executor, tuple[set[int], str]] = {}  # each replaced pool: its started runs, how its worker died
+
+    def submit(pool, run: SweepRun) -> Future:
+        if recover and isinstance(pool, LocalProcessPool):  # its own pools: marked, to recover from a lost worker
+            future = pool.submit_run(run_function, run, run_timeout_s)
+        else:
+            future = pool.submit(execute_run, run_function, run, run_timeout_s)
+        pool_of[future] = pool
+        return future
 
     def deliver(row: dict[str, Any]) -> None:
         collector.add(row)
@@ -190,28 +215,79 @@ def run_sweep(
         if on_row is not None:
             on_row(row)
 
+    def replace_broken(pool) -> None:
+        """``pool`` lost a worker: note which of its runs had started, stop it, and make a fresh pool."""
+        nonlocal executor
+        if pool in broken:
+            return
+        marks = pool.marks.started() if getattr(pool, "marks", None) is not None else set()
+        broken[pool] = (marks, exit_cause(pool.exit_codes()))
+        pool.interrupt()
+        if pool is executor:
+            executor = make_executor(jobs, scheduler, preload=preload)
+
+    def lost(future: Future, run: SweepRun) -> None:
+        """A run of an owned local pool failed because a worker died: resubmit it, retry it alone, or (lost
+        in its own retry, or lost too often) make it an ``error`` row."""
+        pool = pool_of.get(future)
+        own = alone.pop(future, None)
+        if own is not None:  # its retry, alone in a fresh worker, died too: the run is the cause
+            second = exit_cause(own.exit_codes())
+            own.interrupt()
+            deliver(make_row(run.index, run.columns, "error",
+                             f"the run's worker process died twice: a worker of its pool "
+                             f"{collector.retried.get(run.index, 'died')}, then its retry's own worker {second} (a "
+                             "crash, the out-of-memory killer or a signal; the other runs are unaffected)", None, None))
+            return
+        replace_broken(pool)
+        marks, cause = broken.get(pool, (set(), "died"))
+        losses[run.index] = losses.get(run.index, 0) + 1
+        if run.index in marks or losses[run.index] >= 2:  # it may be the cause: once more, alone
+            collector.retried[run.index] = cause
+            retries.append(run)
+        else:  # never started: the next pool takes it
+            resubmit.append(run)
+
     try:
         while True:
-            while len(pending) < limit:
-                run = next(queue, None)
+            while resubmit or len(pending) - len(alone) < limit:
+                run = resubmit.pop(0) if resubmit else next(queue, None)
                 if run is None:
                     break
                 try:
-                    future = executor.submit(execute_run, run_function, run, run_timeout_s)
-                except BrokenExecutor as exc:  # a worker process died (crash, out of memory): its runs in
-                    if not owned:              # flight are error rows; the rest go to a fresh pool
+                    future = submit(executor, run)
+                except BrokenExecutor as exc:  # a worker process died: the runs it held come back through
+                    if not owned:              # their futures; the rest go to a fresh pool
                         future = _failed(exc)
                     else:
-                        executor.shutdown(wait=False, cancel_futures=True)
-                        executor = make_executor(jobs, scheduler, preload=preload)
-                        future = executor.submit(execute_run, run_function, run, run_timeout_s)
+                        if recover:
+                            replace_broken(executor)
+                        else:
+                            executor.shutdown(wait=False, cancel_futures=True)
+                            executor = make_executor(jobs, scheduler, preload=preload)
+                        future = submit(executor, run)
+                pending[future] = run
+            if retries and not alone:  # one retry at a time, each in a fresh worker of its own
+                run = retries.pop(0)
+                own = LocalProcessPool(1, preload)
+                future = submit(own, run)
+                alone[future] = own
                 pending[future] = run
             if not pending:
                 break
             done, _ = wait(pending, timeout=1.0 if backstop else None, return_when=FIRST_COMPLETED)
             for future in sorted(done, key=lambda f: pending[f].index):
                 started.pop(future, None)
-                deliver(_row_of(future, pending.pop(future)))
+                run = pending.pop(future)
+                if recover and not future.cancelled() and isinstance(future.exception(), BrokenExecutor):
+                    lost(future, run)
+                    pool_of.pop(future, None)
+                    continue
+                own = alone.pop(future, None)
+                if own is not None:
+                    own.interrupt()
+                pool_of.pop(future, None)
+                deliver(_row_of(future, run))
             if backstop and not done:
                 now = time.monotonic()
                 for future in pending:
@@ -219,25 +295,31 @@ def run_sweep(
                         started[future] = now
                 limit_s = backstop_s(run_function, run_timeout_s)
                 overdue = [f for f in pending if now - started.get(f, now) > limit_s]
-                if overdue:  # stop the pool from outside; the others in flight start again on a fresh one
+                if overdue:  # stop the pools from outside; the others in flight start again on fresh ones
                     executor.interrupt()
                     for future in sorted(overdue, key=lambda f: pending[f].index):
                         run = pending.pop(future)
+                        own = alone.pop(future, None)
+                        if own is not None:
+                            own.interrupt()
                         deliver(make_row(run.index, run.columns, "timeout",
                                          f"run stopped by the sweep {limit_s:g} s after its worker took it: it did not answer "
                                          f"its run timeout of {run_timeout_s:g} s (--run-timeout)", None,
                                          now - started[future]))
-                    redo = [pending.pop(future) for future in sorted(pending, key=lambda f: pending[f].index)]
+                    redo = [pending.pop(future) for future in sorted(pending, key=lambda f: pending[f].index)
+                            if future not in alone]
                     started.clear()
                     executor = make_executor(jobs, scheduler, preload=preload)
                     for run in redo:
-                        pending[executor.submit(execute_run, run_function, run, run_timeout_s)] = run
+                        pending[submit(executor, run)] = run
     except BaseException as exc:
         interrupted = True
         for future, run in list(pending.items()):  # rows that finished but were not collected yet
             if future.done() and not future.cancelled() and future.exception() is None and run.index not in collector.rows:
                 collector.rows[run.index] = future.result()
             future.cancel()
+        for own in alone.values():
+            own.interrupt()
         if owned:  # a caller's executor is theirs to stop; its queued runs were cancelled above
             stop = getattr(executor, "interrupt", None)
             if stop is not None:
@@ -247,7 +329,13 @@ def run_sweep(
         if bar is not None:
             bar.close()
             bar = None
-        partial = collector.save()
+        try:
+            partial = collector.save()
+        except OutputWriteError as write_error:  # the system refused the output (a full disk): say so, with the rows
+            write_error.partial = collector.result()
+            raise write_error from None
+        if isinstance(exc, OutputWriteError):
+            exc.partial = partial
         if isinstance(exc, KeyboardInterrupt) and not isinstance(exc, SweepInterrupted):
             raise SweepInterrupted(partial) from None
         raise
@@ -261,4 +349,8 @@ def run_sweep(
                 executor.shutdown(wait=True)
         if isinstance(executor, SerialExecutor):  # the runs' loops were built in this thread: free them
             reuse.clear()
-    return collector.save()
+    try:
+        return collector.save()
+    except OutputWriteError as write_error:
+        write_error.partial = collector.result()
+        raise

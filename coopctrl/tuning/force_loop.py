@@ -113,7 +113,8 @@ def force_loop(model, follower: int | None = None, component: str | None = None,
     Args:
         follower: Arm index (0-based) of the follower (default: the first).
         component: Wrench component (default: :func:`default_component`).
-        force_kp, force_ki: PI gains [-], [1/s] for every follower component (default: the scene's).
+        force_kp: Proportional gain [-] for every follower component (default: the scene's).
+        force_ki: Integral gain [1/s] for every follower component (default: the scene's).
         modes: Precomputed :func:`elastic_modes` at the operating point (computed if None).
     """
     import control

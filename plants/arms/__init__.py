@@ -2,8 +2,9 @@
 
 The hot path is the numba kernels :func:`chain_arm_terms` (general joints: URDF arms and DH
 arms alike, ``plants.arms._chain_kernels``), :func:`spatial_arm_terms` (DH only,
-``_spatial_kernels``) and :func:`planar_arm_terms` (``_planar_kernels``); the classes wrap them
-for Python use, and :mod:`plants.kernels` names them for compiled callers.
+``_spatial_kernels``) and :func:`planar_arm_terms` (``_planar_kernels``), and :mod:`plants.kernels`
+names them for compiled callers. The classes call the same kernels in the compiled core
+(``plants._core``, ``plants/core``: ``chain_arm_*``, ``dh_arm_*``, ``planar_arm_*``), bit for bit.
 """
 
 from plants.arms.arm_terms import ArmTerms

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from plants.arms._chain_kernels import chain_arm_potential, chain_arm_terms, chain_arm_tip
+from plants._core import chain_arm_pose, chain_arm_potential, chain_arm_terms, chain_arm_tip
 from plants.arms._validation import check_pose4, check_vector
 from plants.arms.arm_queries import ArmQueries
 from plants.arms.arm_terms import ArmTerms
@@ -95,7 +95,8 @@ class ChainArm(ArmQueries, SpatialInverseKinematics):
         return tuple(j.name for j in self.joints)
 
     def kernel_table(self) -> np.ndarray:
-        """The packed (n, 32) joint table of :mod:`plants.arms._chain_kernels` (read-only)."""
+        """The packed (n, 32) joint table, a row per joint as ``plants/core/chain_arm.h`` names it
+        (``ChainJointRow``, :meth:`ChainJoint.row`; read-only)."""
         return self._table
 
     def kernel_tool(self) -> np.ndarray:
@@ -108,7 +109,7 @@ class ChainArm(ArmQueries, SpatialInverseKinematics):
 
     # ---- evaluation ----------------------------------------------------------------------
     def terms(self, q, dq) -> ArmTerms:
-        """``H, h, Y, J, Jdq`` at ``(q, dq)`` in one kernel call."""
+        """``H, h, Y, J, Jdq`` at ``(q, dq)`` in one call of the compiled core (``chain_arm_terms``)."""
         n = self.dof
         q = self._joint_vector("q", q)
         dq = self._joint_vector("dq", dq)
@@ -122,6 +123,14 @@ class ChainArm(ArmQueries, SpatialInverseKinematics):
             theta = float(Y[4])
             raise EulerSingularityError(f"arm '{self.name}' tip", theta, float(np.cos(theta)))
         return ArmTerms(H, h, Y, J, Jdq)
+
+    def pose(self, q) -> np.ndarray:
+        """Node pose ``Y = Phi(q)`` [m, rad] (169): ``terms(q, 0).Y`` bit for bit, by forward kinematics alone."""
+        Y = np.empty(6)
+        if chain_arm_pose(self._joint_vector("q", q), self._table, self.base, self.tool, False, Y) == 1:
+            theta = float(Y[4])
+            raise EulerSingularityError(f"arm '{self.name}' tip", theta, float(np.cos(theta)))
+        return Y
 
     def potential(self, q) -> float:
         """Gravitational potential energy of the links [J] (``-sum m g . p_com``)."""

@@ -92,7 +92,8 @@ class ChainJoint:
         object.__setattr__(self, "inertia", inertia)
 
     def row(self) -> np.ndarray:
-        """The packed kernel row of :mod:`plants.arms._chain_kernels` (32,)."""
+        """The packed kernel row (32,) as ``plants/core/chain_arm.h``'s ``ChainJointRow`` names it: ``[type,
+        origin(3), rotation(9), axis(3), mass, com(3), inertia(6), motor_inertia, viscous, coulomb, 0, 0, 0]``."""
         r = np.zeros(CHAIN_COLUMNS)
         axis = np.array(self.axis)
         if self.kind == "prismatic":

@@ -85,7 +85,8 @@ class DHLink:
         return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
 
     def row(self) -> np.ndarray:
-        """The packed kernel row ``[a, alpha, d, offset, mass, rc(3), I(6), Jm, B]`` (16,)."""
+        """The packed kernel row (16,) as ``plants/core/dh_arm.h``'s ``DHLink`` names it:
+        ``[a, alpha, d, offset, mass, com(3) = rc, inertia(6), motor_inertia, viscous]``."""
         return np.array(
             [self.a, self.alpha, self.d, self.offset, self.mass, *self.rc, *self.inertia, self.motor_inertia, self.viscous]
         )

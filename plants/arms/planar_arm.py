@@ -7,7 +7,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from plants.arms._dls_ik import damped_least_squares
-from plants.arms._planar_kernels import planar_arm_potential, planar_arm_terms
+from plants._core import planar_arm_potential, planar_arm_terms
 from plants.arms._validation import check_limits, check_vector, wrap_angle
 from plants.arms.arm_queries import ArmQueries
 from plants.arms.arm_terms import ArmTerms
@@ -72,7 +72,7 @@ class PlanarArm(ArmQueries):
         return len(self.links)
 
     def link_array(self) -> np.ndarray:
-        """The packed (n, 7) float64 link table for :func:`planar_arm_terms` (read-only)."""
+        """The packed (n, 7) float64 link table, a row per link as ``plants/core/planar_arm.h`` names it (read-only)."""
         return self._table
 
     dh_array = link_array

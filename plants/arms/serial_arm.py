@@ -7,7 +7,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from plants.arms._spatial_kernels import spatial_arm_potential, spatial_arm_terms, spatial_arm_tip
+from plants._core import dh_arm_potential, dh_arm_terms, dh_arm_tip
 from plants.arms._validation import check_limits, check_pose4, check_vector
 from plants.arms.arm_queries import ArmQueries
 from plants.arms.arm_terms import ArmTerms
@@ -75,7 +75,8 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
         return len(self.links)
 
     def dh_array(self) -> np.ndarray:
-        """The packed (n, 16) float64 DH table for :func:`spatial_arm_terms` (read-only)."""
+        """The packed (n, 16) float64 DH table, a row per link as ``plants/core/dh_arm.h`` names it (``DHLink``:
+        a, alpha, d, offset, mass, com(3), inertia(6), motor_inertia, viscous; read-only)."""
         return self._dh
 
     def chain_joints(self) -> tuple:
@@ -100,7 +101,7 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
 
     # ---- evaluation ----------------------------------------------------------------------
     def terms(self, q, dq) -> ArmTerms:
-        """``H, h, Y, J, Jdq`` at ``(q [rad], dq [rad/s])`` in one kernel call."""
+        """``H, h, Y, J, Jdq`` at ``(q [rad], dq [rad/s])`` in one call of the compiled core (``dh_arm_terms``)."""
         n = self.dof
         q = self._joint_vector("q", q)
         dq = self._joint_vector("dq", dq)
@@ -109,7 +110,7 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
         Y = np.empty(6)
         J = np.empty((6, n))
         Jdq = np.empty(6)
-        status = spatial_arm_terms(q, dq, self._dh, self.base, self.tool, self.gravity, H, h, Y, J, Jdq)
+        status = dh_arm_terms(q, dq, self._dh, self.base, self.tool, self.gravity, H, h, Y, J, Jdq)
         if status == 1:
             theta = float(Y[4])
             raise EulerSingularityError(f"arm '{self.name}' tip", theta, float(np.cos(theta)))
@@ -117,7 +118,7 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
 
     def potential(self, q) -> float:
         """Gravitational potential energy of the links [J] (``-sum m g . p_com``)."""
-        return float(spatial_arm_potential(self._joint_vector("q", q), self._dh, self.base, self.gravity))
+        return float(dh_arm_potential(self._joint_vector("q", q), self._dh, self.base, self.gravity))
 
     def tip_transform(self, q) -> tuple:
         """``(T, Jg)``: tool-frame world pose 4x4 and geometric Jacobian (v; omega_world).
@@ -126,7 +127,7 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
         """
         T = np.empty((4, 4))
         Jg = np.empty((6, self.dof))
-        spatial_arm_tip(self._joint_vector("q", q), self._dh, self.base, self.tool, T, Jg)
+        dh_arm_tip(self._joint_vector("q", q), self._dh, self.base, self.tool, T, Jg)
         return T, Jg
 
     # ---- variants ------------------------------------------------------------------------

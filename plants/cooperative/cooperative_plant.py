@@ -19,6 +19,8 @@ from plants.elastic._layout import (
     NODE_CHART,
     NODE_CHART_KIND,
     NODE_WIDTH_CHARTED,
+    PLANAR_SPRING,
+    SPATIAL_SPRING,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
     STATUS_OK,
@@ -325,7 +327,7 @@ class CooperativePlant:
             "node_count": self.node_count,
             "interconnections": int(self._edge_index.shape[0]),
             "torsion_springs": int(np.count_nonzero(
-                self._edge_params[:, 3:6] if self.space == "spatial" else self._edge_params[:, 2:3])),
+                self._edge_params[:, (SPATIAL_SPRING if self.space == "spatial" else PLANAR_SPRING)["torsion"]])),
             "state_size": self.state_size,
             "input_size": self.input_size,
         }

@@ -44,21 +44,13 @@ def nominal_node_motion(Y0, dY0, ddY0, grasps, space: str = "spatial"):
     dY0 = np.ascontiguousarray(dY0, dtype=float)
     ddY0 = np.ascontiguousarray(ddY0, dtype=float)
     G = np.ascontiguousarray(np.atleast_2d(np.asarray(grasps, dtype=float)))
-    if space == "planar":
-        return _planar_motion(Y0, dY0, ddY0, G)
-    Y, dY, ddY, bad = _spatial_motion(Y0, dY0, ddY0, G)
+    from plants import _core
+
+    p = 3 if space == "planar" else 6
+    Y, dY, ddY = (np.empty((G.shape[0] + 1, p)) for _ in range(3))
+    bad = _core.nominal_node_motion(Y0, dY0, ddY0, G, Y, dY, ddY)  # plants/core/rigid_motion.h
     if bad >= 0:
         check_euler(Y[bad, 3:], f"nominal pose of contact node {bad}")
-    return Y, dY, ddY
-
-
-@njit(cache=True)
-def _planar_motion(Y0, dY0, ddY0, G):
-    m = G.shape[0]
-    Y = np.empty((m + 1, 3))
-    dY = np.empty((m + 1, 3))
-    ddY = np.empty((m + 1, 3))
-    planar_motion_into(Y0, dY0, ddY0, G, Y, dY, ddY)
     return Y, dY, ddY
 
 
@@ -129,17 +121,6 @@ def _cross_into(a, b, out):
     out[0] = a[1] * b[2] - a[2] * b[1]
     out[1] = a[2] * b[0] - a[0] * b[2]
     out[2] = a[0] * b[1] - a[1] * b[0]
-
-
-@njit(cache=True)
-def _spatial_motion(Y0, dY0, ddY0, G):
-    m = G.shape[0]
-    Y = np.empty((m + 1, 6))
-    dY = np.empty((m + 1, 6))
-    ddY = np.empty((m + 1, 6))
-    R, v = np.empty((4, 3, 3)), np.empty((8, 3))
-    bad = spatial_motion_into(Y0, dY0, ddY0, G, Y, dY, ddY, R, v)
-    return Y, dY, ddY, bad
 
 
 @njit(cache=True)

@@ -1,32 +1,79 @@
-"""Column layout of the packed parameter arrays handed to the numba kernels.
+"""Column layout of the packed parameter arrays handed to the kernels (numba and the compiled core).
 
-The kernels take plain float64/int64 arrays (no Python objects), so the meaning of each column
-is fixed here, in one place, and used by both the packers and the kernels.
+The kernels take plain float64/int64 arrays (no Python objects). Each row is the same doubles, in the same
+order, as a struct of the compiled core (``plants/core/elastic_model.h``), and its columns are named here, in
+one place (:class:`RowLayout`): the packers write them by name (``SPATIAL_SPRING["stiffness"]``), the numba
+kernels read them through the column constants below, the compiled core through the struct's fields.
 
-Edge rows (one per interconnection, docs/model.md s.3):
+Edge rows (one per interconnection, docs/model.md s.3), ``EDGE_WIDTH_SPATIAL`` or ``EDGE_WIDTH_PLANAR``
+columns; which struct reads a row is its header's element kind:
 
-spatial (``EDGE_WIDTH_SPATIAL`` columns)
-    ``c[0:3]`` translational stiffness per axis [N/m]; ``cA[3:6]`` torsion stiffness per
-    Euler axis [N m/rad]; ``l[6]`` rest length [m]; ``A0[7:10]`` rest Euler difference [rad];
-    ``rho[10:13]`` rest offset of node j in node i's frame [m] (offset element);
-    ``d[13]`` damping along the line [N s/m]; ``dA[14]`` torsion damping [N m s/rad];
-    ``kappa[15:18]`` rotation-invariant orientation weights [N m] (offset element);
-    ``R0[18:27]`` rest relative rotation ``R_i^T R_j`` row-major (offset element; also the
-    geodesic rotation form's rest value); ``form[27]`` the rotation form
-    (``ROTATION_BOOK`` = 0.0, ``ROTATION_GEODESIC`` = 1.0; central and offset elements).
-planar (``EDGE_WIDTH_PLANAR`` columns)
-    ``c[0:2]``, ``cA[2]``, ``l[3]``, ``A0[4]``, ``rho[5:7]``, ``d[7]``, ``dA[8]``.
+``SPATIAL_SPRING`` (``SpatialSpring``, central and offset elements)
+    ``stiffness`` c per axis [N/m]; ``torsion`` cA per Euler axis [N m/rad]; ``rest_length`` l [m];
+    ``rest_angles`` A0 [rad]; ``rest_offset`` rho of node j in node i's frame [m] (offset element);
+    ``damping`` d along the line [N s/m]; ``torsion_damping`` dA [N m s/rad]; ``kappa`` rotation-invariant
+    orientation weights [N m] (offset element); ``rest_rotation`` R0 = ``R_i^T R_j`` at rest, row-major
+    (offset element; also the geodesic rotation form's rest value); ``rotation_form`` (``ROTATION_BOOK`` =
+    0.0, ``ROTATION_GEODESIC`` = 1.0).
+``PLANAR_SPRING`` (``PlanarSpring``)
+    ``stiffness`` (2), ``torsion``, ``rest_length``, ``rest_angle``, ``rest_offset`` (2), ``damping``,
+    ``torsion_damping``.
+``SPATIAL_MATRIX`` / ``PLANAR_MATRIX`` (``SpatialMatrixElement`` / ``PlanarMatrixElement``, matrix and beam
+elements, co-rotational with node i clamped in the element frame)
+    ``stiffness_jj`` K_jj and ``damping_jj`` C_jj (row-major), ``rest_offset`` u0 of node j in the element
+    frame [m]; spatial ``frame_in_i`` M = R_i0^T R_e0 and ``frame_in_j`` N = R_j0^T R_e0 (row-major); planar
+    ``frame_angle`` alpha = theta_e0 - theta_i0 and ``rest_angle`` beta = theta_j0 - theta_i0 [rad]; the
+    immobile model's ``stiffness_linear`` K_lin = G0^T K_jj G0 and ``damping_linear`` D_lin (2p x 2p).
 
-Matrix element rows (``ELEMENT_MATRIX``, both spaces): see the ``MATRIX_*`` columns below.
-
-Edge index rows: ``(i, j, element, damping form)`` with element ``ELEMENT_CENTRAL``,
-``ELEMENT_OFFSET`` or ``ELEMENT_MATRIX`` and damping form ``DAMPING_FRAME_INVARIANT`` or ``DAMPING_BOOK``.
-Node rows: spatial ``(mass, I1, I2, I3)``; planar ``(mass, I)`` [kg, kg m^2]. A spatial plant
+Edge index rows (the element header ``ElasticEdge``): ``(i, j, element, damping form)`` with element
+``ELEMENT_CENTRAL``, ``ELEMENT_OFFSET`` or ``ELEMENT_MATRIX`` and damping form ``DAMPING_FRAME_INVARIANT`` or
+``DAMPING_BOOK``. Node rows: spatial ``(mass, I1, I2, I3)``; planar ``(mass, I)`` [kg, kg m^2]. A spatial plant
 whose nodes' angles are taken in charts (docs/model.md s.2, rotation charts) packs wider rows,
-``NODE_WIDTH_CHARTED`` columns: ``chart kind[4]`` (``CHART_WORLD``, ``CHART_STORED``,
-``CHART_OWN``) and the stored chart ``C[5:14]`` row-major. The kernels read the chart columns
+``CHARTED_NODE`` (``ChartedSpatialNode``, ``NODE_WIDTH_CHARTED`` columns): ``chart_kind`` (``CHART_WORLD``,
+``CHART_STORED``, ``CHART_OWN``) and the stored chart ``chart`` row-major. The kernels read the chart columns
 only when the rows are that wide, so a plant in the book's world chart keeps 4 columns.
 """
+
+
+class RowLayout:
+    """The named columns of one packed row: its fields in order, each ``(first column, columns)``.
+
+    ``layout["field"]`` is the field's slice of a row, ``layout.col("field")`` its first column and
+    ``layout.width`` the columns of the whole struct. The compiled core's struct of the same name has the same
+    fields at the same offsets (``plants._core.elastic_layout()``; tests/test_core_elastic.py checks it)."""
+
+    def __init__(self, struct: str, *fields: tuple[str, int]):
+        self.struct = struct
+        self.fields: dict[str, tuple[int, int]] = {}
+        col = 0
+        for name, size in fields:
+            self.fields[name] = (col, size)
+            col += size
+        self.width = col
+
+    def col(self, field: str) -> int:
+        """The first column of ``field``."""
+        return self.fields[field][0]
+
+    def __getitem__(self, field: str) -> slice:
+        first, size = self.fields[field]
+        return slice(first, first + size)
+
+
+EDGE_HEADER = RowLayout("ElasticEdge", ("i", 1), ("j", 1), ("kind", 1), ("damping_form", 1))  # int64 columns
+SPATIAL_SPRING = RowLayout("SpatialSpring", ("stiffness", 3), ("torsion", 3), ("rest_length", 1),
+                           ("rest_angles", 3), ("rest_offset", 3), ("damping", 1), ("torsion_damping", 1),
+                           ("kappa", 3), ("rest_rotation", 9), ("rotation_form", 1))
+SPATIAL_MATRIX = RowLayout("SpatialMatrixElement", ("stiffness_jj", 36), ("damping_jj", 36), ("rest_offset", 3),
+                           ("frame_in_i", 9), ("frame_in_j", 9), ("stiffness_linear", 144),
+                           ("damping_linear", 144))
+PLANAR_SPRING = RowLayout("PlanarSpring", ("stiffness", 2), ("torsion", 1), ("rest_length", 1), ("rest_angle", 1),
+                          ("rest_offset", 2), ("damping", 1), ("torsion_damping", 1))
+PLANAR_MATRIX = RowLayout("PlanarMatrixElement", ("stiffness_jj", 9), ("damping_jj", 9), ("rest_offset", 2),
+                          ("frame_angle", 1), ("rest_angle", 1), ("stiffness_linear", 36), ("damping_linear", 36))
+SPATIAL_NODE = RowLayout("SpatialNode", ("mass", 1), ("inertia", 3))
+PLANAR_NODE = RowLayout("PlanarNode", ("mass", 1), ("inertia", 1))
+CHARTED_NODE = RowLayout("ChartedSpatialNode", ("mass", 1), ("inertia", 3), ("chart_kind", 1), ("chart", 9))
 
 ELEMENT_CENTRAL = 0
 ELEMENT_OFFSET = 1
@@ -41,13 +88,43 @@ DAMPING_FORMS = {"frame_invariant": DAMPING_FRAME_INVARIANT, "book": DAMPING_BOO
 ROTATION_BOOK = 0
 ROTATION_GEODESIC = 1
 ROTATION_FORMS = {"book": ROTATION_BOOK, "geodesic": ROTATION_GEODESIC}
+#: Columns of an edge index row (the element header), as the numba kernels read them.
+EDGE_NODE_I = EDGE_HEADER.col("i")
+EDGE_NODE_J = EDGE_HEADER.col("j")
+EDGE_KIND = EDGE_HEADER.col("kind")
+EDGE_DAMPING_FORM = EDGE_HEADER.col("damping_form")
+
 #: Column of the rotation form in a spatial central or offset edge row (0.0 book, 1.0 geodesic).
-ROTATION_FORM_COL = 27
+ROTATION_FORM_COL = SPATIAL_SPRING.col("rotation_form")
+
+#: Columns of a spatial spring row, as the numba kernels read them (first column of each field).
+SPRING_STIFFNESS = SPATIAL_SPRING.col("stiffness")
+SPRING_TORSION = SPATIAL_SPRING.col("torsion")
+SPRING_REST_LENGTH = SPATIAL_SPRING.col("rest_length")
+SPRING_REST_ANGLES = SPATIAL_SPRING.col("rest_angles")
+SPRING_REST_OFFSET = SPATIAL_SPRING.col("rest_offset")
+SPRING_DAMPING = SPATIAL_SPRING.col("damping")
+SPRING_TORSION_DAMPING = SPATIAL_SPRING.col("torsion_damping")
+SPRING_KAPPA = SPATIAL_SPRING.col("kappa")
+SPRING_REST_ROTATION = SPATIAL_SPRING.col("rest_rotation")
+#: Columns of a planar spring row.
+PLANAR_STIFFNESS = PLANAR_SPRING.col("stiffness")
+PLANAR_TORSION = PLANAR_SPRING.col("torsion")
+PLANAR_REST_LENGTH = PLANAR_SPRING.col("rest_length")
+PLANAR_REST_ANGLE = PLANAR_SPRING.col("rest_angle")
+PLANAR_REST_OFFSET = PLANAR_SPRING.col("rest_offset")
+PLANAR_DAMPING = PLANAR_SPRING.col("damping")
+PLANAR_TORSION_DAMPING = PLANAR_SPRING.col("torsion_damping")
+
+#: Columns of a node row: the mass and the first principal moment of inertia (the same columns in
+#: ``SPATIAL_NODE`` and ``PLANAR_NODE``, so the planar kernels read them too).
+NODE_MASS = SPATIAL_NODE.col("mass")
+NODE_INERTIA = SPATIAL_NODE.col("inertia")
 
 #: Node rows with charts: the chart kind column and the first column of the stored chart.
-NODE_CHART_KIND = 4
-NODE_CHART = 5
-NODE_WIDTH_CHARTED = 14
+NODE_CHART_KIND = CHARTED_NODE.col("chart_kind")
+NODE_CHART = CHARTED_NODE.col("chart")
+NODE_WIDTH_CHARTED = CHARTED_NODE.width
 #: Chart kinds: the book's world chart (``R = R(A)``), a stored constant chart (``R = C R(A)``,
 #: ``C`` in the node row), a node's own chart for this evaluation (an arm's node: ``C = R_tip(q)``,
 #: ``A = 0``; the arm kernel writes ``C`` into the node's frames block ``FRAME_CHART``).
@@ -55,21 +132,22 @@ CHART_WORLD = 0
 CHART_STORED = 1
 CHART_OWN = 2
 
-EDGE_WIDTH_SPATIAL = 381
-EDGE_WIDTH_PLANAR = 94
+#: Columns of an edge row: the widest element of each space (a matrix element's row).
+EDGE_WIDTH_SPATIAL = SPATIAL_MATRIX.width
+EDGE_WIDTH_PLANAR = PLANAR_MATRIX.width
 
-# matrix element (co-rotational, node i clamped in the element frame; docs/model.md s.3)
-MATRIX_K = 0          # spatial: K_jj 6x6 row-major [0:36]; planar: 3x3 [0:9]
-MATRIX_C_SPATIAL = 36  # damping C_jj 6x6 [36:72]
-MATRIX_U0_SPATIAL = 72  # rest position of node j in the element frame [72:75]
-MATRIX_M_SPATIAL = 75  # M = R_i0^T R_e0 row-major [75:84]: the element frame in node i's frame
-MATRIX_N_SPATIAL = 84  # N = R_j0^T R_e0 row-major [84:93]: the element frame in node j's rest frame
-MATRIX_LINEAR_SPATIAL = 93  # immobile model: K_lin = G0^T K_jj G0 (12x12) [93:237] and D_lin = G0^T C_jj G0 [237:381]
-MATRIX_C_PLANAR = 9     # C_jj 3x3 [9:18]
-MATRIX_U0_PLANAR = 18   # [18:20]
-MATRIX_ALPHA_PLANAR = 20  # element angle in node i's frame, theta_e0 - theta_i0 [rad]
-MATRIX_BETA_PLANAR = 21   # rest relative angle theta_j0 - theta_i0 [rad]
-MATRIX_LINEAR_PLANAR = 22  # K_lin (6x6) [22:58] and D_lin [58:94]
+# matrix element (co-rotational, node i clamped in the element frame; docs/model.md s.3): first columns
+MATRIX_K = SPATIAL_MATRIX.col("stiffness_jj")  # K_jj, spatial 6x6 and planar 3x3 row-major (both at 0)
+MATRIX_C_SPATIAL = SPATIAL_MATRIX.col("damping_jj")
+MATRIX_U0_SPATIAL = SPATIAL_MATRIX.col("rest_offset")
+MATRIX_M_SPATIAL = SPATIAL_MATRIX.col("frame_in_i")
+MATRIX_N_SPATIAL = SPATIAL_MATRIX.col("frame_in_j")
+MATRIX_LINEAR_SPATIAL = SPATIAL_MATRIX.col("stiffness_linear")  # then damping_linear, 4 p^2 columns further
+MATRIX_C_PLANAR = PLANAR_MATRIX.col("damping_jj")
+MATRIX_U0_PLANAR = PLANAR_MATRIX.col("rest_offset")
+MATRIX_ALPHA_PLANAR = PLANAR_MATRIX.col("frame_angle")
+MATRIX_BETA_PLANAR = PLANAR_MATRIX.col("rest_angle")
+MATRIX_LINEAR_PLANAR = PLANAR_MATRIX.col("stiffness_linear")
 
 # kernel status codes
 STATUS_OK = 0

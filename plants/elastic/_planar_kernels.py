@@ -1,8 +1,8 @@
 """numba kernels of the planar elastic system (docs/model.md s.2-3, planar reduction).
 
 ``Y`` and ``dY`` are (N, 3) node poses ``(x, z, theta)`` in the vertical x-z plane and their
-rates; ``node_params`` is (N, 2) ``(mass, I)``; ``edge_index`` (E, 3) and ``edge_params``
-(E, 9) follow :mod:`plants.elastic._layout`. In the plane ``L = 1``, so ``W`` is constant
+rates; ``node_params`` is (N, 2) ``(mass, I)``; ``edge_index`` (E, 4) and ``edge_params``
+(E, ``EDGE_WIDTH_PLANAR``) follow :mod:`plants.elastic._layout`, whose named columns the kernels read. In the plane ``L = 1``, so ``W`` is constant
 ``diag(m, m, I)`` and there is no gyroscopic term, and the angle difference is the exact
 relative rotation (the torsion spring is rotation invariant for both elements).
 """
@@ -14,7 +14,11 @@ import math
 import numpy as np
 from numba import njit
 
-from plants.elastic._layout import (DAMPING_BOOK, ELEMENT_CENTRAL, ELEMENT_MATRIX, MATRIX_LINEAR_PLANAR,
+from plants.elastic._layout import (DAMPING_BOOK, EDGE_DAMPING_FORM, EDGE_KIND, EDGE_NODE_I, EDGE_NODE_J,
+                                    ELEMENT_CENTRAL, ELEMENT_MATRIX, MATRIX_ALPHA_PLANAR, MATRIX_BETA_PLANAR,
+                                    MATRIX_C_PLANAR, MATRIX_K, MATRIX_LINEAR_PLANAR, MATRIX_U0_PLANAR, NODE_INERTIA,
+                                    NODE_MASS, PLANAR_DAMPING, PLANAR_REST_ANGLE, PLANAR_REST_LENGTH,
+                                    PLANAR_REST_OFFSET, PLANAR_STIFFNESS, PLANAR_TORSION, PLANAR_TORSION_DAMPING,
                                     STATUS_COINCIDENT_NODES, STATUS_OK)
 from plants.elastic._spatial_kernels import COINCIDENT_FRACTION, linear_matrix_edge, wrap_angle
 
@@ -28,7 +32,7 @@ def matrix_edge(Y, dY, i, j, p, F, rates):
     g_theta``, ``dPi/dtheta_j = g_theta`` with ``g = K_jj d``, ``p = R_e^T (r_j - r_i)``.
     ``rates=True``: the dampers, ``d_dot = (R_e^T (dr_j - dr_i) + dtheta_i (p_z, -p_x), dtheta_j -
     dtheta_i)``, ``D = 1/2 d_dot^T C_jj d_dot``, forces by the same map with ``g = C_jj d_dot``."""
-    te = Y[i, 2] + p[20]
+    te = Y[i, 2] + p[MATRIX_ALPHA_PLANAR]
     c, s = math.cos(te), math.sin(te)
     rx = Y[j, 0] - Y[i, 0]
     rz = Y[j, 1] - Y[i, 1]
@@ -41,12 +45,12 @@ def matrix_edge(Y, dY, i, j, p, F, rates):
         d0 = c * vx + s * vz + w * p1
         d1 = -s * vx + c * vz - w * p0
         d2 = dY[j, 2] - dY[i, 2]
-        base = 9
+        base = MATRIX_C_PLANAR
     else:
-        d0 = p0 - p[18]
-        d1 = p1 - p[19]
-        d2 = wrap_angle(Y[j, 2] - Y[i, 2] - p[21])
-        base = 0
+        d0 = p0 - p[MATRIX_U0_PLANAR]
+        d1 = p1 - p[MATRIX_U0_PLANAR + 1]
+        d2 = wrap_angle(Y[j, 2] - Y[i, 2] - p[MATRIX_BETA_PLANAR])
+        base = MATRIX_K
     g0 = p[base + 0] * d0 + p[base + 1] * d1 + p[base + 2] * d2
     g1 = p[base + 3] * d0 + p[base + 4] * d1 + p[base + 5] * d2
     g2 = p[base + 6] * d0 + p[base + 7] * d1 + p[base + 8] * d2
@@ -71,17 +75,17 @@ def elastic_edges(Y, edge_index, edge_params, F):
     """
     Pi = 0.0
     for e in range(edge_index.shape[0]):
-        i = edge_index[e, 0]
-        j = edge_index[e, 1]
+        i = edge_index[e, EDGE_NODE_I]
+        j = edge_index[e, EDGE_NODE_J]
         p = edge_params[e]
-        if edge_index[e, 2] == ELEMENT_MATRIX:
+        if edge_index[e, EDGE_KIND] == ELEMENT_MATRIX:
             Pi += matrix_edge(Y, Y, i, j, p, F, False)
             continue
-        if edge_index[e, 2] == ELEMENT_CENTRAL:
+        if edge_index[e, EDGE_KIND] == ELEMENT_CENTRAL:
             d0 = Y[i, 0] - Y[j, 0]
             d1 = Y[i, 1] - Y[j, 1]
-            Q = p[0] * d0 * d0 + p[1] * d1 * d1
-            l = p[3]
+            Q = p[PLANAR_STIFFNESS] * d0 * d0 + p[PLANAR_STIFFNESS + 1] * d1 * d1
+            l = p[PLANAR_REST_LENGTH]
             if l > 0.0:
                 s = math.sqrt(d0 * d0 + d1 * d1)
                 if s < COINCIDENT_FRACTION * l:
@@ -93,8 +97,8 @@ def elastic_edges(Y, edge_index, edge_params, F):
                 a = 0.0
                 g2 = 1.0
             Pi += 0.5 * g2 * Q
-            f0 = a * d0 + g2 * p[0] * d0
-            f1 = a * d1 + g2 * p[1] * d1
+            f0 = a * d0 + g2 * p[PLANAR_STIFFNESS] * d0
+            f1 = a * d1 + g2 * p[PLANAR_STIFFNESS + 1] * d1
             F[i, 0] += f0
             F[i, 1] += f1
             F[j, 0] -= f0
@@ -103,11 +107,11 @@ def elastic_edges(Y, edge_index, edge_params, F):
             c, s = math.cos(Y[i, 2]), math.sin(Y[i, 2])
             d0 = Y[j, 0] - Y[i, 0]
             d1 = Y[j, 1] - Y[i, 1]
-            e0 = c * d0 + s * d1 - p[5]
-            e1 = -s * d0 + c * d1 - p[6]
-            Pi += 0.5 * (p[0] * e0 * e0 + p[1] * e1 * e1)
-            C0 = p[0] * e0
-            C1 = p[1] * e1
+            e0 = c * d0 + s * d1 - p[PLANAR_REST_OFFSET]
+            e1 = -s * d0 + c * d1 - p[PLANAR_REST_OFFSET + 1]
+            Pi += 0.5 * (p[PLANAR_STIFFNESS] * e0 * e0 + p[PLANAR_STIFFNESS + 1] * e1 * e1)
+            C0 = p[PLANAR_STIFFNESS] * e0
+            C1 = p[PLANAR_STIFFNESS + 1] * e1
             f0 = c * C0 - s * C1
             f1 = s * C0 + c * C1
             F[j, 0] += f0
@@ -116,9 +120,9 @@ def elastic_edges(Y, edge_index, edge_params, F):
             F[i, 1] -= f1
             # de/dtheta_i = dR^T d, dR = [[-s, -c], [c, -s]]
             F[i, 2] += C0 * (-s * d0 + c * d1) + C1 * (-c * d0 - s * d1)
-        cA = p[2]
+        cA = p[PLANAR_TORSION]
         if cA != 0.0:
-            dl = wrap_angle(Y[i, 2] - Y[j, 2] - p[4])
+            dl = wrap_angle(Y[i, 2] - Y[j, 2] - p[PLANAR_REST_ANGLE])
             Pi += 0.5 * cA * dl * dl
             F[i, 2] += cA * dl
             F[j, 2] -= cA * dl
@@ -144,25 +148,25 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
     """
     D = 0.0
     for e in range(edge_index.shape[0]):
-        i = edge_index[e, 0]
-        j = edge_index[e, 1]
+        i = edge_index[e, EDGE_NODE_I]
+        j = edge_index[e, EDGE_NODE_J]
         p = edge_params[e]
-        if edge_index[e, 2] == ELEMENT_MATRIX:
+        if edge_index[e, EDGE_KIND] == ELEMENT_MATRIX:
             D += matrix_edge(Y, dY, i, j, p, F, True)
             continue
-        dd = p[7]
+        dd = p[PLANAR_DAMPING]
         if dd != 0.0:
             v0 = dY[i, 0] - dY[j, 0]
             v1 = dY[i, 1] - dY[j, 1]
             d0 = Y[i, 0] - Y[j, 0]
             d1 = Y[i, 1] - Y[j, 1]
             s = math.sqrt(d0 * d0 + d1 * d1)
-            if edge_index[e, 2] == ELEMENT_CENTRAL and s > 1e-12:
+            if edge_index[e, EDGE_KIND] == ELEMENT_CENTRAL and s > 1e-12:
                 vu = (v0 * d0 + v1 * d1) / s
                 D += 0.5 * dd * vu * vu
                 f0 = dd * vu * d0 / s
                 f1 = dd * vu * d1 / s
-            elif edge_index[e, 2] == ELEMENT_CENTRAL or edge_index[e, 3] == DAMPING_BOOK:
+            elif edge_index[e, EDGE_KIND] == ELEMENT_CENTRAL or edge_index[e, EDGE_DAMPING_FORM] == DAMPING_BOOK:
                 D += 0.5 * dd * (v0 * v0 + v1 * v1)
                 f0 = dd * v0
                 f1 = dd * v1
@@ -185,7 +189,7 @@ def damping_edges(Y, dY, edge_index, edge_params, F):
             F[i, 1] += f1
             F[j, 0] -= f0
             F[j, 1] -= f1
-        dA = p[8]
+        dA = p[PLANAR_TORSION_DAMPING]
         if dA != 0.0:
             v = dY[i, 2] - dY[j, 2]
             D += 0.5 * dA * v * v
@@ -199,20 +203,21 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     """Immobile unloaded state (4.5): add ``K y + D dy`` per edge into ``F``; return ``Pi``."""
     Pi = 0.0
     for e in range(edge_index.shape[0]):
-        i = edge_index[e, 0]
-        j = edge_index[e, 1]
+        i = edge_index[e, EDGE_NODE_I]
+        j = edge_index[e, EDGE_NODE_J]
         p = edge_params[e]
-        if edge_index[e, 2] == ELEMENT_MATRIX:
+        if edge_index[e, EDGE_KIND] == ELEMENT_MATRIX:
             Pi += linear_matrix_edge(Y, dY, Y_ref, i, j, p, F, MATRIX_LINEAR_PLANAR, 3, 2)
             continue
         for k in range(3):
             diff = (Y[i, k] - Y_ref[i, k]) - (Y[j, k] - Y_ref[j, k])
             if k == 2:
                 diff = wrap_angle(diff)  # a common rotation is a zero mode, also across +-pi
-                dk = p[8]
+                dk = p[PLANAR_TORSION_DAMPING]
+                kk = p[PLANAR_TORSION]
             else:
-                dk = p[7]
-            kk = p[k]
+                dk = p[PLANAR_DAMPING]
+                kk = p[PLANAR_STIFFNESS + k]
             Pi += 0.5 * kk * diff * diff
             f = kk * diff + dk * (dY[i, k] - dY[j, k])
             F[i, k] += f
@@ -239,8 +244,8 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
     N = Y.shape[0]
     w = np.zeros((N, 3))
     for k in range(N):
-        w[k, 0] = -node_params[k, 0] * gravity[0]
-        w[k, 1] = -node_params[k, 0] * gravity[1]
+        w[k, 0] = -node_params[k, NODE_MASS] * gravity[0]
+        w[k, 1] = -node_params[k, NODE_MASS] * gravity[1]
     status = interconnection_terms(Y, dY, edge_index, edge_params, Y_ref, immobile, w)
     if status != STATUS_OK:
         return np.zeros((N, 3)), status
@@ -248,5 +253,5 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
     for k in range(N):
         for a in range(3):
             f = (Fc[k, a] if k > 0 else 0.0) - w[k, a]
-            ddY[k, a] = f / (node_params[k, 0] if a < 2 else node_params[k, 1])
+            ddY[k, a] = f / (node_params[k, NODE_MASS] if a < 2 else node_params[k, NODE_INERTIA])
     return ddY, STATUS_OK

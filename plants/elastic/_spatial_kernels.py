@@ -1,8 +1,8 @@
 """numba kernels of the spatial elastic system (docs/model.md s.3, eqs. 104-121).
 
 Arrays: ``Y`` and ``dY`` are (N, 6) node poses ``(r, A)`` and their rates; ``node_params`` is
-(N, 4) ``(mass, I1, I2, I3)``; ``edge_index`` (E, 3) and ``edge_params`` (E, 27) follow
-:mod:`plants.elastic._layout`. Forces are *added* into the (N, 6) output arrays so that the
+(N, 4) ``(mass, I1, I2, I3)``; ``edge_index`` (E, 4) and ``edge_params`` (E, ``EDGE_WIDTH_SPATIAL``) follow
+:mod:`plants.elastic._layout`, whose named columns (``SPRING_*``, ``MATRIX_*``) the kernels read. Forces are *added* into the (N, 6) output arrays so that the
 cooperative kernel can accumulate everything in one buffer. Each kernel returns a status code
 from :mod:`plants.elastic._layout` instead of raising, so that it can run inside the fused
 right-hand side.
@@ -19,12 +19,32 @@ from plants.elastic._layout import (
     CHART_OWN,
     CHART_STORED,
     DAMPING_BOOK,
+    EDGE_DAMPING_FORM,
+    EDGE_KIND,
+    EDGE_NODE_I,
+    EDGE_NODE_J,
     ELEMENT_CENTRAL,
     ELEMENT_MATRIX,
+    MATRIX_C_SPATIAL,
+    MATRIX_K,
     MATRIX_LINEAR_SPATIAL,
+    MATRIX_M_SPATIAL,
+    MATRIX_N_SPATIAL,
+    MATRIX_U0_SPATIAL,
     NODE_CHART,
     NODE_CHART_KIND,
+    NODE_INERTIA,
+    NODE_MASS,
     ROTATION_FORM_COL,
+    SPRING_DAMPING,
+    SPRING_KAPPA,
+    SPRING_REST_ANGLES,
+    SPRING_REST_LENGTH,
+    SPRING_REST_OFFSET,
+    SPRING_REST_ROTATION,
+    SPRING_STIFFNESS,
+    SPRING_TORSION,
+    SPRING_TORSION_DAMPING,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
     STATUS_OK,
@@ -113,12 +133,14 @@ def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
     vec2 = scratch[19]  # rows: g_theta, h, x (work)
     for a in range(3):
         for b in range(3):
-            Re[a, b] = (Ri[a, 0] * p[75 + b] + Ri[a, 1] * p[78 + b] + Ri[a, 2] * p[81 + b])
+            Re[a, b] = (Ri[a, 0] * p[MATRIX_M_SPATIAL + b] + Ri[a, 1] * p[MATRIX_M_SPATIAL + 3 + b]
+                        + Ri[a, 2] * p[MATRIX_M_SPATIAL + 6 + b])
     for a in range(3):
         for b in range(3):
             acc = 0.0
             for k in range(3):
-                acc += Re[k, a] * (Rj[k, 0] * p[84 + b] + Rj[k, 1] * p[87 + b] + Rj[k, 2] * p[90 + b])
+                acc += Re[k, a] * (Rj[k, 0] * p[MATRIX_N_SPATIAL + b] + Rj[k, 1] * p[MATRIX_N_SPATIAL + 3 + b]
+                                   + Rj[k, 2] * p[MATRIX_N_SPATIAL + 6 + b])
             Q[a, b] = acc
     pv = vec[0]
     th = vec[1]
@@ -139,8 +161,8 @@ def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
             oj0 = Lj[0, 0] * dY[j, 3] + Lj[0, 1] * dY[j, 4] + Lj[0, 2] * dY[j, 5]
             oj1 = Lj[1, 0] * dY[j, 3] + Lj[1, 1] * dY[j, 4] + Lj[1, 2] * dY[j, 5]
             oj2 = Lj[2, 0] * dY[j, 3] + Lj[2, 1] * dY[j, 4] + Lj[2, 2] * dY[j, 5]
-            wi[a] = p[75 + a] * oi0 + p[78 + a] * oi1 + p[81 + a] * oi2
-            wj[a] = p[84 + a] * oj0 + p[87 + a] * oj1 + p[90 + a] * oj2
+            wi[a] = p[MATRIX_M_SPATIAL + a] * oi0 + p[MATRIX_M_SPATIAL + 3 + a] * oi1 + p[MATRIX_M_SPATIAL + 6 + a] * oi2
+            wj[a] = p[MATRIX_N_SPATIAL + a] * oj0 + p[MATRIX_N_SPATIAL + 3 + a] * oj1 + p[MATRIX_N_SPATIAL + 6 + a] * oj2
         # u_dot = R_e^T (dr_j - dr_i) + p x w_i
         du = scratch[21][0]
         for a in range(3):
@@ -166,14 +188,14 @@ def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
         dth[0] = x[0] + 0.5 * t0 + c * s0
         dth[1] = x[1] + 0.5 * t1 + c * s1
         dth[2] = x[2] + 0.5 * t2 + c * s2
-        base = 36
+        base = MATRIX_C_SPATIAL
     else:
         dd = scratch[21][1]
         dth = scratch[21][2]
         for a in range(3):
-            dd[a] = pv[a] - p[72 + a]
+            dd[a] = pv[a] - p[MATRIX_U0_SPATIAL + a]
             dth[a] = th[a]
-        base = 0
+        base = MATRIX_K
     gu = vec[2]
     gt = vec2[0]
     E = 0.0
@@ -203,11 +225,11 @@ def matrix_edge(Y, dY, i, j, p, F, scratch, frames, rates):
     d[1] = gu[2] * pv[0] - gu[0] * pv[2] - (Q[1, 0] * h[0] + Q[1, 1] * h[1] + Q[1, 2] * h[2])
     d[2] = gu[0] * pv[1] - gu[1] * pv[0] - (Q[2, 0] * h[0] + Q[2, 1] * h[1] + Q[2, 2] * h[2])
     for a in range(3):
-        x[a] = p[75 + 3 * a] * d[0] + p[76 + 3 * a] * d[1] + p[77 + 3 * a] * d[2]
+        x[a] = p[MATRIX_M_SPATIAL + 3 * a] * d[0] + p[MATRIX_M_SPATIAL + 1 + 3 * a] * d[1] + p[MATRIX_M_SPATIAL + 2 + 3 * a] * d[2]
     for a in range(3):
         F[i, 3 + a] += Li[0, a] * x[0] + Li[1, a] * x[1] + Li[2, a] * x[2]
     for a in range(3):
-        x[a] = p[84 + 3 * a] * h[0] + p[85 + 3 * a] * h[1] + p[86 + 3 * a] * h[2]
+        x[a] = p[MATRIX_N_SPATIAL + 3 * a] * h[0] + p[MATRIX_N_SPATIAL + 1 + 3 * a] * h[1] + p[MATRIX_N_SPATIAL + 2 + 3 * a] * h[2]
     for a in range(3):
         F[j, 3 + a] += Lj[0, a] * x[0] + Lj[1, a] * x[1] + Lj[2, a] * x[2]
     return E
@@ -244,15 +266,16 @@ def geodesic_rotation_edge(i, j, p, F, scratch, frames):
     vec = scratch[18]  # rows: e, h, torque
     for l in range(3):
         for k in range(3):
-            P[l, k] = Rj[l, 0] * p[18 + 3 * k] + Rj[l, 1] * p[19 + 3 * k] + Rj[l, 2] * p[20 + 3 * k]
+            P[l, k] = (Rj[l, 0] * p[SPRING_REST_ROTATION + 3 * k] + Rj[l, 1] * p[SPRING_REST_ROTATION + 1 + 3 * k]
+                       + Rj[l, 2] * p[SPRING_REST_ROTATION + 2 + 3 * k])
     for a in range(3):
         for b in range(3):
             Dl[a, b] = Ri[0, a] * P[0, b] + Ri[1, a] * P[1, b] + Ri[2, a] * P[2, b]
     e = vec[0]
     c = log_so3_into(Dl, e)  # e = log(Delta); J_r^-1 = I + 1/2 [e]x + c [e]x^2
-    g0 = p[5] * e[0]
-    g1 = p[4] * e[1]
-    g2 = p[3] * e[2]
+    g0 = p[SPRING_TORSION + 2] * e[0]
+    g1 = p[SPRING_TORSION + 1] * e[1]
+    g2 = p[SPRING_TORSION] * e[2]
     E = 0.5 * (e[0] * g0 + e[1] * g1 + e[2] * g2)
     # h = J_r^-T g = g - 1/2 e x g + c e x (e x g)
     t0 = e[1] * g2 - e[2] * g1
@@ -264,7 +287,8 @@ def geodesic_rotation_edge(i, j, p, F, scratch, frames):
     h[2] = g2 - 0.5 * t2 + c * (e[0] * t1 - e[1] * t0)
     tq = vec[2]
     for a in range(3):  # tau_j = R_0^T h
-        tq[a] = p[18 + a] * h[0] + p[21 + a] * h[1] + p[24 + a] * h[2]
+        tq[a] = (p[SPRING_REST_ROTATION + a] * h[0] + p[SPRING_REST_ROTATION + 3 + a] * h[1]
+                 + p[SPRING_REST_ROTATION + 6 + a] * h[2])
     for a in range(3):
         F[j, 3 + a] += Lj[0, a] * tq[0] + Lj[1, a] * tq[1] + Lj[2, a] * tq[2]
     for a in range(3):  # tau_i = -Delta h
@@ -358,15 +382,15 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
     """
     Pi = 0.0
     for e in range(edge_index.shape[0]):
-        i = edge_index[e, 0]
-        j = edge_index[e, 1]
+        i = edge_index[e, EDGE_NODE_I]
+        j = edge_index[e, EDGE_NODE_J]
         p = edge_params[e]
-        if edge_index[e, 2] == ELEMENT_CENTRAL:
+        if edge_index[e, EDGE_KIND] == ELEMENT_CENTRAL:
             d0 = Y[i, 0] - Y[j, 0]
             d1 = Y[i, 1] - Y[j, 1]
             d2 = Y[i, 2] - Y[j, 2]
-            Q = p[0] * d0 * d0 + p[1] * d1 * d1 + p[2] * d2 * d2
-            l = p[6]
+            Q = p[SPRING_STIFFNESS] * d0 * d0 + p[SPRING_STIFFNESS + 1] * d1 * d1 + p[SPRING_STIFFNESS + 2] * d2 * d2
+            l = p[SPRING_REST_LENGTH]
             if l > 0.0:
                 s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
                 if s < COINCIDENT_FRACTION * l:
@@ -378,9 +402,9 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
                 a = 0.0
                 g2 = 1.0
             Pi += 0.5 * g2 * Q
-            f0 = a * d0 + g2 * p[0] * d0
-            f1 = a * d1 + g2 * p[1] * d1
-            f2 = a * d2 + g2 * p[2] * d2
+            f0 = a * d0 + g2 * p[SPRING_STIFFNESS] * d0
+            f1 = a * d1 + g2 * p[SPRING_STIFFNESS + 1] * d1
+            f2 = a * d2 + g2 * p[SPRING_STIFFNESS + 2] * d2
             F[i, 0] += f0
             F[i, 1] += f1
             F[i, 2] += f2
@@ -388,17 +412,17 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
             F[j, 1] -= f1
             F[j, 2] -= f2
             if p[ROTATION_FORM_COL] != 0.0:
-                if p[3] != 0.0 or p[4] != 0.0 or p[5] != 0.0:
+                if p[SPRING_TORSION] != 0.0 or p[SPRING_TORSION + 1] != 0.0 or p[SPRING_TORSION + 2] != 0.0:
                     Pi += geodesic_rotation_edge(i, j, p, F, scratch, frames)
                 continue
             for k in range(3):
-                cA = p[3 + k]
+                cA = p[SPRING_TORSION + k]
                 if cA != 0.0:
-                    dl = wrap_angle(Y[i, 3 + k] - Y[j, 3 + k] - p[7 + k])
+                    dl = wrap_angle(Y[i, 3 + k] - Y[j, 3 + k] - p[SPRING_REST_ANGLES + k])
                     Pi += 0.5 * cA * dl * dl
                     F[i, 3 + k] += cA * dl
                     F[j, 3 + k] -= cA * dl
-        elif edge_index[e, 2] == ELEMENT_MATRIX:
+        elif edge_index[e, EDGE_KIND] == ELEMENT_MATRIX:
             Pi += matrix_edge(Y, Y, i, j, p, F, scratch, frames, False)
         else:
             Ri = frames[i, 0]
@@ -408,9 +432,9 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
                 d[k] = Y[j, k] - Y[i, k]
             Ce = scratch[10, 1]
             for k in range(3):
-                ek = Ri[0, k] * d[0] + Ri[1, k] * d[1] + Ri[2, k] * d[2] - p[10 + k]
-                Pi += 0.5 * p[k] * ek * ek
-                Ce[k] = p[k] * ek
+                ek = Ri[0, k] * d[0] + Ri[1, k] * d[1] + Ri[2, k] * d[2] - p[SPRING_REST_OFFSET + k]
+                Pi += 0.5 * p[SPRING_STIFFNESS + k] * ek * ek
+                Ce[k] = p[SPRING_STIFFNESS + k] * ek
             for l in range(3):
                 f = Ri[l, 0] * Ce[0] + Ri[l, 1] * Ce[1] + Ri[l, 2] * Ce[2]
                 F[j, l] += f
@@ -422,9 +446,9 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
                         acc += Ce[k] * dRi[a][l, k] * d[l]
                 F[i, 3 + a] += acc
             if p[ROTATION_FORM_COL] != 0.0:
-                if p[3] != 0.0 or p[4] != 0.0 or p[5] != 0.0:
+                if p[SPRING_TORSION] != 0.0 or p[SPRING_TORSION + 1] != 0.0 or p[SPRING_TORSION + 2] != 0.0:
                     Pi += geodesic_rotation_edge(i, j, p, F, scratch, frames)
-            elif p[15] != 0.0 or p[16] != 0.0 or p[17] != 0.0:
+            elif p[SPRING_KAPPA] != 0.0 or p[SPRING_KAPPA + 1] != 0.0 or p[SPRING_KAPPA + 2] != 0.0:
                 Rj = frames[j, 0]
                 dRj = frames[j, 1:4]
                 # P = R_j R0^T ; QR = (R_i Kd) R0 (every entry written below)
@@ -435,19 +459,19 @@ def elastic_edges_into(Y, edge_index, edge_params, F, scratch, frames):
                         s1 = 0.0
                         s2 = 0.0
                         for n in range(3):
-                            s1 += Rj[l, n] * p[18 + 3 * k + n]
-                            s2 += Ri[l, n] * p[15 + n] * p[18 + 3 * n + k]
+                            s1 += Rj[l, n] * p[SPRING_REST_ROTATION + 3 * k + n]
+                            s2 += Ri[l, n] * p[SPRING_KAPPA + n] * p[SPRING_REST_ROTATION + 3 * n + k]
                         P[l, k] = s1
                         QR[l, k] = s2
                 for k in range(3):
                     Mkk = Ri[0, k] * P[0, k] + Ri[1, k] * P[1, k] + Ri[2, k] * P[2, k]
-                    Pi += p[15 + k] * (1.0 - Mkk)
+                    Pi += p[SPRING_KAPPA + k] * (1.0 - Mkk)
                 for a in range(3):
                     gi = 0.0
                     gj = 0.0
                     for l in range(3):
                         for k in range(3):
-                            gi += p[15 + k] * dRi[a][l, k] * P[l, k]
+                            gi += p[SPRING_KAPPA + k] * dRi[a][l, k] * P[l, k]
                             gj += dRj[a][l, k] * QR[l, k]
                     F[i, 3 + a] -= gi
                     F[j, 3 + a] -= gj
@@ -531,10 +555,10 @@ def node_frames_terms_into(Y, dY, node_params, gravity, frames, Wr, w):
         L[0, 0], L[0, 1], L[0, 2] = -sth, 0.0, 1.0
         L[1, 0], L[1, 1], L[1, 2] = sph * cth, cph, 0.0
         L[2, 0], L[2, 1], L[2, 2] = cph * cth, -sph, 0.0
-        m = node_params[k, 0]
+        m = node_params[k, NODE_MASS]
         for a in range(3):
             w[k, a] = -m * gravity[a]
-        _rotational_terms_from_trig(cth, sth, cph, sph, dY[k, 3:6], node_params[k, 1:4], Wr[k], w[k, 3:6])
+        _rotational_terms_from_trig(cth, sth, cph, sph, dY[k, 3:6], node_params[k, NODE_INERTIA:NODE_INERTIA + 3], Wr[k], w[k, 3:6])
     if node_params.shape[1] > NODE_CHART_KIND:
         apply_charts_into(node_params, frames)
 
@@ -572,16 +596,16 @@ def damping_edges_into(Y, dY, edge_index, edge_params, F, scratch, frames):
     """
     D = 0.0
     for e in range(edge_index.shape[0]):
-        i = edge_index[e, 0]
-        j = edge_index[e, 1]
+        i = edge_index[e, EDGE_NODE_I]
+        j = edge_index[e, EDGE_NODE_J]
         p = edge_params[e]
-        if edge_index[e, 2] == ELEMENT_MATRIX:
+        if edge_index[e, EDGE_KIND] == ELEMENT_MATRIX:
             D += matrix_edge(Y, dY, i, j, p, F, scratch, frames, True)
             continue
-        book = edge_index[e, 3] == DAMPING_BOOK
-        central = edge_index[e, 2] == ELEMENT_CENTRAL
-        dd = p[13]
-        dA = p[14]
+        book = edge_index[e, EDGE_DAMPING_FORM] == DAMPING_BOOK
+        central = edge_index[e, EDGE_KIND] == ELEMENT_CENTRAL
+        dd = p[SPRING_DAMPING]
+        dA = p[SPRING_TORSION_DAMPING]
         Ri = frames[i, 0]
         Li = frames[i, 4]
         if dd != 0.0:
@@ -680,20 +704,21 @@ def linear_edges(Y, dY, Y_ref, edge_index, edge_params, F):
     """
     Pi = 0.0
     for e in range(edge_index.shape[0]):
-        i = edge_index[e, 0]
-        j = edge_index[e, 1]
+        i = edge_index[e, EDGE_NODE_I]
+        j = edge_index[e, EDGE_NODE_J]
         p = edge_params[e]
-        if edge_index[e, 2] == ELEMENT_MATRIX:
+        if edge_index[e, EDGE_KIND] == ELEMENT_MATRIX:
             Pi += linear_matrix_edge(Y, dY, Y_ref, i, j, p, F, MATRIX_LINEAR_SPATIAL, 6, 3)
             continue
         for k in range(6):
             diff = (Y[i, k] - Y_ref[i, k]) - (Y[j, k] - Y_ref[j, k])
-            kk = p[k]
             if k >= 3:
+                kk = p[SPRING_TORSION + k - 3]
                 diff = wrap_angle(diff)  # a common rotation is a zero mode, also across +-pi
-                dk = p[14]
+                dk = p[SPRING_TORSION_DAMPING]
             else:
-                dk = p[13]
+                kk = p[SPRING_STIFFNESS + k]
+                dk = p[SPRING_DAMPING]
             Pi += 0.5 * kk * diff * diff
             f = kk * diff + dk * (dY[i, k] - dY[j, k])
             F[i, k] += f
@@ -762,10 +787,10 @@ def node_terms_into(Y, dY, node_params, gravity, Y_ref, immobile, Wr, w, scratch
     zero[1] = 0.0
     zero[2] = 0.0
     for k in range(Y.shape[0]):
-        m = node_params[k, 0]
+        m = node_params[k, NODE_MASS]
         for a in range(3):
             w[k, a] = -m * gravity[a]
-        I = node_params[k, 1:4]
+        I = node_params[k, NODE_INERTIA:NODE_INERTIA + 3]
         if immobile:
             node_rotational_terms(Y_ref[k, 3:6], zero, I, Wr[k], g3)
             w[k, 3] = 0.0
@@ -850,7 +875,7 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
     b = np.empty(3)
     out = np.empty(3)
     for k in range(N):
-        m = node_params[k, 0]
+        m = node_params[k, NODE_MASS]
         for a in range(6):
             f = (Fc[k, a] if k > 0 else 0.0) - w[k, a]
             if a < 3:
@@ -858,7 +883,7 @@ def elastic_accelerations(Y, dY, Fc, node_params, edge_index, edge_params, gravi
             else:
                 b[a - 3] = f
         A = Y_ref[k, 3:6] if immobile else Y[k, 3:6]
-        if not solve_node_rotation(A, node_params[k, 1:4], b, out):
+        if not solve_node_rotation(A, node_params[k, NODE_INERTIA:NODE_INERTIA + 3], b, out):
             return ddY, STATUS_EULER_SINGULAR
         ddY[k, 3] = out[0]
         ddY[k, 4] = out[1]

@@ -7,23 +7,24 @@ from typing import Sequence
 import numpy as np
 
 from plants import _validation as v
-from plants.elastic import _planar_kernels, _spatial_kernels
+from plants.elastic import _compiled_kernels
 from plants.elastic._layout import (
     CHART_STORED,
     CHART_WORLD,
+    EDGE_HEADER,
     EDGE_WIDTH_PLANAR,
     DAMPING_FORMS,
     EDGE_WIDTH_SPATIAL,
     ELEMENT_MATRIX,
     ELEMENT_OFFSET,
-    MATRIX_LINEAR_PLANAR,
-    MATRIX_LINEAR_SPATIAL,
     ELEMENTS,
-    NODE_CHART,
-    NODE_CHART_KIND,
+    CHARTED_NODE,
     NODE_WIDTH_CHARTED,
-    ROTATION_FORM_COL,
+    PLANAR_MATRIX,
+    PLANAR_SPRING,
     ROTATION_FORMS,
+    SPATIAL_MATRIX,
+    SPATIAL_SPRING,
     STATUS_COINCIDENT_NODES,
     STATUS_EULER_SINGULAR,
     STATUS_OK,
@@ -131,7 +132,8 @@ class ElasticSystem:
             raise ParameterError("interconnections", [], "at least one interconnection")
         self.node_params = np.array([[nd.mass, *nd.inertia] for nd in self.nodes], dtype=float)
         self.edge_index, self.edge_params = self._pack_edges()
-        self._kern = _spatial_kernels if space == "spatial" else _planar_kernels
+        # the compiled core's kernels (plants/core/elastic_*.h), bit-identical to the numba ones
+        self._kern = _compiled_kernels.spatial if space == "spatial" else _compiled_kernels.planar
         self.immobile = unloaded_state == "immobile"
         self._set_charts(charts)
 
@@ -145,7 +147,8 @@ class ElasticSystem:
             return "the immobile model (4.5) is linear in the book's world angles (unloaded_state = 'immobile')"
         for e, ic in enumerate(self.interconnections):
             name = ic.name if ic.name != "interconnection" else f"interconnections[{e}]"
-            if ic.element == "central" and ic.rotation_form == "book" and np.any(self.edge_params[e, 3:6] != 0.0):
+            if (ic.element == "central" and ic.rotation_form == "book"
+                    and np.any(self.edge_params[e, SPATIAL_SPRING["torsion"]] != 0.0)):
                 return (f"{name} has rotation_form = 'book': its torsion springs act on the Euler difference "
                         "A_i - A_j - A0, which changes with the chart; use rotation_form = 'geodesic'")
             if ic.damping_form == "book" and ic.torsion_damping != 0.0:
@@ -169,15 +172,22 @@ class ElasticSystem:
             if why is not None:
                 raise ParameterError("charts", "not the identity", f"the identity (the book's world angles): {why}")
             rows = np.zeros((N, NODE_WIDTH_CHARTED))
-            rows[:, :4] = self.node_params
+            rows[:, CHARTED_NODE.col("mass")] = self.node_params[:, 0]
+            rows[:, CHARTED_NODE["inertia"]] = self.node_params[:, 1:4]
             for k in range(N):
-                rows[k, NODE_CHART_KIND] = CHART_WORLD if identity[k] else CHART_STORED
-                rows[k, NODE_CHART:NODE_CHART + 9] = C[k].reshape(-1)
+                rows[k, CHARTED_NODE["chart_kind"]] = CHART_WORLD if identity[k] else CHART_STORED
+                rows[k, CHARTED_NODE["chart"]] = C[k].reshape(-1)
             self._node_rows = rows
         else:
             self._node_rows = self.node_params
         C.setflags(write=False)
         self.charts = C
+
+    @property
+    def node_rows(self) -> np.ndarray:
+        """The node rows the kernels read (:mod:`plants.elastic._layout`): :attr:`node_params` ``(mass, inertia)``,
+        or the wider ``CHARTED_NODE`` rows with each node's chart when :attr:`charted`."""
+        return self._node_rows
 
     @property
     def charted(self) -> bool:
@@ -287,32 +297,34 @@ class ElasticSystem:
                         "for the offset element each torsion component must not exceed the sum of the other two",
                     )
                 R0 = Ri.T @ Rj
-                par[e, 0:3] = c
-                par[e, 3:6] = cA
-                par[e, 6] = l
-                par[e, 7:10] = A0
-                par[e, 10:13] = rho
-                par[e, 13] = ic.damping
-                par[e, 14] = ic.torsion_damping
-                par[e, 15:18] = kappa
-                par[e, 18:27] = R0.reshape(-1)
+                row, S = par[e], SPATIAL_SPRING
+                row[S["stiffness"]] = c
+                row[S["torsion"]] = cA
+                row[S["rest_length"]] = l
+                row[S["rest_angles"]] = A0
+                row[S["rest_offset"]] = rho
+                row[S["damping"]] = ic.damping
+                row[S["torsion_damping"]] = ic.torsion_damping
+                row[S["kappa"]] = kappa
+                row[S["rest_rotation"]] = R0.reshape(-1)
                 if geodesic:
                     # the rest relative rotation R_i0^T R(A_i0 - A0) (= R_i0^T R_j0 without rest_angles)
                     if ic.rest_angles is not None:
-                        par[e, 18:27] = (Ri.T @ rotation_zyx(Yr[i, 3:6] - A0)).reshape(-1)
-                    par[e, ROTATION_FORM_COL] = ROTATION_FORMS["geodesic"]
+                        row[S["rest_rotation"]] = (Ri.T @ rotation_zyx(Yr[i, 3:6] - A0)).reshape(-1)
+                    row[S["rotation_form"]] = ROTATION_FORMS["geodesic"]
             else:
                 th = Yr[i, 2]
                 Rt = np.array([[np.cos(th), np.sin(th)], [-np.sin(th), np.cos(th)]])
                 rho = Rt @ (Yr[j, :2] - Yr[i, :2]) if ic.rest_offset is None else v.finite_array(
                     f"{name}.rest_offset", ic.rest_offset, (2,))
-                par[e, 0:2] = c
-                par[e, 2] = cA[0]
-                par[e, 3] = l
-                par[e, 4] = A0[0]
-                par[e, 5:7] = rho
-                par[e, 7] = ic.damping
-                par[e, 8] = ic.torsion_damping
+                row, S = par[e], PLANAR_SPRING
+                row[S["stiffness"]] = c
+                row[S["torsion"]] = cA[0]
+                row[S["rest_length"]] = l
+                row[S["rest_angle"]] = A0[0]
+                row[S["rest_offset"]] = rho
+                row[S["damping"]] = ic.damping
+                row[S["torsion_damping"]] = ic.torsion_damping
             idx[e] = (i, j, ELEMENTS[ic.element], DAMPING_FORMS[ic.damping_form])
         return idx, par
 
@@ -324,7 +336,7 @@ class ElasticSystem:
         return np.ascontiguousarray(arr.reshape(self.node_count, self.p))
 
     def _frames(self, Y):
-        """Every node's world frames in its chart (``plants.elastic._spatial_kernels.node_frames_charted``)."""
+        """Every node's world frames in its chart (``plants._core.spatial_node_frames``)."""
         return self._kern.node_frames_charted(Y, self._node_rows)
 
     def _raise(self, status, where="elastic system"):
@@ -406,7 +418,8 @@ class ElasticSystem:
             if self.space == "spatial":
                 W[o:o + 3, o:o + 3] = m * np.eye(3)
                 Wr = np.empty((3, 3))
-                _spatial_kernels.node_rotational_terms(Y[k, 3:6], np.zeros(3), self.node_params[k, 1:4], Wr, np.empty(3))
+                _compiled_kernels.spatial.node_rotational_terms(
+                    np.ascontiguousarray(Y[k, 3:6]), np.zeros(3), self.node_params[k, 1:4], Wr, np.empty(3))
                 W[o + 3:o + 6, o + 3:o + 6] = Wr
             else:
                 W[o:o + 3, o:o + 3] = np.diag([m, m, self.node_params[k, 1]])
@@ -461,17 +474,29 @@ class ElasticSystem:
         N, p = self.node_count, self.p
         K = np.zeros((N * p, N * p))
         for e in range(len(self.interconnections)):
-            i, j = self.edge_index[e, :2]
-            if self.edge_index[e, 2] == ELEMENT_MATRIX:  # its linearization K_lin (D_lin), packed once
-                col = (MATRIX_LINEAR_SPATIAL if self.space == "spatial" else MATRIX_LINEAR_PLANAR) + linear_block * 4 * p * p
-                block = self.edge_params[e, col:col + 4 * p * p].reshape(2 * p, 2 * p)
-                dofs = np.r_[i * p:(i + 1) * p, j * p:(j + 1) * p]
-                K[np.ix_(dofs, dofs)] += block
-                continue
-            kd = np.diag(diag_of(self.edge_params[e]))
-            for a, b, s in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
-                K[a * p:(a + 1) * p, b * p:(b + 1) * p] += s * kd
+            dofs, block = self._edge_block(e, diag_of, linear_block)
+            K[np.ix_(dofs, dofs)] += block
         return K
+
+    def _edge_block(self, e: int, diag_of, linear_block: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """``(dofs, block)``: interconnection ``e``'s (2p x 2p) matrix of the immobile model and the rows of
+        its two nodes ``(y_i, y_j)``: a matrix or beam element's packed linearization, else the vector
+        spring ``[[k, -k], [-k, k]]`` with ``k = diag(diag_of(params))``."""
+        p = self.p
+        i, j = self.edge_index[e, :2]
+        dofs = np.r_[i * p:(i + 1) * p, j * p:(j + 1) * p]
+        if self.edge_index[e, EDGE_HEADER.col("kind")] == ELEMENT_MATRIX:  # its linearization K_lin (D_lin), packed once
+            rows = SPATIAL_MATRIX if self.space == "spatial" else PLANAR_MATRIX
+            block = self.edge_params[e, rows[("stiffness_linear", "damping_linear")[linear_block]]]
+            return dofs, block.reshape(2 * p, 2 * p).copy()
+        kd = np.diag(diag_of(self.edge_params[e]))
+        return dofs, np.block([[kd, -kd], [-kd, kd]])
+
+    def edge_stiffness(self, e: int) -> tuple[np.ndarray, np.ndarray]:
+        """Interconnection ``e``'s stiffness in the immobile model (4.5): ``(dofs, K_e)``, ``K_e`` (2p x 2p)
+        [N/m, N, N m/rad] on the rows ``dofs`` of :meth:`stiffness_matrix` (node i's then node j's);
+        :meth:`stiffness_matrix` is their sum."""
+        return self._edge_block(int(e), self._stiffness_diagonal)
 
     def stiffness_matrix(self) -> np.ndarray:
         """Constant ``K`` of the immobile unloaded state (4.5): vector springs
@@ -482,7 +507,8 @@ class ElasticSystem:
 
     def _stiffness_diagonal(self, r) -> np.ndarray:
         """``diag(K_ij)`` of one interconnection from its packed parameters ``r``."""
-        return np.r_[r[0:3], r[3:6]] if self.space == "spatial" else np.r_[r[0:2], r[2]]
+        S = SPATIAL_SPRING if self.space == "spatial" else PLANAR_SPRING
+        return np.r_[r[S["stiffness"]], r[S["torsion"]]]
 
     def stiffness_assembly(self):
         """The book's finite-element assembly (47)-(59) of this system (:func:`plants.elastic.fem.stiffness_assembly`),
@@ -501,7 +527,7 @@ class ElasticSystem:
         maps = [self._node_map(k) for k in range(self.node_count)]
         elements = []
         for e, ic in enumerate(self.interconnections):
-            i, j = int(self.edge_index[e, 0]), int(self.edge_index[e, 1])
+            i, j = int(self.edge_index[e, EDGE_HEADER.col("i")]), int(self.edge_index[e, EDGE_HEADER.col("j")])
             if ic.element == "beam":
                 from dataclasses import replace
 
@@ -534,9 +560,10 @@ class ElasticSystem:
         book's vector dampers of 4.5, whatever ``damping_form``: the immobile model is the book's linear
         model; the frame-invariant form of the mobile model couples a node's rotation into the damping of
         the offset, ``rho x omega_i``, which this diagonal form does not have)."""
-        if self.space == "spatial":
-            return self._laplacian(lambda r: np.r_[np.full(3, r[13]), np.full(3, r[14])], linear_block=1)
-        return self._laplacian(lambda r: np.r_[r[7], r[7], r[8]], linear_block=1)
+        S = SPATIAL_SPRING if self.space == "spatial" else PLANAR_SPRING
+        npos = 3 if self.space == "spatial" else 2
+        return self._laplacian(lambda r: np.r_[np.full(npos, r[S.col("damping")]), np.full(self.p - npos, r[S.col("torsion_damping")])],
+                               linear_block=1)
 
 
 def _body_rate_matrix(A) -> np.ndarray:
@@ -603,9 +630,8 @@ def _pack_matrix_element(name: str, ic, Yi, Yj, width: int) -> np.ndarray:
         G0[0:3, 0:3], G0[0:3, 6:9] = -Re0.T, Re0.T
         G0[0:3, 3:6] = _skew(u0) @ M.T @ Li
         G0[3:6, 3:6], G0[3:6, 9:12] = -M.T @ Li, N.T @ Lj
-        n = 6
-        row[72:75], row[75:84], row[84:93] = u0, M.reshape(-1), N.reshape(-1)
-        col = MATRIX_LINEAR_SPATIAL
+        n, rows = 6, SPATIAL_MATRIX
+        row[rows["rest_offset"]], row[rows["frame_in_i"]], row[rows["frame_in_j"]] = u0, M.reshape(-1), N.reshape(-1)
     else:
         d = np.asarray(Yj[:2], float) - np.asarray(Yi[:2], float)
         if ic.frame is None:
@@ -624,11 +650,10 @@ def _pack_matrix_element(name: str, ic, Yi, Yj, width: int) -> np.ndarray:
         G0[0:2, 3:5] = np.array([[c, s], [-s, c]])
         G0[0:2, 2] = (u0[1], -u0[0])
         G0[2, 2], G0[2, 5] = -1.0, 1.0
-        n = 3
-        row[18:20] = u0
-        row[20] = te - float(Yi[2])
-        row[21] = float(Yj[2]) - float(Yi[2])
-        col = MATRIX_LINEAR_PLANAR
+        n, rows = 3, PLANAR_MATRIX
+        row[rows["rest_offset"]] = u0
+        row[rows["frame_angle"]] = te - float(Yi[2])
+        row[rows["rest_angle"]] = float(Yj[2]) - float(Yi[2])
     for label, A in (("matrix", K), ("matrix_damping", C)):
         scale = float(np.max(np.abs(A))) or 1.0
         if np.max(np.abs(A @ rigid)) > 1e-9 * scale * max(1.0, float(np.linalg.norm(u0))):
@@ -636,11 +661,10 @@ def _pack_matrix_element(name: str, ic, Yi, Yj, width: int) -> np.ndarray:
                                  "a matrix that leaves the element's rigid motions free (A r = 0 for its translations "
                                  "and rotations; a grounded element cannot be co-rotational)")
     Kjj, Cjj = K[n:, n:], C[n:, n:]
-    row[0:n * n] = Kjj.reshape(-1)
-    row[n * n:2 * n * n] = Cjj.reshape(-1)
-    m = 4 * n * n
-    row[col:col + m] = (G0.T @ Kjj @ G0).reshape(-1)
-    row[col + m:col + 2 * m] = (G0.T @ Cjj @ G0).reshape(-1)
+    row[rows["stiffness_jj"]] = Kjj.reshape(-1)
+    row[rows["damping_jj"]] = Cjj.reshape(-1)
+    row[rows["stiffness_linear"]] = (G0.T @ Kjj @ G0).reshape(-1)
+    row[rows["damping_linear"]] = (G0.T @ Cjj @ G0).reshape(-1)
     return row
 
 
