@@ -100,3 +100,11 @@ def test_a_turned_state_stops_the_stepper():
     stepper.reset()
     with pytest.raises(StateChanged):
         stepper.step(None, 0.003, x1, tau, sc.simulation.control_period)
+
+
+def test_continuing_a_run_on_mujoco_is_refused():
+    """A continuation carries the loop's state, not MuJoCo's: refused with the reason."""
+    sc = load_scenario("planar_two_arm_lift", {"simulation.duration": 0.01})
+    state = simulate(sc, node_poses=False).final_state
+    with pytest.raises(ValueError, match="continuing a run is for the elastic plant"):
+        simulate(sc, plant="mujoco", state=state)
