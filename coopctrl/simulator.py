@@ -60,7 +60,7 @@ def non_finite_signal(rec: dict, controlled: bool = True) -> str | None:
 
 
 def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, node_poses: bool = True,
-             state=None) -> SimulationResult:
+             state=None, plant: str = "elastic") -> SimulationResult:
     """Run a scenario's closed loop for ``simulation.duration`` and return the :class:`SimulationResult`.
 
     With ``state``, the final state of an earlier run of the same scenario (``result.final_state``, or a
@@ -81,6 +81,8 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, n
             them).
         state: ``None`` (start from ``build.initial_state(scenario)``) or the
             :class:`~coopctrl.loop.state.LoopState` of an earlier run's end to continue from.
+        plant: ``"elastic"`` (the book's plant, in the compiled loop) or ``"mujoco"`` (MuJoCo's arms and object
+            with the scene's grasp elements, :mod:`coopctrl.mujoco`; needs ``pip install 'coopctrl[mujoco]'``).
 
     Raises:
         TypeError: ``scenario`` is not a :class:`~coopctrl.scenario.Scenario` (a path, a dict: load it
@@ -97,6 +99,15 @@ def simulate(scenario, progress: bool = False, loop: ClosedLoop | None = None, n
     if state is not None and not isinstance(state, LoopState):
         raise arguments.invalid("state", state, "None or the final_state of an earlier run of this scenario "
                                 "(result.final_state)", TypeError)
+    from coopctrl.mujoco.closed_loop import check_plant, mujoco_closed_loop
+
+    if check_plant(plant) == "mujoco" and state is not None:
+        raise ValueError("state = a final_state is invalid with plant='mujoco': continuing a run is for the elastic "
+                         "plant (MuJoCo's own state does not travel in a loop state); run the whole duration at once")
+    if plant == "mujoco" and loop is None:
+        loop = mujoco_closed_loop(scenario)
+    elif loop is not None and (getattr(loop.integrator, "plant_name", "elastic") != plant):
+        raise TypeError(f"loop={loop!r} does not run the {plant} plant: pass None to build the loop of plant={plant!r}")
     if loop is None:
         loop = closed_loop(scenario)
     elif not isinstance(loop, ClosedLoop) or loop.plant.state_size != scenario.state_size:
@@ -157,6 +168,7 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
              "unloaded_state": plant.unloaded_state, "state_size": plant.state_size,
              "arm_models": [a.model for a in scenario.arms]}
     stats = integration_statistics(rec.get("integration_steps"), sim.control_period)
+    outside = getattr(loop.integrator, "plant_name", None)  # another plant (coopctrl.mujoco): named as the integrator
     result = SimulationResult(
         scenario=scenario.name, space=plant.space, t=rec["t"], x=x, tau=rec["tau"], Y0=Y0,
         object_rotation=rec.get("object_rotation"),
@@ -164,8 +176,9 @@ def run_result(scenario, loop: ClosedLoop, x0=None, progress: bool = False) -> S
         F_external=rec["F_external"], F_internal=rec["F_internal"], squeeze=squeeze,
         squeeze_desired=np.asarray(loop.squeeze_desired, dtype=float), tau_max=loop.tau_max,
         qp_status=rec["qp_status"], qp_binding=rec.get("qp_binding", []), qp_iterations=rec["qp_iterations"], qp_active_rows=rec["qp_active_rows"], qp_solve_time_s=rec["qp_solve_time_s"],
-        events=rec["events"], status=rec["status"], reason=rec["reason"], model=model, integrator=sim.integrator,
-        step_s=stats["mean_step_s"] if stats else sim.step, control_period_s=sim.control_period,
+        events=rec["events"], status=rec["status"], reason=rec["reason"], model=model,
+        integrator=loop.integrator.label if outside else sim.integrator,
+        step_s=loop.integrator.timestep if outside else (stats["mean_step_s"] if stats else sim.step), control_period_s=sim.control_period,
         duration_s=sim.duration, integration_statistics=stats,
         wall_time_s=rec["wall_time_s"], startup_s=rec["startup_s"], leader=scenario.leader, followers=list(scenario.followers),
         qp_active_constraints=rec["qp_binding_counts"], qp_time_s=rec["qp_time_s"],

@@ -36,6 +36,8 @@ from coopctrl.cli import tradeoff as _tradeoff  # noqa: E402,F401
 from coopctrl.cli import sweep as _sweep  # noqa: E402,F401
 from coopctrl.cli import fidelity as _fidelity  # noqa: E402,F401
 from coopctrl.cli import stability as _stability  # noqa: E402,F401
+from coopctrl.cli import export_mjcf as _export_mjcf  # noqa: E402,F401
+from coopctrl.cli import compare_plants as _compare_plants  # noqa: E402,F401
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:

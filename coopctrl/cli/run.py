@@ -48,7 +48,21 @@ def cmd_run(args) -> int:
 
     if args.record_every is not None:  # checked against the schema's range with the scenario
         args.sets = [*args.sets, f"simulation.record_every={args.record_every}"]
+    if args.plant == "mujoco":  # the missing extra named (exit 2) before any work
+        from coopctrl.mujoco.requirement import import_mujoco
+
+        import_mujoco()
     scenario = _load(args)
+    if args.plant == "mujoco":
+        from coopctrl.mujoco.closed_loop import check_scene
+
+        check_scene(scenario)
+    if args.plant == "mujoco" and (scenario.simulation.accuracy is not None or args.estimate_error):
+        from coopctrl.cli._core import UsageError
+
+        what = "--estimate-error" if args.estimate_error else "simulation.accuracy"
+        raise UsageError(f"--plant mujoco steps MuJoCo at its own fixed step: {what} (the elastic plant's integrator "
+                         "settings) cannot apply; drop it or run the elastic plant")
     refuse_before_work(scenario)  # a record that cannot fit, a path through the Euler-angle band: exit 2, as `check`
     # the first run of a kind compiles its kernels (pre-flight's too) for tens of seconds: it says so first
     from coopctrl.cli.first_run import announce
@@ -91,7 +105,9 @@ def cmd_run(args) -> int:
         simulate = simulate_function()
         progress = not (args.quiet or args.json) and sys.stderr.isatty()
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library prints
-            result = simulate(scenario, progress=progress, loop=loop, node_poses=args.out is not None)  # only files hold them
+            other_plant = {} if args.plant == "elastic" else {"plant": args.plant, "loop": None}  # its own loop
+            result = simulate(scenario, progress=progress, node_poses=args.out is not None,  # only files hold them
+                              **{"loop": loop, **other_plant})
             if notice is not None:
                 notice.close()
             with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so
@@ -173,6 +189,9 @@ def _run_parser(sub) -> None:
                         help="rerun the scene at a tighter setting (half the step; error-controlled: rtol and atol "
                         "100 times smaller) and report the estimated integration error of the object position [m], "
                         "orientation [rad] and contact forces [N] (maximum over the run; Richardson)")
+    parser.add_argument("--plant", choices=("elastic", "mujoco"), default="elastic",
+                        help="the plant the controllers drive: the book's elastic plant (default) or MuJoCo's arms and "
+                        "object with the scene's grasp elements (needs pip install 'coopctrl[mujoco]'; docs/mujoco.md)")
     parser.add_argument("--no-preflight", action="store_true",
                         help="skip the pre-flight check of the task (see `coopctrl check`) and simulate anyway")
     parser.set_defaults(handler=cmd_run)

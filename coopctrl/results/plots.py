@@ -107,7 +107,10 @@ def failure_time(r: "SimulationResult") -> float | None:
 
 def _title(fig, r: "SimulationResult", question: str) -> None:
     status = r.status if r.status == "ok" else f"{r.status.upper()}"
-    line = f"{r.scenario}  |  status: {status}  |  {question}"
+    scene = r.scenario
+    if (r.integrator or "").startswith("mujoco plant"):  # another plant than the elastic one: named (coopctrl.mujoco)
+        scene += " on the mujoco plant"
+    line = f"{scene}  |  status: {status}  |  {question}"
     if r.status != "ok" and r.reason:
         reason = " ".join(r.reason.split())
         line += "\n" + (reason if len(reason) < 140 else reason[:137] + "...")
