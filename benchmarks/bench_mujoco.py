@@ -37,7 +37,10 @@ def main(argv=None) -> int:
                         metavar="NAME")
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--duration", type=float, default=1.0, help="simulated time per run [s]")
+    parser.add_argument("--quick", action="store_true", help="one repeat of 0.1 s on the planar lift (a smoke run)")
     args = parser.parse_args(argv)
+    if args.quick:
+        args.scenes, args.repeats, args.duration = ["planar_two_arm_lift"], 1, 0.1
     if args.repeats < 1 or not args.duration > 0:
         parser.error("--repeats must be >= 1 and --duration > 0")
     import mujoco

@@ -75,3 +75,14 @@ def test_user_install_needs_no_test_extras():
 def test_no_real_network_address():
     text = README + "".join(p.read_text(encoding="utf-8") for p in DOCS.glob("*.md"))
     assert not re.search(r"\b\d{1,3}\.\d{1,3}\.\d{1,3}\.\d{1,3}\b", text)
+
+
+def test_the_readme_shows_the_mujoco_table_the_benchmark_wrote():
+    """The README's table of the shipped scenes on both plants is the first table of docs/data/mujoco_plants.md,
+    which benchmarks/mujoco_plants.py writes (never typed by hand)."""
+    data = (REPO / "docs" / "data" / "mujoco_plants.md").read_text(encoding="utf-8").split("\n")
+    table = "\n".join(line for line in data if line.startswith("|") and "signal" not in line and "largest" not in line)
+    first = table.split("\n")[:7]  # header, rule, the five scenes
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    begin = "<!-- mujoco_plants:begin (benchmarks/mujoco_plants.py) -->\n"
+    assert begin + "\n".join(first) + "\n<!-- mujoco_plants:end -->" in readme
