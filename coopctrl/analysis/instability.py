@@ -28,11 +28,11 @@ SATURATED_SHARE = 0.5
 
 def gain_cause(scenario) -> str:
     """The phrase naming a gain the sampled loop model finds unstable (with its limit), or ``""``."""
-    from coopctrl.analysis.gain_stability import _unstable_gain
+    from coopctrl.analysis.gain_stability import unstable_gain
 
     if scenario is None or not scenario.controllers.enabled:
         return ""
-    found = _unstable_gain(scenario)
+    found = unstable_gain(scenario)
     if found is None:
         return ""
     field, value, limit, rho, *more = found
