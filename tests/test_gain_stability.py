@@ -85,7 +85,7 @@ def test_fuzz_gains_through_check(capsys):
     scene's linearized loop confirms, and passes the others (exit 0, or 1 for a task pre-flight finds
     impossible). Even draws come from the gains' lower decades, odd ones from the whole ranges, so that both
     outcomes are met."""
-    from coopctrl.analysis.gain_stability import _loop_grows, _unstable_gain
+    from coopctrl.analysis.gain_stability import loop_grows, unstable_gain
     from coopctrl.scenario import build, load_scenario
 
     rng = np.random.default_rng(45)
@@ -97,8 +97,8 @@ def test_fuzz_gains_through_check(capsys):
                   "controllers__followers__force_ki": float(10 ** rng.uniform(-1, 6 if whole else 2))}
         code, out, err = run_cli(["check", *sets(**{k: repr(v) for k, v in values.items()})], capsys)
         scene = load_scenario(None, {k.replace("__", "."): v for k, v in values.items()})
-        found = _unstable_gain(scene)
-        refused = found is not None and _loop_grows(scene, build.initial_state(scene))
+        found = unstable_gain(scene)
+        refused = found is not None and loop_grows(scene, build.initial_state(scene))
         assert "Traceback" not in err
         if refused:
             assert code == 2 and f"coopctrl: error: {found[0]} = " in err, err

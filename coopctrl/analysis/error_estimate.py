@@ -18,8 +18,8 @@ A fixed-step scheme of order ``p`` has a global error ``e(h) = C h^p + O(h^(p+1)
 ``y_h - y_(h/2) = e(h) - e(h/2) = (1 - 2^-p) e(h)``: the estimate is the difference times
 ``2^p / (2^p - 1)`` (2 for Euler, 4/3 for the implicit midpoint rule, 16/15 for RK4). An
 error-controlled scheme's global error is not proportional to its tolerance in this closed loop
-(100 times smaller tolerances left 23 % to 57 % of the error on ``stiff_grasp_extreme``, where the
-scaling assumes 1 %): so its bar is measured against the fixed-step reference instead. By the triangle
+(on ``stiff_grasp_extreme`` 100 times smaller tolerances leave far more than 1 % of the error), so its bar
+is measured against the fixed-step reference instead. By the triangle
 inequality at each instant, ``|y - y*| <= |y - y_b| + |y_b - y*|``, and RK4's own error at ``h_b`` is
 ``|y_a - y_b| / 15`` (Richardson, order 4): the bar is ``max |y - y_b| + max |y_a - y_b| / 15``, an upper
 bound of the run's error whenever RK4 is in its asymptotic range at ``h_a`` (which the second term

@@ -37,7 +37,8 @@ import numpy as np
 
 from coopctrl.errors import ScenarioError
 
-__all__ = ["RESOLUTION", "check_gains", "force_loop_map", "gain_limit", "motion_loop_map", "spectral_radius"]
+__all__ = ["RESOLUTION", "check_gains", "force_loop_map", "gain_limit", "loop_grows", "motion_loop_map", "spectral_radius",
+           "unstable_gain"]
 
 #: Relative resolution of the bisection on a gain's stability limit [-].
 RESOLUTION = 1e-3
@@ -91,7 +92,7 @@ def gain_limit(radius_at, value: float) -> float:
     return lo
 
 
-def _unstable_gain(scenario) -> tuple | None:
+def unstable_gain(scenario) -> tuple | None:
     """``(field, value, limit, radius[, more])`` of the first gain the model finds unstable (``more``: a
     second gain that must come down too), or ``None``."""
     c = scenario.controllers
@@ -125,7 +126,7 @@ def _unstable_gain(scenario) -> tuple | None:
     return "controllers.followers.force_ki", fol.force_ki, limit, rho
 
 
-def _loop_grows(scenario, x0) -> bool:
+def loop_grows(scenario, x0) -> bool:
     """True when the scene's whole closed loop, linearized at ``x0`` (t = 0), has a growing mode at a
     step far below every integration limit (``rho_0 > 1``; :meth:`LoopLinearization.max_stable_step`);
     also True when it cannot be linearized (the model's finding then stands)."""
@@ -146,7 +147,7 @@ def check_gains(scenario, x0=None) -> None:
     confirmation (default ``build.initial_state(scenario)``). A passive scene has no gains to check."""
     if not scenario.controllers.enabled:
         return
-    found = _unstable_gain(scenario)
+    found = unstable_gain(scenario)
     if found is None:
         return
     field, value, limit, rho, *more = found
@@ -154,7 +155,7 @@ def check_gains(scenario, x0=None) -> None:
         from coopctrl.scenario import build
 
         x0 = build.initial_state(scenario)
-    if not _loop_grows(scenario, x0):
+    if not loop_grows(scenario, x0):
         return
     T = scenario.simulation.control_period
     unit = "" if field.endswith("force_kp") else " 1/s" if field.endswith("force_ki") else " rad/s"

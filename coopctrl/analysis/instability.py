@@ -9,8 +9,9 @@ and the run reaches its end with the object far off its path. Such a run is not 
 * **saturated on most ticks**: the commanded torques were clipped at ``tau_max`` on more than
   :data:`SATURATED_SHARE` of the ticks. The run's status is ``diverged`` (exit 1), its reason names
   the cause: an unstable gain of the sampled loop model (:mod:`coopctrl.analysis.gain_stability`) with
-  its stable limit, else the torque limit of the joint clipped most often, with the torque the task
-  needs there as pre-flight plans it.
+  its stable limit, else the torque limit of the joint clipped most often, with pre-flight's plan: the
+  joint and torque the task needs beyond its limit, or the plan's largest ``|tau| / tau_max`` when it
+  fits (the saturation then comes from correcting a tracking error).
 
 Below that share, saturation stays a warning of an ``ok`` run (a transient the loop recovers from).
 """
@@ -28,11 +29,11 @@ SATURATED_SHARE = 0.5
 
 def gain_cause(scenario) -> str:
     """The phrase naming a gain the sampled loop model finds unstable (with its limit), or ``""``."""
-    from coopctrl.analysis.gain_stability import _unstable_gain
+    from coopctrl.analysis.gain_stability import unstable_gain
 
     if scenario is None or not scenario.controllers.enabled:
         return ""
-    found = _unstable_gain(scenario)
+    found = unstable_gain(scenario)
     if found is None:
         return ""
     field, value, limit, rho, *more = found
@@ -59,8 +60,26 @@ def saturation_failure(scenario, loop, rec: dict) -> str:
     arm, joint = _arm_joint(loop, j)
     tau_max = float(np.asarray(loop.tau_max, dtype=float)[j]) if loop.tau_max is not None else float("nan")
     return (f"{head}; cause: the torque limit arms[{arm}].tau_max[{joint}] = {tau_max:.4g} N m (joint {joint + 1} of "
-            f"arm {arm + 1}, clipped on {per_joint[j]} ticks): the task needs more torque than the arm has; raise it, "
-            "or lower the payload (object.mass) or the accelerations (`coopctrl check` plans the torques the task needs)")
+            f"arm {arm + 1}, clipped on {per_joint[j]} ticks){_planned(scenario, loop)}")
+
+
+def _planned(scenario, loop) -> str:
+    """What pre-flight's plan says of the torques: the joint and torque the task needs beyond its limit (the
+    value that would hold it), or that the plan fits (the saturation then comes from the tracking error)."""
+    try:
+        from coopctrl.analysis.preflight import preflight
+
+        report = preflight(scenario, loop)
+    except Exception:  # noqa: BLE001 - the failure's reason stands without the plan
+        return ": the task needs more torque than the arm has; raise it, or lower the payload or the accelerations"
+    torque = [issue for issue in report.issues if issue.kind == "torque"]
+    if torque:
+        return f"; pre-flight: {torque[0].message}"
+    if report.torque_ratio_max == report.torque_ratio_max:
+        return (f"; the nominal plan needs at most {report.torque_ratio_max:.3g} x tau_max (at t = "
+                f"{report.torque_ratio_time_s:.4g} s), so the torques saturate correcting a tracking error the "
+                "limits cannot follow: lower the gains or the accelerations, or raise tau_max")
+    return ": the task needs more torque than the arm has; raise it, or lower the payload or the accelerations"
 
 
 def _arm_joint(loop, j: int) -> tuple[int, int]:

@@ -186,9 +186,10 @@ def _run_parser(sub) -> None:
     parser.add_argument("--json", action="store_true", help="print the summary as JSON on stdout (nothing else on stdout)")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress bar and no summary table")
     parser.add_argument("--estimate-error", action="store_true",
-                        help="rerun the scene at a tighter setting (half the step; error-controlled: rtol and atol "
-                        "100 times smaller) and report the estimated integration error of the object position [m], "
-                        "orientation [rad] and contact forces [N] (maximum over the run; Richardson)")
+                        help="rerun the scene at a tighter setting (half the step; error-controlled: against an RK4 "
+                        "reference below its steps, that reference's own error added) and report the estimated "
+                        "integration error of the object position [m], orientation [rad] and contact forces [N] "
+                        "(maximum over the run; Richardson)")
     parser.add_argument("--plant", choices=("elastic", "mujoco"), default="elastic",
                         help="the plant the controllers drive: the book's elastic plant (default) or MuJoCo's arms and "
                         "object with the scene's grasp elements (needs pip install 'coopctrl[mujoco]'; docs/mujoco.md)")
