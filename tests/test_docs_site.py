@@ -147,7 +147,7 @@ def test_the_cli_hook_renders_every_option():
     from coopctrl.cli import build_parser
 
     text = cli_reference.render()
-    sections = dict(re.findall(r"^## `coopctrl (\w+)`\n(.*?)(?=^## |\Z)", text, re.S | re.M))
+    sections = dict(re.findall(r"^## `coopctrl ([\w-]+)`\n(.*?)(?=^## |\Z)", text, re.S | re.M))
     subs = cli_reference.subparsers(build_parser())
     assert set(sections) == set(subs)
     for name, parser in subs.items():

@@ -76,7 +76,7 @@ def test_run_plant_mujoco_writes_its_result_folder(tmp_path, capsys):
     from coopctrl.results.plots import plot_tracking
 
     fig = plot_tracking(SimulationResult.load(out))
-    assert "on the mujoco plant" in fig._suptitle.get_text()
+    assert "on the mujoco plant" in fig.get_suptitle()
 
 
 def test_compare_plants_prints_both_runs_and_their_differences(capsys):
