@@ -216,7 +216,7 @@ def test_step_below_min_step_stops_with_the_stiffest_mode():
     ("simulation.rtol", "0", ">= 1e-13"), ("simulation.rtol", "0.5", "<= 0.1"), ("simulation.rtol", "nan", "finite"),
     ("simulation.atol", "-1e-8", "> 0"), ("simulation.atol", "inf", "finite"),
     ("simulation.atol_velocity", "0", "> 0"), ("simulation.min_step", "0.01", "< control_period"),
-    ("simulation.accuracy", "0", "> 0"), ("simulation.accuracy", "nan", "finite"),
+    ("simulation.accuracy", "0", ">= 1e-12"), ("simulation.accuracy", "nan", "finite"),
     ("simulation.integrator", "rk89", "'rk45'"),
 ])
 def test_bad_tolerances_name_the_field(key, value, allowed):

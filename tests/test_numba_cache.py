@@ -19,6 +19,9 @@ REPO = Path(__file__).resolve().parent.parent
 #: The offset element's energy from its numba kernel (plants/elastic/_spatial_kernels.py; ElasticSystem itself
 #: calls the compiled core), which calls the rotation of plants/frames.py, a callee in another file.
 _SCRIPT = """
+import sys
+# an editable install's import finder maps the project's packages to the checkout: this run imports the copy's
+sys.meta_path[:] = [f for f in sys.meta_path if type(f).__name__ != "ScikitBuildRedirectingFinder"]
 import numpy as np
 from plants.elastic import ElasticSystem, Interconnection, Node, _spatial_kernels
 Y_ref = np.array([[0, 0, 0, 0, 0, 0], [0.3, 0, 0, 0, 0, 0.0]])
@@ -32,9 +35,15 @@ print(repr(_spatial_kernels.elastic_edges(Y, el.edge_index, el.edge_params, np.z
 
 
 def _copy(tmp_path: Path) -> Path:
+    """A copy of the packages, with the compiled core's modules as installed (built from plants/core, coopctrl/core)."""
+    import coopctrl._core
+    import plants._core
+
     top = tmp_path / "src"
     for name in ("plants", "coopctrl"):
         shutil.copytree(REPO / name, top / name, ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
+    for module, package in ((plants._core, "plants"), (coopctrl._core, "coopctrl")):
+        shutil.copy2(module.__file__, top / package / Path(module.__file__).name)
     return top
 
 

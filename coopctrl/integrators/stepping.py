@@ -128,7 +128,7 @@ class Stepper:
                                       "(compiled, coopctrl.integrators.adaptive_plans) or runs in the loop; for "
                                       "another f(t, x, u) use scipy.integrate.solve_ivp")
         else:  # the compiled core's schemes on the Python f (coopctrl/core: explicit_schemes.h, implicit_schemes.h)
-            from coopctrl import _core
+            import coopctrl._core as _core
 
             report = _core.zoh_advance(self.plan, f, x, u, t, self.steps, self.x_fail)
             code = report["code"]
