@@ -167,6 +167,9 @@ class LocalProcessPool(ProcessPoolExecutor):
                 process.terminate()
         for process in processes:
             process.join(timeout=5.0)
+            if process.is_alive():  # still starting up (importing), or slow to act on SIGTERM on a busy machine
+                process.kill()
+                process.join(timeout=5.0)
         if self.marks is not None:
             self.marks.remove()
 
