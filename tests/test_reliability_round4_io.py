@@ -91,7 +91,10 @@ def test_fuzz_a_run_that_always_kills_its_worker_fails_alone(seed, tmp_path, mon
     rows = json.loads(out)["rows"]
     assert [r["status"] for r in rows] == ["error" if k == victim else "ok" for k in range(runs)]
     reason = rows[victim]["reason"]
-    assert reason.startswith("the run's worker process died twice") and reason.count("signal 9 (SIGKILL)") == 2
+    # each death named by its signal, or, where the system had not yet let the exit code be read, as a death
+    assert reason.startswith("the run's worker process died twice")
+    assert 1 <= reason.count("signal 9 (SIGKILL)") + reason.count("a worker of its pool died") <= 2
+    assert "signal 9 (SIGKILL)" in reason
     assert [r["object_position_error_rms_m"] for r in rows if r["run"] != victim] == \
         [k * 1e-3 for k in range(runs) if k != victim]
     assert err.splitlines()[-1] == f"coopctrl: 1 of {runs} runs failed (see their status and reason)"

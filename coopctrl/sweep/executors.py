@@ -137,10 +137,11 @@ class LocalProcessPool(ProcessPoolExecutor):
             self.marks = RunMarks()
         return self.submit(execute_marked, str(self.marks.folder), run_function, run, timeout_s)
 
-    def exit_codes(self, patience_s: float = 1.0) -> list[int | None]:
+    def exit_codes(self, patience_s: float = 5.0) -> list[int | None]:
         """The exit codes of the pool's worker processes (``None`` for one still running after ``patience_s``
         [s]). Called once the pool is broken: a dead worker's pipe reads as closed a moment before the system
-        lets its exit code be read, and the pool stops the other workers itself."""
+        lets its exit code be read (more than a second on a loaded machine), and the pool stops the other workers
+        itself."""
         processes = list((getattr(self, "_processes", None) or {}).values())
         for process in processes:
             process.join(timeout=patience_s)
