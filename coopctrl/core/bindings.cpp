@@ -10,6 +10,7 @@ void bind_control_laws(nb::module_& m);
 void bind_integrators(nb::module_& m);
 void bind_qp(nb::module_& m);
 void bind_tick_checks(nb::module_& m);
+void bind_tick(nb::module_& m);
 }  // namespace coopctrl::binding
 
 NB_MODULE(_core, m) {
@@ -18,4 +19,5 @@ NB_MODULE(_core, m) {
     coopctrl::binding::bind_integrators(m);
     coopctrl::binding::bind_qp(m);
     coopctrl::binding::bind_tick_checks(m);
+    coopctrl::binding::bind_tick(m);
 }

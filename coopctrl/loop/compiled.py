@@ -34,6 +34,7 @@ from coopctrl.integrators import ExplicitEuler
 # ones (Newton in the kernel, their settings read from the integrator) another
 from coopctrl.integrators.methods import METHODS
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
+import coopctrl._core as _core
 import coopctrl.integrators.compiled as I
 import coopctrl.loop.argument_types as argument_types
 import coopctrl.loop.charts as loop_charts
@@ -43,7 +44,7 @@ from coopctrl.loop import startup as S
 from coopctrl.loop import step_budget as SB
 from coopctrl.loop.squeeze import squeeze_workspace
 from coopctrl.loop.data import LoopData, QPArrays, TickRecord
-from coopctrl.loop.model import LoopModel, QPConstants, RunOptions
+from coopctrl.loop.model import ControlModel, LoopModel, QPConstants, RunOptions
 from coopctrl.loop.state import ChartState, LoopState
 from plants.errors import EulerSingularityError, PlantError, SingularJacobianError
 
@@ -189,7 +190,7 @@ class CompiledLoop:
                         external=np.zeros(n), F_pref=np.zeros(n), E=np.zeros((n, max(self.npairs, 1))),
                         A=np.zeros((p, p)), y=np.zeros(p))
 
-    def options(self, loop, rec, passive: bool):
+    def options(self, loop, rec, passive: bool, compile_law: bool = True):
         """The kernel's ``opts`` of one run (see :func:`coopctrl.loop.kernel.run_ticks`): the switches, the
         energy record, the elastic split's arrays and the tuning probes' inputs as they are now."""
         from coopctrl.controllers.probes import FollowerProbe, LeaderProbe
@@ -216,14 +217,50 @@ class CompiledLoop:
         nodes = m + 1
         from coopctrl.controllers.leader_law import computed_torque
 
-        leader = _inner(loop.leader)
-        law = loop.leader_law if loop.leader_law is not None else computed_torque(leader.Kp, leader.Kd)
-        law_stage, law_params = K.leader_law_stage(law, p)
+        law = self.leader_law(loop)
+        law_stage, law_params = K.leader_law_stage(law, p) if compile_law else (None, law.param_array)
         return RunOptions(switches=switches, reals=reals, energy_F=np.zeros((nodes, p)), energy_dY0=np.zeros((nodes, p)),
                           energy=rec["energy"], kinetic_energy=rec["kinetic_energy"], K_obj=self.K_obj,
                           elastic_K=np.zeros((n, n)), elastic_KGt=np.zeros((n, p)), elastic_Rb=np.zeros((p, p)),
                           elastic_work=np.zeros((p, 2 * p)), leader_offset=lead_off, probe_offset=r, probe_pi=v,
                           probe_gain=g, probe_delay=d, leader_law=law_stage, law_params=law_params)
+
+
+    def leader_law(self, loop):
+        """The leader's law of ``loop``: the user's, or the computed torque with the leader's gains."""
+        from coopctrl.controllers.leader_law import computed_torque
+
+        leader = _inner(loop.leader)
+        return loop.leader_law if loop.leader_law is not None else computed_torque(leader.Kp, leader.Kd)
+
+    def control_model(self, loop) -> ControlModel | None:
+        """The run's controllers by name for the compiled core's tick (:class:`~coopctrl.loop.model.ControlModel`),
+        or None where the leader's law is written in Python (it runs on the numba tick)."""
+        from coopctrl.controllers.leader_law import computed_torque_law, object_impedance_law
+
+        law = self.leader_law(loop)
+        names = {computed_torque_law: "computed_torque", object_impedance_law: "object_impedance"}
+        if law.function not in names:
+            return None
+        (leader, Kp_l, Kd_l, kp_f, ki_f, Kp_f, Kd_f, force_loop, integral_limit) = self.ctrl
+        gain, q_rest = self.posture
+        return ControlModel(leader=int(leader), leader_Kp=float(Kp_l), leader_Kd=float(Kd_l), follower_kp=float(kp_f),
+                            follower_ki=float(ki_f), follower_Kp=float(Kp_f), follower_Kd=float(Kd_f),
+                            force_loop=bool(force_loop), integral_limit=float(integral_limit),
+                            posture_gain=np.ascontiguousarray(gain, dtype=float),
+                            q_rest=np.ascontiguousarray(q_rest, dtype=float), compliance=self.C,
+                            law=names[law.function], law_params=law.param_array)
+
+
+def core_tick_control(loop, cl: "CompiledLoop", plan) -> ControlModel | None:
+    """The control model of a run the compiled core's tick runs (:class:`coopctrl._core.Tick`), or None where
+    the run needs the numba tick: a spatial plant, an error-controlled scheme, the energy evaluated (a passive
+    run, ``max_energy``), or a leader law written in Python."""
+    if cl.spatial or type(plan).__name__ not in ("ExplicitPlan", "ImplicitPlan"):
+        return None
+    if not loop.enabled or loop.max_energy is not None:
+        return None
+    return cl.control_model(loop)
 
 
 #: Each loop's compiled constants, built at its first run (kept here, not on the loop: a run attaches
@@ -435,8 +472,6 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         if "torque_limits" in cl.rows:
             ld.problem._allocate(cl.joint_counts)
     qa = cl.qp_arrays(ld.problem if ld is not None else None)
-    opts = cl.options(loop, rec, passive)
-    plant_ws = cl.plant_workspaces(plant)
     # the integrator's work arrays and Newton state, cold (an integrator outside the kernel steps in Python:
     # the kernel stops before its plant block, and an explicit Euler plan only fixes the argument types)
     plan = state.plan
@@ -448,6 +483,12 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         plan = plan._replace(stats=adaptive_plans.step_statistics(kb + N))
     if not cl.plant_outside:
         state.plan = plan
+    # the compiled core's tick where it runs the run (nothing to compile), else numba's
+    control = core_tick_control(loop, cl, plan)
+    if control is not None and ahead_only:
+        return False
+    opts = cl.options(loop, rec, passive, compile_law=control is None)
+    plant_ws = cl.plant_workspaces(plant) if control is None else None
     # the run's work arrays so far: a first call in a process loads (or compiles) their compiled constructors
     # (the QP's and the plant's workspaces, tens of ms): start-up, not run time
     setup = _time.perf_counter() - wall0
@@ -509,7 +550,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                   state.x, state.tau, state.integrals, state.flags, x_fail, out_int, out_float)
     kind = S.kind_of_run(cl.spatial, S.family_of(loop.integrator.name) if not cl.plant_outside else "explicit")
     ahead = None
-    if S.compiles_here(kind):  # a first run of its kind: the tick compiled by a second process meanwhile
+    if control is not None:
+        pass  # the core's tick is compiled already
+    elif S.compiles_here(kind):  # a first run of its kind: the tick compiled by a second process meanwhile
         typed = loop_model(K.tick_stages(*stage_args, types_only=True))
         jobs = []
         if ld is None or pending:
@@ -527,14 +570,20 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     elif ahead_only:
         return False
     try:
-        stages = K.tick_stages(*stage_args)
+        stages = K.tick_stages(*stage_args) if control is None else None
     except BaseException:  # an interrupted or failed compile: the child goes too
         if ahead is not None:
             ahead.stop()
         raise
     stages_startup = _time.perf_counter() - t_stages
     model = loop_model(stages)
-    run_ticks = K.run_ticks
+    if control is None:
+        run_ticks = K.run_ticks
+    else:  # the compiled core's tick on the same model and data
+        core_tick = _core.Tick(model, data, plan, control)
+
+        def run_ticks(model, data, k0, k_stop):
+            core_tick.run_ticks(k0, k_stop)
     qp_solve_time = rec["qp_solve_time_s"]
 
     def advance(k0: int, k_stop: int) -> None:
@@ -557,10 +606,14 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     t_load = _time.perf_counter()
     if ahead is not None:
         ahead.wait()  # then numba finds the tick in its cache (or, if the child failed, compiles it here)
-    if ld is None or pending:  # a reference path that continues a run has its pending period advanced here
-        run_ticks = _entry_point(run_ticks, (model, data, 0, 0))
-    if ld is not None:  # the reference path: the tick's two phases around its solve, one entry a tick
-        step = _entry_point(K.reference_step, (0, True, K.SPLIT_SOLVED, 0, 0, 0, True, model, data))
+    if control is not None:
+        def step(k, act, source, qs, qit, qb, sense_next, model, data):
+            return core_tick.reference_step(k, act, source, qs, qit, qb, sense_next)
+    else:
+        if ld is None or pending:  # a reference path that continues a run has its pending period advanced here
+            run_ticks = _entry_point(run_ticks, (model, data, 0, 0))
+        if ld is not None:  # the reference path: the tick's two phases around its solve, one entry a tick
+            step = _entry_point(K.reference_step, (0, True, K.SPLIT_SOLVED, 0, 0, 0, True, model, data))
     out_int[0] = out_int[1] = 0
     out_int[6] = -1
     if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not

@@ -70,3 +70,19 @@ RunOptions.__doc__ = """What one run switches on and the arrays that go with it 
 - ``leader_law``, ``law_params``: the leader's law (:func:`~coopctrl.loop.kernel.leader_law_stage`) and its
   constants.
 """
+
+
+#: The controllers of a run, by name, as the compiled core's tick reads them (coopctrl/core/tick_model.h's
+#: ControlModel).
+ControlModel = namedtuple("ControlModel", "leader leader_Kp leader_Kd follower_kp follower_ki follower_Kp follower_Kd "
+                                          "force_loop integral_limit posture_gain q_rest compliance law law_params")
+ControlModel.__doc__ = """The controllers of one run, by name (the compiled core's ``ControlModel``).
+
+- ``leader``: the leader arm's index; ``leader_Kp`` [1/s^2], ``leader_Kd`` [1/s]: its computed torque's gains;
+- the followers' force PI ``follower_kp`` [-], ``follower_ki`` [1/s] (``integral_limit`` [N s] its clip, closed when
+  ``force_loop``) and motion loop ``follower_Kp`` [1/s^2], ``follower_Kd`` [1/s];
+- ``posture_gain`` (2,) = (Kp [1/s^2], Kd [1/s]) of a redundant arm's null-space posture torque, ``q_rest`` (m, nmax)
+  its rest angles [rad];
+- ``compliance`` (m, p, p): the grasp compliances [m/N, rad/(N m)];
+- ``law``: the leader law's name (``"computed_torque"`` or ``"object_impedance"``), ``law_params`` its constants.
+"""
