@@ -39,15 +39,13 @@ SMALL_SCENES = [dict(arms=arms, element=element, unloaded_state=state, damping=4
                 for arms in ("full", "contact") for element in ("central", "offset")
                 for state in ("mobile", "immobile") for form in ("frame_invariant", "book")]
 
-TERMS = ("Y", "dY", "H", "h", "J", "Jdq", "Wr", "frames", "W", "w_free", "S", "Fw")
-
-
 @njit
 def _numba_energy(x, P, cws, F, dY0):
     return numba_plant_energy(x, P, cws, F, dY0)
 
 
-def _numba_terms(plant, cws):
+def _numba_terms(cws):
+    """The numba control workspace's arrays by the names of _core.spatial_control_terms."""
     ws = cws.ws
     return {"Y": ws.Y, "dY": ws.dY, "H": ws.H, "h": ws.h, "J": ws.J, "Jdq": ws.Jdq, "Wr": ws.Wr, "frames": ws.frames,
             "W": cws.W, "w_free": cws.w_free, "S": cws.S, "Fw": cws.Fw}
@@ -86,7 +84,7 @@ def _assert_spatial_kernels_match(plant, x, tau):
     numba_spatial.control_terms_packed(x, P, st_want, cws)
     terms = _core.spatial_control_terms(x, P)
     assert terms["status"] == tuple(st_want)
-    for key, ref in _numba_terms(plant, cws).items():
+    for key, ref in _numba_terms(cws).items():
         np.testing.assert_array_equal(terms[key], ref, err_msg=key)
 
     if st_want[0] == 0:  # a tick finishes the right-hand side from its terms only when they are sensed

@@ -1,5 +1,5 @@
 // The plant's energy in plants._core (plants/core/cooperative_energy.h): the control terms at x, then the energy
-// from them, as the compiled tick does; planar or spatial by the shape of the plant's bases.
+// from them whatever their status, as the loop's kernel does; planar or spatial by the shape of the plant's bases.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
@@ -21,7 +21,7 @@ nb::tuple plant_energy_py(Vector x, nb::handle P) {
     expect(x.shape(0) % 2 == 0, "x", "an even length 2 nz");
     const int nx = static_cast<int>(x.shape(0));
     int64_t status[2] = {0, 0};
-    if (nb::cast<nb::object>(P.attr("bases")).attr("ndim").equal(nb::int_(3))) {
+    if (nb::cast<int>(P.attr("bases").attr("ndim")) == 3) {  // a spatial plant's bases (m, 4, 4)
         SpatialPlant plant(P);
         SpatialWork w(plant.model);
         spatial_control_terms(plant.model, x.data(), nx, status, w.data, w.terms);

@@ -97,6 +97,10 @@ struct SpatialPlant {
         model.immobile = nb::cast<bool>(args.attr("immobile"));
         model.nmax = nmax;
     }
+    // the model points into this object's vectors: a move keeps their storage, a copy would not
+    SpatialPlant(SpatialPlant&&) = default;
+    SpatialPlant(const SpatialPlant&) = delete;
+    SpatialPlant& operator=(const SpatialPlant&) = delete;
 };
 
 /// A spatial plant's workspace (SpatialCooperativeData), control terms and energy scratch, owned, zero-filled.
@@ -118,6 +122,10 @@ struct SpatialWork {
                                       arm_H.data(), arm_J.data(), chain.data(), frames.data()};
         terms = SpatialControlTerms{W.data(), w_free.data(), S.data(), Fw.data(), Fe.data()};
     }
+    // data and terms point into this object's vectors: a move keeps their storage, a copy would not
+    SpatialWork(SpatialWork&&) = default;
+    SpatialWork(const SpatialWork&) = delete;
+    SpatialWork& operator=(const SpatialWork&) = delete;
 };
 
 }  // namespace plants::binding
