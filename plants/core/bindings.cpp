@@ -10,6 +10,8 @@ void bind_planar_arm(nb::module_& m);
 void bind_frames(nb::module_& m);
 void bind_rigid_motion(nb::module_& m);
 void bind_cooperative(nb::module_& m);
+void bind_cooperative_spatial(nb::module_& m);
+void bind_cooperative_energy(nb::module_& m);
 void bind_elastic(nb::module_& m);
 void bind_arms(nb::module_& m);
 }  // namespace plants::binding
@@ -20,6 +22,8 @@ NB_MODULE(_core, m) {
     plants::binding::bind_frames(m);
     plants::binding::bind_rigid_motion(m);
     plants::binding::bind_cooperative(m);
+    plants::binding::bind_cooperative_spatial(m);
+    plants::binding::bind_cooperative_energy(m);
     plants::binding::bind_elastic(m);
     plants::binding::bind_arms(m);
 }
