@@ -2,8 +2,9 @@
 PlantArgs, adaptive_advance_f on a Python f): bit for bit the numba advances of coopctrl.integrators.adaptive_plans
 (embedded_advance for rk23 and rk45 under each step controller, trbdf2_advance), over several control periods
 from the golden records' states of planar shipped scenes, the plans' state (step carried over, Newton matrix,
-statistics rows), the codes and out_int / out_float compared after every period; the stop below min_step and
-TR-BDF2's Newton iteration that does not converge take the same path."""
+statistics rows), the codes, status, x_fail and out_int / out_float compared after every period; the stop below
+min_step, TR-BDF2's Newton iteration that does not converge and a plant failure take the same paths. On a Python f
+the reference is adaptive_plans run by Python (numba compiles no Python f), through the NaN-error rejections too."""
 
 from __future__ import annotations
 
@@ -15,8 +16,11 @@ import coopctrl
 import coopctrl.integrators.adaptive_plans as adaptive
 from coopctrl import _core
 from coopctrl.integrators import get_integrator
-from coopctrl.integrators.compiled import STEP_OK, STEP_TOO_SMALL
+import coopctrl.integrators.compiled as compiled
+from coopctrl.integrators.compiled import STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL
+from coopctrl.integrators.stepping import PythonRightHandSide
 from coopctrl.wiring import closed_loop
+from plants import _core as plants_core
 
 SCENES = ["planar_two_arm_lift", "fidelity_planar", "gripping_immobile_object"]
 
@@ -151,6 +155,67 @@ def test_the_python_f_path_gives_the_same_bits(scheme, controller):
     codes, _ = _run_both(scene, get_integrator(scheme), controller, scene.states[1], scene.torques[1], periods=3,
                          f=lambda t, x, u: plant.rhs(t, x, u))
     assert codes == [STEP_OK] * 3
+
+
+def _python_advances():
+    """adaptive_plans' functions as Python runs them (their numba py_func, calling each other's Python selves, as
+    coopctrl.integrators.compiled.PYTHON does for the fixed-step schemes): the reference on a Python f, which numba
+    does not compile."""
+    namespace = dict(vars(adaptive))
+    namespace.update(stage_failed=compiled.PYTHON.stage_failed, jacobian_into=compiled.PYTHON.jacobian_into,
+                     copy_into=compiled.copy_into.py_func)
+    return compiled._python_functions(namespace, ("embedded_advance", "trbdf2_advance", "initial_step", "_jacobian",
+                                                  "_iteration_matrix", "_stage", "_rms_scaled", "_tick_of", "_record"))
+
+
+def _pendulum_to_a_wall(t, x, u):
+    """A driven pendulum not defined beyond the angle 1 rad (NaN there)."""
+    if x[0] > 1.0:
+        return np.array([np.nan, np.nan])
+    return np.array([x[1], -9.81 * np.sin(x[0]) + u[0]])
+
+
+@pytest.mark.parametrize("scheme,controller", [("rk23", "pi"), ("rk45", "pi"), ("rk45", "elementary"),
+                                               ("trbdf2", "pi")])
+def test_a_python_f_that_is_nan_beyond_a_wall_matches_the_python_run_of_adaptive_plans(scheme, controller):
+    """Swinging up to the wall: the steps into it are rejected on their NaN error until one is below min_step."""
+    python = _python_advances()
+    T = 0.05
+    integrator = get_integrator(scheme, min_step=1e-9)
+    plans = [adaptive.adaptive_plan(integrator, 2, T, 10, controller=controller) for _ in range(2)]
+    states = [np.array([0.5, 3.0]), np.array([0.5, 3.0])]
+    tau = np.array([0.5])
+    out_ints, out_floats = [np.zeros(8, np.int64), np.zeros(8, np.int64)], [np.zeros(2), np.zeros(2)]
+    fails = [np.zeros(2), np.zeros(2)]
+    advance = python.trbdf2_advance if scheme == "trbdf2" else python.embedded_advance
+    codes = []
+    for k in range(10):
+        want = advance(plans[0], states[0], tau, PythonRightHandSide(_pendulum_to_a_wall), np.zeros(2, np.int64),
+                       None, None, k * T, fails[0], out_ints[0], out_floats[0])
+        got = _core.adaptive_advance_f(plans[1], _pendulum_to_a_wall, states[1], tau, k * T, fails[1], out_ints[1],
+                                       out_floats[1])
+        assert got == want
+        for a, b in ((states, "x"), (fails, "x_fail"), (out_ints, "out_int"), (out_floats, "out_float")):
+            np.testing.assert_array_equal(a[1], a[0], err_msg=f"{b}, period {k}")
+        for field, a, b in zip(plans[0]._fields, plans[1], plans[0]):
+            np.testing.assert_array_equal(a, b, err_msg=f"plan.{field}, period {k}")
+        codes.append(int(want))
+        if want != STEP_OK:
+            break
+    assert codes[-1] == STEP_TOO_SMALL and len(codes) > 2
+    assert plans[0].stats[len(codes) - 1, adaptive.STAT_REJECTED] > 0
+
+
+@pytest.mark.parametrize("scheme", ["rk45", "trbdf2"])
+def test_a_plant_failure_is_reported_as_the_numba_one(scheme):
+    """The object's centre on a contact (a central spring of rest length > 0 at zero length): the plant fails at
+    the period's first evaluation."""
+    scene = _scene("central_spring_buckling")
+    x = scene.states[0].copy()
+    nz = x.shape[0] // 2
+    x[nz - 3:nz - 1] = plants_core.planar_control_terms(x, scene.P)["Y"][1, :2]
+    codes, _ = _run_both(scene, get_integrator(scheme), None, x, scene.torques[0], periods=1)
+    assert codes == [STEP_PLANT_ERROR]
 
 
 @pytest.mark.parametrize("name", SCENES)

@@ -14,7 +14,6 @@
 #include "coopctrl/core/explicit_schemes.h"
 #include "coopctrl/core/implicit_schemes.h"
 #include "coopctrl/core/integration_plan.h"
-#include "coopctrl/core/linear_algebra.h"
 
 namespace coopctrl {
 
@@ -165,8 +164,8 @@ int embedded_advance(const EmbeddedPlan& plan, double* x, int nx, const double* 
                 return STEP_TOO_SMALL;
             }
             const double proposal = h_abs;
-            const double left = t_end - t_cur;
-            if (controller == CONTROLLER_PI && h_abs < left && left < 2.0 * h_abs)
+            const double to_end = t_end - t_cur;
+            if (controller == CONTROLLER_PI && h_abs < to_end && to_end < 2.0 * h_abs)
                 h_abs = 0.5 * (t_end - t_cur);  // two even steps to the instant, not a sliver after a full one
             t_new = t_cur + h_abs;
             const bool clipped = t_new - t_end > 0.0 || h_abs < proposal;
