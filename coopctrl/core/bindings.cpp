@@ -6,18 +6,22 @@
 namespace nb = nanobind;
 
 namespace coopctrl::binding {
+void bind_adaptive(nb::module_& m);
 void bind_control_laws(nb::module_& m);
 void bind_integrators(nb::module_& m);
 void bind_qp(nb::module_& m);
+void bind_squeeze(nb::module_& m);
 void bind_tick_checks(nb::module_& m);
 void bind_tick(nb::module_& m);
 }  // namespace coopctrl::binding
 
 NB_MODULE(_core, m) {
     m.doc() = "The control layer's compiled core (C++, built at install; coopctrl/core).";
+    coopctrl::binding::bind_adaptive(m);
     coopctrl::binding::bind_control_laws(m);
     coopctrl::binding::bind_integrators(m);
     coopctrl::binding::bind_qp(m);
+    coopctrl::binding::bind_squeeze(m);
     coopctrl::binding::bind_tick_checks(m);
     coopctrl::binding::bind_tick(m);
 }
