@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "coopctrl/core/adaptive_plan_reader.h"
 #include "coopctrl/core/array_reader.h"
 #include "coopctrl/core/goldfarb_idnani.h"
 #include "coopctrl/core/plan_reader.h"
@@ -17,6 +18,7 @@
 #include "coopctrl/core/tick_model.h"
 #include "coopctrl/core/tick_plants.h"
 #include "plants/core/planar_plant_reader.h"
+#include "plants/core/spatial_plant_reader.h"
 
 namespace coopctrl::binding {
 
@@ -39,15 +41,29 @@ public:
         read_model(model, control);
         read_data(data);
         read_plan(plan);
-        if (md_.spatial) throw nb::type_error("Tick: a spatial plant runs on the numba tick for now");
-        planar_ = std::make_unique<plants::binding::PlanarPlant>(model.attr("P"));
-        plant_ = std::make_unique<PlanarTickPlant>(planar_->model, md_.nx);
-        tick_ = std::make_unique<Tick<PlanarTickPlant>>(md_, d_, *plant_, plan_, ws_);
+        if (md_.spatial) {
+            spatial_ = std::make_unique<plants::binding::SpatialPlant>(model.attr("P"));
+            spatial_plant_ = std::make_unique<SpatialTickPlant>(spatial_->model, md_.nx);
+            spatial_tick_ = std::make_unique<Tick<SpatialTickPlant>>(md_, d_, *spatial_plant_, plan_, ws_);
+        } else {
+            planar_ = std::make_unique<plants::binding::PlanarPlant>(model.attr("P"));
+            planar_plant_ = std::make_unique<PlanarTickPlant>(planar_->model, md_.nx);
+            planar_tick_ = std::make_unique<Tick<PlanarTickPlant>>(md_, d_, *planar_plant_, plan_, ws_);
+        }
     }
 
     void run_ticks(int64_t k0, int64_t k_stop) {
         nb::gil_scoped_release release;
-        tick_->run(k0, k_stop);
+        if (md_.spatial)
+            spatial_tick_->run(k0, k_stop);
+        else
+            planar_tick_->run(k0, k_stop);
+    }
+
+    /// The plant's world turned in place (a chart re-centred, coopctrl.loop.charts): its bases and gravity read
+    /// again.
+    void world_moved() {
+        if (spatial_) spatial_->read_world();
     }
 
     nb::tuple reference_step(int64_t k, bool act, int64_t source, int64_t qs, int64_t qit, int64_t qb,
@@ -56,7 +72,8 @@ public:
         int64_t code;
         {
             nb::gil_scoped_release release;
-            code = tick_->reference_step(k, act, source, qs, qit, qb, sense_next, &P_changed);
+            code = md_.spatial ? spatial_tick_->reference_step(k, act, source, qs, qit, qb, sense_next, &P_changed)
+                               : planar_tick_->reference_step(k, act, source, qs, qit, qb, sense_next, &P_changed);
         }
         return nb::make_tuple(code, P_changed);
     }
@@ -166,7 +183,6 @@ private:
         md_.probes.followers = switches[3] != 0;
         sw.plant_outside = switches[4] != 0;
         sw.max_energy = doubles(opts, "opts", "reals", {1})[0];
-        if (sw.energy != 0) throw nb::type_error("Tick: a run that evaluates the energy runs on the numba tick for now");
         md_.K_obj = doubles(opts, "opts", "K_obj", {m, p, p});
         ProbeModel& pr = md_.probes;
         pr.leader_offset = doubles(opts, "opts", "leader_offset", {p});
@@ -250,6 +266,12 @@ private:
                                        std::to_string(N) + " rows").c_str());
         if (pairs != m * (m - 1) / 2) throw nb::value_error("record.squeeze: expected m (m - 1) / 2 columns");
         md_.squeeze_desired = doubles(data.attr("sq"), "data.sq", "desired", {pairs});
+        nb::handle opts = model_obj_.attr("opts");
+        rec.energy = doubles(opts, "opts", "energy", {ANY});
+        rec.kinetic_energy = doubles(opts, "opts", "kinetic_energy", {ANY});
+        if (md_.switches.passive || md_.switches.energy != 0)
+            if (extent(opts, "energy", 0) < N || extent(opts, "kinetic_energy", 0) < N)
+                throw nb::value_error("opts.energy, opts.kinetic_energy: expected at least N rows");
     }
 
     void read_plan(nb::handle plan) {
@@ -260,8 +282,15 @@ private:
         } else if (kind == "ImplicitPlan") {
             plan_.family = PeriodPlan::IMPLICIT;
             plan_.implicit_plan = read_implicit_plan(plan, md_.nx, pinv_work_);
+        } else if (kind == "EmbeddedPlan") {
+            plan_.family = PeriodPlan::EMBEDDED;
+            plan_.embedded_plan = embedded_plan(plan, static_cast<size_t>(md_.nx));
+        } else if (kind == "TRBDF2Plan") {
+            plan_.family = PeriodPlan::TRBDF2;
+            plan_.trbdf2_plan = trbdf2_plan(plan, static_cast<size_t>(md_.nx), pinv_work_);
         } else {
-            throw nb::type_error(("Tick: a " + kind + " runs on the numba tick for now").c_str());
+            throw nb::type_error(("plan: a " + kind + ": expected an ExplicitPlan, ImplicitPlan, EmbeddedPlan or "
+                                  "TRBDF2Plan").c_str());
         }
     }
 
@@ -272,8 +301,11 @@ private:
     std::vector<double> pinv_work_;
     GIWorkspace ws_{};
     std::unique_ptr<plants::binding::PlanarPlant> planar_;
-    std::unique_ptr<PlanarTickPlant> plant_;
-    std::unique_ptr<Tick<PlanarTickPlant>> tick_;
+    std::unique_ptr<PlanarTickPlant> planar_plant_;
+    std::unique_ptr<Tick<PlanarTickPlant>> planar_tick_;
+    std::unique_ptr<plants::binding::SpatialPlant> spatial_;
+    std::unique_ptr<SpatialTickPlant> spatial_plant_;
+    std::unique_ptr<Tick<SpatialTickPlant>> spatial_tick_;
 };
 
 }  // namespace
@@ -286,6 +318,8 @@ void bind_tick(nb::module_& m) {
              nb::arg("plan"), nb::arg("control"))
         .def("run_ticks", &TickRun::run_ticks, nb::arg("k0"), nb::arg("k_stop"),
              "Ticks k0 .. until N are recorded, an event, or tick k_stop; data.out_int says which.")
+        .def("world_moved", &TickRun::world_moved,
+             "Read the plant's bases and gravity again after a world chart turned them in place.")
         .def("reference_step", &TickRun::reference_step, nb::arg("k"), nb::arg("act"), nb::arg("source"),
              nb::arg("qs"), nb::arg("qit"), nb::arg("qb"), nb::arg("sense_next"),
              "The reference path's entry per tick: act on tick k (with act), then sense tick k + 1 (with "

@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "coopctrl/core/adaptive_plan.h"
+#include "coopctrl/core/adaptive_schemes.h"
 #include "coopctrl/core/control_laws.h"
 #include "coopctrl/core/explicit_schemes.h"
 #include "coopctrl/core/goldfarb_idnani.h"
@@ -25,7 +27,7 @@
 #include "coopctrl/core/qp_assembly.h"
 #include "coopctrl/core/qp_contact_model.h"
 #include "coopctrl/core/qp_elastic_assembly.h"
-#include "coopctrl/core/qp_tensions.h"
+#include "coopctrl/core/squeeze.h"
 #include "coopctrl/core/tick_checks.h"
 #include "coopctrl/core/tick_model.h"
 #include "coopctrl/core/tick_plants.h"
@@ -35,9 +37,11 @@ namespace coopctrl {
 
 /// The run's integration plan: one family, its plan.
 struct PeriodPlan {
-    enum Family { EXPLICIT, IMPLICIT } family;
+    enum Family { EXPLICIT, IMPLICIT, EMBEDDED, TRBDF2 } family;
     ExplicitPlan explicit_plan;
     ImplicitPlan implicit_plan;
+    EmbeddedPlan embedded_plan;
+    TRBDF2Plan trbdf2_plan;
 };
 
 /// The tick's work arrays, made once per run (the names of coopctrl/loop/kernel.py's TickWorkspace).
@@ -207,6 +211,25 @@ public:
             }
             return gcode;
         }
+        if (md_.switches.energy != 0) {  // the energy guard; a passive run records the energy
+            const plants::PlantEnergy e = plant_.energy(x);
+            if (e.status != 0) {
+                stop.code = TICK_PLANT_ERROR;
+                stop.detail[0] = e.status;
+                stop.detail[1] = 0;
+                copy(d_.x_fail, x, nx);
+                return TICK_PLANT_ERROR;
+            }
+            if (md_.switches.energy == 2 && !(std::abs(e.total) <= md_.switches.max_energy)) {
+                stop.code = TICK_ENERGY;
+                d_.stop_value[0] = e.total;
+                return TICK_ENERGY;
+            }
+            if (md_.switches.passive) {
+                d_.record.energy[k] = e.total;
+                d_.record.kinetic_energy[k] = e.kinetic;
+            }
+        }
         copy(d_.x_good, x, nx);
         stop.last_good_tick = k;
         // ---- nominal motion and load
@@ -334,6 +357,18 @@ private:
         if (plan_.family == PeriodPlan::EXPLICIT) {
             code = explicit_period(plan_.explicit_plan, d_.x, md_.nx, d_.tau, plant_, status_, t, md_.run.steps,
                                    md_.run.n_steps, d_.x_fail, report);
+        } else if (plan_.family == PeriodPlan::EMBEDDED || plan_.family == PeriodPlan::TRBDF2) {
+            TooSmallStep too_small;
+            if (plan_.family == PeriodPlan::EMBEDDED)
+                code = embedded_advance(plan_.embedded_plan, d_.x, md_.nx, d_.tau, plant_, status_, t, d_.x_fail, report,
+                                        too_small);
+            else
+                code = trbdf2_advance(plan_.trbdf2_plan, d_.x, md_.nx, d_.tau, plant_, status_, t, d_.x_fail, report,
+                                      too_small);
+            if (code == STEP_TOO_SMALL) {
+                d_.stop_value[0] = too_small.step;
+                d_.stop_value[1] = too_small.time;
+            }
         } else {
             code = implicit_period(plan_.implicit_plan, d_.x, md_.nx, d_.tau, plant_, status_, t, md_.run.steps,
                                    md_.run.n_steps, d_.x_fail, report);
@@ -573,29 +608,10 @@ private:
     }
 
     /// The virtual-linkage squeeze of the measured wrenches F (m, p) at the contacts r (m, npos) [m] into out
-    /// (pairs) [N] (coopctrl/loop/squeeze.py's pair_squeeze_into): NaN where F or r is not finite, two contacts
-    /// coincide or the pairs are ill-conditioned.
+    /// (pairs) [N] (squeeze.h).
     void record_squeeze(const double* r, const double* F, double* out) noexcept {
-        const int P = w_.pairs, m = md_.m, npos = md_.npos, p = md_.p;
-        if (P == 0) return;
-        const int R = m * npos;
-        bool ok = true;
-        for (int i = 0; i < m; ++i) {
-            for (int a = 0; a < npos; ++a)
-                if (!std::isfinite(r[i * npos + a])) ok = false;
-            for (int a = 0; a < p; ++a)
-                if (!std::isfinite(F[i * p + a])) ok = false;
-        }
-        if (ok) {
-            for (int c = 0; c < R * P; ++c) w_.sq_E[c] = 0.0;
-            ok = fill_squeeze_basis(w_.sq_E.data(), P, r, m, npos, npos);
-        }
-        if (!ok) {
-            for (int e = 0; e < P; ++e) out[e] = std::nan("");
-            return;
-        }
-        pair_tensions(w_.sq_E.data(), R, P, F, p, npos, md_.squeeze_desired, w_.sq_W.data(), w_.sq_V.data(),
-                      w_.sq_sigma.data(), out);
+        SqueezeWork work{md_.squeeze_desired, w_.sq_E.data(), w_.sq_W.data(), w_.sq_V.data(), w_.sq_sigma.data()};
+        pair_squeeze(r, md_.m, md_.npos, F, md_.p, work, out);
     }
 
     const TickModel& md_;

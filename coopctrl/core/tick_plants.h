@@ -1,11 +1,16 @@
-// The plants a tick runs on, behind one interface: sense the control terms at a state (true or measured), give them
-// by name, and serve the integrators as their Plant (explicit_schemes.h: rhs, first_rhs).
+// The plants a tick runs on, behind one interface: sense the control terms at a state (true or measured) and give
+// them by name, the plant's energy at the sensed state, and serve the integrators as their Plant
+// (explicit_schemes.h: rhs, first_rhs).
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "plants/core/cooperative_energy.h"
 #include "plants/core/cooperative_planar.h"
+#include "plants/core/cooperative_planar_work.h"
+#include "plants/core/cooperative_spatial.h"
+#include "plants/core/cooperative_spatial_work.h"
 
 namespace coopctrl {
 
@@ -27,25 +32,33 @@ struct SensedTerms {
     int nmax;              ///< the arms' row width
 };
 
+template <class Work>
+SensedTerms sensed_terms(const Work& w) noexcept {
+    return SensedTerms{w.Y.data(), w.dY.data(), w.H.data(), w.h.data(), w.J.data(), w.Jdq.data(),
+                       w.W.data(), w.w_free.data(), w.S.data(), w.Fw.data(), w.nmax};
+}
+
 /// A planar cooperative plant (plants/core/cooperative_planar.h) with its workspaces: one per set of terms and one
 /// for the integrators' right-hand sides.
 class PlanarTickPlant {
 public:
     PlanarTickPlant(const plants::PlanarCooperativeModel& model, int nx)
-        : model_(model), nx_(nx), work_{Work(model), Work(model)}, rhs_work_(model) {}
+        : model_(model), nx_(nx), true_(model), measured_(model), rhs_(model),
+          energy_F_((model.arm_count + 1) * 3, 0.0), energy_dY_zero_((model.arm_count + 1) * 3, 0.0) {}
 
     void sense(const double* x, int64_t* status, TermsAt at) noexcept {
-        Work& w = work_[at];
+        plants::PlanarWork& w = at == TERMS_TRUE ? true_ : measured_;
         plants::planar_control_terms(model_, x, nx_, status, w.data, w.terms);
     }
-    SensedTerms terms(TermsAt at) const noexcept {
-        const Work& w = work_[at];
-        return SensedTerms{w.Y.data(), w.dY.data(), w.H.data(), w.h.data(), w.J.data(), w.Jdq.data(),
-                           w.W.data(), w.w_free.data(), w.S.data(), w.Fw.data(), model_.nmax};
+    SensedTerms terms(TermsAt at) const noexcept { return sensed_terms(at == TERMS_TRUE ? true_ : measured_); }
+    /// The energy at x, whose true terms were just sensed: total and kinetic [J], status 0 or the elastic code.
+    plants::PlantEnergy energy(const double* x) noexcept {
+        const plants::EnergyScratch scratch{energy_F_.data(), energy_dY_zero_.data()};
+        return plants::planar_plant_energy(model_, x, nx_, true_.data, true_.terms, scratch);
     }
     /// The integrators' Plant: dx = f(x, tau).
     void rhs(const double* x, const double* tau, double, double* dx, int64_t* status) noexcept {
-        plants::planar_rhs(model_, x, nx_, tau, status, rhs_work_.data, dx);
+        plants::planar_rhs(model_, x, nx_, tau, status, rhs_.data, dx);
     }
     /// The first right-hand side of a period: the planar plant evaluates it afresh (as the numba tick does).
     void first_rhs(const double* x, const double* tau, double t, double* dx, int64_t* status) noexcept {
@@ -53,32 +66,40 @@ public:
     }
 
 private:
-    struct Work {
-        std::vector<double> Y, dY, H, h, J, Jdq, w, Nm, rhs, qdd, chain, W, w_free, S, Fw, Fe;
-        plants::PlanarCooperativeData data{};
-        plants::PlanarControlTerms terms{};
-        explicit Work(const plants::PlanarCooperativeModel& model) {
-            const int N = model.arm_count + 1, m = model.arm_count, n = model.nmax;
-            Y.assign(N * 3, 0.0), dY.assign(N * 3, 0.0), H.assign(m * n * n, 0.0), h.assign(m * n, 0.0);
-            J.assign(m * 3 * n, 0.0), Jdq.assign(m * 3, 0.0), w.assign(N * 3, 0.0), Nm.assign(n * n, 0.0);
-            rhs.assign(n, 0.0), qdd.assign(n, 0.0), chain.assign((n + 1) * plants::PLANAR_WORK_WIDTH, 0.0);
-            W.assign(N * 9, 0.0), w_free.assign(N * 3, 0.0), S.assign(N * 3, 0.0), Fw.assign(m * 3, 0.0);
-            Fe.assign(N * 3, 0.0);
-            bind();
-        }
-        Work(const Work& other) : Y(other.Y), dY(other.dY), H(other.H), h(other.h), J(other.J), Jdq(other.Jdq),
-              w(other.w), Nm(other.Nm), rhs(other.rhs), qdd(other.qdd), chain(other.chain), W(other.W),
-              w_free(other.w_free), S(other.S), Fw(other.Fw), Fe(other.Fe) { bind(); }
-        void bind() {
-            data = plants::PlanarCooperativeData{Y.data(), dY.data(), H.data(), h.data(), J.data(), Jdq.data(),
-                                                 w.data(), Nm.data(), rhs.data(), qdd.data(), chain.data()};
-            terms = plants::PlanarControlTerms{W.data(), w_free.data(), S.data(), Fw.data(), Fe.data()};
-        }
-    };
     const plants::PlanarCooperativeModel& model_;
     int nx_;
-    Work work_[2];
-    Work rhs_work_;
+    plants::PlanarWork true_, measured_, rhs_;
+    std::vector<double> energy_F_, energy_dY_zero_;
+};
+
+/// A spatial cooperative plant (plants/core/cooperative_spatial.h) with its workspaces.
+class SpatialTickPlant {
+public:
+    SpatialTickPlant(const plants::SpatialCooperativeModel& model, int nx)
+        : model_(model), nx_(nx), true_(model), measured_(model), rhs_(model) {}
+
+    void sense(const double* x, int64_t* status, TermsAt at) noexcept {
+        plants::SpatialWork& w = at == TERMS_TRUE ? true_ : measured_;
+        plants::spatial_control_terms(model_, x, nx_, status, w.data, w.terms);
+    }
+    SensedTerms terms(TermsAt at) const noexcept { return sensed_terms(at == TERMS_TRUE ? true_ : measured_); }
+    plants::PlantEnergy energy(const double* x) noexcept {
+        const plants::EnergyScratch scratch{true_.energy_F.data(), true_.energy_dY_zero.data()};
+        return plants::spatial_plant_energy(model_, x, nx_, true_.data, true_.terms, scratch);
+    }
+    void rhs(const double* x, const double* tau, double, double* dx, int64_t* status) noexcept {
+        plants::spatial_rhs(model_, x, nx_, tau, status, rhs_.data, dx);
+    }
+    /// The first right-hand side of a period, at the state whose true terms the tick has just sensed: finished
+    /// from them (the same bits, one arm pass fewer).
+    void first_rhs(const double* x, const double* tau, double, double* dx, int64_t* status) noexcept {
+        plants::spatial_rhs_from_terms(model_, x, nx_, tau, status, true_.data, true_.terms, dx);
+    }
+
+private:
+    const plants::SpatialCooperativeModel& model_;
+    int nx_;
+    plants::SpatialWork true_, measured_, rhs_;
 };
 
 }  // namespace coopctrl

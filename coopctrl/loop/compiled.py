@@ -254,12 +254,7 @@ class CompiledLoop:
 
 def core_tick_control(loop, cl: "CompiledLoop", plan) -> ControlModel | None:
     """The control model of a run the compiled core's tick runs (:class:`coopctrl._core.Tick`), or None where
-    the run needs the numba tick: a spatial plant, an error-controlled scheme, the energy evaluated (a passive
-    run, ``max_energy``), or a leader law written in Python."""
-    if cl.spatial or type(plan).__name__ not in ("ExplicitPlan", "ImplicitPlan"):
-        return None
-    if not loop.enabled or loop.max_energy is not None:
-        return None
+    the run needs the numba tick: a leader law written in Python."""
     return cl.control_model(loop)
 
 
@@ -695,7 +690,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         elif charts is None:
             chunk_end = 10 if budgeted else _CHUNK  # an error-controlled run measures its step rate first
         elif next_check is None:
-            charts.check(state.x, k, traj, state, plan)
+            if charts.check(state.x, k, traj, state, plan) and control is not None:
+                core_tick.world_moved()
             chunk_end = charts.ticks_ahead(state.x, loop.T)
         else:  # the chart check where the run continued from would have made it (the kernel stops there)
             chunk_end = next_check
@@ -725,6 +721,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                                                     scheme, SB.STEPS_PER_PERIOD)
                         break
                 if charts is not None and charts.check(state.x, k, traj, state, plan):  # between two whole ticks
+                    if control is not None:
+                        core_tick.world_moved()
                     if cl.plant_outside and hasattr(loop.integrator, "reset"):
                         loop.integrator.reset()  # a Python integrator's Newton matrix was in the old axes
                 chunk_end = k + budget_chunk(k, _CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T))

@@ -13,8 +13,11 @@
 
 #include "plants/core/binding_checks.h"
 #include "plants/core/cooperative_planar.h"
+#include "plants/core/cooperative_planar_work.h"
 
 namespace plants::binding {
+
+using plants::PlanarWork;
 
 using Index = nb::ndarray<const std::int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using IndexMatrix = nb::ndarray<const std::int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
@@ -89,20 +92,5 @@ struct PlanarPlant {
     }
 };
 
-/// A planar plant's workspace (PlanarCooperativeData) and control terms, owned.
-struct PlanarWork {
-    int N, m, nmax;
-    std::vector<double> Y, dY, H, h, J, Jdq, w, Nm, rhs, qdd, chain, W, w_free, S, Fw, Fe;
-    PlanarCooperativeData data{};
-    PlanarControlTerms terms{};
-    explicit PlanarWork(const PlanarCooperativeModel& model)
-        : N(model.arm_count + 1), m(model.arm_count), nmax(model.nmax), Y(N * 3), dY(N * 3), H(m * nmax * nmax),
-          h(m * nmax), J(m * 3 * nmax), Jdq(m * 3), w(N * 3), Nm(nmax * nmax), rhs(nmax), qdd(nmax),
-          chain((nmax + 1) * PLANAR_WORK_WIDTH), W(N * 9), w_free(N * 3), S(N * 3), Fw(m * 3), Fe(N * 3) {
-        data = PlanarCooperativeData{Y.data(), dY.data(), H.data(), h.data(), J.data(), Jdq.data(), w.data(),
-                                     Nm.data(), rhs.data(), qdd.data(), chain.data()};
-        terms = PlanarControlTerms{W.data(), w_free.data(), S.data(), Fw.data(), Fe.data()};
-    }
-};
 
 }  // namespace plants::binding

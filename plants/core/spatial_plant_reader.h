@@ -14,9 +14,12 @@
 #include "plants/core/binding_checks.h"
 #include "plants/core/chain_arm.h"
 #include "plants/core/cooperative_spatial.h"
+#include "plants/core/cooperative_spatial_work.h"
 #include "plants/core/elastic_model.h"
 
 namespace plants::binding {
+
+using plants::SpatialWork;
 
 using Index = nb::ndarray<const std::int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using IndexMatrix = nb::ndarray<const std::int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
@@ -97,35 +100,25 @@ struct SpatialPlant {
         model.immobile = nb::cast<bool>(args.attr("immobile"));
         model.nmax = nmax;
     }
+    /// Read the bases and gravity again from P (a world chart turned them in place: coopctrl.loop.charts).
+    void read_world() {
+        auto bases = nb::cast<Tensor3>(P.attr("bases"));
+        auto gravity = nb::cast<Vector>(P.attr("gravity"));
+        expect(bases.shape(0) == arms.size() && bases.shape(1) == 4 && bases.shape(2) == 4, "P.bases", "(m, 4, 4)");
+        expect_length(gravity.shape(0), 3, "P.gravity");
+        for (size_t i = 0; i < arms.size(); ++i) {
+            if (arms[i].kind == ARM_CONTACT_POINT) continue;
+            for (size_t r = 0; r < 4; ++r)
+                for (size_t c = 0; c < 4; ++c) arms[i].arm.base[4 * r + c] = bases(i, r, c);
+            for (size_t c = 0; c < 3; ++c) arms[i].arm.gravity[c] = gravity(c);
+        }
+        for (size_t c = 0; c < 3; ++c) model.gravity[c] = gravity(c);
+    }
     // the model points into this object's vectors: a move keeps their storage, a copy would not
     SpatialPlant(SpatialPlant&&) = default;
     SpatialPlant(const SpatialPlant&) = delete;
     SpatialPlant& operator=(const SpatialPlant&) = delete;
 };
 
-/// A spatial plant's workspace (SpatialCooperativeData), control terms and energy scratch, owned, zero-filled.
-struct SpatialWork {
-    int N, m, nmax;
-    std::vector<double> Y, dY, H, h, J, Jdq, Wr, w, Nm, rhs, qdd, WJ, arm_H, arm_J, W, w_free, S, Fw, Fe;
-    std::vector<ChainBody> chain;
-    std::vector<NodeFrames> frames;
-    std::vector<double> energy_F, energy_dY_zero;  ///< (N, 6) each: cooperative_energy.h's EnergyScratch
-    SpatialCooperativeData data{};
-    SpatialControlTerms terms{};
-    explicit SpatialWork(const SpatialCooperativeModel& model)
-        : N(model.arm_count + 1), m(model.arm_count), nmax(model.nmax), Y(N * 6), dY(N * 6), H(m * nmax * nmax),
-          h(m * nmax), J(m * 6 * nmax), Jdq(m * 6), Wr(N * 9), w(N * 6), Nm(nmax * nmax), rhs(nmax), qdd(nmax),
-          WJ(3 * nmax), arm_H(nmax * nmax), arm_J(6 * nmax), W(N * 36), w_free(N * 6), S(N * 6), Fw(m * 6),
-          Fe(N * 6), chain(nmax + 1), frames(N), energy_F(N * 6), energy_dY_zero(N * 6) {
-        data = SpatialCooperativeData{Y.data(),  dY.data(),  H.data(),     h.data(),     J.data(),     Jdq.data(),
-                                      Wr.data(), w.data(),   Nm.data(),    rhs.data(),   qdd.data(),   WJ.data(),
-                                      arm_H.data(), arm_J.data(), chain.data(), frames.data()};
-        terms = SpatialControlTerms{W.data(), w_free.data(), S.data(), Fw.data(), Fe.data()};
-    }
-    // data and terms point into this object's vectors: a move keeps their storage, a copy would not
-    SpatialWork(SpatialWork&&) = default;
-    SpatialWork(const SpatialWork&) = delete;
-    SpatialWork& operator=(const SpatialWork&) = delete;
-};
 
 }  // namespace plants::binding
