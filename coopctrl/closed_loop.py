@@ -80,15 +80,19 @@ class ClosedLoop:
             the causes of a divergence checked against the closed loop's predicted step limit (wired by
             :func:`coopctrl.simulator.closed_loop`; see :mod:`coopctrl.loop.diagnosis`).
         leader_law: Optional :class:`~coopctrl.controllers.leader_law.LeaderLaw`: the leader node's
-            commanded acceleration from its pose error, compiled into the tick in place of the computed-torque
-            law with the leader's gains (``None``); see :mod:`coopctrl.controllers.leader_law`.
+            commanded acceleration from its pose error, in place of the computed-torque law with the leader's
+            gains (``None``); see :mod:`coopctrl.controllers.leader_law`.
+        follower_law: Optional :class:`~coopctrl.controllers.leader_law.LeaderLaw` for the followers' nodes:
+            their commanded acceleration from the pose error to their target (the rigid node moved by the
+            compliance map of the force PI's correction), in place of their computed torque with the
+            followers' gains (``None``).
     """
 
     def __init__(self, plant, trajectory, grasps, load_distribution, compliance, leader, followers, sensors,
                  integrator, control_period: float, substeps: int, squeeze_desired, max_deformation: float,
                  max_energy: float | None = None, torque_limits: bool = False, name: str = "scenario",
                  enabled: bool = True, step: float | None = None, failure_causes=None, leader_law=None,
-                 rotations: str = "book"):
+                 rotations: str = "book", follower_law=None):
         self.plant = plant
         self.trajectory = trajectory
         self.grasps = np.asarray(grasps, dtype=float)
@@ -122,10 +126,12 @@ class ClosedLoop:
         self.failure_causes = failure_causes
         from coopctrl.controllers.leader_law import LeaderLaw
 
-        if leader_law is not None and not isinstance(leader_law, LeaderLaw):
-            raise TypeError(f"leader_law = {leader_law!r}: expected a coopctrl.controllers.leader_law.LeaderLaw "
-                            "(e.g. object_impedance(...)) or None (the leader's computed torque)")
+        for name, law in (("leader_law", leader_law), ("follower_law", follower_law)):
+            if law is not None and not isinstance(law, LeaderLaw):
+                raise TypeError(f"{name} = {law!r}: expected a coopctrl.controllers.leader_law.LeaderLaw "
+                                "(e.g. object_impedance(...)) or None (the node's computed torque)")
         self.leader_law = leader_law
+        self.follower_law = follower_law
         self.space = plant.space
         self.npos = 3 if self.space == "spatial" else 2
         el = plant.elastic
@@ -357,7 +363,7 @@ class ClosedLoop:
         return LoadDistribution(self.ld.config, self.space, self.plant.arm_count)
 
     def _run(self, rec, x0, N, progress, integrals, start=None):
-        """Run ``N`` ticks from ``x0`` into ``rec``: the one tick of :mod:`coopctrl.loop.kernel`, driven by
+        """Run ``N`` ticks from ``x0`` into ``rec``: the one compiled tick (coopctrl/core/tick.h), driven by
         :func:`coopctrl.loop.compiled.run_compiled` for every configuration. The reference path
         (``load_distribution.solver`` other than ``"compiled"``) runs the same kernel, which hands each QP
         it assembles to the chosen backend; an integrator the kernel lacks steps the plant in Python

@@ -55,7 +55,7 @@ def check_arguments(scenario, integrator=None, step=None, uniform_step: bool = F
 
 
 def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform_step: bool = False,
-                controllers=None, trajectory=None, leader_law=None) -> ClosedLoop:
+                controllers=None, trajectory=None, leader_law=None, follower_law=None) -> ClosedLoop:
     """The :class:`ClosedLoop` of a scenario, every part built and wired explicitly: the one builder.
 
     Tuning and analysis build a loop with other parts instead of patching a built one. Nothing is
@@ -77,6 +77,7 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
             linearization, :mod:`coopctrl.analysis.closed_loop_stability`).
         leader_law: A user control law for the leader, passed to the
             :class:`~coopctrl.closed_loop.ClosedLoop` (``None``: the shipped computed-torque law).
+        follower_law: A user control law for the followers' nodes, likewise (``None``: their computed torque).
 
     Raises:
         TypeError, ValueError: An argument of the wrong type or value (the message names it).
@@ -111,7 +112,8 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
                       scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
                       torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
                       enabled=scenario.controllers.enabled, rotations=scenario.scene.rotations,
-                      **({"leader_law": leader_law} if leader_law is not None else {}))
+                      **({"leader_law": leader_law} if leader_law is not None else {}),
+                      **({"follower_law": follower_law} if follower_law is not None else {}))
     if step is not None:
         loop.set_step(step, uniform=uniform_step)
     return loop

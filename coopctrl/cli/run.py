@@ -64,18 +64,12 @@ def cmd_run(args) -> int:
         raise UsageError(f"--plant mujoco steps MuJoCo at its own fixed step: {what} (the elastic plant's integrator "
                          "settings) cannot apply; drop it or run the elastic plant")
     refuse_before_work(scenario)  # a record that cannot fit, a path through the Euler-angle band: exit 2, as `check`
-    # the first run of a kind compiles its kernels (pre-flight's too) for tens of seconds: it says so first
-    from coopctrl.cli.first_run import announce
-
-    notice = announce([scenario], ticker=not args.quiet)
     loop = None  # built once, for pre-flight and the run
     try:
-        if scenario.simulation.accuracy is None:  # the scene as given runs: its loop, and on a first run of its
-            from coopctrl.loop.compiled import compile_tick_ahead  # kind its tick compiling on a second core
-            from coopctrl.wiring import closed_loop  # while pre-flight compiles its own kernels here
+        if scenario.simulation.accuracy is None:  # the scene as given runs: its loop, built once
+            from coopctrl.wiring import closed_loop
 
             loop = closed_loop(scenario)
-            compile_tick_ahead(loop)
         if not args.no_preflight:  # an impossible task is refused before the first tick (exit 1)
             from coopctrl.analysis.preflight import preflight
             from coopctrl.wiring import closed_loop
@@ -83,8 +77,6 @@ def cmd_run(args) -> int:
             loop = loop if loop is not None else closed_loop(scenario)
             report = preflight(scenario, loop)
             if not report.ok:
-                if notice is not None:
-                    notice.close()
                 print(f"{PROG}: failed: {preflight_line(report)} (--no-preflight runs it anyway)", file=sys.stderr)
                 return 1
         choice = None
@@ -96,8 +88,6 @@ def cmd_run(args) -> int:
                     scenario, choice = choose_setting(scenario)
                 loop = None  # the chosen setting is another scenario: its own loop
             except ArithmeticError as err:  # TargetUnreachable, ReferenceFailed: nothing to run at that accuracy
-                if notice is not None:
-                    notice.close()
                 print(f"{PROG}: failed: simulation.accuracy: {_one_line(err)}", file=sys.stderr)
                 return 1
             if not args.quiet:
@@ -108,8 +98,6 @@ def cmd_run(args) -> int:
             other_plant = {} if args.plant == "elastic" else {"plant": args.plant, "loop": None}  # its own loop
             result = simulate(scenario, progress=progress, node_poses=args.out is not None,  # only files hold them
                               **{"loop": loop, **other_plant})
-            if notice is not None:
-                notice.close()
             with np.errstate(over="ignore", invalid="ignore"):  # a diverged run's figures overflow: it says so
                 summary = result.summary()
             if choice is not None:
@@ -125,17 +113,12 @@ def cmd_run(args) -> int:
 
                 write_result_folder(result, scenario, args.out)
     except (DivergenceError, InfeasibleLoad) as err:
-        if notice is not None:
-            notice.close()
         kind = "diverged" if isinstance(err, DivergenceError) else "qp_failed"
         print(f"{PROG}: {kind}: {_one_line(err)}", file=sys.stderr)
         return 1
     except OutputWriteError as err:
         print(f"{PROG}: failed: {err}; {visible(args.out)} was left as it was", file=sys.stderr)
         return 1
-    finally:
-        if notice is not None:
-            notice.close()
     from coopctrl.results import summary_table
 
     ticks = summary.get("samples", len(result.t))

@@ -55,32 +55,18 @@ def cmd_sweep(args) -> int:
     progress = not (args.quiet or args.json) and sys.stderr.isatty()
     path = resolve_scenario(args.scenario) if args.scenario else None
     run_function = worker_function()
-    # the first runs of a kind compile its kernels for tens of seconds: the sweep says so first (the ticker
-    # only where no progress bar shares its line, and until the first row)
-    from coopctrl.cli.first_run import announce_sweep
-
-    notice = announce_sweep(path, grid, sets, run_function, ticker=not (args.quiet or progress))
-
-    def first_row(row) -> None:
-        if notice is not None:
-            notice.close()
-
     try:
         with stdout_to_stderr(args.json):  # stdout holds the JSON only, whatever a library or worker prints
             result = run_sweep(path, grid, sets=sets, jobs=args.jobs, scheduler=args.scheduler,
                                progress=progress, out=args.out, run_function=run_function,
-                               run_timeout_s=args.run_timeout, on_row=first_row)
+                               run_timeout_s=args.run_timeout)
     except SweepInterrupted as stop:
-        if notice is not None:
-            notice.close()
         partial = stop.result
         _emit(partial, args)
         kept = f"kept in {visible(args.out)}" if args.out is not None else "printed above (use --out DIR to keep them in files)"
         print(f"{PROG}: interrupted: {len(partial.rows)} of {partial.runs} runs finished, {kept}", file=sys.stderr)
         return 130
     except OutputWriteError as err:  # the output refused (a full disk): the rows so far on stdout, one line why
-        if notice is not None:
-            notice.close()
         partial = getattr(err, "partial", None)
         done = ""
         if partial is not None:
@@ -88,9 +74,6 @@ def cmd_sweep(args) -> int:
             done = f"; the sweep stopped after {len(partial.rows)} of {partial.runs} runs, whose rows are printed above"
         print(f"{PROG}: failed: {err}{done}", file=sys.stderr)
         return 1
-    finally:
-        if notice is not None:
-            notice.close()
     _emit(result, args)
     if result.retried:
         runs = ", ".join(f"run {run} (a worker of its pool {cause})" for run, cause in result.retried)

@@ -6,7 +6,7 @@
 - :mod:`~coopctrl.controller.torques`: :class:`Torques`, what one step returns;
 - :mod:`~coopctrl.controller.controller_state`: :class:`ControllerState`, what it carries between steps.
 
-The compiled step itself is :func:`coopctrl.loop.controller_step.controller_step`.
+The compiled step itself is the tick's controller step (coopctrl/core/tick.h, ``coopctrl._core.Tick.controller_step``).
 """
 
 from coopctrl.controller.controller import Controller

@@ -7,7 +7,7 @@
         torques = controller.step(t, measurement)    # Measurement -> Torques [N m], held over the period
 
 Each step runs the compiled stages of the loop's tick that make the torques
-(:func:`coopctrl.loop.controller_step.controller_step`: the control terms at the measured state, the nominal
+(the tick's controller step, coopctrl/core/tick.h: the control terms at the measured state, the nominal
 motion and load, the QP of the split and its warm-started solve, the leader's and the followers' laws, the
 saturation): the same code as ``coopctrl run``, on the caller's measurement instead of the elastic plant's
 state. Everything it carries between steps is :attr:`Controller.state`, a frozen snapshot that can be put back.
@@ -78,13 +78,14 @@ class Controller:
 
     # ------------------------------------------------------------------ set-up
     def _build(self, loop) -> None:
+        import coopctrl._core as _core
         import coopctrl.integrators.compiled as I
         from coopctrl.integrators import ExplicitEuler
         from coopctrl.loop import compiled as C
-        from coopctrl.loop import controller_step as CS
-        from coopctrl.loop import kernel as K
+        from coopctrl.loop.data import LoopData
         from coopctrl.loop.euler_band import margin_cos
         from coopctrl.loop.model import LoopModel
+        from coopctrl.loop.squeeze import squeeze_workspace
         from coopctrl.loop.state import LoopState
 
         plant = loop.plant
@@ -116,35 +117,25 @@ class Controller:
         state = LoopState.start(np.zeros(nx), nu, m, p, cl.n, p + cl.n_in)
         self._state = state
         qa = cl.qp_arrays()
-        rec = loop.empty_record(1)
-        opts = cl.options(loop, rec, False)
-        plant_ws = cl.plant_workspaces(plant)
-        plan = I.make_plan(ExplicitEuler(), nx, T, 1)  # no plant advance runs: the stages' argument types only
+        opts = cl.options(loop, loop.empty_record(1), False)
         x_fail = np.zeros(nx)
         out_int = np.zeros(8, dtype=np.int64)
-        out_float = np.zeros(2)  # (the stages' argument types)
-        tw = K.tick_workspace(cl.spatial, m, nx, nu, cl.P.arm_dof)
-        tw.obj_inertia[:] = cl.obj[1:]
-        stages = K.tick_stages(cl.spatial, plan, P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl,
-                               cl.posture, cl.C, state.x, state.tau, state.integrals, state.flags, x_fail, out_int,
-                               out_float)
         nq = plant.nz - p
         self._P = P
-        model = LoopModel(spatial=cl.spatial, N=self._rows + 1, k_base=0, T=T, steps=cl.steps, stages=stages, P=P,
-                          grasps=cl.grasps, traj=traj, obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation,
-                          band=margin_cos(), ctrl=cl.ctrl, posture=cl.posture, C_comp=cl.C, qp=cl.qp, opts=opts,
-                          noise_q=np.zeros((1, 2 * nq)), noise_o=np.zeros((1, 2 * p)), noise_f=np.zeros((1, m * p)),
-                          noise_cfg=np.zeros(5))
-        step_data = CS.ControllerData(qp_arrays=qa, ws=state.ws, tw=tw, cws=plant_ws[1], tau=state.tau,
-                                      integrals=state.integrals, last_split=state.last_split, flags=state.flags,
-                                      saturated_joints=state.saturated_joints, x_fail=x_fail, out_int=out_int,
-                                      F_record=rec["F_measured"])
-        self._model, self._data, self._qa, self._opts = model, step_data, qa, opts  # held: the box shares their arrays
+        # the run's model and data (coopctrl.loop.model, .data) with no plant advance and no record: the tick's
+        # controller step reads the measurement instead of the plant's state
+        model = LoopModel(spatial=cl.spatial, N=self._rows + 1, k_base=0, T=T, steps=cl.steps, P=P, grasps=cl.grasps,
+                          traj=traj, obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation, band=margin_cos(),
+                          control=cl.control_model(loop), qp=cl.qp, opts=opts, noise_q=np.zeros((1, 2 * nq)),
+                          noise_o=np.zeros((1, 2 * p)), noise_f=np.zeros((1, m * p)), noise_cfg=np.zeros(5))
+        data = LoopData(plan=I.make_plan(ExplicitEuler(), nx, T, 1), qp_arrays=qa, ws=state.ws,
+                        sq=squeeze_workspace(m, 3 if cl.spatial else 2, loop.squeeze_desired), x=state.x,
+                        tau=state.tau, integrals=state.integrals, last_split=state.last_split, flags=state.flags,
+                        saturated_joints=state.saturated_joints, hold=state.hold, record=None, x_good=np.zeros(nx),
+                        x_fail=x_fail, out_int=out_int, out_float=np.zeros(2))
+        self._model, self._data, self._qa, self._opts = model, data, qa, opts  # the tick shares their arrays
         self._out_int, self._x_fail = out_int, x_fail
-        self._box = CS.new_controller_box(model, step_data)
-        q0 = tuple(np.zeros(n) for n in self.joint_counts)
-        args = (self._box, 0, False, q0, q0, np.zeros((m, p)), np.zeros(p), np.zeros(p))
-        self._step_entry = _entry(CS.controller_step, args)
+        self._tick = _core.Tick(model, data)
         self._tau = state.tau
         from coopctrl.loop.charts import RECENTRE_COS
 
@@ -154,7 +145,7 @@ class Controller:
         self._live = {"tau": state.tau, "integrals": state.integrals, "last_split": state.last_split,
                       "flags": state.flags, "saturated_joints": state.saturated_joints, "qp_workspace": state.ws,
                       "qp_hessian": qa.H, "qp_answer": qa.x, "qp_multipliers": qa.z,
-                      "elastic_stiffness": opts.elastic_K}
+                      "elastic_stiffness": qa.K}
         self._initial = self.state
 
     # ------------------------------------------------------------------ the step
@@ -177,7 +168,7 @@ class Controller:
         q, dq, wrench, pose, twist = self._checked(measurement)
         if self._charts and math.isfinite(pose[4]) and abs(math.cos(pose[4])) < self._recentre_cos:
             self._beyond_chart(pose)
-        code = self._step_entry(self._box, k, False, q, dq, wrench, pose, twist)
+        code = self._tick.controller_step(k, False, q, dq, wrench, pose, twist)
         if code != 0:
             self._event(code, k, (q, dq, wrench, pose, twist))
         self._steps += 1
@@ -273,11 +264,10 @@ class Controller:
         """Handle a step that did not end with torques: refuse the measurement, apply the QP's failure policy
         and hold the last split, or raise the stage's event."""
         from coopctrl.loop import compiled as C
-        from coopctrl.loop import controller_step as CS
-        from coopctrl.loop import kernel as K
+        from coopctrl.loop import tick_codes as K
 
         out = self._out_int
-        if code == CS.MEASUREMENT_NOT_FINITE:
+        if code == K.MEASUREMENT_NOT_FINITE:
             field, i, c = (int(v) for v in out[2:5])
             name = _FIELDS[field]
             a = args[field][i] if field < 2 else args[field]
@@ -287,7 +277,7 @@ class Controller:
         if code == K.QP_FAILED:  # the load distribution's failure policy, as the loop applies it (may raise)
             C._qp_failure(self._loop, self._cl, self._qa, int(out[2]), int(out[3]),
                           SimpleNamespace(ws=self._state.ws, flags=self._state.flags))
-            code = self._step_entry(self._box, k, True, *args)
+            code = self._tick.controller_step(k, True, *args)
             if code == 0:
                 return
         raise C._exception(self._loop, self._cl, code, k, out, np.zeros(2), self._x_fail, self._traj)
@@ -330,13 +320,6 @@ class Controller:
     def __repr__(self) -> str:
         return (f"Controller({self.scenario.name!r}: {len(self.arm_names)} arms, T = {self.control_period:g} s, "
                 f"{self._steps} steps)")
-
-
-def _entry(dispatcher, args: tuple):
-    """The compiled entry point of ``dispatcher`` for the types of ``args`` (no typing on each call)."""
-    from coopctrl.loop.compiled import _entry_point
-
-    return _entry_point(dispatcher, args)
 
 
 __all__ = ["Controller"]

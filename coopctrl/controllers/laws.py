@@ -1,7 +1,7 @@
 """The control laws of one tick, compiled: the one definition the compiled loop and the Python controllers run.
 
 Each function writes into arrays it is given and allocates nothing, so the compiled tick
-(:mod:`coopctrl.loop.kernel`) calls it with its work arrays, and :class:`~coopctrl.controllers.LeaderController`,
+(coopctrl/core/control_laws.h, their port) calls it with its work arrays, and :class:`~coopctrl.controllers.LeaderController`,
 :class:`~coopctrl.controllers.FollowerForceController`, :class:`~coopctrl.controllers.computed_torque.PostureTask`
 and :class:`~coopctrl.controllers.GraspCompliance` call it with arrays they make (docs/model.md s.4-6).
 Node poses ``Y`` are ``(position [m], angles [rad])``: ``npos`` = 3 positions then 3 ZYX Euler angles

@@ -1,6 +1,6 @@
-"""The leader's control law as the user's choice: a compiled function the closed loop's tick calls.
+"""The nodes' control laws as the user's choice: a function the closed loop's tick calls.
 
-The tick (:mod:`coopctrl.loop.kernel`) computes the leader node's target, the nominal deformed node
+The tick (coopctrl/core/tick.h) computes the leader node's target, the nominal deformed node
 ``Y_nominal + increment`` (the nominal node pose (148) and the deformation that makes the leader carry
 its QP share), and its pose error ``err = target - Y`` (angles wrapped into ``[-pi, pi)``). A leader law
 turns them into the node's commanded acceleration; computed torque on the leader's arm (the contact
@@ -15,13 +15,18 @@ wrench and the arm's dynamics) then gives the joint torques. Its signature::
 - ``params`` (k,) the law's constants (:attr:`LeaderLaw.params`);
 - ``a_cmd`` (p,) written by the law: the commanded node acceleration [m/s^2, rad/s^2].
 
-``law`` is a plain Python function in numba's nopython subset (not decorated: the loop compiles it once
-for these argument types and keeps it in numba's cache), allocating nothing (no new arrays). It is
-called through its address by the compiled controller stage, so a new law compiles only itself.
+``law`` is a plain Python function on numpy arrays, writing ``a_cmd`` in place. The built-in laws,
+:func:`computed_torque` (the default, with the scenario's leader gains) and :func:`object_impedance`, run in
+the compiled core; a law of your own is called from the compiled tick once per tick (the documented slower
+path: about a microsecond or more a call, with the interpreter's lock taken). An exception it raises stops the
+run and is raised again; a non-finite entry of ``a_cmd`` stops the run with a ``ValueError`` naming it.
 
-:func:`computed_torque` is the default (the scenario's leader gains); :func:`object_impedance` is the
-example a user starts from: the leader node (and the object it carries) behaves like a mass-damper-
-spring about its target.
+The same signature serves the followers (``closed_loop(scenario, follower_law=...)``): their target is the rigid
+node moved by the compliance map of the force PI's correction, and the law turns the error to it into the
+node's commanded acceleration (default: computed torque with the followers' gains).
+
+:func:`object_impedance` is the example a user starts from: the leader node (and the object it carries)
+behaves like a mass-damper-spring about its target.
 """
 
 from __future__ import annotations
@@ -53,11 +58,12 @@ def object_impedance_law(err, dY_ref, dY, ddY_ref, npos, params, a_cmd):
 
 @dataclass(frozen=True)
 class LeaderLaw:
-    """A leader control law and its constants, for ``closed_loop(scenario, leader_law=...)``.
+    """A node's control law and its constants, for ``closed_loop(scenario, leader_law=...)`` (or
+    ``follower_law=...``).
 
     Attributes:
         function: ``law(err, dY_ref, dY, ddY_ref, npos, params, a_cmd)`` (module docstring), a plain
-            Python function in numba's nopython subset.
+            Python function.
         params: The law's constants, a 1-d sequence of finite floats (units the law documents).
         name: A short name for summaries and errors.
     """

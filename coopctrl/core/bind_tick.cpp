@@ -1,11 +1,13 @@
-// The closed loop's tick in coopctrl._core (coopctrl/core/tick.h): `Tick(model, data, plan, control)` reads a run's
-// model and data by name once (coopctrl/loop/model.py's LoopModel, data.py's LoopData, the integration plan, the
-// control model), then `run_ticks(k0, k_stop)` runs ticks and `reference_step(...)` serves the reference path.
+// The closed loop's tick in coopctrl._core (coopctrl/core/tick.h): `Tick(model, data)` reads a run's model and data
+// by name once (coopctrl/loop/model.py's LoopModel with its ControlModel, data.py's LoopData with its integration
+// plan), then `run_ticks(k0, k_stop)` runs ticks, `reference_step(...)` serves the reference path and
+// `controller_step(...)` the Controller.
 // The arrays are the run's own: what the tick writes is in them.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +26,9 @@ namespace coopctrl::binding {
 
 namespace {
 
+using Vector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using Matrix = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+
 static_assert(sizeof(LoopFlags) == 7 * sizeof(int64_t), "LoopFlags is LoopState.flags, 7 int64");
 static_assert(sizeof(HoldState) == 4 * sizeof(int64_t), "HoldState is LoopState.hold, 4 int64");
 static_assert(sizeof(StopReport) == 8 * sizeof(int64_t), "StopReport is out_int, 8 int64");
@@ -33,14 +38,102 @@ T attr(nb::handle owner, const char* name) {
     return nb::cast<T>(owner.attr(name));
 }
 
+/// A node law written in Python, f(err, dY_ref, dY, ddY_ref, npos, params, a_cmd) writing a_cmd in place, called
+/// by the tick through LawCallback (the documented slower path: the GIL is taken for each call).
+struct PythonLaw {
+    nb::callable f;
+    nb::object params;                       // the law's constants, a float64 array
+    nb::object err, dY_ref, dY, ddY_ref, a_cmd;  // float64 (p,) arrays the tick's values are copied into
+    double *err_, *dY_ref_, *dY_, *ddY_ref_, *a_cmd_;
+    nb::object raised;                       // what f raised, raised again when the tick returns
+    std::string refused;                     // why its answer was refused
+
+    PythonLaw(nb::callable function, nb::object constants, int p) : f(std::move(function)), params(constants) {
+        auto make = [p](double*& data) {
+            double* values = new double[p]();
+            nb::capsule owner(values, [](void* v) noexcept { delete[] static_cast<double*>(v); });
+            data = values;
+            return nb::cast(nb::ndarray<nb::numpy, double, nb::ndim<1>>(values, {static_cast<size_t>(p)}, owner));
+        };
+        err = make(err_), dY_ref = make(dY_ref_), dY = make(dY_), ddY_ref = make(ddY_ref_), a_cmd = make(a_cmd_);
+    }
+
+    static bool call(void* context, const double* e, const double* dyr, const double* dy, const double* ddyr, int p,
+                     int npos, double* out) noexcept {
+        auto* self = static_cast<PythonLaw*>(context);
+        nb::gil_scoped_acquire gil;
+        for (int a = 0; a < p; ++a) {
+            self->err_[a] = e[a], self->dY_ref_[a] = dyr[a], self->dY_[a] = dy[a], self->ddY_ref_[a] = ddyr[a];
+            self->a_cmd_[a] = std::nan("");
+        }
+        try {
+            self->f(self->err, self->dY_ref, self->dY, self->ddY_ref, npos, self->params, self->a_cmd);
+        } catch (nb::python_error& error) {
+            self->raised = nb::borrow(error.value());
+            return false;
+        }
+        for (int a = 0; a < p; ++a) {
+            if (!std::isfinite(self->a_cmd_[a])) {
+                self->refused = "a_cmd[" + std::to_string(a) + "] = " + std::to_string(self->a_cmd_[a]) +
+                                ": expected the law to write a finite acceleration into every entry of a_cmd";
+                return false;
+            }
+            out[a] = self->a_cmd_[a];
+        }
+        return true;
+    }
+
+    /// Raise what the law raised or why its answer was refused, if it did.
+    void raise_if_failed(const char* which) {
+        if (raised.is_valid()) {
+            nb::object exc = raised;
+            raised = nb::object();
+            PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(exc.ptr())), exc.ptr());
+            throw nb::python_error();
+        }
+        if (!refused.empty()) {
+            const std::string why = std::string(which) + ": " + refused;
+            refused.clear();
+            throw nb::value_error(why.c_str());
+        }
+    }
+};
+
+/// control.<name>: a built-in law's name (with control.<name>_params) or a Python function (then `python` holds it).
+NodeLaw read_law(nb::handle control, const char* name, std::unique_ptr<PythonLaw>& python, int p) {
+    const std::string params_name = std::string(name) + "_params";
+    NodeLaw law{};
+    law.n_params = static_cast<int>(extent(control, params_name.c_str(), 0));
+    law.params = doubles(control, "control", params_name.c_str(), {law.n_params});
+    nb::object given = control.attr(name);
+    if (nb::isinstance<nb::str>(given)) {
+        const std::string kind = nb::cast<std::string>(given);
+        if (kind == "computed_torque" && law.n_params == 2)
+            law.kind = LAW_COMPUTED_TORQUE;
+        else if (kind == "object_impedance" && law.n_params == 6)
+            law.kind = LAW_OBJECT_IMPEDANCE;
+        else
+            throw nb::value_error(("control." + std::string(name) + " = '" + kind + "' with " +
+                                   std::to_string(law.n_params) + " constants: expected 'computed_torque' (2) or "
+                                   "'object_impedance' (6), or a Python function").c_str());
+        return law;
+    }
+    if (!PyCallable_Check(given.ptr()))
+        throw nb::type_error(("control." + std::string(name) + ": expected a law's name or a Python function").c_str());
+    python = std::make_unique<PythonLaw>(nb::borrow<nb::callable>(given), control.attr(params_name.c_str()), p);
+    law.kind = LAW_CALLBACK;
+    law.callback = LawCallback{&PythonLaw::call, python.get()};
+    return law;
+}
+
 /// One run's tick: the model and data read by name, the plant, the plan and the QP workspace.
 class TickRun {
 public:
-    TickRun(nb::object model, nb::object data, nb::object plan, nb::object control)
-        : model_obj_(model), data_obj_(data), plan_obj_(plan), control_obj_(control) {
-        read_model(model, control);
+    TickRun(nb::object model, nb::object data)
+        : model_obj_(model), data_obj_(data), plan_obj_(data.attr("plan")), control_obj_(model.attr("control")) {
+        read_model(model, control_obj_);
         read_data(data);
-        read_plan(plan);
+        read_plan(plan_obj_);
         if (md_.spatial) {
             spatial_ = std::make_unique<plants::binding::SpatialPlant>(model.attr("P"));
             spatial_plant_ = std::make_unique<SpatialTickPlant>(spatial_->model, md_.nx);
@@ -53,11 +146,40 @@ public:
     }
 
     void run_ticks(int64_t k0, int64_t k_stop) {
-        nb::gil_scoped_release release;
-        if (md_.spatial)
-            spatial_tick_->run(k0, k_stop);
-        else
-            planar_tick_->run(k0, k_stop);
+        {
+            nb::gil_scoped_release release;
+            if (md_.spatial)
+                spatial_tick_->run(k0, k_stop);
+            else
+                planar_tick_->run(k0, k_stop);
+        }
+        raise_law_errors();
+    }
+
+    /// The controller's step (tick.h's controller_step) from a measurement: q, dq tuples of per-arm arrays.
+    int64_t controller_step(int64_t k, bool hold, nb::tuple q, nb::tuple dq, Matrix wrench, Vector pose,
+                            Vector twist) {
+        const size_t m = static_cast<size_t>(md_.m), p = static_cast<size_t>(md_.p);
+        if (q.size() != m || dq.size() != m) throw nb::value_error("q, dq: expected one array per arm");
+        if (wrench.shape(0) != m || wrench.shape(1) != p || pose.shape(0) != p || twist.shape(0) != p)
+            throw nb::value_error("wrench, pose, twist: expected shapes (m, p), (p,), (p,)");
+        const double* qs[64];
+        const double* dqs[64];
+        if (m > 64) throw nb::value_error("q: at most 64 arms");
+        for (size_t i = 0; i < m; ++i) {
+            Vector a = nb::cast<Vector>(q[i]), b = nb::cast<Vector>(dq[i]);
+            if (a.shape(0) != static_cast<size_t>(md_.arm_dof[i]) || b.shape(0) != a.shape(0))
+                throw nb::value_error(("q[" + std::to_string(i) + "], dq[" + std::to_string(i) +
+                                       "]: expected the arm's joint count each").c_str());
+            qs[i] = a.data();
+            dqs[i] = b.data();
+        }
+        int64_t code = md_.spatial ? spatial_tick_->controller_step(k, hold, qs, dqs, wrench.data(), pose.data(),
+                                                                      twist.data())
+                                   : planar_tick_->controller_step(k, hold, qs, dqs, wrench.data(), pose.data(),
+                                                                     twist.data());
+        raise_law_errors();
+        return code;
     }
 
     /// The plant's world turned in place (a chart re-centred, coopctrl.loop.charts): its bases and gravity read
@@ -75,10 +197,16 @@ public:
             code = md_.spatial ? spatial_tick_->reference_step(k, act, source, qs, qit, qb, sense_next, &P_changed)
                                : planar_tick_->reference_step(k, act, source, qs, qit, qb, sense_next, &P_changed);
         }
+        raise_law_errors();
         return nb::make_tuple(code, P_changed);
     }
 
 private:
+    void raise_law_errors() {
+        if (leader_callback_) leader_callback_->raise_if_failed("the leader's law");
+        if (follower_callback_) follower_callback_->raise_if_failed("the followers' law");
+    }
+
     void read_model(nb::handle model, nb::handle control) {
         const char* M = "model";
         md_.spatial = attr<bool>(model, "spatial");
@@ -147,16 +275,8 @@ private:
         cm.ld_q_rest = static_cast<int>(extent(control, "q_rest", 1));
         cm.q_rest = doubles(control, C, "q_rest", {m, cm.ld_q_rest});
         cm.compliance = doubles(control, C, "compliance", {m, p, p});
-        const std::string law = attr<std::string>(control, "law");
-        if (law == "computed_torque")
-            cm.law = LAW_COMPUTED_TORQUE;
-        else if (law == "object_impedance")
-            cm.law = LAW_OBJECT_IMPEDANCE;
-        else
-            throw nb::value_error(("control.law = '" + law + "': expected 'computed_torque' or 'object_impedance'")
-                                      .c_str());
-        cm.n_law_params = static_cast<int>(extent(control, "law_params", 0));
-        cm.law_params = doubles(control, C, "law_params", {cm.law == LAW_COMPUTED_TORQUE ? 2 : 6});
+        cm.leader_law = read_law(control, "leader_law", leader_callback_, md_.p);
+        cm.follower_law = read_law(control, "follower_law", follower_callback_, md_.p);
         if (cm.leader < 0 || cm.leader >= m) throw nb::value_error("control.leader: expected an arm index");
         // the QP's constants (QPConstants, by name)
         nb::handle qp = model.attr("qp");
@@ -175,14 +295,14 @@ private:
         c.rows = reinterpret_cast<const QPRows*>(ints(qp, "qp", "rows", {6}));
         // the switches and the probes (RunOptions, by name)
         nb::handle opts = model.attr("opts");
-        const int64_t* switches = ints(opts, "opts", "switches", {ANY});  // coopctrl/loop/kernel.py's OPT_*
         RunSwitches& sw = md_.switches;
-        sw.passive = switches[0] != 0;
-        sw.energy = static_cast<int>(switches[1]);
-        sw.elastic_split = switches[2] != 0;
-        md_.probes.followers = switches[3] != 0;
-        sw.plant_outside = switches[4] != 0;
-        sw.max_energy = doubles(opts, "opts", "reals", {1})[0];
+        sw.passive = attr<bool>(opts, "passive");
+        sw.energy = attr<int>(opts, "energy");
+        sw.max_energy = attr<double>(opts, "max_energy");
+        sw.elastic_split = attr<bool>(opts, "elastic_split");
+        sw.plant_outside = attr<bool>(opts, "plant_outside");
+        md_.probes.followers = attr<bool>(opts, "probes");
+        if (sw.energy < 0 || sw.energy > 2) throw nb::value_error("opts.energy: expected 0, 1 or 2");
         md_.K_obj = doubles(opts, "opts", "K_obj", {m, p, p});
         ProbeModel& pr = md_.probes;
         pr.leader_offset = doubles(opts, "opts", "leader_offset", {p});
@@ -224,6 +344,7 @@ private:
         a.E = doubles(qa, "qp_arrays", "E", {n, a.ld_E});
         a.A = doubles(qa, "qp_arrays", "A", {p, p});
         a.y = doubles(qa, "qp_arrays", "y", {p});
+        a.K = doubles(qa, "qp_arrays", "K", {n, n});
         // the compiled QP's workspace (its warm start): the tuple (mats, vecs, rowv, ints) of gi_workspace
         nb::tuple ws = nb::cast<nb::tuple>(data.attr("ws"));
         if (ws.size() != 4) throw nb::value_error("data.ws: expected the tuple (mats, vecs, rowv, ints) of gi_workspace");
@@ -241,6 +362,8 @@ private:
         ws_ = gi_workspace_view(static_cast<int>(n), a.n_rows, mats.data(), vecs.data(), rowv.data(), wints.data());
         // the record's rows (TickRecord, by name)
         nb::handle r = data.attr("record");
+        md_.squeeze_desired = doubles(data.attr("sq"), "data.sq", "desired", {m * (m - 1) / 2});
+        if (r.is_none()) return;  // a controller's step records nothing
         const char* R = "record";
         TickRecord& rec = d_.record;
         const int64_t pairs = extent(r, "squeeze", 1);
@@ -265,13 +388,11 @@ private:
                 throw nb::value_error((std::string("record.") + name + ": expected at least N = " +
                                        std::to_string(N) + " rows").c_str());
         if (pairs != m * (m - 1) / 2) throw nb::value_error("record.squeeze: expected m (m - 1) / 2 columns");
-        md_.squeeze_desired = doubles(data.attr("sq"), "data.sq", "desired", {pairs});
         nb::handle opts = model_obj_.attr("opts");
-        rec.energy = doubles(opts, "opts", "energy", {ANY});
-        rec.kinetic_energy = doubles(opts, "opts", "kinetic_energy", {ANY});
-        if (md_.switches.passive || md_.switches.energy != 0)
-            if (extent(opts, "energy", 0) < N || extent(opts, "kinetic_energy", 0) < N)
-                throw nb::value_error("opts.energy, opts.kinetic_energy: expected at least N rows");
+        rec.energy = doubles(opts, "opts", "energy_record", {ANY});
+        rec.kinetic_energy = doubles(opts, "opts", "kinetic_energy_record", {ANY});
+        if (md_.switches.passive && (extent(opts, "energy_record", 0) < N || extent(opts, "kinetic_energy_record", 0) < N))
+            throw nb::value_error("opts.energy_record, opts.kinetic_energy_record: expected at least N rows");
     }
 
     void read_plan(nb::handle plan) {
@@ -295,6 +416,7 @@ private:
     }
 
     nb::object model_obj_, data_obj_, plan_obj_, control_obj_;  // the arrays the tick points into, kept alive
+    std::unique_ptr<PythonLaw> leader_callback_, follower_callback_;
     TickModel md_{};
     TickData d_{};
     PeriodPlan plan_{};
@@ -312,12 +434,15 @@ private:
 
 void bind_tick(nb::module_& m) {
     nb::class_<TickRun>(m, "Tick",
-                        "One run's closed-loop tick (coopctrl/core/tick.h) on its model, data, integration plan and "
-                        "control model, read by name once; the run's arrays are written in place.")
-        .def(nb::init<nb::object, nb::object, nb::object, nb::object>(), nb::arg("model"), nb::arg("data"),
-             nb::arg("plan"), nb::arg("control"))
+                        "One run's closed-loop tick (coopctrl/core/tick.h) on its model (coopctrl.loop.model.LoopModel) and "
+                        "data (coopctrl.loop.data.LoopData), read by name once; the run's arrays are written in place.")
+        .def(nb::init<nb::object, nb::object>(), nb::arg("model"), nb::arg("data"))
         .def("run_ticks", &TickRun::run_ticks, nb::arg("k0"), nb::arg("k_stop"),
              "Ticks k0 .. until N are recorded, an event, or tick k_stop; data.out_int says which.")
+        .def("controller_step", &TickRun::controller_step, nb::arg("k"), nb::arg("hold"), nb::arg("q"), nb::arg("dq"),
+             nb::arg("wrench"), nb::arg("pose"), nb::arg("twist"),
+             "The controller's step from a measurement at row k of the trajectory table (coopctrl.Controller); the "
+             "code (data.out_int[0]), the torques in data.tau.")
         .def("world_moved", &TickRun::world_moved,
              "Read the plant's bases and gravity again after a world chart turned them in place.")
         .def("reference_step", &TickRun::reference_step, nb::arg("k"), nb::arg("act"), nb::arg("source"),

@@ -51,7 +51,7 @@ struct TickWork {
         rhs_t, qdd, inc, corr, Yv, ti, vectors, matrices, posture;
     std::vector<int64_t> piv;
     // the elastic split's
-    std::vector<double> elastic_K, elastic_KGt, elastic_Rb, elastic_work;
+    std::vector<double> elastic_KGt, elastic_Rb, elastic_work;
     // the squeeze's (coopctrl/loop/squeeze.py's SqueezeWork)
     std::vector<double> sq_E, sq_W, sq_V, sq_sigma;
     int pairs;
@@ -69,7 +69,7 @@ struct TickWork {
         qdd.assign(nw, 0.0), inc.assign(p, 0.0), corr.assign(p, 0.0), Yv.assign(p, 0.0), ti.assign(nw, 0.0);
         vectors.assign(WORK_VECTORS * nw, 0.0), matrices.assign(WORK_MATRICES * nw * nw, 0.0);
         posture.assign(nw, 0.0), piv.assign(nw, 0);
-        elastic_K.assign(n * n, 0.0), elastic_KGt.assign(n * p, 0.0), elastic_Rb.assign(p * p, 0.0);
+        elastic_KGt.assign(n * p, 0.0), elastic_Rb.assign(p * p, 0.0);
         elastic_work.assign(p * 2 * p, 0.0);
         pairs = m * (m - 1) / 2;
         const int R = m * md.npos;
@@ -148,6 +148,66 @@ public:
             if (code != TICK_DONE || !sense_next) return code;
         }
         return sense(k + 1, true, P_changed);
+    }
+
+    /// The controller's step (coopctrl.Controller): the control layer of one period from a measurement instead of
+    /// the plant's state, at row k of the trajectory table: the measurement checked finite and written into the
+    /// measured state; the control terms there; the nominal motion and load; the split (solved, or the last
+    /// feasible one held); the laws and the saturation into tau. No guard and no plant advance: the caller owns the
+    /// plant. q, dq: per arm its joints [rad, rad/s]; wrench (m, p) [N, N m]; pose, twist (p) of the object.
+    /// Returns TICK_DONE, TICK_MEASUREMENT_NOT_FINITE (detail: field 0 q, 1 dq, 2 wrench, 3 pose, 4 twist; the arm;
+    /// the entry; nothing changed), TICK_QP_FAILED, or a stage's event.
+    int64_t controller_step(int64_t k, bool hold, const double* const* q, const double* const* dq,
+                            const double* wrench, const double* pose, const double* twist) noexcept {
+        const int m = md_.m, p = md_.p, nz = md_.nx / 2;
+        StopReport& stop = *d_.stop;
+        stop.code = TICK_DONE;
+        stop.tick = k;
+        auto refused = [&](int64_t field, int64_t index, int64_t entry) {
+            stop.code = TICK_MEASUREMENT_NOT_FINITE;
+            stop.detail[0] = field, stop.detail[1] = index, stop.detail[2] = entry;
+            return TICK_MEASUREMENT_NOT_FINITE;
+        };
+        for (int i = 0; i < m; ++i) {
+            for (int c = 0; c < md_.arm_dof[i]; ++c) {
+                if (!std::isfinite(q[i][c])) return refused(0, i, c);
+                if (!std::isfinite(dq[i][c])) return refused(1, i, c);
+            }
+            for (int a = 0; a < p; ++a)
+                if (!std::isfinite(wrench[i * p + a])) return refused(2, i, a);
+        }
+        for (int a = 0; a < p; ++a) {
+            if (!std::isfinite(pose[a])) return refused(3, 0, a);
+            if (!std::isfinite(twist[a])) return refused(4, 0, a);
+        }
+        double* xm = w_.xm.data();
+        for (int i = 0; i < m; ++i) {
+            const int o = static_cast<int>(md_.q_offset[i]);
+            for (int c = 0; c < md_.arm_dof[i]; ++c) {
+                xm[o + c] = q[i][c];
+                xm[nz + o + c] = dq[i][c];
+            }
+            for (int a = 0; a < p; ++a) w_.Fm[i * p + a] = wrench[i * p + a];
+        }
+        for (int a = 0; a < p; ++a) {
+            xm[nz - p + a] = pose[a];
+            xm[2 * nz - p + a] = twist[a];
+        }
+        plant_.sense(xm, status_, TERMS_MEASURED);
+        if (status_[0] != 0) return plant_failed(xm);
+        const SensedTerms tm = plant_.terms(TERMS_MEASURED);
+        int64_t code = nominal_load(k);
+        if (code != TICK_DONE) return code;
+        int64_t source = SPLIT_HELD;
+        if (!hold) {
+            bool P_changed = false;
+            code = assemble_split(k, tm, &P_changed);
+            if (code != TICK_DONE) return code;
+            int64_t qs, qit, qb, qact;
+            if (!solve_split(P_changed, &qs, &qit, &qb, &qact)) return TICK_QP_FAILED;
+            source = SPLIT_SOLVED;
+        }
+        return control_torques(k, source, tm, xm);
     }
 
     /// Phase 1 of tick k: sensors, guards, energy, the nominal motion and load, and with `assemble` the QP.
@@ -422,7 +482,7 @@ private:
         for (int e = 0; e < npos; ++e) r0[e] = tm.Y[e];
         fill_grasp_rows(a.M, n, rc, m, npos, r0, md_.spatial);
         if (md_.switches.elastic_split) {
-            ElasticSplit es{m, p, p, a.M, n, md_.K_obj, trajectory(0, k), wN, w_.elastic_K.data(), a.H, a.external,
+            ElasticSplit es{m, p, p, a.M, n, md_.K_obj, trajectory(0, k), wN, a.K, a.H, a.external,
                             w_.elastic_KGt.data(), p, a.A, p, a.y, w_.elastic_Rb.data(), w_.elastic_work.data()};
             code = fill_elastic_split(es, md_.spatial, P_changed);
             if (code != ELASTIC_OK) {
@@ -566,17 +626,34 @@ private:
             if (i == leader) {
                 leader_target(Yn + kl * p, inc, md_.probes.leader_offset, p, Yv);
                 pose_error(Yv, tm.Y + kl * p, p, npos, err);
-                leader_law(err, dYn + kl * p, tm.dY + kl * p, ddYn + kl * p, a_cmd);
+                if (!node_law(cm.leader_law, err, dYn + kl * p, tm.dY + kl * p, ddYn + kl * p, a_cmd)) {
+                    *arm = i;
+                    return TICK_LAW_FAILED;
+                }
             } else {
                 double* corr = w_.corr.data();
                 follower_correction(w_.F_cmd.data() + i * p, w_.F_seen.data() + i * p, d_.integrals + i * p,
                                     md_.run.T, cm.follower_kp, cm.follower_ki, cm.integral_limit, cm.force_loop, p,
                                     corr);
-                if (!follower_acceleration(md_.spatial, cm.compliance + i * pp, corr, Y0N, Yn + ki * p, tm.Y + ki * p,
-                                           dYn + ki * p, tm.dY + ki * p, ddYn + ki * p, cm.follower_Kp,
-                                           cm.follower_Kd, p, npos, cw, Yv, err, a_cmd)) {
-                    *arm = i;
-                    return TICK_POSE_INCREMENT_SINGULAR;
+                const NodeLaw& law = cm.follower_law;
+                if (law.kind == LAW_COMPUTED_TORQUE) {  // target, error and law in one (the loop's own)
+                    if (!follower_acceleration(md_.spatial, cm.compliance + i * pp, corr, Y0N, Yn + ki * p,
+                                               tm.Y + ki * p, dYn + ki * p, tm.dY + ki * p, ddYn + ki * p,
+                                               law.params[0], law.params[1], p, npos, cw, Yv, err, a_cmd)) {
+                        *arm = i;
+                        return TICK_POSE_INCREMENT_SINGULAR;
+                    }
+                } else {  // the target Y_rigid + pose_increment(corr), then the given law on the error to it
+                    if (!pose_increment(md_.spatial, cm.compliance + i * pp, corr, Y0N, Yn + ki * p, cw, Yv)) {
+                        *arm = i;
+                        return TICK_POSE_INCREMENT_SINGULAR;
+                    }
+                    for (int a = 0; a < p; ++a) Yv[a] += Yn[ki * p + a];
+                    pose_error(Yv, tm.Y + ki * p, p, npos, err);
+                    if (!node_law(law, err, dYn + ki * p, tm.dY + ki * p, ddYn + ki * p, a_cmd)) {
+                        *arm = i;
+                        return TICK_LAW_FAILED;
+                    }
                 }
             }
             if (!arm_torque(md_.arm_kind[i] != 0, ni, p, tm.W + ki * pp, tm.w_free + ki * p, tm.S + ki * p,
@@ -591,20 +668,23 @@ private:
         return TICK_DONE;
     }
 
-    /// The leader's node acceleration from its pose error (coopctrl/controllers/leader_law.py's laws).
-    void leader_law(const double* err, const double* dY_ref, const double* dY, const double* ddY_ref,
-                    double* a_cmd) const noexcept {
-        const ControlModel& cm = md_.control;
-        const double* params = cm.law_params;
-        if (cm.law == LAW_COMPUTED_TORQUE) {
+    /// A node's commanded acceleration from its pose error by its law (coopctrl/controllers/leader_law.py's laws,
+    /// or the caller's); false where a law given as a callback failed.
+    bool node_law(const NodeLaw& law, const double* err, const double* dY_ref, const double* dY,
+                  const double* ddY_ref, double* a_cmd) const noexcept {
+        const double* params = law.params;
+        if (law.kind == LAW_COMPUTED_TORQUE) {
             acceleration_from_error(err, dY_ref, dY, ddY_ref, params[0], params[1], md_.p, a_cmd);
-            return;
+            return true;
         }
+        if (law.kind == LAW_CALLBACK)
+            return law.callback.call(law.callback.context, err, dY_ref, dY, ddY_ref, md_.p, md_.npos, a_cmd);
         for (int a = 0; a < md_.p; ++a) {  // object impedance: (M, D, K) of the positions, then of the angles
             const int o = a < md_.npos ? 0 : 3;
             a_cmd[a] = ddY_ref[a] + (params[o + 1] / params[o]) * (dY_ref[a] - dY[a]) +
                        (params[o + 2] / params[o]) * err[a];
         }
+        return true;
     }
 
     /// The virtual-linkage squeeze of the measured wrenches F (m, p) at the contacts r (m, npos) [m] into out

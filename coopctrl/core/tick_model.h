@@ -27,6 +27,8 @@ enum TickCode : int64_t {
     TICK_PLANT_EXTERNAL = 13,          ///< recorded; the caller integrates over the period, resumes at tick
     TICK_STEP_TOO_SMALL = 14,          ///< an error-controlled step fell below its minimum (value: step, time [s])
     TICK_RECORDED = 15,                ///< the run's last tick is recorded (the plant not advanced past it)
+    TICK_MEASUREMENT_NOT_FINITE = 16,  ///< a controller step's measured value is not finite (detail: field, arm, entry)
+    TICK_LAW_FAILED = 17,              ///< a law given as a callback failed (detail[0]: the arm)
 };
 
 /// Where a tick's split comes from (coopctrl/loop/kernel.py's SPLIT_*).
@@ -36,10 +38,28 @@ enum SplitSource : int64_t {
     SPLIT_NONE = 2,    ///< zero wrenches (a passive run)
 };
 
-/// The leader laws the core runs (a law written in Python runs on the numba tick).
-enum LeaderLawKind : int64_t {
+/// The node laws the core runs: a node's commanded acceleration a_cmd from its pose error err [m, rad] and its
+/// reference and measured rates (coopctrl/controllers/leader_law.py).
+enum NodeLawKind : int64_t {
     LAW_COMPUTED_TORQUE = 0,  ///< a = ddY_ref + Kd (dY_ref - dY) + Kp err, params (Kp [1/s^2], Kd [1/s])
     LAW_OBJECT_IMPEDANCE = 1, ///< M e'' + D e' + K e = 0, params (M_t, D_t, K_t, M_r, D_r, K_r)
+    LAW_CALLBACK = 2,         ///< a function the caller gives (a law written in Python: the slower path)
+};
+
+/// A law the caller gives: call(context, err, dY_ref, dY, ddY_ref, p, npos, a_cmd) writes a_cmd (p) and returns
+/// false where it failed (the caller keeps why).
+struct LawCallback {
+    bool (*call)(void* context, const double* err, const double* dY_ref, const double* dY, const double* ddY_ref,
+                 int p, int npos, double* a_cmd) noexcept;
+    void* context;
+};
+
+/// A node's law and its constants.
+struct NodeLaw {
+    NodeLawKind kind;
+    const double* params;   ///< the law's constants (units as its kind says)
+    int n_params;
+    LawCallback callback;   ///< LAW_CALLBACK's function
 };
 
 /// The run: ticks, period, plant steps, the nominal motion.
@@ -96,9 +116,8 @@ struct ControlModel {
     const double* q_rest;       ///< (m, ld_q_rest) rest angles [rad]
     int ld_q_rest;
     const double* compliance;   ///< (m, p, p) the grasp compliances C_i [m/N, rad/(N m)]
-    LeaderLawKind law;
-    const double* law_params;   ///< the leader law's constants
-    int n_law_params;
+    NodeLaw leader_law;         ///< the leader node's law toward its target
+    NodeLaw follower_law;       ///< the followers' nodes' law toward theirs (computed torque: follower_Kp, _Kd)
 };
 
 /// The tuning probes (a run's switches and inputs beside the controllers).
@@ -166,8 +185,7 @@ struct HoldState {
 struct StopReport {
     int64_t code;            ///< TickCode
     int64_t tick;            ///< the tick it stopped at, or where to resume
-    int64_t detail[2];       ///< the code's details (TickCode's comments)
-    int64_t unused;
+    int64_t detail[3];       ///< the code's details (TickCode's comments)
     int64_t ticks_recorded;  ///< rows of the record written
     int64_t last_good_tick;  ///< the last tick whose state passed the guards (-1: none)
     int64_t rhs_evaluations; ///< right-hand-side evaluations (the integrators' count)
@@ -209,6 +227,7 @@ struct QPArrays {
     int ld_E;
     double* A;         ///< (p, p) work
     double* y;         ///< (p) work
+    double* K;         ///< (n, n) the elastic split's world-frame grasp stiffness of the last tick (H redone when it changes)
 };
 
 /// What a run reads and writes (the loop state's arrays are LoopState's, updated in place).

@@ -1,9 +1,8 @@
-"""The integration methods of the compiled loop (numba): each integrator name's run-time code.
+"""The integration methods of the compiled loop: each integrator name's run-time code.
 
-The compiled advance (:mod:`coopctrl.integrators.compiled`) branches on the code; the loop's driver
-(:mod:`coopctrl.loop.compiled`) picks it by the scenario's ``simulation.integrator``; the start-up check
-(:mod:`coopctrl.loop.startup`) tells from it which kind of kernels a run needs, without importing the
-compiler. An integrator not listed here steps in Python.
+The compiled advance (coopctrl/core/integration_plan.h's ``ExplicitMethod`` and the plans' families) branches on
+it; the loop's driver (:mod:`coopctrl.loop.compiled`) picks it by the scenario's ``simulation.integrator``. An
+integrator not listed here steps in Python.
 """
 
 from __future__ import annotations

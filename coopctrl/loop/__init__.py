@@ -1,12 +1,13 @@
-"""The closed loop's parts: its state (:mod:`.state`), the compiled tick (:mod:`.kernel`), the driver
-that runs a :class:`~coopctrl.closed_loop.ClosedLoop` with it (:mod:`.compiled`), the record
+"""The closed loop's parts: its state (:mod:`.state`), the model and data the compiled tick reads by name
+(:mod:`.model`, :mod:`.data`; the tick itself is coopctrl/core/tick.h, :class:`coopctrl._core.Tick`), its stop
+codes (:mod:`.tick_codes`), the driver that runs a :class:`~coopctrl.closed_loop.ClosedLoop` with it
+(:mod:`.compiled`), the record
 (:mod:`.record`), why a run stopped (:mod:`.diagnosis`), the loaded start (:mod:`.loaded_start`), the
 Euler-angle band (:mod:`.euler_band`) and the QP's contact inputs for the loaded start (:mod:`.qp_inputs`,
 wrapping their one definition in :mod:`coopctrl.load_distribution.contact_model`). Nothing here
 imports ``coopctrl.analysis``.
 
-:class:`LoopState` is imported on first use (PEP 562): its module loads numba, and the start-up check of
-:mod:`.startup` (is this kind of kernel compiled yet?) must not pay for that before saying so."""
+:class:`LoopState` is imported on first use (PEP 562)."""
 
 __all__ = ["LoopState"]
 

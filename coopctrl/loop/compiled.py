@@ -1,4 +1,5 @@
-"""Run a :class:`~coopctrl.closed_loop.ClosedLoop` with the compiled tick (:mod:`coopctrl.loop.kernel`).
+"""Run a :class:`~coopctrl.closed_loop.ClosedLoop` with the compiled tick (:class:`coopctrl._core.Tick`,
+coopctrl/core/tick.h).
 
 :func:`run_compiled` builds the kernel's constant arrays once per loop (:class:`CompiledLoop`),
 a fresh :class:`~coopctrl.loop.state.LoopState` per run (so a run depends on ``x0`` and the
@@ -10,12 +11,11 @@ feasible split, give up after ``max_consecutive_failures``) is applied there and
 at the same tick.
 
 Every run goes through the kernel's tick. The reference path (``load_distribution.solver`` other than
-``"compiled"``) runs its two phases one tick at a time: :func:`~coopctrl.loop.kernel.tick_sense`
-assembles the QP in the arrays of a :class:`~coopctrl.load_distribution.problem.LoadDistributionProblem`,
+``"compiled"``) runs its two phases one tick at a time: the tick's sense phase assembles the QP in the arrays of a :class:`~coopctrl.load_distribution.problem.LoadDistributionProblem`,
 :meth:`LoadDistribution.solve_assembled` solves it with the chosen backend (answer check, failure policy,
-binding families, time per solve), and :func:`~coopctrl.loop.kernel.tick_act` finishes the tick with
-the split. An integrator the kernel lacks (:func:`integrator_outside`) steps
-the plant in Python between kernel calls (:data:`~coopctrl.loop.kernel.PLANT_EXTERNAL`). Passive runs,
+binding families, time per solve), and its act phase finishes the tick with the split
+(``Tick.reference_step``). An integrator the kernel lacks (:func:`integrator_outside`) steps
+the plant in Python between kernel calls (:data:`~coopctrl.loop.tick_codes.PLANT_EXTERNAL`). Passive runs,
 ``max_energy``, the elastic split and the tuning probes of :mod:`coopctrl.controllers.probes` are
 kernel inputs (:meth:`CompiledLoop.options`).
 """
@@ -36,12 +36,9 @@ from coopctrl.integrators.methods import METHODS
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 import coopctrl._core as _core
 import coopctrl.integrators.compiled as I
-import coopctrl.loop.argument_types as argument_types
 import coopctrl.loop.charts as loop_charts
-import coopctrl.loop.compile_ahead as compile_ahead
-from coopctrl.loop import kernel as K
-from coopctrl.loop import startup as S
 from coopctrl.loop import step_budget as SB
+from coopctrl.loop import tick_codes as K
 from coopctrl.loop.squeeze import squeeze_workspace
 from coopctrl.loop.data import LoopData, QPArrays, TickRecord
 from coopctrl.loop.model import ControlModel, LoopModel, QPConstants, RunOptions
@@ -63,7 +60,7 @@ def _inner(controller):
 
 def integrator_outside(loop) -> str | None:
     """Why ``loop``'s plant integration cannot run in the kernel (``None``: it can): an integrator the
-    kernel does not implement, stepped in Python between kernel calls (:data:`~coopctrl.loop.kernel.PLANT_EXTERNAL`)."""
+    kernel does not implement, stepped in Python between kernel calls (:data:`~coopctrl.loop.tick_codes.PLANT_EXTERNAL`)."""
     name = getattr(loop.integrator, "name", None)
     if name not in METHODS or type(loop.integrator).__module__.split(".")[1:2] != ["integrators"]:
         return f"integrator {name or type(loop.integrator).__name__!r} (compiled: {', '.join(METHODS)})"
@@ -160,10 +157,6 @@ class CompiledLoop:
         self.elastic = cfg.split == "elastic"
         self.K_obj = np.ascontiguousarray(loop.compliance.K, dtype=float)
 
-    def plant_workspaces(self, plant):
-        """Fresh plant workspaces ``(rhs, true control terms, measured control terms)``."""
-        return plant.workspace(), plant.control_workspace(), plant.control_workspace()
-
     def qp_arrays(self, problem=None):
         """Fresh QP arrays (:class:`~coopctrl.loop.data.QPArrays`) with the fixed rows set.
 
@@ -175,7 +168,7 @@ class CompiledLoop:
             pb = problem
             return QPArrays(M=pb.M, lo=pb.lo, hi=pb.hi, H=pb.P, g=pb.g, x=np.zeros(n), z=np.zeros(p + n_in),
                             external=pb.external, F_pref=pb.F_pref, E=np.zeros((n, max(self.npairs, 1))),
-                            A=np.zeros((p, p)), y=np.zeros(p))
+                            A=np.zeros((p, p)), y=np.zeros(p), K=np.zeros((n, n)))
         pb = self.problem
         M = np.zeros((p + n_in, n))
         M[:p] = pb._G0
@@ -188,43 +181,32 @@ class CompiledLoop:
             hi[r:r + pb.m * pb.n_facets] = 0.0
         return QPArrays(M=M, lo=lo, hi=hi, H=np.diag(pb.W_diag), g=np.zeros(n), x=np.zeros(n), z=np.zeros(p + n_in),
                         external=np.zeros(n), F_pref=np.zeros(n), E=np.zeros((n, max(self.npairs, 1))),
-                        A=np.zeros((p, p)), y=np.zeros(p))
+                        A=np.zeros((p, p)), y=np.zeros(p), K=np.zeros((n, n)))
 
-    def options(self, loop, rec, passive: bool, compile_law: bool = True):
-        """The kernel's ``opts`` of one run (see :func:`coopctrl.loop.kernel.run_ticks`): the switches, the
-        energy record, the elastic split's arrays and the tuning probes' inputs as they are now."""
+    def options(self, loop, rec, passive: bool) -> RunOptions:
+        """The tick's :class:`~coopctrl.loop.model.RunOptions` of one run: what it switches on, the energy record,
+        the elastic split's stiffness and the tuning probes' inputs as they are now."""
         from coopctrl.controllers.probes import FollowerProbe, LeaderProbe
 
-        p, n, m = (6 if self.spatial else 3), self.n, self.K_obj.shape[0]
-        switches = np.zeros(6, dtype=np.int64)
-        switches[K.OPT_EXTERNAL_PLANT] = int(self.plant_outside)
-        switches[K.OPT_PASSIVE] = int(passive)
-        switches[K.OPT_ENERGY] = 2 if loop.max_energy is not None else int(passive)
-        switches[K.OPT_ELASTIC] = int(self.elastic)
-        reals = np.array([float(loop.max_energy) if loop.max_energy is not None else math.inf])
+        p, m = (6 if self.spatial else 3), self.K_obj.shape[0]
         lead_off = np.zeros(p)
         if isinstance(loop.leader, LeaderProbe):
             lead_off[:] = loop.leader.offset
         r, v, d = np.zeros((m, p)), np.zeros((m, p)), np.zeros((m, p), dtype=np.int64)
         g = np.ones((m, p))
+        probes = False
         for i, c in loop.followers.items():
             if isinstance(c, FollowerProbe):
-                switches[K.OPT_PROBES] = 1
+                probes = True
                 r[i], v[i], g[i] = c.setpoint_offset, c.pi_output, c.error_gain
                 d[i] = np.asarray(c.measurement_delay, dtype=np.int64)
         if np.any(d < 0):
             raise ValueError(f"FollowerProbe.measurement_delay = {d.tolist()}: expected integers >= 0 [ticks]")
-        nodes = m + 1
-        from coopctrl.controllers.leader_law import computed_torque
-
-        law = self.leader_law(loop)
-        law_stage, law_params = K.leader_law_stage(law, p) if compile_law else (None, law.param_array)
-        return RunOptions(switches=switches, reals=reals, energy_F=np.zeros((nodes, p)), energy_dY0=np.zeros((nodes, p)),
-                          energy=rec["energy"], kinetic_energy=rec["kinetic_energy"], K_obj=self.K_obj,
-                          elastic_K=np.zeros((n, n)), elastic_KGt=np.zeros((n, p)), elastic_Rb=np.zeros((p, p)),
-                          elastic_work=np.zeros((p, 2 * p)), leader_offset=lead_off, probe_offset=r, probe_pi=v,
-                          probe_gain=g, probe_delay=d, leader_law=law_stage, law_params=law_params)
-
+        return RunOptions(passive=passive, energy=2 if loop.max_energy is not None else int(passive),
+                          max_energy=float(loop.max_energy) if loop.max_energy is not None else math.inf,
+                          elastic_split=self.elastic, probes=probes, plant_outside=self.plant_outside,
+                          energy_record=rec["energy"], kinetic_energy_record=rec["kinetic_energy"], K_obj=self.K_obj,
+                          leader_offset=lead_off, probe_offset=r, probe_pi=v, probe_gain=g, probe_delay=d)
 
     def leader_law(self, loop):
         """The leader's law of ``loop``: the user's, or the computed torque with the leader's gains."""
@@ -233,29 +215,29 @@ class CompiledLoop:
         leader = _inner(loop.leader)
         return loop.leader_law if loop.leader_law is not None else computed_torque(leader.Kp, leader.Kd)
 
-    def control_model(self, loop) -> ControlModel | None:
-        """The run's controllers by name for the compiled core's tick (:class:`~coopctrl.loop.model.ControlModel`),
-        or None where the leader's law is written in Python (it runs on the numba tick)."""
+    def control_model(self, loop) -> ControlModel:
+        """The run's controllers by name, as the tick reads them (:class:`~coopctrl.loop.model.ControlModel`): the
+        gains, the posture, the compliances, and the leader's and the followers' laws (a built-in law by its name,
+        a law written in Python as its function: the slower path)."""
         from coopctrl.controllers.leader_law import computed_torque_law, object_impedance_law
 
-        law = self.leader_law(loop)
         names = {computed_torque_law: "computed_torque", object_impedance_law: "object_impedance"}
-        if law.function not in names:
-            return None
         (leader, Kp_l, Kd_l, kp_f, ki_f, Kp_f, Kd_f, force_loop, integral_limit) = self.ctrl
         gain, q_rest = self.posture
+        laws = {}
+        for role, law in (("leader", self.leader_law(loop)), ("follower", getattr(loop, "follower_law", None))):
+            if law is None:  # the followers' own computed torque with their gains
+                laws[role], laws[f"{role}_params"] = "computed_torque", np.array([Kp_f, Kd_f], dtype=float)
+            else:
+                laws[role] = names.get(law.function, law.function)
+                laws[f"{role}_params"] = law.param_array
         return ControlModel(leader=int(leader), leader_Kp=float(Kp_l), leader_Kd=float(Kd_l), follower_kp=float(kp_f),
                             follower_ki=float(ki_f), follower_Kp=float(Kp_f), follower_Kd=float(Kd_f),
                             force_loop=bool(force_loop), integral_limit=float(integral_limit),
                             posture_gain=np.ascontiguousarray(gain, dtype=float),
                             q_rest=np.ascontiguousarray(q_rest, dtype=float), compliance=self.C,
-                            law=names[law.function], law_params=law.param_array)
-
-
-def core_tick_control(loop, cl: "CompiledLoop", plan) -> ControlModel | None:
-    """The control model of a run the compiled core's tick runs (:class:`coopctrl._core.Tick`), or None where
-    the run needs the numba tick: a leader law written in Python."""
-    return cl.control_model(loop)
+                            leader_law=laws["leader"], leader_law_params=laws["leader_params"],
+                            follower_law=laws["follower"], follower_law_params=laws["follower_params"])
 
 
 #: Each loop's compiled constants, built at its first run (kept here, not on the loop: a run attaches
@@ -389,58 +371,13 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
     return PlantError(f"compiled tick stopped with code {code} at tick {k}")
 
 
-def _entry_point(dispatcher, args: tuple):
-    """The compiled entry point of the numba ``dispatcher`` for the types of ``args``: compiled for them, or
-    loaded from numba's cache, first if need be, by the public ``Dispatcher.compile`` (which returns it;
-    nothing runs).
-
-    Calling it skips numba's typing of the arguments on every call (the run's model and data hold about
-    490 arrays: milliseconds a call); the types are those :mod:`coopctrl.loop.argument_types` remembers. The
-    arguments of later calls must have the same types (the run's arrays are fixed; only the tick bounds
-    change): the reference path enters the kernel once per tick. A callable that is not a numba dispatcher
-    (a wrapper around one) is returned as it is."""
-    compile_for = getattr(dispatcher, "compile", None)
-    if compile_for is None:
-        return dispatcher
-    quick = argument_types.signature_key(args)  # hashed in C: numba's own lookup hashes its types in Python
-    key = None if quick is None else (dispatcher, quick)
-    entry = _ENTRY_POINTS.get(key) if key is not None else None
-    if entry is None:
-        entry = compile_for(argument_types.signature_of(args))
-        if key is not None:
-            _ENTRY_POINTS[key] = entry
-    return entry
-
-
-#: The entry points :func:`_entry_point` got in this process, by (dispatcher, the arguments'
-#: :func:`~coopctrl.loop.argument_types.signature_key`).
-_ENTRY_POINTS: dict = {}
-
-
-#: Children compiling a tick before its run (:func:`compile_tick_ahead`), by their jobs, until a run claims one.
-_EARLY: dict = {}
-
-
-def compile_tick_ahead(loop) -> bool:
-    """On the first run of a kind in this process, start compiling ``loop``'s tick in a second process
-    now (:mod:`coopctrl.loop.compile_ahead`), for the run that follows: ``coopctrl run`` calls it before
-    pre-flight, whose kernels (inverse kinematics, the QP, the torque model) this process compiles
-    meanwhile; the tick shares none of them. The next :func:`run_compiled` of the same tick types waits
-    for this child instead of starting its own. Returns whether a child was started (False on a warm kind).
-    A child no run claims is stopped at exit (:func:`compile_ahead.stop_all
-    <coopctrl.loop.compile_ahead.stop_all>`)."""
-    return run_compiled(loop, loop.empty_record(1), np.zeros(loop.plant.state_size), 1, ahead_only=True)
-
-
-def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None, start: LoopState | None = None,
-                 ahead_only: bool = False) -> dict | bool:
+def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=None,
+                 start: LoopState | None = None) -> dict:
     """Run ``N`` ticks of ``loop`` from ``x0`` with the compiled tick; fills and returns ``rec``.
     ``integrals``: the followers' force-error integrals to start from (arm index -> (p,) [N s, N m s]);
     zero otherwise. ``start``: a :class:`~coopctrl.loop.state.LoopState` to continue from (a run's
     ``final_state``; ``x0`` and ``integrals`` are then unused): its ticks follow on from those of the run
-    that ended there, as in one long run, and it is left unchanged. ``ahead_only``: only start the child
-    that compiles the tick of a cold kind, for a later run (:func:`compile_tick_ahead`), and return whether
-    it started; the types of the tick do not depend on ``x0`` or ``N``."""
+    that ended there, as in one long run, and it is left unchanged."""
     plant = loop.plant
     why = _unsupported_parts(loop)
     if why is not None:
@@ -478,15 +415,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         plan = plan._replace(stats=adaptive_plans.step_statistics(kb + N))
     if not cl.plant_outside:
         state.plan = plan
-    # the compiled core's tick where it runs the run (nothing to compile), else numba's
-    control = core_tick_control(loop, cl, plan)
-    if control is not None and ahead_only:
-        return False
-    opts = cl.options(loop, rec, passive, compile_law=control is None)
-    plant_ws = cl.plant_workspaces(plant) if control is None else None
-    # the run's work arrays so far: a first call in a process loads (or compiles) their compiled constructors
-    # (the QP's and the plant's workspaces, tens of ms): start-up, not run time
-    setup = _time.perf_counter() - wall0
+    opts = cl.options(loop, rec, passive)
     times = (kb + np.arange(N)) * loop.T
     P = cl.P
     charts = None
@@ -521,69 +450,24 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     from coopctrl.loop.euler_band import margin_cos
 
     band = margin_cos()  # charts: the band of the rotated world's angles (the object's is re-centred at 45.6 deg)
-    tw = K.tick_workspace(cl.spatial, m, plant.state_size, plant.input_size, cl.P.arm_dof)
-    tw.obj_inertia[:] = cl.obj[1:]  # [kg m^2]: the object's inertia, as the tick reads it (obj = mass, inertia)
     sq = squeeze_workspace(m, npos, loop.squeeze_desired)  # the squeeze recorded per tick
     record = TickRecord(t=rec["t"], x=rec["x"], tau=rec["tau"], Y0_nominal=rec["Y0_nominal"], F_measured=rec["F_measured"],
                         F_commanded=rec["F_commanded"], F_external=rec["F_external"], F_internal=rec["F_internal"],
                         r_contacts=rec["r_contacts"], squeeze=rec["squeeze"], qp_status=qs, qp_binding=qb,
                         qp_iterations=rec["qp_iterations"], qp_active_rows=rec["qp_active_rows"])
-    data = LoopData(plan=I.plan_slots(plan), plant_ws=plant_ws, qp_arrays=qa, ws=state.ws, tw=tw, sq=sq, x=state.x, tau=state.tau,
+    data = LoopData(plan=plan, qp_arrays=qa, ws=state.ws, sq=sq, x=state.x, tau=state.tau,
                     integrals=state.integrals, last_split=state.last_split, flags=state.flags,
                     saturated_joints=state.saturated_joints, hold=state.hold, record=record, x_good=x_good, x_fail=x_fail,
                     out_int=out_int, out_float=out_float)
 
-    def loop_model(stages) -> LoopModel:
-        """The run by name: its constants (coopctrl.loop.model), with ``stages`` (compiled, or their types)."""
-        return LoopModel(spatial=cl.spatial, N=N, k_base=kb, T=loop.T, steps=cl.steps, stages=stages, P=P, grasps=cl.grasps,
-                         traj=traj, obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation, band=band, ctrl=cl.ctrl,
-                         posture=cl.posture, C_comp=cl.C, qp=cl.qp, opts=opts, noise_q=noise_q, noise_o=noise_o,
-                         noise_f=noise_f, noise_cfg=noise_cfg)
-
-    t_stages = _time.perf_counter()  # compiling (first run of a kind) or loading the stages: start-up, not run time
-    stage_args = (cl.spatial, plan, P, plant_ws, cl.steps, traj, cl.qp, qa, opts, state.ws, tw, cl.ctrl, cl.posture, cl.C,
-                  state.x, state.tau, state.integrals, state.flags, x_fail, out_int, out_float)
-    kind = S.kind_of_run(cl.spatial, S.family_of(loop.integrator.name) if not cl.plant_outside else "explicit")
-    ahead = None
-    if control is not None:
-        pass  # the core's tick is compiled already
-    elif S.compiles_here(kind):  # a first run of its kind: the tick compiled by a second process meanwhile
-        typed = loop_model(K.tick_stages(*stage_args, types_only=True))
-        jobs = []
-        if ld is None or pending:
-            jobs.append(("run_ticks", argument_types.signature_of((typed, data, 0, 0))))
-        if ld is not None:
-            jobs.append(("reference_step", argument_types.signature_of((0, True, K.SPLIT_SOLVED, 0, 0, 0, True, typed, data))))
-        key = tuple(jobs)
-        if ahead_only:
-            if key not in _EARLY:
-                _EARLY[key] = compile_ahead.start(jobs)
-            return True
-        ahead = _EARLY.pop(key, None)  # started before pre-flight (compile_tick_ahead), or now
-        if ahead is None:
-            ahead = compile_ahead.start(jobs)
-    elif ahead_only:
-        return False
-    try:
-        stages = K.tick_stages(*stage_args) if control is None else None
-    except BaseException:  # an interrupted or failed compile: the child goes too
-        if ahead is not None:
-            ahead.stop()
-        raise
-    stages_startup = _time.perf_counter() - t_stages
-    model = loop_model(stages)
-    if control is None:
-        run_ticks = K.run_ticks
-    else:  # the compiled core's tick on the same model and data
-        core_tick = _core.Tick(model, data, plan, control)
-
-        def run_ticks(model, data, k0, k_stop):
-            core_tick.run_ticks(k0, k_stop)
+    model = LoopModel(spatial=cl.spatial, N=N, k_base=kb, T=loop.T, steps=cl.steps, P=P, grasps=cl.grasps, traj=traj,
+                      obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation, band=band,
+                      control=cl.control_model(loop), qp=cl.qp, opts=opts, noise_q=noise_q, noise_o=noise_o,
+                      noise_f=noise_f, noise_cfg=noise_cfg)
+    tick = _core.Tick(model, data)  # the run's model and data read by name, once
     qp_solve_time = rec["qp_solve_time_s"]
 
-    def advance(k0: int, k_stop: int) -> None:
-        """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) in the kernel."""
-        run_ticks(model, data, k0, k_stop)
+    advance = tick.run_ticks  # ticks k0 .. k_stop - 1 (or to the end or an event)
 
     if cl.plant_outside and hasattr(loop.integrator, "reset") and start is None:
         loop.integrator.reset()  # a Python integrator's own state (a Newton matrix) starts afresh with the run
@@ -596,28 +480,13 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             t += hs
         return x
 
-    # numba loads the compiled kernel from its cache here (about 0.1 s once per process; or compiles it, the
-    # first run of a kind), start-up that is not the loop's wall time
-    t_load = _time.perf_counter()
-    if ahead is not None:
-        ahead.wait()  # then numba finds the tick in its cache (or, if the child failed, compiles it here)
-    if control is not None:
-        def step(k, act, source, qs, qit, qb, sense_next, model, data):
-            return core_tick.reference_step(k, act, source, qs, qit, qb, sense_next)
-    else:
-        if ld is None or pending:  # a reference path that continues a run has its pending period advanced here
-            run_ticks = _entry_point(run_ticks, (model, data, 0, 0))
-        if ld is not None:  # the reference path: the tick's two phases around its solve, one entry a tick
-            step = _entry_point(K.reference_step, (0, True, K.SPLIT_SOLVED, 0, 0, 0, True, model, data))
     out_int[0] = out_int[1] = 0
     out_int[6] = -1
     if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not
         state.flags[6] = 1
-    # the kind is warm now (its stamp, once per process: start-up too, like the listeners it tells)
-    S.started(kind, _time.perf_counter() - t_load + stages_startup + setup)
-    startup = _time.perf_counter() - t_load + stages_startup + setup
+    startup = _time.perf_counter() - wall0  # the run's set-up: its model, data and tick built
     bar = None
-    if progress:  # after the start-up (a first run's compile has its own notice: coopctrl.cli.first_run)
+    if progress:
         from tqdm import tqdm
 
         bar = tqdm(total=N - 1, unit="tick", desc=loop.name, leave=False, mininterval=0.2)
@@ -639,9 +508,9 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     bits = {"min_grip": K.FAMILY_MIN_GRIP, "friction": K.FAMILY_FRICTION, "torque_limits": K.FAMILY_TORQUE}
 
     def reference_ticks(k0: int, k_stop: int) -> None:
-        """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) of the reference path, as :func:`run_ticks`
-        runs them but with the chosen backend's solve between the two phases of each tick (one kernel entry
-        a tick: :func:`~coopctrl.loop.kernel.reference_step`); ``out_int`` as the kernel leaves it. A solve
+        """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) of the reference path, as ``Tick.run_ticks``
+        runs them but with the chosen backend's solve between the two phases of each tick (one core entry
+        a tick: ``Tick.reference_step``); ``out_int`` as the kernel leaves it. A solve
         that gives up raises :class:`InfeasibleLoad` (``out_int[1]``: its tick)."""
         nonlocal qp_time
         if state.flags[6]:  # the period the run it continues did not advance (the kernel's first call does it)
@@ -652,7 +521,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         if k >= N or k == k_stop:
             out_int[0], out_int[1] = (K.DONE if k >= N else K.CHUNK_END), k
             return
-        code, P_changed = step(k - 1, False, 0, 0, 0, 0, True, model, data)  # phase 1 of tick k
+        code, P_changed = tick.reference_step(k - 1, False, 0, 0, 0, 0, True)  # phase 1 of tick k
         while code == K.DONE:
             if P_changed:
                 ld.problem.P_changed = True
@@ -669,7 +538,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                 qa.x[:] = split.F.reshape(-1)
                 source, binding = K.SPLIT_SOLVED, sum(bits[f] for f in split.binding)
             sense_next = k + 1 != k_stop  # (tick N - 1 is recorded, not advanced: no next tick to sense)
-            code, P_changed = step(k, True, source, st, iterations, binding, sense_next, model, data)
+            code, P_changed = tick.reference_step(k, True, source, st, iterations, binding, sense_next)
             if code == K.RECORDED:
                 out_int[0], out_int[1] = K.DONE, k
                 return
@@ -690,8 +559,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         elif charts is None:
             chunk_end = 10 if budgeted else _CHUNK  # an error-controlled run measures its step rate first
         elif next_check is None:
-            if charts.check(state.x, k, traj, state, plan) and control is not None:
-                core_tick.world_moved()
+            if charts.check(state.x, k, traj, state, plan):
+                tick.world_moved()
             chunk_end = charts.ticks_ahead(state.x, loop.T)
         else:  # the chart check where the run continued from would have made it (the kernel stops there)
             chunk_end = next_check
@@ -721,8 +590,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                                                     scheme, SB.STEPS_PER_PERIOD)
                         break
                 if charts is not None and charts.check(state.x, k, traj, state, plan):  # between two whole ticks
-                    if control is not None:
-                        core_tick.world_moved()
+                    tick.world_moved()  # the tick reads the turned bases and gravity
                     if cl.plant_outside and hasattr(loop.integrator, "reset"):
                         loop.integrator.reset()  # a Python integrator's Newton matrix was in the old axes
                 chunk_end = k + budget_chunk(k, _CHUNK if charts is None else charts.ticks_ahead(state.x, loop.T))

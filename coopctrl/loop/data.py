@@ -15,18 +15,15 @@ TickRecord = namedtuple("TickRecord", "t x tau Y0_nominal F_measured F_commanded
                                       "squeeze qp_status qp_binding qp_iterations qp_active_rows")
 
 #: What a run reads and writes, by name (as MuJoCo's ``mjData``): its state, work arrays, record and outputs.
-LoopData = namedtuple("LoopData", "plan plant_ws qp_arrays ws tw sq x tau integrals last_split flags saturated_joints "
-                                  "hold record x_good x_fail out_int out_float")
-LoopData.__doc__ = """What one run of the compiled loop (:func:`~coopctrl.loop.kernel.run_ticks`) reads and writes, by name.
+LoopData = namedtuple("LoopData", "plan qp_arrays ws sq x tau integrals last_split flags saturated_joints hold record "
+                                  "x_good x_fail out_int out_float")
+LoopData.__doc__ = """What one run of the compiled tick (:class:`coopctrl._core.Tick`) reads and writes, by name.
 
 - ``plan``: the integration plan (:func:`coopctrl.integrators.compiled.make_plan`: its work arrays and the
-  step-to-step state, an implicit scheme's Newton matrix) in its slots
-  (:func:`~coopctrl.integrators.compiled.plan_slots`: one type for every integrator family, so that the tick is
-  compiled once for them all); ``plant_ws`` = ``(rhs workspace, true control
-  workspace, measured control workspace)``: the plant kernels' work arrays; ``qp_arrays``: the QP and its answer
-  (:class:`QPArrays`); ``ws``: the compiled QP's workspace (its warm
-  start); ``tw``: the tick's work arrays (:func:`~coopctrl.loop.kernel.tick_workspace`); ``sq``: the squeeze's
-  desired values and work arrays (:func:`coopctrl.loop.squeeze.squeeze_workspace`);
+  step-to-step state, an implicit scheme's Newton matrix, an error-controlled scheme's step and statistics);
+  ``qp_arrays``: the QP and its answer (:class:`QPArrays`); ``ws``: the compiled QP's workspace (its warm
+  start); ``sq``: the squeeze's desired values (:func:`coopctrl.loop.squeeze.squeeze_workspace`); the tick's
+  own work arrays are the core's (made once per run);
 - the loop state, updated in place (:class:`~coopctrl.loop.state.LoopState`, whose fields these are): ``x``
   (nx) the plant state; ``tau`` (nu) the held torques [N m]; ``integrals`` (m, p) the followers' force-error
   integrals [N s]; ``last_split`` (3, m, p) the last feasible split ``(F, external, internal)`` [N, N m];
@@ -37,16 +34,18 @@ LoopData.__doc__ = """What one run of the compiled loop (:func:`~coopctrl.loop.k
   the measured wrenches, ``qp_active_rows`` the inequality rows active at the compiled solver's answer, -1 on
   a held, passive or externally solved tick);
 - ``x_good``: the last state that passed the guards; ``x_fail``: the state a failure was met at; ``out_int``,
-  ``out_float``: the stop's code and details (:func:`~coopctrl.loop.kernel.run_ticks`).
+  ``out_float``: the stop's code and details (:mod:`coopctrl.loop.tick_codes`); ``record`` is None for a
+  controller's step, which records nothing.
 """
 
 
 #: The QP of a tick and its answer, by name (``LoopData.qp_arrays``).
-QPArrays = namedtuple("QPArrays", "M lo hi H g x z external F_pref E A y")
+QPArrays = namedtuple("QPArrays", "M lo hi H g x z external F_pref E A y K")
 QPArrays.__doc__ = """The load-distribution QP a tick assembles and its answer (``LoopData.qp_arrays``), by name.
 
 ``lo <= M F <= hi`` with the cost ``F^T H F / 2 + g^T F``: ``M`` (p + n_in, n) the object's wrench rows (equal
 bounds: the required wrench) and the inequality rows; ``x`` (n,) the answer ``F`` [N, N m] and ``z`` its row
 multipliers; ``external`` (n,) and ``F_pref`` (n,) the external share and the preferred split [N, N m]; ``E``,
-``A`` (p, p), ``y`` (p,): the elastic split's work arrays.
+``A`` (p, p), ``y`` (p,): the elastic split's work arrays; ``K`` (n, n): the elastic split's world-frame grasp stiffness
+of the last tick [N/m, N m/rad] (its ``H`` is redone when ``K`` changes).
 """

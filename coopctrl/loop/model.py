@@ -1,6 +1,6 @@
 """``LoopModel``: the constants of one run of the compiled loop, by name (as MuJoCo's ``mjModel``).
 
-The compiled tick (:mod:`coopctrl.loop.kernel`) reads them by name; :mod:`coopctrl.loop.compiled` builds one
+The compiled tick (:class:`coopctrl._core.Tick`, coopctrl/core/tick_model.h) reads them by name; :mod:`coopctrl.loop.compiled` builds one
 per run from the loop's constant arrays (:class:`~coopctrl.loop.compiled.CompiledLoop`) and the run's
 trajectory table, noise and stages. Its companion, what a run writes, is :class:`~coopctrl.loop.data.LoopData`.
 """
@@ -10,26 +10,23 @@ from __future__ import annotations
 from collections import namedtuple
 
 #: The constants of a run, by name (as MuJoCo's ``mjModel``): what every tick reads and none writes.
-LoopModel = namedtuple("LoopModel", "spatial N k_base T steps stages P grasps traj obj rho max_deformation band ctrl "
-                                    "posture C_comp qp opts noise_q noise_o noise_f noise_cfg")
-LoopModel.__doc__ = """The constants of one run of the compiled loop (:func:`~coopctrl.loop.kernel.run_ticks`), by name.
+LoopModel = namedtuple("LoopModel", "spatial N k_base T steps P grasps traj obj rho max_deformation band control qp opts "
+                                    "noise_q noise_o noise_f noise_cfg")
+LoopModel.__doc__ = """The constants of one run of the compiled tick (:class:`coopctrl._core.Tick`), by name.
 
 - ``spatial`` (bool); ``N`` ticks to record; ``k_base``: the index of the run's first tick in the motion (0,
   or where the run it continues ended); ``T`` [s] the control period; ``steps`` [s] the plant steps of one
   period;
-- ``stages``: the tick's large stages as compiled functions, by name (:class:`~coopctrl.loop.stages.TickStages`);
-- ``P``: the plant's kernel arrays by name (:class:`~plants.cooperative.plant_args.PlantArgs`: ``arm_kind``,
+- ``P``: the plant's arrays by name (:class:`~plants.cooperative.plant_args.PlantArgs`: ``arm_kind``,
   ``arm_dof``, ``q_off``, ``tables``, ``table_off``, ``bases``, ``tools``, ``gravity``, ``node_params``,
   ``edge_index``, ``edge_params``, ``Y_ref``, ``immobile``; ``CooperativePlant.plant_args``);
 - ``grasps`` (m, p) the grasp offsets; ``traj`` (3, N, p) the nominal object motion ``(Y, dY, ddY)`` per tick;
   ``obj`` the object's mass [kg] and inertia [kg m^2]; ``rho`` (m, npos) the contact points in the object
   frame [m]; ``max_deformation`` [m] and ``band`` (the Euler band's ``|cos theta|``): the guards;
-- ``ctrl``: ``(leader, Kp_l, Kd_l, kp_f, ki_f, Kp_f, Kd_f, force_loop, integral_limit)``; ``posture``: the
-  null-space posture gains and rest angles; ``C_comp`` (m, p, p) the grasp compliances;
-- ``qp``: the QP's constants (:class:`QPConstants`); ``opts``: the run's switches, energy record, elastic split
-  arrays, tuning probes and leader law (:class:`RunOptions`);
+- ``control``: the controllers (:class:`ControlModel`);
+- ``qp``: the QP's constants (:class:`QPConstants`); ``opts``: what the run switches on (:class:`RunOptions`);
 - ``noise_q``, ``noise_o``, ``noise_f``: the sensor noise drawn beforehand, a row per tick (one row of zeros
-  for a noise-free channel); ``noise_cfg``: the noise levels and quantization steps.
+  for a noise-free channel); ``noise_cfg`` = (joint noise, joint step, object noise, object step, wrench step).
 """
 
 
@@ -53,29 +50,28 @@ QP_NUMBERS_FIELDS = ("eps_abs", "mu_c", "max_iter", "min_grip", "answer_rho")
 #: The names of ``QPConstants.rows``, by index: the fields of the compiled core's ``QPRows``.
 QP_ROWS_FIELDS = ("has_squeeze", "min_grip", "friction", "torque_limits", "facets", "max_consecutive_failures")
 
-#: The run's switches and per-run arrays, by name (``LoopModel.opts``).
-RunOptions = namedtuple("RunOptions", "switches reals energy_F energy_dY0 energy kinetic_energy K_obj elastic_K "
-                                      "elastic_KGt elastic_Rb elastic_work leader_offset probe_offset probe_pi "
-                                      "probe_gain probe_delay leader_law law_params")
+#: What a run switches on and the arrays that go with it, by name (``LoopModel.opts``).
+RunOptions = namedtuple("RunOptions", "passive energy max_energy elastic_split probes plant_outside energy_record "
+                                      "kinetic_energy_record K_obj leader_offset probe_offset probe_pi probe_gain "
+                                      "probe_delay")
 RunOptions.__doc__ = """What one run switches on and the arrays that go with it (``LoopModel.opts``), by name.
 
-- ``switches`` int64 (entries ``OPT_*`` of :mod:`coopctrl.loop.kernel`); ``reals = (max_energy [J],)``;
-- ``energy_F``, ``energy_dY0`` (m + 1, p): the energy's scratch; ``energy``, ``kinetic_energy`` (N,) [J]: its
-  record;
-- the elastic split: ``K_obj`` (m, p, p) the object-frame grasp stiffness [N/m, N m/rad] and its work arrays
-  ``elastic_K``, ``elastic_KGt``, ``elastic_Rb``, ``elastic_work``;
-- the tuning probes: ``leader_offset`` (p,) [m, rad] and, per arm (m, p), the followers' setpoint offset
-  ``probe_offset`` and PI output ``probe_pi`` [N, N m], error gain ``probe_gain`` [-] and measurement delay
-  ``probe_delay`` (int64, ticks);
-- ``leader_law``, ``law_params``: the leader's law (:func:`~coopctrl.loop.kernel.leader_law_stage`) and its
-  constants.
+- ``passive``: no QP, no controllers, zero torques (the energy recorded); ``energy``: 0, or 1 to evaluate the
+  energy each tick, 2 to also stop when it leaves ``max_energy`` [J]; ``energy_record``,
+  ``kinetic_energy_record`` (N,) [J]: a passive run's energy;
+- ``elastic_split``: the QP's cost from the grasp stiffness ``K_obj`` (m, p, p) [N/m, N m/rad];
+- ``plant_outside``: an integrator outside the core steps the plant (the tick stops after each record);
+- the tuning probes (``probes``: the followers'): ``leader_offset`` (p,) [m, rad] and, per arm (m, p), the
+  followers' setpoint offset ``probe_offset`` and PI output ``probe_pi`` [N, N m], error gain ``probe_gain`` [-]
+  and measurement delay ``probe_delay`` (int64, ticks).
 """
 
 
 #: The controllers of a run, by name, as the compiled core's tick reads them (coopctrl/core/tick_model.h's
 #: ControlModel).
 ControlModel = namedtuple("ControlModel", "leader leader_Kp leader_Kd follower_kp follower_ki follower_Kp follower_Kd "
-                                          "force_loop integral_limit posture_gain q_rest compliance law law_params")
+                                          "force_loop integral_limit posture_gain q_rest compliance leader_law "
+                                          "leader_law_params follower_law follower_law_params")
 ControlModel.__doc__ = """The controllers of one run, by name (the compiled core's ``ControlModel``).
 
 - ``leader``: the leader arm's index; ``leader_Kp`` [1/s^2], ``leader_Kd`` [1/s]: its computed torque's gains;
@@ -84,5 +80,7 @@ ControlModel.__doc__ = """The controllers of one run, by name (the compiled core
 - ``posture_gain`` (2,) = (Kp [1/s^2], Kd [1/s]) of a redundant arm's null-space posture torque, ``q_rest`` (m, nmax)
   its rest angles [rad];
 - ``compliance`` (m, p, p): the grasp compliances [m/N, rad/(N m)];
-- ``law``: the leader law's name (``"computed_torque"`` or ``"object_impedance"``), ``law_params`` its constants.
+- ``leader_law``, ``follower_law``: the nodes' laws, a built-in law's name (``"computed_torque"``,
+  ``"object_impedance"``) or a Python function ``law(err, dY_ref, dY, ddY_ref, npos, params, a_cmd)`` (the slower
+  path); ``leader_law_params``, ``follower_law_params`` their constants.
 """

@@ -1,5 +1,5 @@
-"""The virtual-linkage squeeze of one tick, compiled: the kernel (:func:`coopctrl.loop.kernel.run_ticks`)
-records it per tick, so a run's squeeze needs no post-processing.
+"""The virtual-linkage squeeze of one tick: the compiled tick records it per tick (coopctrl/core/squeeze.h's
+``pair_squeeze``, bound as :func:`pair_squeeze_into`), so a run's squeeze needs no post-processing.
 
 The squeeze of the contact wrenches ``F`` (m, p) at the contacts ``r`` (m, npos) [m] is the pair
 tensions of their internal part on the virtual-linkage columns ``E`` (the squeeze basis of
@@ -19,7 +19,7 @@ Because ``G E = 0``, ``E^+ G^+ G = 0`` (``E^+`` maps through ``range(E)``, which
 
 with ``f`` the force entries of ``F`` (the moment rows of ``E`` are zero) and ``V`` the rotations of a
 one-sided Jacobi singular value decomposition of ``E`` (its force rows, ``R = m npos`` by
-``P = m(m-1)/2``): :func:`coopctrl.load_distribution.tensions.pair_tensions_into`, the one definition of the
+``P = m(m-1)/2``): coopctrl/core/qp_tensions.h's ``pair_tensions``, the one definition of the
 pair tensions, which the public :func:`coopctrl.load_distribution.grasp_matrix.pair_tensions` runs too.
 The tick's squeeze is NaN where the pairs are ill-conditioned, ``F`` or ``r`` is not finite or two contacts
 coincide.
@@ -30,14 +30,11 @@ once per run: for two contacts one column (no rotation), for three a few rotatio
 
 from __future__ import annotations
 
-import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from coopctrl.load_distribution.assembly import fill_squeeze_basis
-from coopctrl.load_distribution.tensions import pair_tensions_into
+from coopctrl._core import pair_squeeze_into  # coopctrl/core/squeeze.h
 
 #: The squeeze's per-run arrays: ``desired`` (P,) the desired squeeze per pair [N]; ``E`` (R, P) the
 #: pair columns' force rows; ``W`` (R, P), or (P, R) when ``P > R``, the rotated columns; ``V`` the
@@ -56,36 +53,6 @@ def squeeze_workspace(m: int, npos: int, desired) -> SqueezeWork:
     rows, cols = (R, P) if P <= R else (P, R)
     return SqueezeWork(desired=s_des, E=np.zeros((R, P)), W=np.zeros((rows, cols)), V=np.zeros((cols, cols)),
                        sigma=np.zeros(cols))
-
-
-@njit(cache=True)
-def pair_squeeze_into(r, F, desired, E, W, V, sigma, out):
-    """The squeeze ``s`` (P,) [N] of the wrenches ``F`` (m, p) at the contacts ``r`` (m, npos) [m] into
-    ``out`` (see the module docstring); ``desired``, ``E``, ``W``, ``V``, ``sigma``: a :class:`SqueezeWork`.
-    NaN where ``F`` or ``r`` is not finite, two contacts coincide or the pairs are ill-conditioned."""
-    P = out.shape[0]
-    if P == 0:
-        return
-    m, npos = r.shape[0], r.shape[1]
-    R = m * npos
-    ok = True
-    for i in range(m):
-        for a in range(npos):
-            if not math.isfinite(r[i, a]):
-                ok = False
-        for a in range(F.shape[1]):
-            if not math.isfinite(F[i, a]):
-                ok = False
-    if ok:
-        for c in range(R):
-            for e in range(P):
-                E[c, e] = 0.0
-        ok = fill_squeeze_basis(E, r, npos)
-    if not ok:
-        for e in range(P):
-            out[e] = np.nan
-        return
-    pair_tensions_into(E, F, npos, desired, W, V, sigma, out)
 
 
 def squeeze_series(F, r_contacts, desired=None) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""The MuJoCo plant as the compiled loop's external plant (:data:`coopctrl.loop.kernel.PLANT_EXTERNAL`).
+"""The MuJoCo plant as the compiled loop's external plant (:data:`coopctrl.loop.tick_codes.PLANT_EXTERNAL`).
 
 The compiled loop runs an integrator it does not implement between its kernel calls: after each tick's
 record it returns with the held torques, and the caller advances the state over the period with
