@@ -1,6 +1,7 @@
 """Closed-loop real-time factor per shipped scene: the compiled tick beside the reference path.
 
-Run: python benchmarks/bench_closed_loop.py [--repeats N] [--quick] [--scenes a,b] [--charts]
+Run: python benchmarks/bench_closed_loop.py [--repeats N] [--quick] [--scenes a,b] [--charts] [--mujoco]
+         [--against CHECKOUT]
 
 For every shipped scene, the loop the user runs (``closed_loop(scenario).run(x0, duration)``: its
 full duration at its own control rate; the spatial carry at 1 kHz, RK4, one substep) is timed
@@ -12,12 +13,23 @@ forms (``scene.rotations = "book"``: the book's springs and Euler path, the defa
 rotation charts (the default: geodesic springs, the path on the rotation), alternated (issue 20: a scene in
 charts runs at the tick of the book's angles): ``loop.run`` per tick, and the ticks only (the run's
 ``wall_time_s``, without the set-up and without turning the record back into the book's world coordinates).
+
+``--mujoco`` adds, for every scene MuJoCo runs (``coopctrl.mujoco``, ``pip install 'coopctrl[mujoco]'``), MuJoCo's
+plant alone with its RK4 integrator at the scene's plant step and zero torques (``mj_step`` of the model
+``export-mjcf`` writes), and the ratio of the compiled loop's real-time factor to it (issue 42: at least 2x).
+
+``--against CHECKOUT`` times the same scenes' compiled tick with another checkout's interpreter
+(``CHECKOUT/.venv/bin/python``, e.g. a worktree of an earlier commit) and this one's, alternated round by round in
+fresh processes, and prints the medians of the ticks (``wall_time_s`` per tick) and their ratio: a change's tick
+against the tick it replaced, on the same machine at the same time.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -59,10 +71,20 @@ def main(argv=None) -> int:
     parser.add_argument("--charts", action="store_true",
                         help="also time each spatial scene in the book's angles with the book's forms and in "
                              "rotation charts (the default), alternately, and print their ticks side by side")
+    parser.add_argument("--mujoco", action="store_true", help="also MuJoCo's plant alone with RK4 (see above)")
+    parser.add_argument("--against", default="", metavar="CHECKOUT",
+                        help="time the compiled tick against this other checkout's, alternated (see above)")
+    parser.add_argument("--child", default="", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.quick:
         args.repeats = 1
+    if args.child:  # one timing in a fresh process, for --against: JSON on stdout
+        wall, simulated, ticks, status, tick_wall = _time_loop(args.child, "compiled", 1)
+        print(json.dumps({"tick_s": tick_wall / ticks, "status": status}))
+        return 0
     scenes = [s for s in args.scenes.split(",") if s] or SCENES
+    if args.against:
+        return _against(scenes, Path(args.against), max(args.repeats, 1))
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}")
     print(f"{'scene':28s} {'status':8s} {'ticks':>6s} | {'compiled RT':>11s} {'us/tick':>8s} | "
           f"{'reference RT':>12s} {'us/tick':>8s} | {'ratio':>6s}")
@@ -73,9 +95,72 @@ def main(argv=None) -> int:
               f"{sim / wr:11.1f}x {wr / ticks * 1e6:8.1f} | {wr / wc:5.1f}x", flush=True)
     print("target: spatial_two_puma_carry (1 kHz, RK4, one substep) >= 50x real time (<= 20 us/tick) and >= 10x the "
           "reference path (issue 10)")
+    if args.mujoco:
+        _mujoco_table(scenes, args.repeats)
     if args.charts:
         _charts_table(scenes, args.repeats)
     return 0
+
+
+def _against(scenes: list[str], checkout: Path, repeats: int) -> int:
+    """The compiled tick of each scene with this checkout's interpreter and with ``checkout``'s, one fresh process
+    each per round, alternated ``repeats`` rounds: medians of the ticks [us] and their ratio (this / that)."""
+    other = checkout / ".venv" / "bin" / "python"
+    if not other.exists():
+        print(f"--against {checkout}: no interpreter at {other}", file=sys.stderr)
+        return 2
+    script = str(Path(__file__).resolve())
+    print(f"the compiled tick: this checkout ({REPO}) against {checkout}, {repeats} alternated rounds, fresh processes")
+    print(f"{'scene':28s} | {'this us/tick':>12s} | {'that us/tick':>12s} | {'this/that':>9s}")
+    for name in scenes:
+        mine, theirs = [], []
+        for _ in range(repeats):
+            for python, out, cwd in ((sys.executable, mine, REPO), (str(other), theirs, checkout)):
+                done = subprocess.run([python, script, "--child", name], cwd=cwd, capture_output=True, text=True)
+                if done.returncode != 0:
+                    print(f"{name}: {python} failed: {done.stderr.strip().splitlines()[-1:]}", file=sys.stderr)
+                    return 1
+                out.append(json.loads(done.stdout.strip().splitlines()[-1])["tick_s"])
+        a, b = statistics.median(mine), statistics.median(theirs)
+        print(f"{name:28s} | {a * 1e6:12.2f} | {b * 1e6:12.2f} | {a / b:8.3f}x", flush=True)
+    print("target (issue 42): the compiled core's tick no slower than the numba tick it replaced (this/that <= 1)")
+    return 0
+
+
+def _mujoco_table(scenes: list[str], repeats: int) -> None:
+    """MuJoCo's plant alone with RK4 at each scene's plant step, zero torques, against the compiled loop's
+    real-time factor (medians of ``repeats``)."""
+    try:
+        import mujoco
+
+        from coopctrl.mujoco.closed_loop import check_scene
+        from coopctrl.mujoco.plant import MujocoPlant
+    except ImportError:
+        print("\n--mujoco: MuJoCo is not installed (pip install 'coopctrl[mujoco]')")
+        return
+    print(f"\n{'scene':28s} | {'loop RT':>9s} | {'MuJoCo RK4 plant RT':>19s} | {'loop / MuJoCo':>13s}")
+    for name in scenes:
+        scenario = coopctrl.load_scenario(REPO / "scenarios" / f"{name}.toml")
+        try:
+            check_scene(scenario)
+        except Exception as err:  # a scene MuJoCo's plant does not model
+            print(f"{name:28s} | not on MuJoCo: {str(err).splitlines()[0][:60]}")
+            continue
+        wc, sim, _, _, _ = _time_loop(name, "compiled", repeats)
+        mp = MujocoPlant(scenario)
+        mp.model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+        h = scenario.simulation.control_period / scenario.simulation.substeps
+        mp.model.opt.timestep = h
+        steps = int(round(sim / h))
+        walls = []
+        for _ in range(max(repeats, 1)):
+            mujoco.mj_resetData(mp.model, mp.data)
+            t0 = time.perf_counter()
+            mujoco.mj_step(mp.model, mp.data, nstep=steps)
+            walls.append(time.perf_counter() - t0)
+        wm = statistics.median(walls)
+        print(f"{name:28s} | {sim / wc:8.1f}x | {sim / wm:18.1f}x | {wm / wc:12.2f}x", flush=True)
+    print("target (issue 42): the loop's real-time factor >= 2x MuJoCo's plant alone with RK4")
 
 
 def _charts_table(scenes: list[str], repeats: int) -> None:

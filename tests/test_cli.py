@@ -175,12 +175,8 @@ def test_builtin_scenarios_are_valid():
 # ---------------------------------------------------------------------- run, with a fake simulator
 @pytest.fixture
 def fake_simulate(monkeypatch):
-    from coopctrl.loop import startup
     from test_results import synthetic
 
-    # warm, explicitly: the stand-in simulator compiles nothing, and a warm run prints nothing on stderr
-    # (a cold cache would add the first-run notice, tests/test_first_run.py)
-    monkeypatch.setattr(startup, "is_cold", lambda kind, directory=None: False)
     calls = []
 
     def install(status="ok", exc=None):

@@ -146,3 +146,46 @@ def write(names) -> None:
 
 if __name__ == "__main__":
     write(sys.argv[1:] or list(CASES) + list(API_CASES))
+
+
+def test_the_follower_law_hook_takes_the_followers_node_acceleration():
+    """A follower law that restates the followers' computed torque gives their torques (to rounding: the same
+    formula in another order); a stiffer one changes the followers' torques and leaves the run's start alone."""
+    scenario = coopctrl.load_scenario("planar_two_arm_lift")
+    loop = closed_loop(scenario)
+    follower = next(iter(loop.followers.values()))
+    Kp, Kd = follower.Kp, follower.Kd
+
+    def restated(err, dY_ref, dY, ddY_ref, npos, params, a_cmd):
+        for a in range(a_cmd.shape[0]):
+            a_cmd[a] = ddY_ref[a] + params[1] * (dY_ref[a] - dY[a]) + params[0] * err[a]
+
+    from coopctrl.controllers.leader_law import LeaderLaw
+
+    own = _run(loop, scenario, 0.2)
+    same = _run(closed_loop(scenario, follower_law=LeaderLaw(restated, (Kp, Kd))), scenario, 0.2)
+    stiffer = _run(closed_loop(scenario, follower_law=LeaderLaw(restated, (4.0 * Kp, 2.0 * Kd))), scenario, 0.2)
+    assert own["status"] == same["status"] == stiffer["status"] == "ok"
+    scale = np.abs(own["tau"]).max()
+    np.testing.assert_allclose(same["tau"], own["tau"], rtol=0, atol=1e-9 * scale)
+    followers = [loop.plant.q_slice(i) for i in loop.followers]
+    moved = max(np.abs(stiffer["tau"][:, s] - own["tau"][:, s]).max() for s in followers)
+    assert moved > 1e-6 * scale
+
+
+def test_a_law_that_raises_stops_the_run_with_its_exception():
+    scenario = coopctrl.load_scenario("planar_two_arm_lift")
+
+    def broken(err, dY_ref, dY, ddY_ref, npos, params, a_cmd):
+        raise ZeroDivisionError("the law's own error")
+
+    from coopctrl.controllers.leader_law import LeaderLaw
+
+    with pytest.raises(ZeroDivisionError, match="the law's own error"):
+        _run(closed_loop(scenario, leader_law=LeaderLaw(broken, (1.0,))), scenario, 0.05)
+
+    def silent(err, dY_ref, dY, ddY_ref, npos, params, a_cmd):
+        pass  # writes nothing: a_cmd stays NaN
+
+    with pytest.raises(ValueError, match=r"a_cmd\[0\]"):
+        _run(closed_loop(scenario, follower_law=LeaderLaw(silent, (1.0,))), scenario, 0.05)

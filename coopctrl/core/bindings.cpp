@@ -13,6 +13,7 @@ void bind_qp(nb::module_& m);
 void bind_squeeze(nb::module_& m);
 void bind_tick_checks(nb::module_& m);
 void bind_tick(nb::module_& m);
+void bind_plant_advance(nb::module_& m);
 }  // namespace coopctrl::binding
 
 NB_MODULE(_core, m) {
@@ -24,4 +25,5 @@ NB_MODULE(_core, m) {
     coopctrl::binding::bind_squeeze(m);
     coopctrl::binding::bind_tick_checks(m);
     coopctrl::binding::bind_tick(m);
+    coopctrl::binding::bind_plant_advance(m);
 }

@@ -1,17 +1,16 @@
-"""``step`` of the five built-in fixed-step schemes: the one source of :mod:`coopctrl.integrators.compiled`.
+"""``step`` of the built-in schemes, fixed-step and error-controlled, on the compiled core's schemes.
 
 A scheme object (:class:`~coopctrl.integrators.RungeKutta4`, ...) is configuration: its name, its
-Newton settings. :func:`step` advances a state by one step ``h`` [s] with the scheme's plan
+Newton settings, its tolerances. :func:`step` advances a state by one step ``h`` [s] with the scheme's plan
 (:func:`~coopctrl.integrators.compiled.make_plan`: work arrays and, for the implicit schemes, the
-Newton matrix and stage slopes kept from step to step), through the functions the loop's kernel runs:
+Newton matrix and stage slopes kept from step to step; for an error-controlled scheme its own steps over ``h``),
+through the schemes the loop's tick runs (coopctrl/core: explicit_schemes.h, implicit_schemes.h,
+adaptive_schemes.h):
 
-- ``f`` the ``rhs`` of a cooperative plant (a :class:`plants.cooperative.CooperativePlant`): compiled,
-  :func:`~coopctrl.integrators.compiled.advance_period` on the plant's kernel arrays;
-- any other Python ``f(t, x, u) -> dx``: the compiled core's schemes (``coopctrl._core.zoh_advance``,
-  ``coopctrl/core/explicit_schemes.h`` and ``implicit_schemes.h``) call ``f`` back at each stage, the same
-  arithmetic as :func:`~coopctrl.integrators.compiled.zoh_advance` (``tests/test_core_integrators.py``).
-
-Both give the bits of the loop's kernel for the same scheme, state and step.
+- ``f`` the ``rhs`` of a cooperative plant (a :class:`plants.cooperative.CooperativePlant`): on the plant's own
+  compiled kernels (``coopctrl._core.plant_advance``), the bits of the loop's tick;
+- any other Python ``f(t, x, u) -> dx``: the core's schemes call ``f`` back at each stage
+  (``coopctrl._core.zoh_advance``, ``adaptive_advance_f``): the documented slower path.
 """
 
 from __future__ import annotations
@@ -59,7 +58,7 @@ class Stepper:
     """The plan of one scheme object and what it is for: the right-hand side (plant or Python ``f``)
     and the state size. A new ``f`` or size starts cold (a new plan), as does :meth:`reset`."""
 
-    __slots__ = ("f", "plant", "nx", "period", "plan", "P", "ws", "status", "steps", "x_fail", "out_int",
+    __slots__ = ("f", "plant", "nx", "period", "plan", "P", "status", "steps", "x_fail", "out_int",
                  "out_float", "jacobians")
 
     def __init__(self):
@@ -91,10 +90,9 @@ class Stepper:
         self.f, self.nx, self.period = f, nx, period
         self.plant = _plant_of(f)
         if self.plant is not None and self.plant.state_size == nx:
-            self.P = self.plant.plant_args  # the kernel arrays by name
-            self.ws = self.plant.workspace()
+            self.P = self.plant.plant_args  # the plant's arrays by name
         else:
-            self.plant, self.P, self.ws = None, PythonRightHandSide(f), None
+            self.plant, self.P = None, None
         self.status = np.zeros(2, np.int64)
         self.steps = np.zeros(1)
         self.x_fail = np.zeros(nx)
@@ -116,20 +114,18 @@ class Stepper:
         self._prepare(scheme, f, x.shape[0], h if adaptive else None)
         self.steps[0] = h
         self.status[:] = 0
-        if self.plant is not None:
+        import coopctrl._core as _core
+
+        if self.plant is not None:  # the plant's own kernels in the compiled core, any scheme
             tau = np.ascontiguousarray(u, dtype=float) if u is not None else None
             if tau is None or tau.shape != (self.plant.input_size,):
                 f(t, x, u)  # the plant names the bad input
                 raise TypeError(f"u = {u!r} is invalid: expected the plant's {self.plant.input_size} joint torques [N m]")
-            code = compiled.advance_period(self.plan, x, tau, self.P, self.status, self.ws, t, self.steps,
-                                           self.x_fail, self.out_int, self.out_float)
-        elif adaptive:
-            raise NotImplementedError(f"{scheme.name!r} is error-controlled: it steps a cooperative plant's rhs "
-                                      "(compiled, coopctrl.integrators.adaptive_plans) or runs in the loop; for "
-                                      "another f(t, x, u) use scipy.integrate.solve_ivp")
+            code = _core.plant_advance(self.plan, x, tau, self.P, self.status, t, self.steps, self.x_fail,
+                                       self.out_int, self.out_float)
+        elif adaptive:  # the compiled core's error-controlled schemes on the Python f (adaptive_schemes.h)
+            code = _core.adaptive_advance_f(self.plan, f, x, u, t, self.x_fail, self.out_int, self.out_float)
         else:  # the compiled core's schemes on the Python f (coopctrl/core: explicit_schemes.h, implicit_schemes.h)
-            import coopctrl._core as _core
-
             report = _core.zoh_advance(self.plan, f, x, u, t, self.steps, self.x_fail)
             code = report["code"]
             self.out_int[2], self.out_int[3] = report["failed_step"], report["newton_iterations"]
