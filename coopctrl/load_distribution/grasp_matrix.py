@@ -110,7 +110,7 @@ def fill_grasp_matrix(G: np.ndarray, r: np.ndarray, r0: np.ndarray, space: str) 
         r0: Object mass centre [m].
         space: ``"spatial"`` or ``"planar"``.
     """
-    from .assembly import fill_grasp_rows  # here: importing the package (scenario validation) loads no numba
+    from coopctrl._core import fill_grasp_rows  # here: importing the package (scenario validation) loads no core
 
     k, m = WRENCH_DIM[space], r.shape[0]
     if G.shape != (k, k * m) or G.dtype != np.float64:
@@ -151,7 +151,7 @@ def fill_internal_force_basis(E: np.ndarray, r: np.ndarray, space: str) -> None:
     Only the force entries are written; the moment entries stay zero. Raises
     ``ScenarioError`` if two contacts coincide (the squeeze direction is undefined).
     """
-    from .assembly import fill_squeeze_basis  # here: importing the package (scenario validation) loads no numba
+    from coopctrl._core import fill_squeeze_basis  # here: importing the package (scenario validation) loads no core
 
     r = np.array(r, dtype=float, order="C")
     k, m = WRENCH_DIM[space], r.shape[0]
