@@ -54,8 +54,9 @@ class LeaderController:
     def acceleration(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:
         """Commanded node acceleration ``a_cmd`` [m/s^2, rad/s^2] toward the node reference ``Y_ref`` [m, rad],
         ``dY_ref`` [m/s, rad/s], ``ddY_ref`` [m/s^2, rad/s^2] at ``terms`` (the plant's control terms):
-        ``coopctrl._core.tracking_acceleration`` (:func:`coopctrl.controllers.laws.tracking_acceleration_into`). In the loop ``Y_ref`` is the nominal
-        deformed node pose, ``GraspCompliance.deformation(index, F*, Y0^N, Y_v^N)``."""
+        ``coopctrl._core.tracking_acceleration`` (:func:`coopctrl.controllers.laws.tracking_acceleration_into`).
+        In the loop ``Y_ref`` is the nominal deformed node pose,
+        ``GraspCompliance.deformation(index, F*, Y0^N, Y_v^N)``."""
         k = self.index + 1
         p = self.plant.p
         target = _vector("Y_ref", Y_ref, p)

@@ -6,13 +6,12 @@ for every sample ``k`` whose state ``x[k]`` is finite (``NaN`` elsewhere), each 
 (docs/model.md section 2). :func:`node_poses_of` runs the pass in the C++ core
 (``coopctrl._core.spatial_node_poses``, ``planar_node_poses``, coopctrl/core/node_poses.h: the port, bit for
 bit, of this module's numba kernels, which stay as the tests' reference). The pass calls the plant's own
-compiled kinematics once per sample inside one loop, so the poses are bit for bit those of :meth:`CooperativePlant.node_poses
-<plants.cooperative.CooperativePlant.node_poses>` at ``x[k]``, without a Python call per sample (2501 such
-calls cost 30 to 60 ms on the two-Puma carry). Spatial: the forward kinematics alone
-(``node_poses_into``, the same link frames and tip as ``node_state_into``, which also computes the rates
-and the arm dynamics: 2.9 ms against 8.2 ms for the carry's 2501 samples,
-``benchmarks/bench_node_poses.py``); planar:
-``node_state_into`` (three-link arms: the dynamics cost little).
+compiled kinematics once per sample inside one loop, so the poses are bit for bit those of
+:meth:`CooperativePlant.node_poses <plants.cooperative.CooperativePlant.node_poses>` at ``x[k]``, without a
+Python call per sample (2501 such calls cost 30 to 60 ms on the two-Puma carry). Spatial: the forward kinematics
+alone (``node_poses_into``, the same link frames and tip as ``node_state_into``, which also computes the rates
+and the arm dynamics: 2.9 ms against 8.2 ms for the carry's 2501 samples, ``benchmarks/bench_node_poses.py``);
+planar: ``node_state_into`` (three-link arms: the dynamics cost little).
 """
 
 from __future__ import annotations
