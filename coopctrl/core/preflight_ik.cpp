@@ -142,13 +142,13 @@ struct NullSpace {
     const DenseRoutines& dense;
     int n, minmn;
     TipWork tip;
-    std::vector<double> Jg, acpy, s, u, vt, JpJ, P, v, d2, work;
+    std::vector<double> Jg, acpy, s, u, vt, JpJ, P, v, work;
     std::vector<int> iwork;
     double T[16];
 
     NullSpace(const SpatialIKArm& a, const DenseRoutines& r)
         : arm(a), dense(r), n(a.dof()), minmn(std::min(6, n)), tip(n), Jg(6 * n), acpy(6 * n), s(minmn),
-          u(minmn * 6), vt(n * minmn), JpJ(n * n), P(n * n), v(n), d2(n), iwork(8 * minmn) {}
+          u(minmn * 6), vt(n * minmn), JpJ(n * n), P(n * n), v(n), iwork(8 * minmn) {}
 
     /// Returns POSTURE_OK with *norm = |d|, or the failure of the pseudo-inverse.
     PostureStatus operator()(const double* posture, const double* q, double* d, double* norm) {
@@ -200,11 +200,8 @@ struct NullSpace {
         for (int k = 0; k < n; ++k) v[k] = posture[k] - q[k];
         int mv_m = n, mv_n = n, ld_p = n, inc = 1;
         dense.gemv(&tt, &mv_m, &mv_n, &one, P.data(), &ld_p, v.data(), &inc, &zero, d, &inc);
-        double sum = 0.0;
-        for (int k = 0; k < n; ++k) {
-            d2[k] = d[k] * d[k];
-            sum += d2[k];
-        }
+        double sum = 0.0;  // np.sum(d * d): in order
+        for (int k = 0; k < n; ++k) sum += d[k] * d[k];
         *norm = std::sqrt(sum);
         return POSTURE_OK;
     }
