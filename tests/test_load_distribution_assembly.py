@@ -1,6 +1,7 @@
 """The QP's rows are written once (issue 10, Layout): ``LoadDistributionProblem.update`` and the public
-helpers ``grasp_matrix`` / ``internal_force_basis`` call the numba functions of
-:mod:`coopctrl.load_distribution.assembly`, which the compiled tick calls too.
+helpers ``grasp_matrix`` / ``internal_force_basis`` call the C++ core's assembly (``coopctrl._core``,
+coopctrl/core/qp_assembly.h), which the compiled tick calls too, and which writes the rows of the numba
+functions of :mod:`coopctrl.load_distribution.assembly` bit for bit.
 
 Seeded random spatial and planar configurations with the three inequality families (min_grip,
 friction, torque_limits) and a desired squeeze."""
@@ -9,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from numba import types
 
 from coopctrl.errors import ScenarioError
 from coopctrl.load_distribution import LoadDistributionConfig, LoadDistributionProblem, grasp_matrix, internal_force_basis
@@ -20,19 +20,6 @@ K_OF = {"spatial": 6, "planar": 3}
 P_OF = {"spatial": 3, "planar": 2}
 FUNCTIONS = ("fill_grasp_rows", "pseudo_inverse_external", "fill_squeeze_basis", "fill_grip_rows",
              "fill_friction_rows", "fill_torque_rows")
-
-_F1, _F2, _F3 = types.float64[::1], types.float64[:, ::1], types.float64[:, :, ::1]
-_I1, _I, _B, _R = types.int64[::1], types.int64, types.boolean, types.float64
-#: The argument types the compiled tick (coopctrl/loop/kernel.py, ``_qp_rows``) passes: the Python side
-#: passes the same, so that one compiled (and cached) specialisation of each function serves both.
-KERNEL_SIGNATURES = {
-    "fill_grasp_rows": (_F2, _F2, _F1, _B),
-    "pseudo_inverse_external": (_F2, _I, _F1, _F1, _F1, _F2, _F1),
-    "fill_squeeze_basis": (_F2, _F2, _I),
-    "fill_grip_rows": (_F2, _I, _F2, _I),
-    "fill_friction_rows": (_F2, _I, _F2, _I, _I, _R, _F1, _F1, _B),
-    "fill_torque_rows": (_F2, _F1, _F1, _I, _F3, _I1, _I, _F1, _F1),
-}
 
 
 def random_inputs(space: str, m: int, seed: int):
@@ -58,20 +45,14 @@ def config(space: str, m: int) -> LoadDistributionConfig:
 
 @pytest.mark.parametrize("space", ["spatial", "planar"])
 @pytest.mark.parametrize("m", [2, 3])
-def test_update_writes_the_assembly_functions_rows(space, m, monkeypatch):
-    """``update`` calls every assembly function, and its arrays equal, bitwise, what those functions
-    write into fresh arrays from the same inputs."""
-    calls = []
-    for name in FUNCTIONS:
-        fn = getattr(assembly, name)
-        monkeypatch.setattr(assembly, name, lambda *a, _fn=fn, _name=name: (calls.append(_name), _fn(*a))[1])
+def test_update_writes_the_assembly_functions_rows(space, m):
+    """``update``'s arrays (every family of rows, the external split, the squeeze basis) equal, bitwise, what
+    the numba functions write into fresh arrays from the same inputs."""
     k, p, n = K_OF[space], P_OF[space], K_OF[space] * m
     for seed in range(3):
         r, r0, w, normals, J, bias, tau_max = random_inputs(space, m, seed=100 * m + seed)
         pb = LoadDistributionProblem(config(space, m), space, m)
-        calls.clear()
         pb.update(r, r0, w, normals=normals, jacobians=J, biases=bias, tau_max=tau_max)
-        assert set(calls) == set(FUNCTIONS)
 
         # the same functions on fresh arrays, the row layout written out here
         nf = 6 if space == "spatial" else 2
@@ -121,21 +102,33 @@ def test_update_writes_the_assembly_functions_rows(space, m, monkeypatch):
             row += dofs[i]
 
 
-def test_python_side_uses_the_kernels_specialisation():
-    """The problem and the helpers call the assembly functions with the compiled tick's argument types
-    (C-contiguous float64, int64, bool), in both kinds of scene: no specialisation of their own."""
+def test_python_side_calls_no_numba_function(monkeypatch):
+    """The problem and the helpers run the core's assembly, never the numba functions (which only the
+    numba tick calls), for inputs of any kind (lists, Fortran order), in both
+    kinds of scene; the helpers' arrays equal the numba functions' bit for bit."""
+    expected = {}
+    for space in ("spatial", "planar"):
+        for m in (2, 3):
+            r, r0, _, _, _, _, _ = random_inputs(space, m, seed=7 + m)
+            G = identity_grasp_matrix(m, space)
+            assembly.fill_grasp_rows(G, r, r0, space == "spatial")
+            E = np.zeros((K_OF[space] * m, m * (m - 1) // 2))
+            assert assembly.fill_squeeze_basis(E, r, K_OF[space])
+            expected[space, m] = G, E
+
+    def refuse(*args):
+        raise AssertionError("a numba assembly function was called")
+
+    for name in FUNCTIONS:
+        monkeypatch.setattr(assembly, name, refuse)
     for space in ("spatial", "planar"):
         for m in (2, 3):
             r, r0, w, normals, J, bias, tau_max = random_inputs(space, m, seed=7 + m)
             LoadDistributionProblem(config(space, m), space, m).update(
                 r, r0, w, normals=normals.tolist(), jacobians=J, biases=bias, tau_max=50.0)
-            grasp_matrix(r.tolist(), r0, space)
-            internal_force_basis(np.asfortranarray(r), space)
-    for name in FUNCTIONS:
-        sigs = getattr(assembly, name).signatures
-        assert sigs, name
-        for sig in sigs:
-            assert tuple(sig) == KERNEL_SIGNATURES[name], (name, sig)
+            G, E = expected[space, m]
+            np.testing.assert_array_equal(grasp_matrix(r.tolist(), r0, space), G)
+            np.testing.assert_array_equal(internal_force_basis(np.asfortranarray(r), space), E)
 
 
 @pytest.mark.parametrize("space", ["spatial", "planar"])

@@ -11,7 +11,7 @@ order:
 1. **Reach.** Each arm must reach its node's nominal pose (rigid, then deformed by its planned
    wrench through the grasp compliance, as :meth:`ClosedLoop.loaded_state` places it) by inverse
    kinematics within its joint limits (residual at most ``IK_TOLERANCE``); the previous sample's
-   joints seed the next, so the arm follows one branch (compiled, :mod:`coopctrl.analysis.preflight_ik`;
+   joints seed the next, so the arm follows one branch (C++, :mod:`coopctrl.analysis.preflight_ik`;
    the arm's own random restarts when that seed does not converge).
 2. **Load distribution.** The scene's QP (``G F = w_N``, squeeze, grip, friction, and the torque
    limits when enabled, planned within :data:`~coopctrl.loop.qp_inputs.TORQUE_HEADROOM` of them) must
@@ -40,7 +40,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from coopctrl.analysis.preflight_ik import square_joint_rates_into, warm_ik
+from coopctrl._core import square_joint_rates_into
+from coopctrl.analysis.preflight_ik import warm_ik
 from coopctrl.compact_repr import compact_repr
 from coopctrl.errors import CoopctrlError, InfeasibleLoad
 from coopctrl.io.number_text import numbers_text

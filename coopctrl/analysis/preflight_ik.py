@@ -1,8 +1,10 @@
 """Compiled, warm-started inverse kinematics for pre-flight (:mod:`coopctrl.analysis.preflight`).
 
 Pre-flight follows each arm along the nominal path: the joints found at one sample seed the next, so
-one damped least-squares solve of a few iterations suffices where the motion is smooth. This module
-runs that solve compiled, on the plants' own compiled tip kernels
+one damped least-squares solve of a few iterations suffices where the motion is smooth. :func:`warm_ik`
+runs that solve in the C++ core (``coopctrl._core.spatial_ik``, ``refine_posture``, ``planar_ik``,
+coopctrl/core/preflight_ik.h: the port, bit for bit, of this module's numba kernels, which stay as the
+tests' reference), on the plants' own tip kernels
 (:func:`plants.arms._spatial_kernels.spatial_arm_tip`, :func:`plants.arms._chain_kernels.chain_arm_tip`,
 :func:`plants.arms._planar_kernels.planar_arm_terms`): the same iteration as the arms' Python
 :meth:`inverse_kinematics` (:func:`plants.arms._dls_ik.damped_least_squares`, one seed, no restart),
@@ -26,7 +28,8 @@ rest posture, as its Python solve does (:func:`refine_posture`). A solve that do
 which also measures the residual it reports.
 
 At velocity level, :func:`square_joint_rates_into` gives the joint rates that follow the nodes' nominal
-rates, ``J_i dq_i = dY_i``, where every arm's Jacobian is square and regular.
+rates, ``J_i dq_i = dY_i``, where every arm's Jacobian is square and regular (pre-flight calls its C++ port,
+``coopctrl._core.square_joint_rates_into``).
 """
 
 from __future__ import annotations
@@ -265,13 +268,15 @@ def planar_ik(links, base, tool, gravity, lower, upper, target, q):
 def warm_ik(arm):
     """``solve(target, q0) -> q or None`` for ``arm``: :func:`spatial_ik` or :func:`planar_ik` from the seed
     ``q0`` (not changed) toward the node pose ``target`` [m, rad], ``None`` where it does not converge; or
-    ``None`` for an arm not solved here (a contact point, an arm of another class)."""
+    ``None`` for an arm not solved here (a contact point, an arm of another class). Runs the C++ core's
+    ports of those kernels (module docstring)."""
+    from coopctrl._core import planar_ik, refine_posture, spatial_ik
     from plants.arms.chain_arm import ChainArm
     from plants.arms.planar_arm import PlanarArm
     from plants.arms.serial_arm import SerialArm
 
     def f64(a):
-        return np.array(a, dtype=np.float64, order="C")  # writable copies: one compiled signature for all
+        return np.array(a, dtype=np.float64, order="C")  # writable C-contiguous copies, as the core takes them
 
     if isinstance(arm, (SerialArm, ChainArm)):
         kind = KIND_DH if isinstance(arm, SerialArm) else KIND_CHAIN
@@ -281,10 +286,11 @@ def warm_ik(arm):
 
         def solve(target, q0):
             q, target = f64(q0), f64(target)
-            if not spatial_ik(kind, table, base, tool, lower, upper, target, q):
+            if not spatial_ik(kind, table, base, tool, lower, upper, target, q, IK_TOLERANCE):
                 return None
             if q.shape[0] > 6:
-                refine_posture(kind, table, base, tool, lower, upper, posture, target, q)
+                refine_posture(kind, table, base, tool, lower, upper, posture, target, q, IK_TOLERANCE,
+                               POSTURE_ITERATIONS, POSTURE_STEP)
             return q
 
         return solve
@@ -294,7 +300,7 @@ def warm_ik(arm):
 
         def solve(target, q0):
             q = f64(q0)
-            return q if planar_ik(links, base, tool, gravity, lower, upper, f64(target), q) else None
+            return q if planar_ik(links, base, tool, gravity, lower, upper, f64(target), q, IK_TOLERANCE) else None
 
         return solve
     return None

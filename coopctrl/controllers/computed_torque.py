@@ -1,11 +1,14 @@
-"""Computed torque on the full cooperative model, in node coordinates (docs/model.md s.4-6)."""
+"""Computed torque on the full cooperative model, in node coordinates (docs/model.md s.4-6).
+
+The laws run in the C++ core (``coopctrl._core``, coopctrl/core/control_laws.h), the ports, bit for bit, of the
+numba kernels of :mod:`coopctrl.controllers.laws` and :mod:`coopctrl.controllers._kernels`."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from coopctrl.controllers._kernels import control_work, node_torque, node_torque_redundant
-from coopctrl.controllers.laws import arm_torque_into, pose_error_into, posture_torque_into
+from coopctrl._core import arm_torque as _arm_torque
+from coopctrl._core import node_torque, pose_error as _pose_error, posture_torque
 from plants.cooperative import ContactPoint
 from plants.errors import SingularJacobianError
 
@@ -19,12 +22,12 @@ def _vector(name: str, value, size: int | None = None) -> np.ndarray:
 
 
 def pose_error(Y_target, Y, space: str) -> np.ndarray:
-    """``Y_target - Y`` with the angle components wrapped into [-pi, pi) [m, rad]: the compiled
-    :func:`coopctrl.controllers.laws.pose_error_into` (the loop's own)."""
+    """``Y_target - Y`` with the angle components wrapped into [-pi, pi) [m, rad]: the C++ core's
+    ``pose_error`` (the loop's own; :func:`coopctrl.controllers.laws.pose_error_into`)."""
     target = _vector("Y_target", Y_target)
     Yc = _vector("Y", Y, target.shape[0])
     out = np.empty(target.shape[0])
-    pose_error_into(target, Yc, 3 if space == "spatial" else 2, out)
+    _pose_error(target, Yc, 3 if space == "spatial" else 2, out)
     return out
 
 
@@ -63,13 +66,13 @@ class PostureTask:
         """Nothing to forget (kept for the controllers' ``reset``)."""
 
     def torque(self, terms):
-        """``tau_0`` [N m] at ``terms`` (its ``z``, ``dz``, ``H``), or ``None`` for a square arm: the compiled
-        :func:`coopctrl.controllers.laws.posture_torque_into` (the loop's own)."""
+        """``tau_0`` [N m] at ``terms`` (its ``z``, ``dz``, ``H``), or ``None`` for a square arm: the C++ core's
+        ``posture_torque`` (the loop's own; :func:`coopctrl.controllers.laws.posture_torque_into`)."""
         if not self.active:
             return None
         out = np.empty(self.n)
-        posture_torque_into(np.ascontiguousarray(terms.H[self.index]), np.ascontiguousarray(terms.z[self.slice]),
-                            np.ascontiguousarray(terms.dz[self.slice]), self.q_rest, self.n, self.Kp, self.Kd, out)
+        posture_torque(np.ascontiguousarray(terms.H[self.index]), np.ascontiguousarray(terms.z[self.slice]),
+                       np.ascontiguousarray(terms.dz[self.slice]), self.q_rest, self.n, self.Kp, self.Kd, out)
         return out
 
 
@@ -86,8 +89,8 @@ def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.nd
     where ``w_i = w_free + S_i`` holds the gyroscopic and gravity terms and the
     interconnection forces at the node (from ``terms``). For a contact point ``tau = F_i``.
     A square arm (``n = p``) inverts ``J``; a singular ``J`` raises
-    :class:`~plants.errors.SingularJacobianError`. Compiled in
-    :func:`coopctrl.controllers._kernels.node_torque`.
+    :class:`~plants.errors.SingularJacobianError`. In the C++ core: ``coopctrl._core.node_torque``
+    (the port of :func:`coopctrl.controllers._kernels.node_torque`).
 
     Redundant arm (``n > p``, e.g. a 7-joint arm in space): with ``N = H + J^T W_i J`` (the
     arm-and-node inertia of (177)) and its dynamically consistent generalized inverse
@@ -100,24 +103,20 @@ def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.nd
 
     the task torque plus the null-space torque ``P^T tau_0``, which gives the node no
     acceleration (``J N^-1 P^T = 0``). ``tau_posture`` is ``tau_0`` (:class:`PostureTask`;
-    ``None`` = 0). Compiled in
-    :func:`coopctrl.controllers._kernels.node_torque_redundant`.
+    ``None`` = 0). In the C++ core: ``coopctrl._core.node_torque`` (the port of
+    :func:`coopctrl.controllers._kernels.node_torque_redundant`).
     """
     k = i + 1
     arm = plant.arms[i]
     contact = isinstance(arm, ContactPoint)
     n = arm.dof
-    if not contact and n > plant.p:
-        q0 = np.zeros(n) if tau_posture is None else np.ascontiguousarray(tau_posture, dtype=float)
-        tau, ok = node_torque_redundant(np.ascontiguousarray(terms.W[k]), terms.w_free[k], terms.S[k],
-                                        np.ascontiguousarray(terms.H[i, :n, :n]), np.ascontiguousarray(terms.h[i, :n]),
-                                        np.ascontiguousarray(terms.J[i, :, :n]), terms.Jdq[i],
-                                        np.ascontiguousarray(a_cmd, dtype=float), q0)
-        if not ok:
-            raise SingularJacobianError(f"Jacobian of arm {i} ('{arm.name}')", float("inf"))
-        return tau
-    tau, ok = node_torque(terms.W[k], terms.w_free[k], terms.S[k], terms.H[i, :n, :n], terms.h[i, :n],
-                          terms.J[i, :, :n], terms.Jdq[i], np.ascontiguousarray(a_cmd, dtype=float), contact)
+    redundant = not contact and n > plant.p
+    tau_0 = np.ascontiguousarray(tau_posture, dtype=float) if redundant and tau_posture is not None else None
+    tau = np.empty(n)
+    ok = node_torque(contact, np.ascontiguousarray(terms.W[k]), np.ascontiguousarray(terms.w_free[k]),
+                     np.ascontiguousarray(terms.S[k]), np.ascontiguousarray(terms.H[i, :n, :n]),
+                     np.ascontiguousarray(terms.h[i, :n]), np.ascontiguousarray(terms.J[i, :, :n]),
+                     np.ascontiguousarray(terms.Jdq[i]), np.ascontiguousarray(a_cmd, dtype=float), tau_0, tau)
     if not ok:
         raise SingularJacobianError(f"Jacobian of arm {i} ('{arm.name}')", float("inf"))
     return tau
@@ -125,8 +124,8 @@ def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.nd
 
 def arm_torque(plant, terms, i: int, a_cmd, posture: PostureTask) -> np.ndarray:
     """Joint torques [N m] of arm ``i`` that give its node the acceleration ``a_cmd`` (p,) [m/s^2, rad/s^2]
-    at ``terms``, the null-space ``posture`` task of a redundant arm included: the compiled
-    :func:`coopctrl.controllers.laws.arm_torque_into`, the loop's own (the law of :func:`node_computed_torque`
+    at ``terms``, the null-space ``posture`` task of a redundant arm included: the C++ core's ``arm_torque``
+    (:func:`coopctrl.controllers.laws.arm_torque_into`), the loop's own (the law of :func:`node_computed_torque`
     with ``tau_posture = posture.torque(terms)``). Raises :class:`~plants.errors.SingularJacobianError` where
     the arm's Jacobian is singular."""
     k = i + 1
@@ -135,9 +134,6 @@ def arm_torque(plant, terms, i: int, a_cmd, posture: PostureTask) -> np.ndarray:
     n = arm.dof
     p = plant.p
     a = _vector("a_cmd", a_cmd, p)
-    wv, wm = control_work(max(n, p))
-    piv = np.empty(max(n, p), np.int64)
-    tp = np.empty(max(n, p))
     tau = np.empty(max(n, p))
     if posture.active:
         q, dq, q_rest = terms.z[posture.slice], terms.dz[posture.slice], posture.q_rest
@@ -145,11 +141,11 @@ def arm_torque(plant, terms, i: int, a_cmd, posture: PostureTask) -> np.ndarray:
     else:
         q = dq = q_rest = np.zeros(n)
         gain = np.zeros(2)
-    ok = arm_torque_into(contact, n, np.ascontiguousarray(terms.W[k]), np.ascontiguousarray(terms.w_free[k]),
-                         np.ascontiguousarray(terms.S[k]), np.ascontiguousarray(terms.H[i]),
-                         np.ascontiguousarray(terms.h[i]), np.ascontiguousarray(terms.J[i]),
-                         np.ascontiguousarray(terms.Jdq[i]), a, np.ascontiguousarray(q), np.ascontiguousarray(dq),
-                         np.ascontiguousarray(q_rest, dtype=float), gain, wv, wm, piv, tp, tau)
+    ok = _arm_torque(contact, n, np.ascontiguousarray(terms.W[k]), np.ascontiguousarray(terms.w_free[k]),
+                     np.ascontiguousarray(terms.S[k]), np.ascontiguousarray(terms.H[i]),
+                     np.ascontiguousarray(terms.h[i]), np.ascontiguousarray(terms.J[i]),
+                     np.ascontiguousarray(terms.Jdq[i]), a, np.ascontiguousarray(q), np.ascontiguousarray(dq),
+                     np.ascontiguousarray(q_rest, dtype=float), gain, tau)
     if not ok:
         raise SingularJacobianError(f"Jacobian of arm {i} ('{arm.name}')", float("inf"))
     return tau[:p if contact else n].copy()

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from coopctrl._core import follower_correction, pose_increment, tracking_acceleration
 from coopctrl.controllers.computed_torque import PostureTask, _vector, arm_torque
-from coopctrl.controllers._kernels import pose_work
-from coopctrl.controllers.laws import follower_acceleration_into, follower_correction_into
 from coopctrl.errors import ScenarioError
 
 
@@ -38,8 +37,10 @@ class FollowerForceController:
 
     With ``force_loop=False`` the follower only tracks the feedforward pose (position control).
 
-    The law is the loop's own, compiled once (:func:`coopctrl.controllers.laws.follower_correction_into`,
-    :func:`~coopctrl.controllers.laws.follower_acceleration_into`,
+    The law is the loop's own, in the C++ core (``coopctrl._core.follower_correction``, ``pose_increment``,
+    ``tracking_acceleration``, ``arm_torque``, coopctrl/core/control_laws.h: the ports of
+    :func:`coopctrl.controllers.laws.follower_correction_into`,
+    :func:`~coopctrl.controllers.laws.follower_acceleration_into` and
     :func:`~coopctrl.controllers.laws.arm_torque_into`): :meth:`torque` calls it.
 
     A redundant follower (7 joints in space) runs the same inner loop with the dynamically
@@ -79,18 +80,19 @@ class FollowerForceController:
         k = self.index + 1
         p = self.plant.p
         correction = np.empty(p)
-        follower_correction_into(_vector("F_set", F_set, p), _vector("F_meas", F_meas, p), self.integral, float(dt),
-                                 self.kp, self.ki, float(self.integral_limit), self.force_loop, correction)
+        follower_correction(_vector("F_set", F_set, p), _vector("F_meas", F_meas, p), self.integral, float(dt),
+                            self.kp, self.ki, float(self.integral_limit), self.force_loop, correction)
         Y_rigid = _vector("Y_rigid", Y_rigid, p)
         Y0 = _vector("Y0", Y0, p)
-        a = np.empty(p)
-        R, v = pose_work()
         C = np.ascontiguousarray(self.compliance.C[self.index])
         spatial = self.plant.space == "spatial"
-        ok = follower_acceleration_into(spatial, C, correction, Y0, Y_rigid, np.ascontiguousarray(terms.Y[k]),
-                                        _vector("dY_ref", dY_ref, p), np.ascontiguousarray(terms.dY[k]),
-                                        _vector("ddY_ref", ddY_ref, p), self.Kp, self.Kd, 3 if spatial else 2, R, v,
-                                        np.empty(p), np.empty(p), a)
-        if not ok:
+        # follower_acceleration_into: target = pose_increment(corr) + Y_rigid, then the tracking law toward it
+        target = np.empty(p)
+        if not pose_increment(spatial, C, correction, Y0, Y_rigid, target):
             self.compliance.pose_increment(self.index, correction, Y0, Y_rigid)  # raises EulerSingularityError
+        target += Y_rigid
+        a = np.empty(p)
+        tracking_acceleration(target, np.ascontiguousarray(terms.Y[k]), _vector("dY_ref", dY_ref, p),
+                              np.ascontiguousarray(terms.dY[k]), _vector("ddY_ref", ddY_ref, p), self.Kp, self.Kd,
+                              3 if spatial else 2, np.empty(p), a)
         return arm_torque(self.plant, terms, self.index, a, self.posture)

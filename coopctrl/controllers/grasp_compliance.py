@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from coopctrl.controllers._kernels import pose_work
-from coopctrl.controllers.laws import pose_increment_into
+from coopctrl._core import pose_increment
 from plants.frames import body_rate_map_inv, euler_zyx_from_rotation, rotation_zyx
 
 
@@ -120,7 +119,8 @@ class GraspCompliance:
     def pose_increment(self, i: int, F_world, Y0, Yi) -> np.ndarray:
         """Pose-coordinate increment of node i that changes its wrench on the object by ``F_world`` (linear).
 
-        The loop's own law, compiled once: :func:`coopctrl.controllers.laws.pose_increment_into`."""
+        The loop's own law, in the C++ core: ``coopctrl._core.pose_increment`` (coopctrl/core/control_laws.h, the
+        port of :func:`coopctrl.controllers.laws.pose_increment_into`)."""
         F = np.ascontiguousarray(F_world, dtype=float)
         Y0 = np.ascontiguousarray(Y0, dtype=float)
         Yi = np.ascontiguousarray(Yi, dtype=float)
@@ -129,8 +129,7 @@ class GraspCompliance:
             if a.shape != (p,):
                 raise ValueError(f"{name}: shape {a.shape}; expected ({p},) [N, N m] or [m, rad]")
         out = np.empty(p)
-        R, v = pose_work()
-        ok = pose_increment_into(self.space == "spatial", np.ascontiguousarray(self.C[i]), F, Y0, Yi, R, v, out)
+        ok = pose_increment(self.space == "spatial", np.ascontiguousarray(self.C[i]), F, Y0, Yi, out)
         if not ok:
             body_rate_map_inv(Yi[3:6], f"contact node {i + 1}")  # raises EulerSingularityError
         return out

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from coopctrl._core import tracking_acceleration
 from coopctrl.controllers.computed_torque import PostureTask, _vector, arm_torque
-from coopctrl.controllers.laws import tracking_acceleration_into
 from coopctrl.errors import ScenarioError
 
 
@@ -16,8 +16,9 @@ class LeaderController:
         a_{cmd} = \\ddot Y_v^N + K_d (\\dot Y_v^N - \\dot Y_v) + K_p (Y_v^N - Y_v), \\quad
         K_p = \\omega_n^2, \\; K_d = 2 \\zeta \\omega_n
 
-    then :func:`node_computed_torque`: the loop's own law, compiled once
-    (:func:`coopctrl.controllers.laws.leader_acceleration_into` and
+    then :func:`node_computed_torque`: the loop's own law, in the C++ core (``coopctrl._core.tracking_acceleration``
+    and ``arm_torque``, coopctrl/core/control_laws.h: the ports of
+    :func:`coopctrl.controllers.laws.leader_acceleration_into` and
     :func:`~coopctrl.controllers.laws.arm_torque_into`), which :meth:`acceleration` and :meth:`torque` call.
     ``Y_v^N`` is the nominal leader node trajectory: the
     object's nominal motion carried to the grasp (148) plus the nominal deformation that makes
@@ -53,15 +54,16 @@ class LeaderController:
     def acceleration(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:
         """Commanded node acceleration ``a_cmd`` [m/s^2, rad/s^2] toward the node reference ``Y_ref`` [m, rad],
         ``dY_ref`` [m/s, rad/s], ``ddY_ref`` [m/s^2, rad/s^2] at ``terms`` (the plant's control terms):
-        :func:`coopctrl.controllers.laws.tracking_acceleration_into`. In the loop ``Y_ref`` is the nominal
-        deformed node pose, ``GraspCompliance.deformation(index, F*, Y0^N, Y_v^N)``."""
+        ``coopctrl._core.tracking_acceleration`` (:func:`coopctrl.controllers.laws.tracking_acceleration_into`).
+        In the loop ``Y_ref`` is the nominal deformed node pose,
+        ``GraspCompliance.deformation(index, F*, Y0^N, Y_v^N)``."""
         k = self.index + 1
         p = self.plant.p
         target = _vector("Y_ref", Y_ref, p)
         a = np.empty(p)
-        tracking_acceleration_into(target, np.ascontiguousarray(terms.Y[k]), _vector("dY_ref", dY_ref, p),
-                                   np.ascontiguousarray(terms.dY[k]), _vector("ddY_ref", ddY_ref, p), self.Kp, self.Kd,
-                                   3 if self.plant.space == "spatial" else 2, np.empty(p), a)
+        tracking_acceleration(target, np.ascontiguousarray(terms.Y[k]), _vector("dY_ref", dY_ref, p),
+                              np.ascontiguousarray(terms.dY[k]), _vector("ddY_ref", ddY_ref, p), self.Kp, self.Kd,
+                              3 if self.plant.space == "spatial" else 2, np.empty(p), a)
         return a
 
     def torque(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:

@@ -1,9 +1,11 @@
 // The control laws in coopctrl._core (coopctrl/core/control_laws.h), for Python callers and the tests.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,6 +89,46 @@ void tracking_acceleration_py(Vector target, Vector Y, Vector dY_ref, Vector dY,
                           static_cast<int>(p), npos, err.data(), a_cmd.data());
 }
 
+bool node_torque_py(bool contact, Matrix W, Vector w_free, Vector S, Matrix H, Vector h, Matrix J, Vector Jdq,
+                    Vector a_cmd, std::optional<Vector> tau_posture, VectorOut tau) {
+    const size_t p = a_cmd.shape(0);
+    const size_t n = contact ? p : H.shape(0);
+    expect(W.shape(0) == p && W.shape(1) == p, "W", "shape (p, p)");
+    expect(w_free.shape(0) == p && S.shape(0) == p && Jdq.shape(0) == p, "w_free, S, Jdq", "length p");
+    if (!contact)
+        expect(H.shape(1) == n && h.shape(0) >= n && J.shape(0) == p && J.shape(1) >= n, "H, h, J",
+               "H (n, n), h (n,), J (p, >= n)");
+    expect(tau.shape(0) >= n, "tau", "at least n (p for a contact point) entries");
+    const bool redundant = !contact && n > p;
+    if (redundant && tau_posture) expect(tau_posture->shape(0) >= n, "tau_posture", "n entries");
+    OwnedWork owned(static_cast<int>(std::max(n, p)));
+    const int ldH = contact ? 0 : static_cast<int>(H.shape(1)), ldJ = contact ? 0 : static_cast<int>(J.shape(1));
+    if (redundant) {
+        std::vector<double> zero(n, 0.0);
+        const double* t0 = tau_posture ? tau_posture->data() : zero.data();
+        return node_torque_redundant(W.data(), w_free.data(), S.data(), H.data(), ldH, h.data(), J.data(), ldJ,
+                                     Jdq.data(), a_cmd.data(), t0, static_cast<int>(n), static_cast<int>(p),
+                                     owned.work, tau.data());
+    }
+    return node_torque(W.data(), w_free.data(), S.data(), H.data(), ldH, h.data(), J.data(), ldJ, Jdq.data(),
+                       a_cmd.data(), contact, static_cast<int>(n), static_cast<int>(p), owned.work, tau.data());
+}
+
+void pose_error_py(Vector target, Vector Y, int npos, VectorOut out) {
+    const size_t p = target.shape(0);
+    expect(Y.shape(0) == p && out.shape(0) == p, "Y, out", "the length of target");
+    pose_error(target.data(), Y.data(), static_cast<int>(p), npos, out.data());
+}
+
+void posture_torque_py(Matrix H, Vector q, Vector dq, Vector q_rest, int n, double Kp, double Kd, VectorOut out) {
+    expect(n >= 1 && H.shape(0) >= static_cast<size_t>(n) && H.shape(1) >= static_cast<size_t>(n), "H, n",
+           "n >= 1 and H at least (n, n)");
+    expect(q.shape(0) >= static_cast<size_t>(n) && dq.shape(0) >= static_cast<size_t>(n) &&
+               q_rest.shape(0) >= static_cast<size_t>(n) && out.shape(0) >= static_cast<size_t>(n),
+           "q, dq, q_rest, out", "at least n entries each");
+    posture_torque(H.data(), static_cast<int>(H.shape(1)), q.data(), dq.data(), q_rest.data(), n, Kp, Kd, out.data());
+}
+
 }  // namespace
 
 void bind_control_laws(nb::module_& m) {
@@ -102,6 +144,16 @@ void bind_control_laws(nb::module_& m) {
     m.def("tracking_acceleration", &tracking_acceleration_py, nb::arg("target"), nb::arg("Y"), nb::arg("dY_ref"),
           nb::arg("dY"), nb::arg("ddY_ref"), nb::arg("Kp"), nb::arg("Kd"), nb::arg("npos"), nb::arg("err"),
           nb::arg("a_cmd"), "The computed-torque motion loop's commanded node acceleration.");
+    m.def("node_torque", &node_torque_py, nb::arg("contact"), nb::arg("W"), nb::arg("w_free"), nb::arg("S"),
+          nb::arg("H"), nb::arg("h"), nb::arg("J"), nb::arg("Jdq"), nb::arg("a_cmd"), nb::arg("tau_posture").none(),
+          nb::arg("tau").noconvert(),
+          "The computed torque tau[:n] [N m] of an arm of n = H.shape[0] joints (a contact point: tau[:p], the node\n"
+          "wrench); a redundant arm (n > p) adds the null-space torque of tau_posture (None: zero). Returns ok.");
+    m.def("pose_error", &pose_error_py, nb::arg("target"), nb::arg("Y"), nb::arg("npos"), nb::arg("out").noconvert(),
+          "out = target - Y with the angles (a >= npos) wrapped into [-pi, pi) [m, rad].");
+    m.def("posture_torque", &posture_torque_py, nb::arg("H"), nb::arg("q"), nb::arg("dq"), nb::arg("q_rest"),
+          nb::arg("n"), nb::arg("Kp"), nb::arg("Kd"), nb::arg("out").noconvert(),
+          "The null-space posture torque tau_0 = m_bar (Kp (q_rest - q) - Kd dq), m_bar = tr(H) / n [N m].");
 }
 
 }  // namespace coopctrl::binding

@@ -32,7 +32,8 @@ void node_wrench(const double* W, const double* w_free, const double* S, const d
     }
 }
 
-/// tau = H J^-1 (a - Jdq) + h + J^T F for a square arm (tau[:p] = F for a contact point). Returns ok.
+}  // namespace
+
 bool node_torque(const double* W, const double* w_free, const double* S, const double* H, int ldH, const double* h,
                  const double* J, int ldJ, const double* Jdq, const double* a_cmd, bool contact_point, int n, int p,
                  ControlWork& work, double* tau) noexcept {
@@ -59,8 +60,6 @@ bool node_torque(const double* W, const double* w_free, const double* S, const d
     return ok;
 }
 
-/// The computed torque of a redundant arm (n > p) plus the null-space posture torque tau_posture. Returns ok
-/// (tau zero when false).
 bool node_torque_redundant(const double* W, const double* w_free, const double* S, const double* H, int ldH,
                            const double* h, const double* J, int ldJ, const double* Jdq, const double* a_cmd,
                            const double* tau_posture, int n, int p, ControlWork& work, double* tau) noexcept {
@@ -95,8 +94,6 @@ bool node_torque_redundant(const double* W, const double* w_free, const double* 
     }
     return true;
 }
-
-}  // namespace
 
 void pose_error(const double* target, const double* Y, int p, int npos, double* out) noexcept {
     for (int a = 0; a < p; ++a) {

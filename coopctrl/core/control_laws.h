@@ -24,6 +24,17 @@ struct ControlWork {
     double* matrix(int k) const { return matrices + k * nmax * nmax; }
 };
 
+/// The computed torque of a square arm, tau[:n] = H J^-1 (a_cmd - Jdq) + h + J^T F with the node wrench
+/// F = W a_cmd + w_free + S [N m] (tau[:p] = F for a contact point, contact_point); W (p x p, ld p), H (ld ldH),
+/// J (p x n, ld ldJ). Returns false (qdd taken as zero) where J is singular.
+bool node_torque(const double* W, const double* w_free, const double* S, const double* H, int ldH, const double* h,
+                 const double* J, int ldJ, const double* Jdq, const double* a_cmd, bool contact_point, int n, int p,
+                 ControlWork& work, double* tau) noexcept;
+/// The computed torque of a redundant arm (n > p) with the dynamically consistent inverse, plus the null-space
+/// torque (I - J^T J^#T) tau_posture [N m]. Returns false (tau zero) where N or J N^-1 J^T is singular.
+bool node_torque_redundant(const double* W, const double* w_free, const double* S, const double* H, int ldH,
+                           const double* h, const double* J, int ldJ, const double* Jdq, const double* a_cmd,
+                           const double* tau_posture, int n, int p, ControlWork& work, double* tau) noexcept;
 /// out = target - Y with the angles (a >= npos) wrapped into [-pi, pi): e = (e + pi) mod 2 pi - pi [m, rad].
 void pose_error(const double* target, const double* Y, int p, int npos, double* out) noexcept;
 /// a_cmd = ddY_ref + Kd (dY_ref - dY) + Kp err [m/s^2, rad/s^2]; Kp [1/s^2], Kd [1/s].

@@ -2,9 +2,11 @@
 
 One concept per module: :mod:`.grasp_matrix` (``G``, the virtual-linkage basis ``E``, the null-space basis and the pair tensions),
 :mod:`.config` (:class:`LoadDistributionConfig`), :mod:`.assembly` (the QP's rows, in numba: written
-once, called by :mod:`.problem` and by the compiled tick), :mod:`.contact_model` (the rows' inputs from
-the plant's terms, the contact normals and the torque-limit model, in numba: written once, called by the
-compiled tick and :mod:`coopctrl.loop.qp_inputs`), :mod:`.problem` (the QP arrays),
+once, ported bit for bit to the C++ core, ``coopctrl._core``, which :mod:`.problem` and the compiled tick
+call), :mod:`.answer_check` (the answer's check and binding families, likewise), :mod:`.contact_model`
+(the rows' inputs from the plant's terms, the contact normals and the torque-limit model, in numba: written
+once, called by :mod:`coopctrl.loop.qp_inputs`; the compiled tick runs its C++ port), :mod:`.problem`
+(the QP arrays),
 :mod:`.solvers` (backends and :class:`QPStats`), :mod:`.load_split` (:class:`LoadSplit`) and
 :mod:`.load_distribution` (:class:`LoadDistribution`, with the failure policy).
 

@@ -136,10 +136,10 @@ DEP_TOL = 1e-12
 GRAM_TOL = 1e-14
 
 
-@njit(cache=True)
 def gi_workspace(n, n_rows):
     """The workspace tuple ``(mats, vecs, rowv, ints)`` for ``n`` variables and ``n_rows`` rows of
-    ``M`` (layout in the module docstring), with an empty active set (cold start)."""
+    ``M`` (layout in the module docstring), with an empty active set (cold start). Plain numpy: the C++
+    solver (``coopctrl._core.gi_solve``) and the numba kernel take the same tuple."""
     mats = np.zeros((3, n, n))
     vecs = np.zeros((8, n + 1))
     rowv = np.zeros((2, n_rows))

@@ -48,9 +48,9 @@ columns relative to the desired squeeze ``s_des``:
     s = s_{des} + E^+ (f_{int} - E s_{des}),
 
 with ``E^+`` the pseudo-inverse of the pair columns' numerical rank (a one-sided Jacobi singular value
-decomposition, :mod:`coopctrl.load_distribution.tensions`, the compiled tick's own): the pair tensions nearest the
-setpoint (least ``||s - s_des||``) whose linkage forces ``E s`` match ``f_int`` best. Where the pairs
-are independent, ``E^+ E = I`` and ``s = E^+ f_int`` (the unique pair tensions, whatever ``s_des``).
+decomposition, :mod:`coopctrl.load_distribution.tensions`, run by its C++ port as the compiled tick does): the
+pair tensions nearest the setpoint (least ``||s - s_des||``) whose linkage forces ``E s`` match ``f_int`` best.
+Where the pairs are independent, ``E^+ E = I`` and ``s = E^+ f_int`` (the unique pair tensions, whatever ``s_des``).
 The rank is read from the singular values ``sigma`` of ``E``: ``sigma / sigma_max <= PAIR_ZERO_RTOL``
 is a structural dependence (rounding), ``> PAIR_KEEP_RTOL`` a kept direction; a singular value in
 between (contacts nearly collinear or nearly coincident) means the decomposition is ill-conditioned:
@@ -110,7 +110,7 @@ def fill_grasp_matrix(G: np.ndarray, r: np.ndarray, r0: np.ndarray, space: str) 
         r0: Object mass centre [m].
         space: ``"spatial"`` or ``"planar"``.
     """
-    from .assembly import fill_grasp_rows  # here: importing the package (scenario validation) loads no numba
+    from coopctrl._core import fill_grasp_rows  # here: importing the package (scenario validation) loads no core
 
     k, m = WRENCH_DIM[space], r.shape[0]
     if G.shape != (k, k * m) or G.dtype != np.float64:
@@ -151,7 +151,7 @@ def fill_internal_force_basis(E: np.ndarray, r: np.ndarray, space: str) -> None:
     Only the force entries are written; the moment entries stay zero. Raises
     ``ScenarioError`` if two contacts coincide (the squeeze direction is undefined).
     """
-    from .assembly import fill_squeeze_basis  # here: importing the package (scenario validation) loads no numba
+    from coopctrl._core import fill_squeeze_basis  # here: importing the package (scenario validation) loads no core
 
     r = np.array(r, dtype=float, order="C")
     k, m = WRENCH_DIM[space], r.shape[0]
@@ -271,9 +271,18 @@ def pair_tensions(E, F_internal, desired=None) -> np.ndarray:
     s = np.full((N, P), np.nan)
     if P == 0 or N == 0:
         return s[0] if single else s
-    from .tensions import pair_tensions_batch  # here: importing the package (scenario validation) loads no numba
+    from coopctrl._core import pair_tensions_into  # here: importing the package (scenario validation) loads no core
 
-    pair_tensions_batch(np.ascontiguousarray(E), np.ascontiguousarray(f).reshape(N, n, 1), s_des, s)
+    # tensions.pair_tensions_batch's pass, sample by sample on the C++ core's port of pair_tensions_into (one
+    # scratch for all, NaN where a sample is not finite)
+    E = np.ascontiguousarray(E)
+    F = np.ascontiguousarray(f).reshape(N, n, 1)
+    rows, cols = (n, P) if P <= n else (P, n)
+    W, V, sigma = np.zeros((rows, cols)), np.zeros((cols, cols)), np.zeros(cols)
+    finite = np.isfinite(E).all(axis=(1, 2)) & np.isfinite(F).all(axis=(1, 2))
+    for k in range(N):
+        if finite[k]:
+            pair_tensions_into(E[k], F[k], 1, s_des, W, V, sigma, s[k])
     return s[0] if single else s
 
 

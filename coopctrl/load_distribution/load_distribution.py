@@ -138,7 +138,7 @@ class LoadDistribution:
         if x is None or not np.all(np.isfinite(x)):
             ok, x = False, None
         if x is not None:
-            from .answer_check import answer_tolerance  # here: importing the package loads no numba
+            from coopctrl._core import answer_tolerance
 
             x = np.ascontiguousarray(x, dtype=float)
             viol, scale = pb.max_violation(x)
@@ -181,8 +181,8 @@ class LoadDistribution:
     def answer_tolerance(self, scale: float) -> float:
         """Largest violation [N, N m] a solver's answer may have (see the failure policy): the solver's
         ``100 eps_abs (1 + scale)``, ``scale = max(|G F|, |C F|)``, capped by a fraction of the load: the
-        compiled :func:`coopctrl.load_distribution.answer_check.answer_tolerance`, the loop's own."""
-        from .answer_check import answer_tolerance
+        C++ core's ``answer_tolerance`` (coopctrl/core/qp_answer_check.h), the loop's own."""
+        from coopctrl._core import answer_tolerance
 
         pb = self.problem
         return answer_tolerance(pb.lo, pb.hi, pb.k, np.inf, float(scale), self.config.eps_abs, ANSWER_TOLERANCE_OF_LOAD)
@@ -248,9 +248,11 @@ class LoadDistribution:
         return tuple(name for name in self._enabled_families() if self._exactly_feasible((name,)))
 
     def _active_families(self, z: np.ndarray) -> tuple[str, ...]:
-        """The families with a non-zero multiplier ``z`` (one per inequality row): the compiled
-        :func:`coopctrl.load_distribution.answer_check.binding_families`, the loop's own."""
-        from .answer_check import FAMILY_NAMES, binding_families
+        """The families with a non-zero multiplier ``z`` (one per inequality row): the C++ core's
+        ``binding_families`` (coopctrl/core/qp_answer_check.h), the loop's own."""
+        from coopctrl._core import binding_families
+
+        from .answer_check import FAMILY_NAMES
 
         pb = self.problem
         rows = pb.rows

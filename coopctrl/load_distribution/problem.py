@@ -63,8 +63,9 @@ class LoadDistributionProblem:
 
     All arrays are allocated once (the torque rows once the joint counts are known) and filled in
     place by :meth:`update`, so that a solver can take them without copies. The rows are written by
-    the numba functions of :mod:`coopctrl.load_distribution.assembly`, the one definition of each
-    family, which the compiled tick calls too: ``update`` checks its inputs and calls them.
+    the C++ core's assembly (``coopctrl._core``, coopctrl/core/qp_assembly.h: the port, bit for bit, of
+    :mod:`coopctrl.load_distribution.assembly`), the one definition of each family, which the compiled tick
+    calls too: ``update`` checks its inputs and calls them.
     """
 
     def __init__(self, config: LoadDistributionConfig, space: str, m: int):
@@ -175,7 +176,7 @@ class LoadDistributionProblem:
     # ------------------------------------------------------------------ per step
     def update(self, r_contacts, r_object, w_N, normals=None, jacobians=None, biases=None, tau_max=None, K=None):
         """Fill every array of the QP for one step (arguments as in ``LoadDistribution.solve``)."""
-        from . import assembly as asm  # here: importing the package (scenario validation) loads no numba
+        from coopctrl import _core as asm  # the C++ assembly (coopctrl/core/qp_assembly.h), bit for bit as .assembly
 
         k, p, m, n = self.k, self.p, self.m, self.n
         r = np.asarray(r_contacts, dtype=float)
@@ -293,9 +294,9 @@ class LoadDistributionProblem:
 
     def max_violation(self, F: np.ndarray) -> tuple[float, float]:
         """``(violation, scale)``: the largest violation of ``G F = w_N`` and ``l <= C F <= u``
-        together, and ``max(|G F|, |C F|)``, the size a tolerance is relative to: the compiled
-        :func:`coopctrl.load_distribution.answer_check.answer_violation`, the loop's own."""
-        from .answer_check import answer_violation  # here: importing the package loads no numba
+        together, and ``max(|G F|, |C F|)``, the size a tolerance is relative to: the C++ core's
+        ``answer_violation`` (coopctrl/core/qp_answer_check.h), the loop's own."""
+        from coopctrl._core import answer_violation
 
         F = np.ascontiguousarray(F, dtype=float)
         if F.shape != (self.n,):

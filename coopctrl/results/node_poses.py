@@ -3,14 +3,15 @@
     Y_nodes[k, i] = Phi_i(q_i(t_k))   [m, rad]
 
 for every sample ``k`` whose state ``x[k]`` is finite (``NaN`` elsewhere), each arm's node pose
-(docs/model.md section 2). The pass calls the plant's own compiled kinematics once per sample inside one
-numba loop, so the poses are bit for bit those of :meth:`CooperativePlant.node_poses
-<plants.cooperative.CooperativePlant.node_poses>` at ``x[k]``, without a Python call per sample (2501 such
-calls cost 30 to 60 ms on the two-Puma carry). Spatial: the forward kinematics alone
-(``node_poses_into``, the same link frames and tip as ``node_state_into``, which also computes the rates
-and the arm dynamics: 2.9 ms against 8.2 ms for the carry's 2501 samples,
-``benchmarks/bench_node_poses.py``); planar:
-``node_state_into`` (three-link arms: the dynamics cost little).
+(docs/model.md section 2). :func:`node_poses_of` runs the pass in the C++ core
+(``coopctrl._core.spatial_node_poses``, ``planar_node_poses``, coopctrl/core/node_poses.h: the port, bit for
+bit, of this module's numba kernels, which stay as the tests' reference). The pass calls the plant's own
+compiled kinematics once per sample inside one loop, so the poses are bit for bit those of
+:meth:`CooperativePlant.node_poses <plants.cooperative.CooperativePlant.node_poses>` at ``x[k]``, without a
+Python call per sample (2501 such calls cost 30 to 60 ms on the two-Puma carry). Spatial: the forward kinematics
+alone (``node_poses_into``, the same link frames and tip as ``node_state_into``, which also computes the rates
+and the arm dynamics: 2.9 ms against 8.2 ms for the carry's 2501 samples, ``benchmarks/bench_node_poses.py``);
+planar: ``node_state_into`` (three-link arms: the dynamics cost little).
 """
 
 from __future__ import annotations
@@ -78,14 +79,11 @@ def node_poses_of(x: np.ndarray, plant) -> np.ndarray:
     out = np.full((n, m, p), np.nan)
     if n == 0:
         return out
-    P = plant.plant_args
+    from coopctrl._core import planar_node_poses, spatial_node_poses
+
     status = np.zeros(2, dtype=np.int64)
-    if plant.space == "spatial":
-        bad = _spatial_poses(x, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, status,
-                             plant.workspace(), out)
-    else:
-        bad = _planar_poses(x, P.arm_kind, P.arm_dof, P.q_off, P.tables, P.table_off, P.bases, P.tools, P.gravity,
-                            status, plant.workspace(), out)
+    poses = spatial_node_poses if plant.space == "spatial" else planar_node_poses
+    bad = poses(x, plant.plant_args, status, out)
     if bad >= 0:
         plant.node_poses(x[bad])  # the plant's own check raises its error
         raise RuntimeError(f"node kinematics failed at sample {bad} (status {int(status[0])})")  # not reached
