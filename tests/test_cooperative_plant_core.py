@@ -20,6 +20,7 @@ import coopctrl
 from _scenes import scene
 from coopctrl.wiring import closed_loop
 from plants import _core
+from plants.errors import ParameterError
 from plants.cooperative import _planar_kernel as numba_planar
 from plants.cooperative import _spatial_kernel as numba_spatial
 
@@ -103,6 +104,43 @@ def test_the_node_state_binding_gives_the_numba_node_state_and_frames(name):
                 np.testing.assert_array_equal(got[name_], arr, err_msg=name_)
 
 
+def _assert_wrenches_match(plant, Y, dY):
+    P = plant.plant_args
+    kern = numba_spatial if plant.space == "spatial" else numba_planar
+    S_want, Fw_want, _ = kern.interconnection_kernel(Y, dY, plant.arm_count, P.edge_index, P.edge_params, P.Y_ref,
+                                                     P.immobile)
+    S, Fw = plant.interconnection_wrenches(Y, dY)
+    np.testing.assert_array_equal(S, S_want)
+    np.testing.assert_array_equal(Fw, Fw_want)
+    return Fw
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_the_interconnection_wrenches_are_the_numba_kernels(name):
+    rng = np.random.default_rng(11)
+    for plant in _plants(name):
+        for x, tau in _states(name, plant, rng):
+            Y, dY, _ = plant.book_coordinates(x, plant.rhs(0.0, x, tau))  # the world angles, whatever the charts
+            Y, dY = Y.reshape(plant.node_count, plant.p), dY.reshape(plant.node_count, plant.p)
+            _assert_wrenches_match(plant, Y, dY)
+            S0, _ = plant.interconnection_wrenches(Y.reshape(-1))  # flat, at rest: dY = 0
+            np.testing.assert_array_equal(S0, plant.interconnection_wrenches(Y, np.zeros_like(Y))[0])
+
+
+@pytest.mark.parametrize("unloaded_state", ["mobile", "immobile"])
+def test_the_interconnection_wrenches_match_in_both_models_and_at_the_objects_singularity(unloaded_state):
+    plant, x0 = scene("spatial", m=2, arms="contact", damping=3.0, torsion_damping=0.2, node_springs=True,
+                      unloaded_state=unloaded_state)
+    rng = np.random.default_rng(5)
+    Y = plant.node_poses(x0).reshape(plant.node_count, 6) + rng.normal(scale=0.01, size=(plant.node_count, 6))
+    dY = rng.normal(size=Y.shape)
+    assert np.any(_assert_wrenches_match(plant, Y, dY))
+    Y[0, 4] = np.pi / 2  # the object at pitch 90 deg: no wrench on it is defined
+    np.testing.assert_array_equal(_assert_wrenches_match(plant, Y, dY), 0.0)
+    with pytest.raises(ParameterError, match="Y"):
+        plant.interconnection_wrenches(Y[1:])
+
+
 @pytest.mark.parametrize("space", ["spatial", "planar"])
 def test_the_workspaces_are_the_numba_kernels_workspaces(space):
     plant, _ = scene(space, m=3, arms="full")
@@ -138,7 +176,7 @@ for space, arms in (("spatial", "full"), ("spatial", "contact"), ("planar", "ful
     dx = plant.rhs(0.0, x, tau)
     plant.control_terms(x), plant.arm_terms(x), plant.node_poses(x), plant.node_velocities(x)
     plant.mass_matrix(x), plant.energy(x), plant.contact_wrenches(x), plant.leader_follower(x)
-    plant.book_coordinates(x, dx), plant.workspace(), plant.control_workspace(), plant.jacobians(x, tau)
+    plant.book_coordinates(x, dx), plant.interconnection_wrenches(plant.node_poses(x)), plant.workspace(), plant.control_workspace(), plant.jacobians(x, tau)
     Y, dY = plant.node_poses(x), plant.node_velocities(x)
     plant.elastic.accelerations(Y, dY, np.zeros_like(Y)), plant.elastic_potential(Y), plant.elastic_force(Y)
     if space == "spatial":

@@ -44,9 +44,11 @@ _INPUT_NAMES = {"spatial": ("fx", "fy", "fz", "Qpsi", "Qtheta", "Qphi"), "planar
 #: plant's kernel arrays by name (:class:`PlantArgs`).
 _CORE = {
     "spatial": SimpleNamespace(rhs=_core.spatial_rhs, node_state=_core.spatial_node_state,
-                               control_terms=_core.spatial_control_terms, arm_potentials=_core.spatial_arm_potentials),
+                               control_terms=_core.spatial_control_terms, arm_potentials=_core.spatial_arm_potentials,
+                               interconnection_wrenches=_core.spatial_interconnection_wrenches),
     "planar": SimpleNamespace(rhs=_core.planar_rhs, node_state=_core.planar_node_state,
-                              control_terms=_core.planar_control_terms, arm_potentials=_core.planar_arm_potentials),
+                              control_terms=_core.planar_control_terms, arm_potentials=_core.planar_arm_potentials,
+                              interconnection_wrenches=_core.planar_interconnection_wrenches),
 }
 
 
@@ -559,6 +561,22 @@ class CooperativePlant:
                 out[c - 1, :2] += f
                 out[c - 1, 2] += couple
         return out
+
+    def interconnection_wrenches(self, Y, dY=None):
+        """``(S, Fw)`` of the interconnections at node poses ``Y`` and rates ``dY`` (``(m + 1, p)`` or flat;
+        ``None``: at rest), the nodes' angles the book's world angles whatever the plant's charts. ``S`` (m + 1, p):
+        each node's interconnection terms of ``w``, ``dPi/dY_i + dD/d(dY_i)``; ``Fw`` (m, p): the wrench the edges
+        between the object and each contact apply to the object (as :meth:`contact_wrenches`), zero where the
+        object's angles are at the Euler singularity. One call of the compiled core."""
+        shape = (self.node_count, self.p)
+        Y = np.ascontiguousarray(Y, dtype=float)
+        if Y.size != shape[0] * shape[1]:
+            raise ParameterError("Y", Y.shape, f"{shape[0]} node poses of {shape[1]} coordinates")
+        dY = np.zeros(shape) if dY is None else np.ascontiguousarray(dY, dtype=float)
+        if dY.size != Y.size:
+            raise ParameterError("dY", dY.shape, f"{shape[0]} node rates of {shape[1]} coordinates")
+        S, Fw, _ = self._compiled.interconnection_wrenches(Y.reshape(shape), dY.reshape(shape), self._plant_args)
+        return S, Fw
 
     # ------------------------------------------------------------------ regrouping (4.10-4.11)
     def leader_follower(self, x) -> dict:
