@@ -260,7 +260,7 @@ class CooperativePlant:
 
     def _frames_state(self, x):
         """``(Y, dY, J, Jdq, frames)`` at ``x`` with every node's frames in its chart (one call of the core)."""
-        d = _core.spatial_node_state(x, self._plant_args)
+        d = self._compiled.node_state(x, self._plant_args)  # spatial: the frames too
         if d["status"][0]:
             self._check(d["status"], x)
         return d["Y"], d["dY"], d["J"], d["Jdq"], d["frames"]
