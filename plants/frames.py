@@ -19,8 +19,10 @@ kernels return a status instead of dividing through it.
 Planar reduction: ``Y = (x, z, theta)``, rotation in the vertical x-z plane with ``theta``
 measured from +x towards +z, ``L = 1``.
 
-All functions are ``numba.njit`` kernels so that the plant's right-hand side can call them;
-they are also callable from Python with numpy arrays. :func:`rotation_vector_into` is a plain
+The functions that return new arrays (:func:`rotation_zyx`, :func:`rotation_zyx_partials`,
+:func:`euler_zyx_from_rotation`, :func:`body_rate_map`, :func:`body_rate_map_dot`, :func:`rotation_planar`,
+:func:`body_rate_map_inv`) call the compiled core (``plants._core``, plants/core/frames.h). The ``*_into``
+functions and :func:`body_rate_map_inverse` are ``numba.njit`` kernels that other numba kernels call. :func:`rotation_vector_into` is a plain
 Python function that a jitted caller compiles (``register_jitable``): the inverse kinematics call
 it from Python too, without loading a compiled function or scipy.
 """
@@ -33,6 +35,7 @@ import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
+from plants import _core
 from plants.errors import EulerSingularityError
 
 #: Smallest ``|cos(theta)|`` [-] at which ``L(A)^-1`` is still evaluated. Below it the pose
@@ -57,11 +60,10 @@ def rotation_zyx_into(A, R):
     R[2, 2] = cth * cph
 
 
-@njit(cache=True)
-def rotation_zyx(A):
+def rotation_zyx(A) -> np.ndarray:
     """``R(A) = Rz(psi) Ry(theta) Rx(phi)`` for ``A = (psi, theta, phi)`` [rad]; 3x3 (a new array)."""
     R = np.empty((3, 3))
-    rotation_zyx_into(A, R)
+    _core.rotation_zyx_into(_angles(A), R)
     return R
 
 
@@ -128,23 +130,17 @@ def _partials_from_trig(cps, sps, cth, sth, cph, sph, dpsi, dth, dph):
     dph[2, 2] = -cth * sph
 
 
-@njit(cache=True)
-def rotation_zyx_partials(A):
+def rotation_zyx_partials(A) -> tuple:
     """``(dR/dpsi, dR/dtheta, dR/dphi)`` of :func:`rotation_zyx`, each 3x3 (exact; new arrays)."""
-    dpsi = np.empty((3, 3))
-    dth = np.empty((3, 3))
-    dph = np.empty((3, 3))
-    rotation_zyx_partials_into(A, dpsi, dth, dph)
+    dpsi, dth, dph = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
+    _core.rotation_zyx_partials_into(_angles(A), dpsi, dth, dph)
     return dpsi, dth, dph
 
 
-@njit(cache=True)
-def euler_zyx_from_rotation(R):
+def euler_zyx_from_rotation(R) -> np.ndarray:
     """ZYX Euler angles ``A = (psi, theta, phi)`` [rad] of a rotation matrix, theta in [-pi/2, pi/2]."""
     A = np.empty(3)
-    A[0] = math.atan2(R[1, 0], R[0, 0])
-    A[1] = math.atan2(-R[2, 0], math.sqrt(R[2, 1] * R[2, 1] + R[2, 2] * R[2, 2]))
-    A[2] = math.atan2(R[2, 1], R[2, 2])
+    _core.euler_zyx_from_rotation_into(np.ascontiguousarray(R, dtype=float), A)
     return A
 
 
@@ -199,33 +195,17 @@ def rotation_vector_into(M, out):
     out[2] = scale * z
 
 
-@njit(cache=True)
-def body_rate_map(A):
+def body_rate_map(A) -> np.ndarray:
     """``L(A)`` with ``omega_body = L(A) dA/dt`` (105); 3x3, defined everywhere."""
-    cth, sth = math.cos(A[1]), math.sin(A[1])
-    cph, sph = math.cos(A[2]), math.sin(A[2])
-    L = np.zeros((3, 3))
-    L[0, 0] = -sth
-    L[0, 2] = 1.0
-    L[1, 0] = sph * cth
-    L[1, 1] = cph
-    L[2, 0] = cph * cth
-    L[2, 1] = -sph
+    L = np.empty((3, 3))
+    _core.body_rate_map_into(_angles(A), L)
     return L
 
 
-@njit(cache=True)
-def body_rate_map_dot(A, dA):
+def body_rate_map_dot(A, dA) -> np.ndarray:
     """``dL/dt`` for Euler rates ``dA`` [rad/s]; 3x3."""
-    cth, sth = math.cos(A[1]), math.sin(A[1])
-    cph, sph = math.cos(A[2]), math.sin(A[2])
-    dth, dph = dA[1], dA[2]
-    Ld = np.zeros((3, 3))
-    Ld[0, 0] = -cth * dth
-    Ld[1, 0] = cph * cth * dph - sph * sth * dth
-    Ld[1, 1] = -sph * dph
-    Ld[2, 0] = -sph * cth * dph - cph * sth * dth
-    Ld[2, 1] = -cph * dph
+    Ld = np.empty((3, 3))
+    _core.body_rate_map_dot_into(_angles(A), _angles(dA), Ld)
     return Ld
 
 
@@ -255,15 +235,10 @@ def body_rate_map_inverse(A, Linv):
     return True
 
 
-@njit(cache=True)
-def rotation_planar(theta):
+def rotation_planar(theta) -> np.ndarray:
     """2x2 rotation in the (x, z) plane, ``theta`` [rad] from +x towards +z."""
-    c, s = math.cos(theta), math.sin(theta)
     R = np.empty((2, 2))
-    R[0, 0] = c
-    R[0, 1] = -s
-    R[1, 0] = s
-    R[1, 1] = c
+    _core.rotation_planar_into(float(theta), R)
     return R
 
 
@@ -278,6 +253,11 @@ def check_euler(A, where: str = "pose") -> None:
 def body_rate_map_inv(A, where: str = "pose") -> np.ndarray:
     """``L(A)^-1`` as a new array; raises :class:`EulerSingularityError` near ``cos(theta) = 0``."""
     Linv = np.empty((3, 3))
-    if not body_rate_map_inverse(np.asarray(A, dtype=float), Linv):
+    if not _core.body_rate_map_inverse_into(_angles(A), Linv):
         check_euler(A, where)
     return Linv
+
+
+def _angles(A) -> np.ndarray:
+    """``A`` as the compiled core takes it: float64, C-contiguous (a view when it already is)."""
+    return np.ascontiguousarray(A, dtype=float)

@@ -40,6 +40,7 @@ ALLOWED: dict[str, str] = {
     "test_core_arms.py": REASON_CORE,
     "test_core_control_laws.py": REASON_CORE,
     "test_core_cooperative.py": REASON_CORE,
+    "test_core_cooperative_plant.py": REASON_CORE,
     "test_core_cooperative_spatial.py": REASON_CORE,
     "test_core_elastic.py": REASON_CORE,
     "test_core_frames.py": REASON_CORE,

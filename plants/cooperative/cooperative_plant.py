@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
 from typing import Sequence
 
 import numpy as np
 
+from plants import _core
 from plants.cooperative import _planar_kernel, _spatial_kernel
 from plants.cooperative.contact_point import ContactPoint
 from plants.cooperative.control_terms import ControlTerms
 from plants.cooperative.plant_args import PlantArgs
+from plants.cooperative.workspaces import new_control_workspace, new_workspace
 from plants.elastic import ElasticSystem
 from plants import charts as _charts
 from plants.elastic._layout import (
@@ -35,6 +38,18 @@ ARM_CHARTS = ("world", "own")
 
 _POSE_NAMES = {"spatial": ("x", "y", "z", "psi", "theta", "phi"), "planar": ("x", "z", "theta")}
 _INPUT_NAMES = {"spatial": ("fx", "fy", "fz", "Qpsi", "Qtheta", "Qphi"), "planar": ("fx", "fz", "n")}
+
+
+#: The compiled core's functions of a planar and a spatial plant (plants/core: bind_cooperative*.cpp), on the
+#: plant's kernel arrays by name (:class:`PlantArgs`).
+_CORE = {
+    "spatial": SimpleNamespace(rhs=_core.spatial_rhs, node_state=_core.spatial_node_state,
+                               control_terms=_core.spatial_control_terms, arm_potentials=_core.spatial_arm_potentials,
+                               interconnection_wrenches=_core.spatial_interconnection_wrenches),
+    "planar": SimpleNamespace(rhs=_core.planar_rhs, node_state=_core.planar_node_state,
+                              control_terms=_core.planar_control_terms, arm_potentials=_core.planar_arm_potentials,
+                              interconnection_wrenches=_core.planar_interconnection_wrenches),
+}
 
 
 class CooperativePlant:
@@ -119,7 +134,8 @@ class CooperativePlant:
         self._edge_params = np.ascontiguousarray(elastic.edge_params)
         self._Y_ref = np.ascontiguousarray(elastic.Y_ref)
         self._immobile = bool(elastic.immobile)
-        self._kern = _spatial_kernel if self.space == "spatial" else _planar_kernel
+        self._kern = _spatial_kernel if self.space == "spatial" else _planar_kernel  # the numba kernels (kernel, *_into)
+        self._compiled = _CORE[self.space]
         self._status = np.zeros(2, dtype=np.int64)
         self.arm_dofs = tuple(int(d) for d in dofs)
         self.nz = int(sum(dofs)) + p
@@ -243,14 +259,11 @@ class CooperativePlant:
         return float(min(abs(np.cos(x[sl][4])) for _, sl in self._free_nodes()))
 
     def _frames_state(self, x):
-        """``(Y, dY, J, Jdq, frames)`` at ``x`` with every node's frames in its chart."""
-        st = np.zeros(2, dtype=np.int64)
-        out = _spatial_kernel.node_frames_state_kernel(
-            x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all, self._dh_off, self._bases, self._tools,
-            self._gravity, self._node_params, st)
-        if st[0]:
-            self._check(st, x)
-        return out
+        """``(Y, dY, J, Jdq, frames)`` at ``x`` with every node's frames in its chart (one call of the core)."""
+        d = self._compiled.node_state(x, self._plant_args)  # spatial: the frames too
+        if d["status"][0]:
+            self._check(d["status"], x)
+        return d["Y"], d["dY"], d["J"], d["Jdq"], d["frames"]
 
     def book_coordinates(self, x, dx):
         """``(Y, dY, ddY)``: every node's pose, rates and accelerations in the book's coordinates (world ZYX
@@ -366,9 +379,10 @@ class CooperativePlant:
         if not (type(x) is np.ndarray and x.shape == (2 * nz,) and type(tau) is np.ndarray  # noqa: E721 - exact
                 and tau.shape == (nz - self.p,)):  # the sizes only, cheaply (integrators call this per step)
             x, tau = self._state(x), self._input(tau)
-        dx = self._kern.rhs_kernel(x, tau, *self._args)
-        if self._status[0]:
-            self._check(self._status, x)
+        dx = np.empty(2 * nz)
+        status = self._compiled.rhs(x, tau, self._plant_args, dx)  # plants/core: one call, the kernel's bits
+        if status[0]:
+            self._check(status, x)
         return dx
 
     @property
@@ -383,7 +397,7 @@ class CooperativePlant:
         A namedtuple of float64 arrays: :class:`plants.cooperative._spatial_kernel.SpatialWorkspace` or
         :class:`plants.cooperative._planar_kernel.PlanarWorkspace` (their docstrings list the fields).
         """
-        return self._kern.make_workspace(self._arm_dof, self.node_count)
+        return new_workspace(self.space, self._arm_dof, self.node_count)
 
     @property
     def kernel_into(self):
@@ -404,13 +418,11 @@ class CooperativePlant:
         return sized_vector(name, tau, self.input_size, "the joint torques [N m]")
 
     def _node_state(self, x):
-        x = self._state(x)
-        st = np.zeros(2, dtype=np.int64)
-        out = self._kern.node_state_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
-                                          self._dh_off, self._bases, self._tools, self._gravity, st)
-        if st[0]:
-            self._check(st)
-        return out
+        """``(Y, dY, H, h, J, Jdq)`` at ``x``, new arrays (one call of the core)."""
+        d = self._compiled.node_state(self._state(x), self._plant_args)
+        if d["status"][0]:
+            self._check(d["status"])
+        return d["Y"], d["dY"], d["H"], d["h"], d["J"], d["Jdq"]
 
     def node_poses(self, x) -> np.ndarray:
         """The node vector ``Y = (Y_0, Phi_1(q_1), ..., Phi_m(q_m))`` of state ``x``, flat ``((m+1) p,)``."""
@@ -444,22 +456,19 @@ class CooperativePlant:
         return G
 
     def control_terms(self, x) -> ControlTerms:
-        """:class:`ControlTerms` at state ``x`` (one kernel call, :attr:`control_kernel_into`, into a new
-        workspace whose arrays the returned object keeps)."""
-        xc = self._state(x).copy()
-        st = np.zeros(2, dtype=np.int64)
-        cws = self._kern.make_control_workspace(self._arm_dof, self.node_count)
-        self._kern.control_terms_into(xc, *self._args[:-1], st, cws)
-        if st[0]:
-            self._check(st, xc)
-        ws = cws.ws
+        """:class:`ControlTerms` at state ``x`` (one call of the core, the numbers of
+        :attr:`control_kernel_into`; new arrays that the returned object keeps)."""
+        xc = np.array(self._state(x), dtype=float)
+        d = self._compiled.control_terms(xc, self._plant_args)
+        if d["status"][0]:
+            self._check(d["status"], xc)
         nz = self.nz
-        return ControlTerms(ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq, cws.W, cws.w_free, cws.S, cws.Fw,
+        return ControlTerms(d["Y"], d["dY"], d["H"], d["h"], d["J"], d["Jdq"], d["W"], d["w_free"], d["S"], d["Fw"],
                             xc[:nz], xc[nz:2 * nz])
 
     def control_workspace(self):
         """A new preallocated workspace for :attr:`control_kernel_into` (keep it apart from :meth:`workspace`)."""
-        return self._kern.make_control_workspace(self._arm_dof, self.node_count)
+        return new_control_workspace(self.space, self._arm_dof, self.node_count)
 
     @property
     def control_kernel_into(self):
@@ -498,12 +507,10 @@ class CooperativePlant:
                                                                 np.zeros_like(Y), frames)
             self.elastic._raise(status)
             Y = Y.reshape(-1)
-            U_arms = self._kern.arm_potential_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
-                                                    self._dh_off, self._bases, self._gravity)
+            U_arms = self._compiled.arm_potentials(x, self._plant_args)
             return T + float(Pi) + self.elastic.gravity_potential(Y) + float(U_arms)
         Y = self.node_poses(x)
-        U_arms = self._kern.arm_potential_kernel(x, self._arm_kind, self._arm_dof, self._q_off, self._dh_all,
-                                                self._dh_off, self._bases, self._gravity)
+        U_arms = self._compiled.arm_potentials(x, self._plant_args)
         return T + self.elastic_potential(Y) + self.elastic.gravity_potential(Y) + float(U_arms)
 
     # ------------------------------------------------------------------ forces on the object
@@ -554,6 +561,22 @@ class CooperativePlant:
                 out[c - 1, :2] += f
                 out[c - 1, 2] += couple
         return out
+
+    def interconnection_wrenches(self, Y, dY=None):
+        """``(S, Fw)`` of the interconnections at node poses ``Y`` and rates ``dY`` (``(m + 1, p)`` or flat;
+        ``None``: at rest), the nodes' angles the book's world angles whatever the plant's charts. ``S`` (m + 1, p):
+        each node's interconnection terms of ``w``, ``dPi/dY_i + dD/d(dY_i)``; ``Fw`` (m, p): the wrench the edges
+        between the object and each contact apply to the object (as :meth:`contact_wrenches`), zero where the
+        object's angles are at the Euler singularity. One call of the compiled core."""
+        shape = (self.node_count, self.p)
+        Y = np.ascontiguousarray(Y, dtype=float)
+        if Y.size != shape[0] * shape[1]:
+            raise ParameterError("Y", Y.shape, f"{shape[0]} node poses of {shape[1]} coordinates")
+        dY = np.zeros(shape) if dY is None else np.ascontiguousarray(dY, dtype=float)
+        if dY.size != Y.size:
+            raise ParameterError("dY", dY.shape, f"{shape[0]} node rates of {shape[1]} coordinates")
+        S, Fw, _ = self._compiled.interconnection_wrenches(Y.reshape(shape), dY.reshape(shape), self._plant_args)
+        return S, Fw
 
     # ------------------------------------------------------------------ regrouping (4.10-4.11)
     def leader_follower(self, x) -> dict:

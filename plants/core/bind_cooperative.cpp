@@ -32,6 +32,36 @@ nb::tuple planar_rhs_py(Vector x, Vector tau, nb::handle P, VectorOut dx) {
     return nb::make_tuple(status[0], status[1]);
 }
 
+nb::dict planar_node_state_py(Vector x, nb::handle P) {
+    PlanarPlant plant(P);
+    PlanarWork w(plant.model);
+    expect(x.shape(0) % 2 == 0, "x", "an even length 2 nz");
+    int64_t status[2] = {0, 0};
+    planar_node_state(plant.model, x.data(), static_cast<int>(x.shape(0)), status, w.data);
+    const size_t N = w.N, m = w.m, n = w.nmax;
+    nb::dict d;
+    d["status"] = nb::make_tuple(status[0], status[1]);
+    d["Y"] = numpy_copy(w.Y, {N, 3});
+    d["dY"] = numpy_copy(w.dY, {N, 3});
+    d["H"] = numpy_copy(w.H, {m, n, n});
+    d["h"] = numpy_copy(w.h, {m, n});
+    d["J"] = numpy_copy(w.J, {m, 3, n});
+    d["Jdq"] = numpy_copy(w.Jdq, {m, 3});
+    return d;
+}
+
+nb::tuple planar_interconnection_wrenches_py(Matrix Y, Matrix dY, nb::handle P) {
+    PlanarPlant plant(P);
+    const size_t N = plant.model.arm_count + 1, m = plant.model.arm_count;
+    expect(Y.shape(0) == N && Y.shape(1) == 3, "Y", "(m + 1, 3): a pose per node of the plant");
+    expect(dY.shape(0) == N && dY.shape(1) == 3, "dY", "(m + 1, 3): a rate per node of the plant");
+    PlanarWork w(plant.model);
+    std::copy(Y.data(), Y.data() + N * 3, w.Y.begin());
+    std::copy(dY.data(), dY.data() + N * 3, w.dY.begin());
+    planar_interconnection_wrenches(plant.model, w.data, w.terms);
+    return nb::make_tuple(numpy_copy(w.S, {N, 3}), numpy_copy(w.Fw, {m, 3}), true);
+}
+
 nb::dict planar_control_terms_py(Vector x, nb::handle P) {
     PlanarPlant plant(P);
     PlanarWork w(plant.model);
@@ -63,6 +93,12 @@ double planar_arm_potentials_py(Vector x, nb::handle P) {
 void bind_cooperative(nb::module_& m) {
     m.def("planar_rhs", &planar_rhs_py, nb::arg("x"), nb::arg("tau"), nb::arg("P"), nb::arg("dx"),
           "dx = f(x, tau) of a planar cooperative plant (its PlantArgs P); returns the status (code, node).");
+    m.def("planar_node_state", &planar_node_state_py, nb::arg("x"), nb::arg("P"),
+          "The node poses and rates and the arm terms of a planar cooperative plant at x, new arrays by name.");
+    m.def("planar_interconnection_wrenches", &planar_interconnection_wrenches_py, nb::arg("Y"), nb::arg("dY"),
+          nb::arg("P"),
+          "(S, Fw, True) of a planar plant's interconnections at node poses Y and rates dY (m + 1, 3): S (m + 1, 3) "
+          "the edges' terms of w, Fw (m, 3) each contact's wrench on the object.");
     m.def("planar_control_terms", &planar_control_terms_py, nb::arg("x"), nb::arg("P"),
           "The node state and the control terms of a planar cooperative plant at x, as new arrays by name.");
     m.def("planar_arm_potentials", &planar_arm_potentials_py, nb::arg("x"), nb::arg("P"),

@@ -11,6 +11,7 @@
 
 #include "plants/core/binding_checks.h"
 #include "plants/core/cooperative_spatial.h"
+#include "plants/core/elastic_nodes.h"
 #include "plants/core/spatial_plant_reader.h"
 
 namespace plants::binding {
@@ -77,6 +78,41 @@ nb::dict spatial_control_terms_py(Vector x, nb::handle P) {
     return d;
 }
 
+nb::dict spatial_node_state_py(Vector x, nb::handle P) {
+    SpatialPlant plant(P);
+    expect_state(x, plant.model);
+    SpatialWork w(plant.model);
+    int64_t status[2] = {0, 0};
+    spatial_node_state(plant.model, x.data(), static_cast<int>(x.shape(0)), status, w.data);
+    // every node's frames in its chart, as the elastic system's: an own-chart arm's chart is the one it just wrote
+    node_frames_charted(w.Y.data(), w.N, plant.model.node_rows, plant.model.node_width, w.frames.data());
+    const size_t N = w.N, m = w.m, n = w.nmax;
+    constexpr size_t blocks = NODE_FRAME_BLOCKS;
+    nb::dict d;
+    d["status"] = nb::make_tuple(status[0], status[1]);
+    d["Y"] = numpy_copy(w.Y, {N, 6});
+    d["dY"] = numpy_copy(w.dY, {N, 6});
+    d["H"] = numpy_copy(w.H, {m, n, n});
+    d["h"] = numpy_copy(w.h, {m, n});
+    d["J"] = numpy_copy(w.J, {m, 6, n});
+    d["Jdq"] = numpy_copy(w.Jdq, {m, 6});
+    d["frames"] = numpy_copy(&w.frames[0].R[0][0], N * blocks * 9, {N, blocks, 3, 3});
+    return d;
+}
+
+nb::tuple spatial_interconnection_wrenches_py(Matrix Y, Matrix dY, nb::handle P) {
+    SpatialPlant plant(P);
+    const size_t N = plant.model.arm_count + 1, m = plant.model.arm_count;
+    expect(Y.shape(0) == N && Y.shape(1) == 6, "Y", "(m + 1, 6): a pose per node of the plant");
+    expect(dY.shape(0) == N && dY.shape(1) == 6, "dY", "(m + 1, 6): a rate per node of the plant");
+    SpatialWork w(plant.model);
+    std::copy(Y.data(), Y.data() + N * 6, w.Y.begin());
+    std::copy(dY.data(), dY.data() + N * 6, w.dY.begin());
+    if (!plant.model.immobile) node_frames(w.Y.data(), w.N, w.frames.data());  // the world angles' frames
+    const bool ok = spatial_interconnection_wrenches(plant.model, w.data, w.terms, false);
+    return nb::make_tuple(numpy_copy(w.S, {N, 6}), numpy_copy(w.Fw, {m, 6}), ok);
+}
+
 nb::tuple spatial_rhs_from_terms_py(Vector x, Vector tau, nb::handle P, VectorOut dx) {
     SpatialPlant plant(P);
     expect_rhs_arguments(x, tau, dx, plant.model);
@@ -103,6 +139,14 @@ void bind_cooperative_spatial(nb::module_& m) {
           "dx = f(x, tau) of a spatial cooperative plant (its PlantArgs P); returns the status (code, node).");
     m.def("spatial_control_terms", &spatial_control_terms_py, nb::arg("x"), nb::arg("P"),
           "The node state, node frames and control terms of a spatial cooperative plant at x, new arrays by name.");
+    m.def("spatial_node_state", &spatial_node_state_py, nb::arg("x"), nb::arg("P"),
+          "The node poses and rates, the arm terms and every node's frames in its chart of a spatial cooperative "
+          "plant at x, new arrays by name (status: an arm's tip at an Euler singularity).");
+    m.def("spatial_interconnection_wrenches", &spatial_interconnection_wrenches_py, nb::arg("Y"), nb::arg("dY"),
+          nb::arg("P"),
+          "(S, Fw, ok) of a spatial plant's interconnections at node poses Y and rates dY (m + 1, 6) in the book's "
+          "world angles: S (m + 1, 6) the edges' terms of w, Fw (m, 6) each contact's wrench on the object (zero "
+          "where ok is false: the object's angles at the Euler singularity).");
     m.def("spatial_rhs_from_terms", &spatial_rhs_from_terms_py, nb::arg("x"), nb::arg("tau"), nb::arg("P"),
           nb::arg("dx"),
           "dx = f(x, tau) of a spatial plant finished from its control terms at x (sensed first, as a tick does); "

@@ -112,20 +112,9 @@ void planar_rhs(const PlanarCooperativeModel& model, const double* x, int nx, co
     dx[2 * nz - 1] = -w[2] / model.nodes[0].inertia;
 }
 
-void planar_control_terms(const PlanarCooperativeModel& model, const double* x, int nx, int64_t* status,
-                          PlanarCooperativeData& data, PlanarControlTerms& terms) noexcept {
-    planar_node_state(model, x, nx, status, data);
+void planar_interconnection_wrenches(const PlanarCooperativeModel& model, const PlanarCooperativeData& data,
+                                     PlanarControlTerms& terms) noexcept {
     const int m = model.arm_count, N = m + 1;
-    for (int k = 0; k < N; ++k) {
-        double* W = terms.W + k * 9;
-        W[0] = model.nodes[k].mass;
-        W[4] = model.nodes[k].mass;
-        W[8] = model.nodes[k].inertia;
-        terms.w_free[k * 3 + 0] = -model.nodes[k].mass * model.gravity[0];
-        terms.w_free[k * 3 + 1] = -model.nodes[k].mass * model.gravity[1];
-        terms.w_free[k * 3 + 2] = 0.0;
-    }
-    // every edge on its own: its share of S, and its wrench on the object when it joins a contact to it
     const Interconnections& ic = model.interconnections;
     const double* Y = data.Y;
     for (int c = 0; c < N * 3; ++c) terms.S[c] = 0.0;
@@ -153,6 +142,22 @@ void planar_control_terms(const PlanarCooperativeModel& model, const double* x, 
             terms.Fw[(c - 1) * 3 + 2] += -Fe[2] - (d0 * f1 - d1 * f0);
         }
     }
+}
+
+void planar_control_terms(const PlanarCooperativeModel& model, const double* x, int nx, int64_t* status,
+                          PlanarCooperativeData& data, PlanarControlTerms& terms) noexcept {
+    planar_node_state(model, x, nx, status, data);
+    const int m = model.arm_count, N = m + 1;
+    for (int k = 0; k < N; ++k) {
+        double* W = terms.W + k * 9;
+        W[0] = model.nodes[k].mass;
+        W[4] = model.nodes[k].mass;
+        W[8] = model.nodes[k].inertia;
+        terms.w_free[k * 3 + 0] = -model.nodes[k].mass * model.gravity[0];
+        terms.w_free[k * 3 + 1] = -model.nodes[k].mass * model.gravity[1];
+        terms.w_free[k * 3 + 2] = 0.0;
+    }
+    planar_interconnection_wrenches(model, data, terms);
 }
 
 double planar_arm_potentials(const PlanarCooperativeModel& model, const double* x) noexcept {

@@ -75,6 +75,12 @@ void planar_node_state(const PlanarCooperativeModel& model, const double* x, int
 void planar_control_terms(const PlanarCooperativeModel& model, const double* x, int nx, int64_t* status,
                           PlanarCooperativeData& data, PlanarControlTerms& terms) noexcept;
 
+/// S (N, 3) and Fw (m, 3) from the node poses and rates in data, every edge on its own: its share of S, and its
+/// wrench on the object (f_x, f_z at the contact node, couple about the object's mass centre) when it joins a
+/// contact to it (the interconnections of planar_control_terms; interconnection_into of the numba kernels).
+void planar_interconnection_wrenches(const PlanarCooperativeModel& model, const PlanarCooperativeData& data,
+                                     PlanarControlTerms& terms) noexcept;
+
 /// The gravitational potential energy of the arms' links [J].
 double planar_arm_potentials(const PlanarCooperativeModel& model, const double* x) noexcept;
 

@@ -156,13 +156,11 @@ int add_interconnections(const SpatialCooperativeModel& model, SpatialCooperativ
     return ELASTIC_OK;
 }
 
-/// S (N, 6) and Fw (m, 6) edge by edge: S_k sums every edge's forces on node k; an edge between the object and
-/// contact c adds its wrench on the object to Fw[c - 1]: force f = -F_0,r at the contact node, couple
-/// R_0 L_0^-T (-F_0,A) + (r_c - r_0) x f about the object's mass centre (world). The object's world rotation is
-/// frames[0].R when the nodes are charted (C_0 R(A_0)), else R(A_0). Returns false at an Euler singularity of the
-/// object (S valid, Fw not).
-bool interconnection_wrenches(const SpatialCooperativeModel& model, const SpatialCooperativeData& d,
-                              SpatialControlTerms& t) noexcept {
+
+}  // namespace
+
+bool spatial_interconnection_wrenches(const SpatialCooperativeModel& model, const SpatialCooperativeData& d,
+                                      SpatialControlTerms& t, bool charted) noexcept {
     const Interconnections& ic = model.interconnections;
     const int m = model.arm_count, N = m + 1;
     const double* Y = d.Y;
@@ -170,7 +168,7 @@ bool interconnection_wrenches(const SpatialCooperativeModel& model, const Spatia
     for (int c = 0; c < m * 6; ++c) t.Fw[c] = 0.0;
     double Linv[9], R0[9];
     const bool ok = body_rate_map_inverse(Y + 3, Linv);
-    if (model.charted()) {
+    if (charted) {
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b) R0[a * 3 + b] = d.frames[0].R[a][b];
     } else {
@@ -214,8 +212,6 @@ bool interconnection_wrenches(const SpatialCooperativeModel& model, const Spatia
     }
     return ok;
 }
-
-}  // namespace
 
 void spatial_node_state(const SpatialCooperativeModel& model, const double* x, int nx, int64_t* status,
                         SpatialCooperativeData& data) noexcept {
@@ -274,7 +270,7 @@ void spatial_control_terms(const SpatialCooperativeModel& model, const double* x
             for (int b = 0; b < 3; ++b) W[(3 + a) * 6 + 3 + b] = d.Wr[k * 9 + a * 3 + b];
         }
     }
-    if (!interconnection_wrenches(model, d, terms)) {
+    if (!spatial_interconnection_wrenches(model, d, terms, model.charted())) {
         status[0] = ELASTIC_EULER_SINGULAR;
         status[1] = 0;
     }

@@ -93,6 +93,15 @@ void spatial_node_state(const SpatialCooperativeModel& model, const double* x, i
 void spatial_control_terms(const SpatialCooperativeModel& model, const double* x, int nx, int64_t* status,
                            SpatialCooperativeData& data, SpatialControlTerms& terms) noexcept;
 
+/// S (N, 6) and Fw (m, 6) edge by edge from the node poses and rates in data (and, in the mobile model, every
+/// node's frames): S_k sums every edge's forces on node k; an edge between the object and contact c adds its
+/// wrench on the object to Fw[c - 1]: force f = -F_0,r at the contact node, couple R_0 L_0^-T (-F_0,A) +
+/// (r_c - r_0) x f about the object's mass centre (world). The object's world rotation is frames[0].R when
+/// charted (C_0 R(A_0)), else R(A_0). Returns false at an Euler singularity of the object (S valid, Fw zero).
+/// The interconnections of spatial_control_terms (interconnection_into of the numba kernels).
+bool spatial_interconnection_wrenches(const SpatialCooperativeModel& model, const SpatialCooperativeData& data,
+                                      SpatialControlTerms& terms, bool charted) noexcept;
+
 /// dx = f(x, tau) from the terms spatial_control_terms left in data and terms for the same x (H, h, J, Jdq, the
 /// node frames, Wr and w_free): only the interconnections' forces and the accelerations are evaluated, in the
 /// order of spatial_rhs, so the same bits (rhs_from_terms_into).
