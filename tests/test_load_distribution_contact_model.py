@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from numba import types
 
 from coopctrl.load_distribution import contact_model
 from coopctrl.loop.qp_inputs import TorqueModel, contact_normals, torque_model
@@ -17,16 +16,6 @@ from coopctrl.scenario import build, load_scenario
 from plants.cooperative import ContactPoint
 from plants.frames import rotation_zyx
 from test_cli import REPO
-
-_F1, _F2, _F3 = types.float64[::1], types.float64[:, ::1], types.float64[:, :, ::1]
-_I1, _B = types.int64[::1], types.boolean
-#: The argument types the compiled tick (``coopctrl/loop/kernel.py``, ``_qp_rows``) passes: the wrappers pass
-#: the same, so that one compiled (and cached) specialisation of each function serves both.
-KERNEL_SIGNATURES = {
-    "contact_normals_into": (_F2, _B, _F2, _F2),
-    "torque_model_into": (_B, _F2, _F2, _F3, _F2, _F3, _F2, _F3, _F2, _I1, _I1, _F3, _F1, _F1, _F1, _F1, _I1, _F2,
-                          _F3, _F3),
-}
 
 
 def _normals(Y, spatial):
@@ -144,21 +133,35 @@ def test_torque_model_is_the_arms_inverse_dynamics(name):
                                        atol=1e-7 * (1.0 + np.abs(tau_ref).max()))
 
 
-def test_the_wrappers_use_the_kernels_specialisation():
-    """``qp_inputs.contact_normals`` and ``torque_model`` call the numba functions with the compiled tick's
-    argument types (C-contiguous float64, int64, bool), from plant terms and from a non-contiguous
-    ``ddYn``: no specialisation of their own."""
-    for name in ("heavy_payload_torque_limits", "contact_points_only"):
+def test_the_wrappers_give_the_numba_functions_numbers():
+    """``qp_inputs.contact_normals`` and ``torque_model`` (the compiled core's, coopctrl/core/qp_contact_model.h)
+    give the numbers of the numba functions they replaced, bit for bit, from plant terms and from a
+    non-contiguous ``ddYn``."""
+    from coopctrl.controllers._kernels import control_work
+
+    for name in ("heavy_payload_torque_limits", "contact_points_only", "three_iiwa_tray"):
         scenario, plant = _scene(name)
         terms = plant.control_terms(build.unloaded_state(scenario))
-        contact_normals(plant, terms)
+        spatial = plant.space == "spatial"
+        want_n = np.empty((plant.arm_count, 3 if spatial else 2))
+        contact_model.contact_normals_into(np.ascontiguousarray(terms.Y), spatial, want_n, np.empty((3, 3)))
+        np.testing.assert_array_equal(contact_normals(plant, terms), want_n)
         ddYn = np.asfortranarray(np.zeros((plant.arm_count + 1, plant.p)) + 1.0)
-        torque_model(plant, terms, ddYn)
-    for fname, want in KERNEL_SIGNATURES.items():
-        sigs = getattr(contact_model, fname).signatures
-        assert sigs, fname
-        for sig in sigs:
-            assert tuple(sig) == want, (fname, sig)
+        jacobians, biases = torque_model(plant, terms, ddYn)
+        P, p = plant.plant_args, plant.p
+        dofs = [int(n) for n in P.arm_dof]
+        nmax = max(p, *dofs)
+        Jg, bias = np.zeros((plant.arm_count, p, nmax)), np.zeros(sum(dofs))
+        wv, wm = control_work(nmax)
+        f64 = np.ascontiguousarray
+        contact_model.torque_model_into(spatial, f64(terms.Y), f64(ddYn), f64(terms.W), f64(terms.w_free), f64(terms.H),
+                                        f64(terms.h), f64(terms.J), f64(terms.Jdq), P.arm_kind, P.arm_dof, Jg, bias,
+                                        np.empty(p), np.empty(p), np.empty(nmax), np.empty(nmax, np.int64), wv, wm,
+                                        np.empty((3, 3, 3)))
+        offsets = np.concatenate(([0], np.cumsum(dofs)))
+        for i, n in enumerate(dofs):
+            np.testing.assert_array_equal(jacobians[i], Jg[i, :, :n])
+            np.testing.assert_array_equal(biases[i], bias[offsets[i]:offsets[i + 1]])
 
 
 @pytest.mark.parametrize("name", ["three_iiwa_tray", "contact_points_only"])

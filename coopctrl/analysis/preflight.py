@@ -316,28 +316,16 @@ def _worst_joint(plant, jac, bias, F, limits):
 
 
 class _ControlTermsAt:
-    """``plant.control_terms(x)`` into one reused workspace (:attr:`CooperativePlant.control_kernel_into`):
-    the returned :class:`ControlTerms` holds that workspace's arrays, overwritten by the next call. A
-    state the kernel refuses (an Euler singularity) goes through ``plant.control_terms``, which raises
-    the plant's error naming the node."""
+    """``plant.control_terms(x)`` (one call of the compiled core; an Euler singularity raises the plant's error
+    naming the node), with the arms' joint counts, slices and a work array of joint rates."""
 
     def __init__(self, plant, slices):
         self.plant, self.slices = plant, slices
         self.dofs = np.array([arm.dof for arm in plant.arms], dtype=np.int64)
         self.rates = np.empty((plant.arm_count, max(plant.p, int(self.dofs.max()))))  # joint rates, a work array
-        self.kernel, args = plant.control_kernel_into
-        self.args = args[:-1]
-        self.status = np.zeros(2, dtype=np.int64)
-        self.work = plant.control_workspace()
 
     def __call__(self, x):
-        xc = np.array(x, dtype=np.float64)  # the kernel's state, as plant.control_terms copies it
-        self.status[:] = 0
-        self.kernel(xc, *self.args, self.status, self.work)
-        if self.status[0]:
-            return self.plant.control_terms(x)
-        w, ws, nz = self.work, self.work.ws, self.plant.nz
-        return ControlTerms(ws.Y, ws.dY, ws.H, ws.h, ws.J, ws.Jdq, w.W, w.w_free, w.S, w.Fw, xc[:nz], xc[nz:2 * nz])
+        return self.plant.control_terms(x)
 
 
 def _terms_with_velocities(plant, control_terms, x, dYn):

@@ -74,10 +74,7 @@ class GraspCompliance:
                     "the grasp geometry); lower the stiffness of the springs to a physical value")
 
     def _wrenches(self, Y):
-        pl = self.plant
-        dY = np.zeros_like(Y)
-        return pl._kern.interconnection_kernel(Y, dY, pl.arm_count, pl._edge_index, pl._edge_params, pl._Y_ref,
-                                               pl._immobile)[1]
+        return self.plant.interconnection_wrenches(Y)[1]
 
     def _displace(self, Y0, Yi, axis, amount):
         """Node pose after a displacement along object-frame axis ``axis`` (translation or rotation)."""

@@ -6,7 +6,7 @@
   nominal node accelerations, planned within :data:`TORQUE_HEADROOM` of each joint's limit
   (:class:`TorqueModel`: the same into one reused workspace).
 
-Both are defined once, by the numba functions of :mod:`coopctrl.load_distribution.contact_model`
+Both are defined once, in the compiled core (coopctrl/core/qp_contact_model.h, as :mod:`coopctrl.load_distribution.contact_model` states them)
 (which the compiled tick calls on its measured terms): the functions here only give them the arrays of a
 :class:`~plants.cooperative.control_terms.ControlTerms` and return the Python structures
 :class:`~coopctrl.load_distribution.LoadDistribution` takes.
@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from coopctrl.controllers._kernels import control_work
-from coopctrl.load_distribution.contact_model import contact_normals_into, torque_model_into
+from coopctrl._core import contact_normals_into, torque_model_into  # coopctrl/core/qp_contact_model.h
 
 #: Fraction of each joint torque limit the load-distribution QP may plan with [-].
 TORQUE_HEADROOM = 0.9
