@@ -1,13 +1,12 @@
-"""Benchmark: one Puma 560 evaluation of ``spatial_arm_terms`` vs Pinocchio.
+"""Benchmark: one Puma 560 evaluation of the compiled core's arm terms vs Pinocchio.
 
 Run from the repository root::
 
     python benchmarks/bench_arms.py [--calls 20000] [--quick]
 
-Prints the median time of one warm ``spatial_arm_terms`` call from Python, the same call
-inside numba (loop amortised, what the fused right-hand side pays), the same two figures for
-the general-chain kernel ``chain_arm_terms`` (the Puma converted from DH, and the Panda, UR5e
-and iiwa 14 from their URDF files), and Pinocchio's
+Prints the median time of one call of the compiled core's DH arm terms (``plants._core.dh_arm_terms``, what
+``SerialArm.terms`` calls) from Python, the same figure for the general-chain terms ``chain_arm_terms``
+(the Puma converted from DH, and the Panda, UR5e and iiwa 14 from their URDF files), and Pinocchio's
 ``crba + nonLinearEffects + computeFrameJacobian`` (+ the frame placement) for the same
 configuration, with their ratio. Medians over repeated batches (docs/performance.md: runs agree only
 to ~1.5x, compare ratios from one run).
@@ -22,36 +21,16 @@ import sys
 import time
 
 import numpy as np
-from numba import njit
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from plants.arms import iiwa14, panda, puma560, ur5e  # noqa: E402
-from plants.arms._chain_kernels import chain_arm_terms  # noqa: E402
-from plants.arms._spatial_kernels import spatial_arm_terms  # noqa: E402
+from plants._core import chain_arm_terms, dh_arm_terms  # noqa: E402
 
 
-@njit(cache=True)
-def _repeat_terms(count, q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq):
-    status = 0
-    for i in range(count):
-        q[0] += 1e-12  # keep the loop from being hoisted
-        status += spatial_arm_terms(q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq)
-    return status
-
-
-@njit(cache=True)
-def _repeat_chain(count, q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
-    status = 0
-    for i in range(count):
-        q[0] += 1e-12  # keep the loop from being hoisted
-        status += chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq)
-    return status
-
-
-def chain_rows(count=10000):
-    """us per evaluation of the general-chain kernel (joint transforms and axes, issue 13):
-    the Puma 560 converted from DH, and the URDF arms, beside the DH kernel's Puma row."""
+def chain_rows(calls):
+    """us per call of the general-chain terms (joint transforms and axes, issue 13) from Python:
+    the Puma 560 converted from DH, and the URDF arms, beside the DH terms' Puma row."""
     rows = []
     for label, arm in (("Puma 560 (DH -> chain)", puma560()), ("Panda (URDF)", panda()), ("UR5e (URDF)", ur5e()),
                        ("iiwa 14 (URDF)", iiwa14())):
@@ -63,11 +42,8 @@ def chain_rows(count=10000):
         table, base, tool, g = arm.kernel_table(), arm.base, np.ascontiguousarray(arm.kernel_tool()), arm.gravity
         H, h, Y, J, Jdq = np.empty((n, n)), np.empty(n), np.empty(6), np.empty((6, n)), np.empty(6)
         chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq)
-        py = median_us(lambda: chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq), 20000)
-        qq = q.copy()
-        _repeat_chain(10, qq, dq, table, base, tool, g, H, h, Y, J, Jdq)
-        inner = median_us(lambda: _repeat_chain(count, qq, dq, table, base, tool, g, H, h, Y, J, Jdq), 200) / count
-        rows.append((label, n, py, inner))
+        py = median_us(lambda: chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq), calls)
+        rows.append((label, n, py))
     return rows
 
 
@@ -92,22 +68,16 @@ def main(argv=None):
     dq = rng.uniform(-2.0, 2.0, 6)
     dh, base, tool, g = arm.dh_array(), arm.base, arm.tool, arm.gravity
     H, h, Y, J, Jdq = np.empty((6, 6)), np.empty(6), np.empty(6), np.empty((6, 6)), np.empty(6)
-    spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq)  # warm up / load cache
+    dh_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq)  # warm up
 
-    ours = median_us(lambda: spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq), calls)
-    count = 10000
-    qq = q.copy()
-    _repeat_terms(10, qq, dq, dh, base, tool, g, H, h, Y, J, Jdq)
-    inner = median_us(lambda: _repeat_terms(count, qq, dq, dh, base, tool, g, H, h, Y, J, Jdq), 200) / count
+    ours = median_us(lambda: dh_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq), calls)
 
     print(f"command: {sys.executable} {' '.join(sys.argv)}")
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, python {platform.python_version()}")
-    print(f"spatial_arm_terms (Puma 560), from Python, warm : {ours:8.2f} us  (median)")
-    print(f"spatial_arm_terms (Puma 560), inside numba      : {inner:8.2f} us  (median of {count}-call batches)")
+    print(f"dh_arm_terms (Puma 560), from Python, warm      : {ours:8.2f} us  (median)")
     print("chain_arm_terms (general joints), per arm evaluation:")
-    for label, n, py, chain_inner in chain_rows(count):
-        print(f"  {label:24s} n={n}, from Python: {py:8.2f} us, inside numba: {chain_inner:8.2f} us "
-              f"({chain_inner / inner:5.2f}x the DH Puma inside numba)")
+    for label, n, py in chain_rows(calls):
+        print(f"  {label:24s} n={n}, from Python: {py:8.2f} us ({py / ours:5.2f}x the DH Puma)")
     try:
         import pinocchio as pin
     except ImportError:
@@ -139,7 +109,6 @@ def main(argv=None):
     theirs = median_us(pinocchio_terms, calls)
     print(f"pinocchio crba+nle+jacobian+placement, Python   : {theirs:8.2f} us  (median)")
     print(f"ratio pinocchio / ours (both from Python)       : {theirs / ours:8.2f}")
-    print(f"ratio pinocchio / ours (ours inside numba)      : {theirs / inner:8.2f}")
 
 
 if __name__ == "__main__":

@@ -8,17 +8,15 @@ Stateless: every function takes (t, x, u) or (Y, dY) and returns arrays. Subpack
 - :mod:`plants.arms` - serial chains (DH tables), ``puma560()``, ``planar3r()``;
 - :mod:`plants.elastic` - nodes, interconnections, the elastic system (113, 115) and its
   immobile linear model (4.5);
-- :mod:`plants.cooperative` - the cooperative system ``Gamma z'' + phi = (tau, 0)`` (177, 183);
-- :mod:`plants.kernels` - the compiled (numba) kernels by public name, for compiled callers.
+- :mod:`plants.cooperative` - the cooperative system ``Gamma z'' + phi = (tau, 0)`` (177, 183).
+
+The numerics run in the compiled core (``plants._core``, built from plants/core at install); importing
+the package imports no numba.
 
 This package never imports :mod:`coopctrl`.
 """
 
-from plants import numba_cache as _numba_cache
-
-_numba_cache.configure()  # before any compiled kernel is defined: the cache keyed on every kernel source
-
-from plants.errors import (  # noqa: E402
+from plants.errors import (
     EulerSingularityError,
     ParameterError,
     PlantError,

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pytest
 
-from plants.arms import DHLink, SerialArm, puma560
+from plants.arms import ChainArm, DHLink, SerialArm, puma560
 from plants.errors import EulerSingularityError, ParameterError, UnreachablePoseError
 from plants.frames import body_rate_map, rotation_zyx
 
@@ -317,34 +317,34 @@ def test_bad_arm_parameters():
 # ---------------------------------------------------------------- the node in its own chart
 @pytest.mark.parametrize("singular", [False, True])
 def test_own_chart_terms_are_the_geometric_ones_everywhere(arm, singular):
-    """``chain_arm_terms_own_chart``: the node's angles in its own chart ``C = R_tip`` (``A = 0``,
+    """``ChainArm.terms_in_own_chart``: the node's angles in its own chart ``C = R_tip`` (``A = 0``,
     docs/model.md s.2) exist at every pose, the tip at pitch 90 deg included (``singular``: the world
     angles raise there). ``C L(0) J_A`` is the world geometric Jacobian, ``H``, ``h`` and the
     translational rows are the world chart's, and the angular ``Jdq`` gives the classical angular
     acceleration ``C (L(0) Jdq + Ldot(0, dA) dA)``, checked by central differences of ``Jg(q) dq``."""
     from plants.frames import body_rate_map_dot
-    from plants.kernels import chain_arm_terms, chain_arm_terms_own_chart
 
     q, dq = random_state(3, arm)
+    world = ChainArm(arm.name, arm.chain_joints(), base=arm.base, tool=arm.kernel_tool(), gravity=arm.gravity).terms(q, dq)
     if singular:
         T, _ = arm.tip_transform(q)
         tool = np.eye(4)
         tool[:3, :3] = T[:3, :3].T @ rotation_zyx(np.array([0.3, np.pi / 2, 0.0]))
-        arm = arm.with_tool(tool)
-    n = arm.dof
-    args = (q, dq, arm.kernel_table(), arm.base, arm.kernel_tool(), arm.gravity)
-    H, h, Y, J, Jdq, C = np.empty((n, n)), np.empty(n), np.empty(6), np.empty((6, n)), np.empty(6), np.empty((3, 3))
-    assert chain_arm_terms_own_chart(*args, H, h, Y, J, Jdq, C) == 0
-    Hw, hw, Yw, Jw, Jdqw = np.empty((n, n)), np.empty(n), np.empty(6), np.empty((6, n)), np.empty(6)
-    assert chain_arm_terms(*args, Hw, hw, Yw, Jw, Jdqw) == (1 if singular else 0)
+        arm = arm.with_tool(tool)  # the same tip point: H, h and the translational rows are unchanged
+    chain = ChainArm(arm.name, arm.chain_joints(), base=arm.base, tool=arm.kernel_tool(), gravity=arm.gravity)
+    t, C = chain.terms_in_own_chart(q, dq)
+    H, h, Y, J, Jdq = t.H, t.h, t.Y, t.J, t.Jdq
+    if singular:
+        with pytest.raises(EulerSingularityError):
+            chain.terms(q, dq)
     T, Jg = arm.tip_transform(q)
     assert np.array_equal(Y[3:], np.zeros(3))
     assert rel_err(C, T[:3, :3]) <= ORACLE_RTOL
     assert rel_err(Y[:3], T[:3, 3]) <= ORACLE_RTOL
     L0 = body_rate_map(np.zeros(3))
     assert rel_err(C @ L0 @ J[3:], Jg[3:]) <= ORACLE_RTOL
-    assert np.array_equal(H, Hw) and np.array_equal(h, hw)
-    assert np.array_equal(J[:3], Jw[:3]) and np.array_equal(Jdq[:3], Jdqw[:3])
+    assert np.array_equal(H, world.H) and np.array_equal(h, world.h)
+    assert np.array_equal(J[:3], world.J[:3]) and np.array_equal(Jdq[:3], world.Jdq[:3])
     dA = J[3:] @ dq
     alpha = C @ (L0 @ Jdq[3:] + body_rate_map_dot(np.zeros(3), dA) @ dA)
     fd = (arm.tip_transform(q + FD_STEP * dq)[1][3:] @ dq - arm.tip_transform(q - FD_STEP * dq)[1][3:] @ dq) / (2 * FD_STEP)

@@ -1,5 +1,6 @@
-"""``plants.cooperative.plant_args``: the plant's kernel arrays by name, the same arrays its raw kernels take by
-position, and the space read from them as from their numba type."""
+"""``plants.cooperative.plant_args``: the plant's kernel arrays by name, each the plant's own array in the shape its
+documentation states, and the space read from them as from their numba type (the numba integrators of
+``coopctrl/`` choose their kernel on it while they remain)."""
 
 from __future__ import annotations
 
@@ -9,26 +10,23 @@ from numba import typeof
 
 from plants.cooperative import PlantArgs
 from plants.cooperative.plant_args import is_spatial
-from test_rhs_workspace import random_plant
+from _scenes import scene
 
-#: The fields in the raw kernels' order (``rhs_into``'s positional arrays).
+#: The fields, in order.
 NAMES = ("arm_kind", "arm_dof", "q_off", "tables", "table_off", "bases", "tools", "gravity", "node_params",
          "edge_index", "edge_params", "Y_ref", "immobile")
 
 
 @pytest.mark.parametrize("space,m,unloaded_state", [("spatial", 2, "mobile"), ("spatial", 3, "immobile"),
                                                     ("planar", 3, "mobile")])
-def test_plant_args_are_the_raw_kernels_arrays_by_name(space, m, unloaded_state):
-    """Field by field, the very arrays ``plant.kernel`` passes by position (before its status array), and
-    each field the shape its documentation states."""
-    plant = random_plant(space, m, seed=5 + m, unloaded_state=unloaded_state)
+def test_plant_args_are_the_plants_arrays_by_name(space, m, unloaded_state):
+    """The fields in order, the plant's own arrays (the same objects on every read), each the shape its
+    documentation states."""
+    plant, _ = scene(space, m=m, arms="full", unloaded_state=unloaded_state)
     P = plant.plant_args
-    _, args = plant.kernel
     assert type(P) is PlantArgs
-    assert len(P) == len(NAMES) == len(args) - 1
-    for name, raw in zip(NAMES, args):
-        assert getattr(P, name) is raw, name
-    assert args[-1].dtype == np.int64 and args[-1].shape == (2,)  # the status, not a field
+    assert len(P) == len(NAMES) and all(getattr(P, name) is value for name, value in zip(NAMES, P))
+    assert all(a is b for a, b in zip(P, plant.plant_args))
     p = 6 if space == "spatial" else 3
     assert P.arm_kind.shape == P.arm_dof.shape == P.q_off.shape == P.table_off.shape == (m,)
     assert P.bases.shape == ((m, 4, 4) if space == "spatial" else (m, 3))
@@ -41,6 +39,6 @@ def test_plant_args_are_the_raw_kernels_arrays_by_name(space, m, unloaded_state)
 @pytest.mark.parametrize("space", ["spatial", "planar"])
 def test_space_from_the_arrays_and_from_their_numba_type(space):
     """``is_spatial`` picks the kernel from the values (Python) and from their numba type (an overload)."""
-    P = random_plant(space, 2, seed=3).plant_args
+    P = scene(space, m=2, arms="full")[0].plant_args
     assert is_spatial(P) is (space == "spatial")
     assert is_spatial(typeof(P)) is (space == "spatial")

@@ -26,7 +26,7 @@ DOCS = REPO / "docs"
 PAGES = [REPO / "README.md", *sorted(DOCS.glob("*.md")), *sorted((DOCS / "data").glob("*.md"))]
 
 #: The modules whose ``__all__`` is the public API the reference must cover.
-PUBLIC = ("coopctrl", "plants", "plants.arms", "plants.elastic", "plants.cooperative", "plants.kernels")
+PUBLIC = ("coopctrl", "plants", "plants.arms", "plants.elastic", "plants.cooperative")
 
 needs_mkdocs = pytest.mark.skipif(importlib.util.find_spec("mkdocs") is None or importlib.util.find_spec("mkdocstrings") is None,
                                   reason="mkdocs and mkdocstrings are not installed: pip install -e '.[docs]'")
@@ -104,7 +104,7 @@ def check_api_reference(site: Path) -> None:
         short = public.rsplit(".", 1)[1]
         if public not in ids and defined not in ids and not any(i.endswith(f".{short}") and _same_object(i, obj) for i in ids):
             missing.append(public)
-    assert len(_public_names()) >= 40
+    assert len(_public_names()) >= 30
     assert not missing, f"not in docs/api.md: {missing}"
 
 

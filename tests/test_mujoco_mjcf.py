@@ -12,7 +12,7 @@ from coopctrl.mujoco.plant import MujocoPlant  # noqa: E402
 from coopctrl.mujoco.state_map import StateMap  # noqa: E402
 from coopctrl.scenario import load_scenario  # noqa: E402
 from coopctrl.scenario.build import build_plant  # noqa: E402
-from plants.kernels import COULOMB_SMOOTHING  # noqa: E402
+from plants.arms.urdf import COULOMB_SMOOTHING  # noqa: E402
 
 SCENES = ("two_panda_carry", "ur5e_panda_carry", "three_iiwa_tray", "spatial_two_puma_carry", "planar_two_arm_lift")
 #: Two recursions of the same rigid-body model (MuJoCo's CRB and RNE against the project's kernels) agree to

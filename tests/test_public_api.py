@@ -34,7 +34,6 @@ PACKAGES = ("coopctrl", "plants")
 REASON_CORE = "compares the compiled core with the numba kernel it replaces, bit for bit, until numba leaves"
 
 ALLOWED: dict[str, str] = {
-    "test_numba_cache.py": "copies the packages with their compiled modules (plants._core, coopctrl._core) to edit a numba kernel source in the copy",
     "test_docs_site.py": "argparse has no public list of a parser's options: the CLI reference's test reads parser._actions, as the reference's generator does",
     "test_core_adaptive.py": REASON_CORE,
     "test_core_arms.py": REASON_CORE,

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from plants.arms import from_urdf, iiwa14, panda, puma560, ur5e
+from plants.arms import ChainArm, from_urdf, iiwa14, panda, puma560, ur5e
 from plants.arms.named_robots import NAMED_ROBOTS, urdf_path
 from plants.errors import ParameterError
 from plants.frames import body_rate_map_dot, body_rate_map_inv, euler_zyx_from_rotation
@@ -90,17 +90,16 @@ def _sym(H):
 
 
 def test_puma_chain_kernel_matches_dh_kernel():
-    """The DH arm converted to general joints gives the DH kernel's terms (exact conversion)."""
-    from plants.kernels import chain_arm_terms
-
+    """The DH arm converted to general joints (a ChainArm) gives the DH arm's terms (exact conversion)."""
     arm = puma560(viscous_friction=True, motor_inertia=True)
+    chain = ChainArm(arm.name, arm.chain_joints(), base=arm.base, tool=arm.kernel_tool(), gravity=arm.gravity)
     rng = np.random.default_rng(3)
     for _ in range(5):
         q = rng.uniform(-2.0, 2.0, 6)
         dq = rng.uniform(-1.0, 1.0, 6)
         ref = arm.terms(q, dq)
-        H, h, Y, J, Jdq = np.empty((6, 6)), np.empty(6), np.empty(6), np.empty((6, 6)), np.empty(6)
-        assert chain_arm_terms(q, dq, arm.kernel_table(), arm.base, arm.kernel_tool(), arm.gravity, H, h, Y, J, Jdq) == 0
+        t = chain.terms(q, dq)
+        H, h, Y, J, Jdq = t.H, t.h, t.Y, t.J, t.Jdq
         for a, b, what in ((H, ref.H, "H"), (h, ref.h, "h"), (Y, ref.Y, "Y"), (J, ref.J, "J"), (Jdq, ref.Jdq, "Jdq")):
             _close(a, b, f"puma chain {what}")
 
@@ -180,7 +179,7 @@ def test_missing_urdf_file(tmp_path):
 
 def test_dynamics_damping_and_friction_enter_h(tmp_path):
     """``<dynamics damping friction>``: ``h`` gains ``damping dq + friction tanh(dq / v_s)``."""
-    from plants.kernels import COULOMB_SMOOTHING
+    from plants.arms.urdf import COULOMB_SMOOTHING
 
     plain = tmp_path / "plain.urdf"
     plain.write_text(_RP_URDF)

@@ -54,20 +54,10 @@ from numba import njit
 
 from plants.frames import EULER_SINGULARITY_COS
 
-JOINT_REVOLUTE_Z, JOINT_REVOLUTE, JOINT_PRISMATIC = 0, 1, 2
-
-# Columns of the joint table.
-COL_TYPE = 0
-COL_ORIGIN = 1  # 1, 2, 3
-COL_ROT = 4  # 4..12
-COL_AXIS = 13  # 13, 14, 15
-COL_MASS = 16
-COL_RC = 17  # 17, 18, 19
-COL_I = 20  # Ixx, Iyy, Izz, Ixy, Iyz, Ixz
-COL_MOTOR, COL_VISCOUS, COL_COULOMB = 26, 27, 28
-CHAIN_COLUMNS = 32
-#: Velocity scale [rad/s or m/s] of the smoothed Coulomb friction ``f_c tanh(dq / v_s)``.
-COULOMB_SMOOTHING = 1e-2
+from plants.arms.chain_table import (  # noqa: F401 (the layout, read here by name)
+    CHAIN_COLUMNS, COL_AXIS, COL_COULOMB, COL_I, COL_MASS, COL_MOTOR, COL_ORIGIN, COL_RC, COL_ROT, COL_TYPE,
+    COL_VISCOUS, COULOMB_SMOOTHING, JOINT_PRISMATIC, JOINT_REVOLUTE, JOINT_REVOLUTE_Z,
+)
 
 # Work-array layout, one row per body k = 0..n (body 0 = base).
 _R = 0  # 9: world rotation of link frame k (row-major)

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from plants._core import chain_arm_pose, chain_arm_potential, chain_arm_terms, chain_arm_tip
+from plants._core import chain_arm_pose, chain_arm_potential, chain_arm_terms, chain_arm_terms_own_chart, chain_arm_tip
 from plants.arms._validation import check_pose4, check_vector
 from plants.arms.arm_queries import ArmQueries
 from plants.arms.arm_terms import ArmTerms
@@ -123,6 +123,18 @@ class ChainArm(ArmQueries, SpatialInverseKinematics):
             theta = float(Y[4])
             raise EulerSingularityError(f"arm '{self.name}' tip", theta, float(np.cos(theta)))
         return ArmTerms(H, h, Y, J, Jdq)
+
+    def terms_in_own_chart(self, q, dq) -> tuple:
+        """``(terms, C)``: :meth:`terms` with the node's angles taken in its own chart ``C = R_tip(q)`` (3x3;
+        ``Y[3:6] = 0``, docs/model.md s.2, rotation charts), as a cooperative plant with ``arm_charts="own"``
+        takes them. Defined at every pose (no Euler singularity); ``H``, ``h`` and the translational rows are
+        :meth:`terms`'s. One call of the compiled core (``chain_arm_terms_own_chart``)."""
+        n = self.dof
+        q = self._joint_vector("q", q)
+        dq = self._joint_vector("dq", dq)
+        H, h, Y, J, Jdq, C = np.empty((n, n)), np.empty(n), np.empty(6), np.empty((6, n)), np.empty(6), np.empty((3, 3))
+        chain_arm_terms_own_chart(q, dq, self._table, self.base, self.tool, self.gravity, H, h, Y, J, Jdq, C)
+        return ArmTerms(H, h, Y, J, Jdq), C
 
     def pose(self, q) -> np.ndarray:
         """Node pose ``Y = Phi(q)`` [m, rad] (169): ``terms(q, 0).Y`` bit for bit, by forward kinematics alone."""

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from plants.arms._chain_kernels import (
+from plants.arms.chain_table import (
     CHAIN_COLUMNS,
     COL_AXIS,
     COL_I,

@@ -7,7 +7,7 @@ import numpy as np
 from plants.arms._dls_ik import damped_least_squares
 from plants.arms._validation import check_vector
 from plants.errors import UnreachablePoseError
-from plants.frames import rotation_vector_into, rotation_zyx
+from plants.frames import rotation_vector, rotation_zyx
 
 #: IK convergence: position [m] and rotation [rad] residuals.
 IK_TOLERANCE = 1e-9
@@ -64,7 +64,7 @@ class SpatialInverseKinematics:
             T, Jg = self.tip_transform(q)
             e = np.empty(6)
             e[:3] = p_target - T[:3, 3]
-            rotation_vector_into(R_target @ T[:3, :3].T, e[3:])
+            e[3:] = rotation_vector(R_target @ T[:3, :3].T)
             return e, Jg
 
         def converged(e):

@@ -34,7 +34,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from plants.arms._chain_kernels import COULOMB_SMOOTHING  # noqa: F401 (documented here)
+from plants.arms.chain_table import COULOMB_SMOOTHING  # noqa: F401 (documented here)
 from plants.arms._validation import MAX_MAGNITUDE, check_pose4
 from plants.arms.chain_arm import ChainArm
 from plants.arms.chain_joint import ChainJoint

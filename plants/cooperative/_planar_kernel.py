@@ -30,8 +30,7 @@ from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import STATUS_OK, STATUS_SINGULAR_MASS
 from plants.elastic._planar_kernels import damping_edges, elastic_edges, interconnection_terms, linear_edges
 
-ARM_SERIAL = 0
-ARM_CONTACT_POINT = 1
+from plants.cooperative.plant_args import ARM_CONTACT_POINT, ARM_SERIAL  # noqa: E402, F401
 
 
 

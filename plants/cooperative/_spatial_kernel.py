@@ -47,7 +47,7 @@ from plants.arms._chain_kernels import CHAIN_WORK_WIDTH
 from plants.arms._chain_kernels import chain_arm_pose_into, chain_arm_terms_into
 from plants.cooperative._linalg import cholesky_solve_n
 from plants.elastic._layout import NODE_CHART_KIND, STATUS_EULER_SINGULAR, STATUS_OK, STATUS_SINGULAR_MASS
-from plants.frames import body_rate_map_inverse, rotation_zyx_into
+from plants._numba_frames import body_rate_map_inverse, rotation_zyx_into
 from plants.elastic._spatial_kernels import (
     EDGE_SCRATCH_SHAPE,
     FRAME_CHART,
@@ -62,12 +62,7 @@ from plants.elastic._spatial_kernels import (
     solve_node_rotation,
 )
 
-ARM_SERIAL = 0
-ARM_CONTACT_POINT = 1
-#: A serial arm whose node's angles are taken in the node's own chart at each evaluation (``C = R_tip(q)``,
-#: ``A = 0``; docs/model.md s.2, rotation charts): the arm kernel writes ``C`` into the node's frames
-#: block ``FRAME_CHART``. Its node never meets the Euler singularity.
-ARM_SERIAL_OWN_CHART = 2
+from plants.cooperative.plant_args import ARM_CONTACT_POINT, ARM_SERIAL, ARM_SERIAL_OWN_CHART  # noqa: E402, F401
 
 
 

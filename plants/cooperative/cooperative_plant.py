@@ -8,11 +8,9 @@ from typing import Sequence
 import numpy as np
 
 from plants import _core
-from plants.cooperative import _planar_kernel, _spatial_kernel
 from plants.cooperative.contact_point import ContactPoint
 from plants.cooperative.control_terms import ControlTerms
-from plants.cooperative.plant_args import PlantArgs
-from plants.cooperative.workspaces import new_control_workspace, new_workspace
+from plants.cooperative.plant_args import ARM_CONTACT_POINT, ARM_SERIAL, ARM_SERIAL_OWN_CHART, PlantArgs
 from plants.elastic import ElasticSystem
 from plants import charts as _charts
 from plants.elastic._layout import (
@@ -100,11 +98,11 @@ class CooperativePlant:
                 raise ParameterError(f"arms[{i}]", type(arm).__name__, f"a {self.space} arm or ContactPoint")
             dofs.append(arm.dof)
             if isinstance(arm, ContactPoint):
-                kinds.append(_spatial_kernel.ARM_CONTACT_POINT)
+                kinds.append(ARM_CONTACT_POINT)
             else:
-                kinds.append(_spatial_kernel.ARM_SERIAL)
+                kinds.append(ARM_SERIAL)
                 # spatial arms: the general-chain joint table (n, 32) and the node frame in the
-                # last link frame (plants.arms._chain_kernels); planar arms: their link table
+                # last link frame (plants.arms.chain_table); planar arms: their link table
                 tables.append(np.asarray(arm.kernel_table() if self.space == "spatial" else arm.dh_array(), dtype=float))
             if self.space == "spatial":
                 bases.append(np.eye(4) if isinstance(arm, ContactPoint) else np.asarray(arm.base, dtype=float))
@@ -116,12 +114,12 @@ class CooperativePlant:
         self._arm_kind = np.array(kinds, dtype=np.int64)
         self._arm_dof = np.array(dofs, dtype=np.int64)
         self._q_off = np.concatenate([[0], np.cumsum(dofs)[:-1]]).astype(np.int64)
-        serial_dofs = [d for d, k in zip(dofs, kinds) if k == _spatial_kernel.ARM_SERIAL]
+        serial_dofs = [d for d, k in zip(dofs, kinds) if k == ARM_SERIAL]
         offs = np.concatenate([[0], np.cumsum(serial_dofs)]).astype(np.int64) if serial_dofs else np.zeros(1, np.int64)
         dh_off = np.zeros(m, dtype=np.int64)
         s = 0
         for i, k in enumerate(kinds):
-            if k == _spatial_kernel.ARM_SERIAL:
+            if k == ARM_SERIAL:
                 dh_off[i] = offs[s]
                 s += 1
         self._dh_off = dh_off
@@ -134,9 +132,7 @@ class CooperativePlant:
         self._edge_params = np.ascontiguousarray(elastic.edge_params)
         self._Y_ref = np.ascontiguousarray(elastic.Y_ref)
         self._immobile = bool(elastic.immobile)
-        self._kern = _spatial_kernel if self.space == "spatial" else _planar_kernel  # the numba kernels (kernel, *_into)
         self._compiled = _CORE[self.space]
-        self._status = np.zeros(2, dtype=np.int64)
         self.arm_dofs = tuple(int(d) for d in dofs)
         self.nz = int(sum(dofs)) + p
         self._set_charts(arm_charts)
@@ -163,7 +159,7 @@ class CooperativePlant:
         kinds = self._arm_kind.copy()
         for i, is_serial in enumerate(serial):
             if is_serial and self.space == "spatial":
-                kinds[i] = _spatial_kernel.ARM_SERIAL_OWN_CHART if arm_charts == "own" else _spatial_kernel.ARM_SERIAL
+                kinds[i] = ARM_SERIAL_OWN_CHART if arm_charts == "own" else ARM_SERIAL
         self._arm_kind = kinds
         if self.space == "spatial" and (self.elastic.charted or arm_charts == "own"):
             rows = np.zeros((self.node_count, NODE_WIDTH_CHARTED))
@@ -182,7 +178,6 @@ class CooperativePlant:
         self._plant_args = PlantArgs(self._arm_kind, self._arm_dof, self._q_off, self._dh_all, self._dh_off,
                                      self._bases, self._tools, self._gravity, self._node_params, self._edge_index,
                                      self._edge_params, self._Y_ref, self._immobile)
-        self._args = (*self._plant_args, self._status)
 
     @property
     def plant_args(self) -> PlantArgs:
@@ -205,7 +200,6 @@ class CooperativePlant:
         out = copy.copy(self)
         if charts is not None:
             out.elastic = self.elastic.with_charts(charts)
-        out._status = np.zeros(2, dtype=np.int64)
         out._set_charts(self.arm_charts if arm_charts is None else arm_charts)
         out._pack_args()
         return out
@@ -221,7 +215,6 @@ class CooperativePlant:
         out = copy.copy(self)
         out._bases = self._bases.copy()
         out._gravity = self._gravity.copy()
-        out._status = np.zeros(2, dtype=np.int64)
         out._pack_args()
         return out
 
@@ -291,9 +284,9 @@ class CooperativePlant:
                 ddY[i + 1] = J[i, :, :n] @ ddz[sl] + Jdq[i]
         if self.space == "spatial":
             for k in range(self.node_count):
-                if k > 0 and self._arm_kind[k - 1] == _spatial_kernel.ARM_SERIAL_OWN_CHART:
+                if k > 0 and self._arm_kind[k - 1] == ARM_SERIAL_OWN_CHART:
                     C = frames[k, 5]
-                elif k > 0 and self._arm_kind[k - 1] == _spatial_kernel.ARM_SERIAL:
+                elif k > 0 and self._arm_kind[k - 1] == ARM_SERIAL:
                     C = np.eye(3)
                 else:
                     C = self.elastic.charts[k]
@@ -385,28 +378,12 @@ class CooperativePlant:
             self._check(status, x)
         return dx
 
-    @property
-    def kernel(self):
-        """``(function, extra_args)``: ``function(x, tau, *extra_args)`` is the raw numba right-hand
-        side, for loops that want to skip the Python wrapper; ``extra_args[-1]`` is the status array."""
-        return self._kern.rhs_kernel, self._args
-
     def workspace(self):
-        """A new preallocated workspace for :attr:`kernel_into` (one per run; not thread-safe to share).
+        """A new zero-filled workspace of the numba right-hand side that ``coopctrl/``'s numba integrators still
+        take (:mod:`plants.cooperative.workspaces`; it imports numba). Goes with them."""
+        from plants.cooperative.workspaces import new_workspace
 
-        A namedtuple of float64 arrays: :class:`plants.cooperative._spatial_kernel.SpatialWorkspace` or
-        :class:`plants.cooperative._planar_kernel.PlanarWorkspace` (their docstrings list the fields).
-        """
         return new_workspace(self.space, self._arm_dof, self.node_count)
-
-    @property
-    def kernel_into(self):
-        """``(function, extra_args)``: ``function(x, tau, *extra_args, ws, dx)`` writes the right-hand
-        side into ``dx`` (float64, ``state_size``) and allocates nothing; ``ws`` is a
-        :meth:`workspace`. ``extra_args`` are those of :attr:`kernel` (``extra_args[-1]`` is the
-        int64 (2,) status array: code and node, ``plants.elastic._layout.STATUS_*``). The raw
-        kernel checks nothing: a nonzero ``status[0]`` leaves ``dx`` partly written."""
-        return self._kern.rhs_into, self._args
 
     def _state(self, x, name: str = "x") -> np.ndarray:
         """``x`` as a state (``state_size`` floats), checked for its size only (cheap; see
@@ -456,8 +433,8 @@ class CooperativePlant:
         return G
 
     def control_terms(self, x) -> ControlTerms:
-        """:class:`ControlTerms` at state ``x`` (one call of the core, the numbers of
-        :attr:`control_kernel_into`; new arrays that the returned object keeps)."""
+        """:class:`ControlTerms` at state ``x`` (one call of the core; new arrays that the
+        returned object keeps)."""
         xc = np.array(self._state(x), dtype=float)
         d = self._compiled.control_terms(xc, self._plant_args)
         if d["status"][0]:
@@ -467,17 +444,11 @@ class CooperativePlant:
                             xc[:nz], xc[nz:2 * nz])
 
     def control_workspace(self):
-        """A new preallocated workspace for :attr:`control_kernel_into` (keep it apart from :meth:`workspace`)."""
-        return new_control_workspace(self.space, self._arm_dof, self.node_count)
+        """A new zero-filled workspace of the numba control terms (:meth:`workspace`'s twin), for ``coopctrl/``'s
+        numba kernels while they remain. Goes with them."""
+        from plants.cooperative.workspaces import new_control_workspace
 
-    @property
-    def control_kernel_into(self):
-        """``(function, extra_args)``: ``function(x, *extra_args, cws)`` writes every term of
-        :meth:`control_terms` into ``cws`` (a :meth:`control_workspace`: ``cws.ws.Y``, ``cws.ws.dY``,
-        ``cws.ws.H``, ``cws.ws.h``, ``cws.ws.J``, ``cws.ws.Jdq``, ``cws.W``, ``cws.w_free``, ``cws.S``,
-        ``cws.Fw``) and allocates nothing. ``extra_args`` are those of :attr:`kernel`, ending with the
-        status array (nonzero ``status[0]``: an Euler singularity at node ``status[1]``)."""
-        return self._kern.control_terms_into, self._args
+        return new_control_workspace(self.space, self._arm_dof, self.node_count)
 
     # ------------------------------------------------------------------ energy
     def elastic_potential(self, Y) -> float:

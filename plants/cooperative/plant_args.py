@@ -2,21 +2,26 @@
 
 A :class:`~plants.cooperative.cooperative_plant.CooperativePlant` packs its model into a few arrays once
 (:attr:`CooperativePlant.plant_args`); the compiled right-hand side, control terms and energy read them
-by name (``P.arm_kind``, ``P.bases``). The raw kernels (``CooperativePlant.kernel``) take the same
-arrays as positional arguments, in this order, followed by the status array.
+by name (``P.arm_kind``, ``P.bases``).
 """
 
 from __future__ import annotations
 
 from collections import namedtuple
 
+#: Codes of ``PlantArgs.arm_kind`` (plants/core/cooperative_planar.h, ``ArmKind``): a serial arm; an actuated
+#: node without arm dynamics (a contact point); a spatial serial arm whose node's angles are taken in the node's
+#: own chart at each evaluation (``C = R_tip(q)``, ``A = 0``; docs/model.md s.2): it never meets the Euler
+#: singularity.
+ARM_SERIAL, ARM_CONTACT_POINT, ARM_SERIAL_OWN_CHART = 0, 1, 2
+
 PlantArgs = namedtuple("PlantArgs", "arm_kind arm_dof q_off tables table_off bases tools gravity node_params "
                                     "edge_index edge_params Y_ref immobile")
 PlantArgs.__doc__ = """The plant's kernel arrays, by name (one plant: read-only to its kernels, except the
 bases and gravity of a plant with its own world, ``CooperativePlant.with_own_world``).
 
-``arm_kind``: int64 (m,), each arm's kernel (``plants.cooperative._spatial_kernel.ARM_*``: a serial arm,
-one in its own chart, a contact point); ``arm_dof``: int64 (m,), its joints (p for a contact point);
+``arm_kind``: int64 (m,), each arm's kind (:data:`ARM_SERIAL`, :data:`ARM_SERIAL_OWN_CHART`,
+:data:`ARM_CONTACT_POINT`); ``arm_dof``: int64 (m,), its joints (p for a contact point);
 ``q_off``: int64 (m,), where its coordinates start in ``z``; ``tables``: the serial arms' joint tables
 stacked (float64 (rows, 32) spatial, (rows, 7) planar; ``plants.arms``' ``kernel_table``); ``table_off``:
 int64 (m,), each arm's first row in ``tables``; ``bases``: the arms' base frames in the world,

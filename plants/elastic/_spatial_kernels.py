@@ -49,7 +49,8 @@ from plants.elastic._layout import (
     STATUS_EULER_SINGULAR,
     STATUS_OK,
 )
-from plants.frames import EULER_SINGULARITY_COS, rotation_and_partials_from_trig, rotation_zyx_and_partials_into
+from plants._numba_frames import rotation_and_partials_from_trig, rotation_zyx_and_partials_into
+from plants.frames import EULER_SINGULARITY_COS
 
 #: Nodes of a central spring with positive rest length closer than this fraction of the rest
 #: length are reported as coincident: ``beta`` and its gradient are undefined at distance 0.
