@@ -1,9 +1,13 @@
-"""plants/core/elastic_* (the compiled core's elastic system, plants._core): the same numbers as the numba kernels
-they replace, bit for bit, for every element kind (central and offset springs in both rotation and damping forms,
-matrix and beam elements; spatial and planar; mobile, immobile and charted) on seeded random node poses and rates;
-the packed rows read by name (the core's structs and plants.elastic._layout name the same columns), checked by a
-spring whose stiffness is changed by name and whose force changes as k dx; and the arguments checked once at the
-binding."""
+"""plants/core/elastic_* (the compiled core's elastic system, plants._core), for every element kind (central and
+offset springs in both rotation and damping forms, matrix and beam elements; spatial and planar; mobile, immobile
+and charted) on seeded random node poses and rates: the elastic forces are the gradient of the potential and the
+damping forces that of the dissipation function in the rates (central differences), the interconnection terms
+their sum, the accelerations the solve of ``W Y'' = F - w`` with the nodes' inertia, the node frames ``C R(A)``
+with their partials and ``L(A)``, the node terms ``L^T I L``, the entry points that take frames the numbers of
+those that make them; the packed rows read by name (the core's structs and plants.elastic._layout name the same
+columns), checked by a spring whose stiffness is changed by name and whose force changes as k dx; and the
+arguments checked once at the binding. The bit-for-bit comparison with the numba kernels these replaced went with
+them: it was run when the core was ported, and the golden records (tests/golden) lock a run's numbers."""
 
 from __future__ import annotations
 
@@ -14,12 +18,10 @@ import pytest
 
 from plants import _core
 from plants.elastic import ElasticSystem, Interconnection, Node
-from plants.elastic import _planar_kernels as numba_planar
-from plants.elastic import _spatial_kernels as numba_spatial
 from plants.elastic._layout import (CHARTED_NODE, EDGE_HEADER, PLANAR_MATRIX, PLANAR_NODE, PLANAR_SPRING,
                                     SPATIAL_MATRIX, SPATIAL_NODE, SPATIAL_SPRING, STATUS_COINCIDENT_NODES, STATUS_OK)
 from plants.elastic.fem import BeamElement, planar_beam_stiffness, spatial_beam_stiffness
-from plants.frames import rotation_zyx
+from plants.frames import body_rate_map, rotation_zyx, rotation_zyx_partials
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
@@ -119,138 +121,202 @@ def test_the_core_structs_name_the_columns_of_the_packed_rows():
     assert SPATIAL_NODE.col("mass") == PLANAR_NODE.col("mass") and SPATIAL_NODE.col("inertia") == PLANAR_NODE.col(
         "inertia")  # the kernels' NODE_MASS and NODE_INERTIA serve both spaces
     assert {name: tuple(v) for name, v in layout["NodeFrames"].items()} == {
-        "R": (0, 9), "dR": (9, 27), "L": (9 * 4, 9), "chart": (9 * numba_spatial.FRAME_CHART, 9)}
+        "R": (0, 9), "dR": (9, 27), "L": (9 * 4, 9), "chart": (9 * 5, 9)}  # blocks R, dR (3), L, chart
 
 
-@pytest.mark.parametrize("kind", [*SPATIAL_KINDS, "mixed"])
-@pytest.mark.parametrize("seed", SEEDS)
-def test_spatial_edges_match_the_numba_kernels_bit_for_bit(kind, seed):
-    es = _spatial_system(kind, seed)
-    ei, ep = es.edge_index, es.edge_params
-    Y, dY, _ = _state(es, seed)
-    F, F_ref = np.zeros_like(Y), np.zeros_like(Y)
-    Pi, status = _core.spatial_elastic_edges(Y, ei, ep, F)
-    Pi_ref, status_ref = numba_spatial.elastic_edges(Y, ei, ep, F_ref)
-    assert (Pi, status) == (Pi_ref, status_ref) and status == STATUS_OK
-    np.testing.assert_array_equal(F, F_ref)
+#: Central differences of the potential and the dissipation: step 1e-7 [m, rad, m/s, rad/s] on springs of up to
+#: ~1e9 N/m; truncation ~h^2, rounding ~eps |Pi| / h: 1e-6 of the largest force is a wide margin still well
+#: below any wrong term.
+FD_STEP, FD_RTOL = 1e-7, 1e-6
+#: Two statements of the same sums (forces added in another order, a solve checked by its product).
+SUM_RTOL = 1e-10
+
+
+def _scaled(a, b, rtol):
+    np.testing.assert_allclose(a, b, rtol=0.0, atol=rtol * (1.0 + np.abs(b).max()))
+
+
+def _gradient(f, X):
+    """Central differences of the scalar ``f`` at every entry of ``X``."""
+    G = np.empty_like(X)
+    for idx in np.ndindex(X.shape):
+        Xp, Xm = X.copy(), X.copy()
+        Xp[idx] += FD_STEP
+        Xm[idx] -= FD_STEP
+        G[idx] = (f(Xp) - f(Xm)) / (2 * FD_STEP)
+    return G
+
+
+def _assert_edges_are_gradients(elastic_edges, damping_edges, Y, dY):
+    """``F = dPi/dY`` from ``elastic_edges(Y, F) -> Pi`` and ``F_d = dD/d(dY)`` from ``damping_edges(Y, dY, F) -> D``;
+    returns the sum of both forces."""
+    F = np.zeros_like(Y)
+    elastic_edges(Y, F)
     assert np.any(F != 0.0)
-    D = _core.spatial_damping_edges(Y, dY, ei, ep, F)
-    assert D == numba_spatial.damping_edges(Y, dY, ei, ep, F_ref)
-    np.testing.assert_array_equal(F, F_ref)
-    w, w_ref = np.zeros_like(Y), np.zeros_like(Y)
-    assert _core.spatial_interconnection_terms(Y, dY, ei, ep, es.Y_ref, False, w) == STATUS_OK
-    numba_spatial.interconnection_terms(Y, dY, ei, ep, es.Y_ref, False, w_ref)
-    np.testing.assert_array_equal(w, w_ref)
+    _scaled(F, _gradient(lambda Z: elastic_edges(Z, np.zeros_like(Z)), Y), FD_RTOL)
+    Fd = np.zeros_like(Y)
+    damping_edges(Y, dY, Fd)
+    _scaled(Fd, _gradient(lambda V: damping_edges(Y, V, np.zeros_like(V)), dY), FD_RTOL)
+    return F + Fd
+
+
+def _assert_accelerations_solve(accelerations, es, Y, dY, Fc):
+    """``W(Y) (Y''(F) - Y''(0)) = F`` on the free nodes (node 0's input is 0), ``W`` the elastic system's inertia."""
+    Fc = Fc.copy()
+    Fc[0] = 0.0
+    ddY, ddY0 = np.empty_like(Y), np.empty_like(Y)
+    assert accelerations(Y, dY, Fc, ddY) == STATUS_OK
+    assert accelerations(Y, dY, np.zeros_like(Fc), ddY0) == STATUS_OK
+    W = es.inertia(Y.reshape(-1))
+    _scaled(W @ (ddY - ddY0).reshape(-1), Fc.reshape(-1), SUM_RTOL * max(1.0, np.abs(W).max() * np.abs(ddY).max()))
+
+
+def _spatial_edges(es, framed=False):
+    """The elastic and damping edges as functions of ``Y`` (and ``dY``); ``framed``: the entry points that take the
+    node frames, the frames made at each ``Y`` (``spatial_node_frames``)."""
+    def extra(Y):
+        if not framed:
+            return ()
+        frames = np.zeros((Y.shape[0], 6, 3, 3))
+        _core.spatial_node_frames(Y, es.node_rows, frames)
+        return (frames,)
+
+    def elastic(Y, F):
+        Pi, status = _core.spatial_elastic_edges(Y, es.edge_index, es.edge_params, F, *extra(Y))
+        assert status == STATUS_OK
+        return Pi
+
+    def damping(Y, dY, F):
+        return _core.spatial_damping_edges(Y, dY, es.edge_index, es.edge_params, F, *extra(Y))
+    return elastic, damping
 
 
 @pytest.mark.parametrize("kind", [*SPATIAL_KINDS, "mixed"])
 @pytest.mark.parametrize("seed", SEEDS)
-def test_spatial_immobile_model_matches_the_numba_kernels_bit_for_bit(kind, seed):
+def test_spatial_edges_are_the_gradients_of_the_potential_and_the_dissipation(kind, seed):
+    es = _spatial_system(kind, seed)
+    Y, dY, _ = _state(es, seed)
+    F = _assert_edges_are_gradients(*_spatial_edges(es), Y, dY)
+    w = np.zeros_like(Y)
+    assert _core.spatial_interconnection_terms(Y, dY, es.edge_index, es.edge_params, es.Y_ref, False, w) == STATUS_OK
+    _scaled(w, F, SUM_RTOL)
+
+
+@pytest.mark.parametrize("kind", [*SPATIAL_KINDS, "mixed"])
+@pytest.mark.parametrize("seed", SEEDS)
+def test_spatial_immobile_model_is_linear_and_its_accelerations_solve_with_the_inertia(kind, seed):
     es = _spatial_system(kind, seed, unloaded="immobile")
     Y, dY, Fc = _state(es, seed)
-    F, F_ref = np.zeros_like(Y), np.zeros_like(Y)
-    Pi = _core.spatial_linear_edges(Y, dY, es.Y_ref, es.edge_index, es.edge_params, F)
-    assert Pi == numba_spatial.linear_edges(Y, dY, es.Y_ref, es.edge_index, es.edge_params, F_ref)
-    np.testing.assert_array_equal(F, F_ref)
-    ddY = np.empty_like(Y)
+
+    def linear(Y_, dY_):
+        F = np.zeros_like(Y_)
+        return _core.spatial_linear_edges(Y_, dY_, es.Y_ref, es.edge_index, es.edge_params, F), F
+
+    Pi, F_rest = linear(Y, np.zeros_like(dY))
+    _scaled(F_rest, _gradient(lambda Z: linear(Z, np.zeros_like(dY))[0], Y), FD_RTOL)
+    _, F1 = linear(Y, dY)
+    _, F2 = linear(Y, 2.0 * dY)
+    _scaled(F2 - F_rest, 2.0 * (F1 - F_rest), SUM_RTOL)  # the damping, linear in the rates
     args = (es.node_rows, es.edge_index, es.edge_params, es.gravity, es.Y_ref, True)
-    assert _core.spatial_elastic_accelerations(Y, dY, Fc, *args, ddY) == STATUS_OK
-    ddY_ref, status = numba_spatial.elastic_accelerations(Y, dY, Fc, *args)
-    assert status == STATUS_OK
-    np.testing.assert_array_equal(ddY, ddY_ref)
+    _assert_accelerations_solve(lambda Y_, dY_, F_, out: _core.spatial_elastic_accelerations(Y_, dY_, F_, *args, out),
+                                es, Y, dY, Fc)
 
 
 @pytest.mark.parametrize("kind, charts", [(kind, charts) for kind in ("central geodesic", "offset geodesic", "matrix",
                                                                        "beam") for charts in (False, True)]
                          + [("mixed", False)])  # the mixed system's book forms allow no charts
 @pytest.mark.parametrize("seed", SEEDS)
-def test_spatial_nodes_and_accelerations_match_the_numba_kernels_bit_for_bit(kind, charts, seed):
+def test_spatial_nodes_frames_and_accelerations(kind, charts, seed):
     es = _spatial_system(kind, seed, charts=charts)
     rows = es.node_rows
     assert rows.shape[1] == (CHARTED_NODE.width if charts else 4)
     Y, dY, Fc = _state(es, seed, scale=0.3)
     frames = np.zeros((4, 6, 3, 3))
     _core.spatial_node_frames(Y, rows, frames)
-    frames_ref = numba_spatial.node_frames_charted(Y, rows)
-    np.testing.assert_array_equal(frames, frames_ref)
-    F, F_ref = np.zeros_like(Y), np.zeros_like(Y)
-    Pi, status = _core.spatial_elastic_edges(Y, es.edge_index, es.edge_params, F, frames)
-    assert (Pi, status) == numba_spatial.elastic_edges_framed(Y, es.edge_index, es.edge_params, F_ref, frames_ref)
-    D = _core.spatial_damping_edges(Y, dY, es.edge_index, es.edge_params, F, frames)
-    assert D == numba_spatial.damping_edges_framed(Y, dY, es.edge_index, es.edge_params, F_ref, frames_ref)
-    np.testing.assert_array_equal(F, F_ref)
-    ddY = np.empty_like(Y)
+    for k in range(4):
+        C, A = (frames[k, 5], Y[k, 3:]) if charts else (np.eye(3), Y[k, 3:])  # no chart: the world's
+        _scaled(C @ C.T, np.eye(3), SUM_RTOL)
+        _scaled(frames[k, 0], C @ rotation_zyx(A), SUM_RTOL)
+        for i, dR in enumerate(rotation_zyx_partials(A)):
+            _scaled(frames[k, 1 + i], C @ dR, SUM_RTOL)
+        _scaled(frames[k, 4], body_rate_map(A), SUM_RTOL)
+    F = _assert_edges_are_gradients(*_spatial_edges(es, framed=True), Y, dY)
+    if not charts:  # the entry points without frames make the world's
+        _scaled(F, _assert_edges_are_gradients(*_spatial_edges(es), Y, dY), SUM_RTOL)
     args = (rows, es.edge_index, es.edge_params, es.gravity, es.Y_ref, False)
-    assert _core.spatial_elastic_accelerations(Y, dY, Fc, *args, ddY) == STATUS_OK
-    ddY_ref, status = numba_spatial.elastic_accelerations(Y, dY, Fc, *args)
-    assert status == STATUS_OK
-    np.testing.assert_array_equal(ddY, ddY_ref)
+    if not charts:  # es.inertia reads the angles in the world chart
+        _assert_accelerations_solve(lambda Y_, dY_, F_, out: _core.spatial_elastic_accelerations(Y_, dY_, F_, *args,
+                                                                                                   out), es, Y, dY, Fc)
     # the node terms alone, and with the frames in one pass
-    Wr, w, Wr_ref, w_ref = np.empty((4, 3, 3)), np.empty((4, 6)), np.empty((4, 3, 3)), np.empty((4, 6))
+    Wr, w, Wr2, w2, frames2 = (np.empty((4, 3, 3)), np.empty((4, 6)), np.empty((4, 3, 3)), np.empty((4, 6)),
+                               np.zeros((4, 6, 3, 3)))
     for immobile in (False, True):
         assert _core.spatial_node_terms(Y, dY, rows, es.gravity, es.Y_ref, immobile, Wr, w) == STATUS_OK
-        numba_spatial.node_terms(Y, dY, rows, es.gravity, es.Y_ref, immobile, Wr_ref, w_ref)
-        np.testing.assert_array_equal(Wr, Wr_ref)
-        np.testing.assert_array_equal(w, w_ref)
-    frames_ref = np.zeros((4, 6, 3, 3))
-    _core.spatial_node_frames_terms(Y, dY, rows, es.gravity, frames, Wr, w)
-    numba_spatial.node_frames_terms_into(Y, dY, rows, es.gravity, frames_ref, Wr_ref, w_ref)
-    for got, want in ((frames, frames_ref), (Wr, Wr_ref), (w, w_ref)):
+    _core.spatial_node_terms(Y, dY, rows, es.gravity, es.Y_ref, False, Wr, w)
+    _core.spatial_node_frames_terms(Y, dY, rows, es.gravity, frames2, Wr2, w2)
+    for got, want in ((frames2, frames), (Wr2, Wr), (w2, w)):
         np.testing.assert_array_equal(got, want)
+    for k in range(4):
+        L = body_rate_map(Y[k, 3:])
+        _scaled(Wr[k], L.T @ np.diag(rows[k, 1:4]) @ L, SUM_RTOL)
 
 
-def test_node_rotation_solve_matches_the_numba_kernel_and_refuses_the_euler_singularity():
+def test_node_rotation_solve_is_the_rotational_inertias_and_refuses_the_euler_singularity():
+    """``solve_node_rotation`` solves ``W_r x = b`` with ``W_r = L^T I L`` (``node_rotational_terms``), and its
+    gyroscopic term is ``L^T (I dL dA + omega x I omega)``, ``omega = L dA`` (the body rates' Euler equations)."""
+    from plants.frames import body_rate_map_dot
+
     rng = np.random.default_rng(7)
-    out, out_ref = np.empty(3), np.empty(3)
-    Wr, g, Wr_ref, g_ref = np.empty((3, 3)), np.empty(3), np.empty((3, 3)), np.empty(3)
+    out = np.empty(3)
+    Wr, g = np.empty((3, 3)), np.empty(3)
     for _ in range(50):
-        Ang, dA, I, b = rng.uniform(-3, 3, 3), rng.normal(size=3), rng.uniform(0.01, 1.0, 3), rng.normal(size=3)
-        assert _core.solve_node_rotation(Ang, I, b, out) == numba_spatial.solve_node_rotation(Ang, I, b, out_ref)
-        np.testing.assert_array_equal(out, out_ref)
+        Ang, dA, I, b = rng.uniform(-1.4, 1.4, 3), rng.normal(size=3), rng.uniform(0.01, 1.0, 3), rng.normal(size=3)
+        assert _core.solve_node_rotation(Ang, I, b, out)
         _core.node_rotational_terms(Ang, dA, I, Wr, g)
-        numba_spatial.node_rotational_terms(Ang, dA, I, Wr_ref, g_ref)
-        np.testing.assert_array_equal(Wr, Wr_ref)
-        np.testing.assert_array_equal(g, g_ref)
+        L = body_rate_map(Ang)
+        _scaled(Wr, L.T @ np.diag(I) @ L, SUM_RTOL)
+        _scaled(Wr @ out, b, 1e-9)  # cond(W_r) <= ~(max I / min I) / cos(1.4)^2
+        omega = L @ dA
+        _scaled(g, L.T @ (np.diag(I) @ body_rate_map_dot(Ang, dA) @ dA + np.cross(omega, I * omega)), SUM_RTOL)
     assert not _core.solve_node_rotation(np.array([0.0, np.pi / 2, 0.0]), np.ones(3), np.ones(3), out)
 
 
 @pytest.mark.parametrize("kind", PLANAR_KINDS)
 @pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize("unloaded", ["mobile", "immobile"])
-def test_planar_system_matches_the_numba_kernels_bit_for_bit(kind, seed, unloaded):
+def test_planar_system_forces_are_gradients_and_its_accelerations_solve_with_the_inertia(kind, seed, unloaded):
     es = _planar_system(kind, seed, unloaded)
     ei, ep = es.edge_index, es.edge_params
     Y, dY, Fc = _state(es, seed, scale=0.3)
-    F, F_ref = np.zeros_like(Y), np.zeros_like(Y)
-    assert _core.planar_elastic_edges(Y, ei, ep, F) == numba_planar.elastic_edges(Y, ei, ep, F_ref)
-    assert _core.planar_damping_edges(Y, dY, ei, ep, F) == numba_planar.damping_edges(Y, dY, ei, ep, F_ref)
-    np.testing.assert_array_equal(F, F_ref)
-    assert np.any(F != 0.0)
-    assert (_core.planar_linear_edges(Y, dY, es.Y_ref, ei, ep, F)
-            == numba_planar.linear_edges(Y, dY, es.Y_ref, ei, ep, F_ref))
-    np.testing.assert_array_equal(F, F_ref)
-    w, w_ref = np.zeros_like(Y), np.zeros_like(Y)
+
+    def elastic(Y_, F):
+        Pi, status = _core.planar_elastic_edges(Y_, ei, ep, F)
+        assert status == STATUS_OK
+        return Pi
+
+    F = _assert_edges_are_gradients(elastic, lambda Y_, dY_, F_: _core.planar_damping_edges(Y_, dY_, ei, ep, F_),
+                                    Y, dY)
     immobile = unloaded == "immobile"
+    F_lin = np.zeros_like(Y)
+    _core.planar_linear_edges(Y, np.zeros_like(dY), es.Y_ref, ei, ep, F_lin)
+    _scaled(F_lin, _gradient(lambda Z: _core.planar_linear_edges(Z, np.zeros_like(dY), es.Y_ref, ei, ep,
+                                                                 np.zeros_like(Z)), Y), FD_RTOL)
+    w = np.zeros_like(Y)
     assert _core.planar_interconnection_terms(Y, dY, ei, ep, es.Y_ref, immobile, w) == STATUS_OK
-    numba_planar.interconnection_terms(Y, dY, ei, ep, es.Y_ref, immobile, w_ref)
-    np.testing.assert_array_equal(w, w_ref)
-    ddY = np.empty_like(Y)
+    if not immobile:
+        _scaled(w, F, SUM_RTOL)
     args = (es.node_rows, ei, ep, es.gravity, es.Y_ref, immobile)
-    assert _core.planar_elastic_accelerations(Y, dY, Fc, *args, ddY) == STATUS_OK
-    ddY_ref, status = numba_planar.elastic_accelerations(Y, dY, Fc, *args)
-    assert status == STATUS_OK
-    np.testing.assert_array_equal(ddY, ddY_ref)
+    _assert_accelerations_solve(lambda Y_, dY_, F_, out: _core.planar_elastic_accelerations(Y_, dY_, F_, *args, out),
+                                es, Y, dY, Fc)
 
 
 @pytest.mark.parametrize("space", ["spatial", "planar"])
-def test_coincident_central_nodes_give_the_numba_status(space):
+def test_coincident_central_nodes_give_their_status(space):
     es = _spatial_system("central book", 0) if space == "spatial" else _planar_system("central", 0)
     Y = np.ascontiguousarray(es.Y_ref.copy())
     Y[1] = Y[0]  # nodes 0 and 1 of the first central spring coincide
-    F, F_ref = np.zeros_like(Y), np.zeros_like(Y)
+    F = np.zeros_like(Y)
     core = _core.spatial_elastic_edges if space == "spatial" else _core.planar_elastic_edges
-    kern = numba_spatial if space == "spatial" else numba_planar
-    assert core(Y, es.edge_index, es.edge_params, F) == kern.elastic_edges(Y, es.edge_index, es.edge_params, F_ref)
     assert core(Y, es.edge_index, es.edge_params, F)[1] == STATUS_COINCIDENT_NODES
 
 
