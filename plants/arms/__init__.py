@@ -1,10 +1,7 @@
 """Robot arms (docs/model.md s.4): ``H(q) qdd + h(q, dq) = tau``, ``Y = Phi(q)``, ``J``, ``dJ dq``.
 
-The hot path is the numba kernels :func:`chain_arm_terms` (general joints: URDF arms and DH
-arms alike, ``plants.arms._chain_kernels``), :func:`spatial_arm_terms` (DH only,
-``_spatial_kernels``) and :func:`planar_arm_terms` (``_planar_kernels``), and :mod:`plants.kernels`
-names them for compiled callers. The classes call the same kernels in the compiled core
-(``plants._core``, ``plants/core``: ``chain_arm_*``, ``dh_arm_*``, ``planar_arm_*``), bit for bit.
+The classes call the compiled core (``plants._core``, ``plants/core``: ``chain_arm_*`` for general joints, URDF
+and DH arms alike, ``dh_arm_*``, ``planar_arm_*``); :mod:`plants.arms.chain_table` lays out a chain's joint table.
 """
 
 from plants.arms.arm_terms import ArmTerms

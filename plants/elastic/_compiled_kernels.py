@@ -1,8 +1,7 @@
-"""The elastic system's compiled kernels (``plants._core``, ``plants/core/elastic_*.h``) under the names and
-signatures of the numba kernels they replace (:mod:`plants.elastic._spatial_kernels`,
-:mod:`plants.elastic._planar_kernels`), so that :class:`plants.elastic.ElasticSystem` and the cooperative plant
-call them as a drop-in: the same numbers, bit for bit (tests/test_core_elastic.py). Arrays are float64 (edge
-headers int64), C-contiguous; outputs are written in place."""
+"""The elastic system's compiled kernels (``plants._core``, ``plants/core/elastic_*.h``) by the names
+:class:`plants.elastic.ElasticSystem` and the cooperative plant call them (``elastic_edges``, ``damping_edges``,
+``linear_edges``, ``elastic_accelerations``, ...; tests/test_core_elastic.py). Arrays are float64 (edge headers
+int64), C-contiguous; outputs are written in place."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""Column layout of the packed parameter arrays handed to the kernels (numba and the compiled core).
+"""Column layout of the packed parameter arrays handed to the compiled core (and to the numba kernels kept for
+``coopctrl/``'s numba code).
 
 The kernels take plain float64/int64 arrays (no Python objects). Each row is the same doubles, in the same
 order, as a struct of the compiled core (``plants/core/elastic_model.h``), and its columns are named here, in

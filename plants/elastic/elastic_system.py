@@ -132,7 +132,7 @@ class ElasticSystem:
             raise ParameterError("interconnections", [], "at least one interconnection")
         self.node_params = np.array([[nd.mass, *nd.inertia] for nd in self.nodes], dtype=float)
         self.edge_index, self.edge_params = self._pack_edges()
-        # the compiled core's kernels (plants/core/elastic_*.h), bit-identical to the numba ones
+        # the compiled core's kernels (plants/core/elastic_*.h)
         self._kern = _compiled_kernels.spatial if space == "spatial" else _compiled_kernels.planar
         self.immobile = unloaded_state == "immobile"
         self._set_charts(charts)
