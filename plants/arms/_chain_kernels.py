@@ -1,5 +1,9 @@
 """Numba kernels of a spatial serial chain with general joints (URDF-style; docs/model.md s.4).
 
+Kept for the numba code that still calls it: pre-flight's inverse kinematics (coopctrl/analysis/preflight_ik.py)
+and the cooperative kernels; ChainArm calls the compiled core (plants/core/chain_arm.h). It goes with its last
+caller (tests/test_plants_without_numba.py lists it).
+
 The same outputs as the DH kernel :func:`plants.arms._spatial_kernels.spatial_arm_terms`, for a
 chain whose joint ``k`` sits at a fixed transform ``origin_k`` in the frame of link ``k - 1`` and
 moves about (revolute) or along (prismatic) a unit ``axis_k`` of that joint frame:

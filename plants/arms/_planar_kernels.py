@@ -1,5 +1,9 @@
 """Numba kernels of a planar serial arm in the vertical x-z plane (docs/model.md s.2 and s.4).
 
+Kept for the numba code that still calls it: pre-flight's inverse kinematics (coopctrl/analysis/preflight_ik.py)
+and the cooperative kernels; PlanarArm calls the compiled core (plants/core/planar_arm.h). It goes with its last
+caller (tests/test_plants_without_numba.py lists it).
+
 Planar reduction: node pose ``Y = (x, z, theta)``, ``theta`` [rad] from +x towards +z, all
 joints revolute about the axis normal to the x-z plane, gravity ``(gx, gz)`` [m/s^2]. Same
 equations as the spatial kernels, (166)-(172), with ``L = 1``:

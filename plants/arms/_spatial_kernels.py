@@ -1,5 +1,9 @@
 """Numba kernels of a spatial serial arm with revolute standard-DH joints (docs/model.md s.4).
 
+Kept for the numba code that still calls it: pre-flight's inverse kinematics (coopctrl/analysis/preflight_ik.py);
+SerialArm calls the compiled core (plants/core/dh_arm.h). It goes with its last caller
+(tests/test_plants_without_numba.py lists it).
+
 The hot path of the cooperative right-hand side: :func:`spatial_arm_terms` evaluates, in one
 pass over the chain, everything (166)-(172) need for arm i:
 

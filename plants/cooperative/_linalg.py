@@ -1,5 +1,8 @@
 """Small dense linear algebra written as loops for the numba right-hand sides.
 
+Kept for the numba code that still calls it: coopctrl/load_distribution/ and the cooperative numba kernels. It goes
+with its last caller (tests/test_plants_without_numba.py lists it).
+
 docs/performance.md: ``np.linalg.solve`` inside numba costs ~7 us with its checks and allocations;
 a 6x6 Cholesky written out costs well under 1 us.
 """

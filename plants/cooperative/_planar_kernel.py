@@ -1,5 +1,9 @@
 """The fused right-hand side of the planar cooperative system (docs/model.md s.5, planar reduction).
 
+The numba kernels, kept for the numba code of ``coopctrl/`` that still calls them (its integrators, a record's
+node poses); :class:`~plants.cooperative.CooperativePlant` calls the compiled core (``plants/core/cooperative_*``),
+which computes the same numbers. This module goes with its last caller.
+
 Same structure as :mod:`plants.cooperative._spatial_kernel` with poses ``(x, z, theta)``,
 constant node inertia ``W_i = diag(m_i, m_i, I_i)`` and no gyroscopic terms:
 
@@ -8,9 +12,8 @@ constant node inertia ``W_i = diag(m_i, m_i, I_i)`` and no gyroscopic terms:
     W_0 \\ddot Y_0 = -w_0
 
 The interconnections' forces, dampers included (frame invariant by default, docs/model.md s.3), come from
-the kernels of :mod:`plants.elastic`. numba keys a cached function on its own file; the cache directory
-is keyed on every kernel source (:mod:`plants.numba_cache`), so a change to a kernel called from another
-file recompiles this one too.
+the kernels of :mod:`plants.elastic`. numba keys a cached function on its own file only: after a change to
+a kernel it calls from another file, clear the ``__pycache__`` folders of plants/.
 
 Allocation-free entry points (issue 10): ``rhs_into`` (the right-hand side into ``dx``),
 ``control_terms_into`` and ``node_state_into``, each with a workspace made once per run by

@@ -1,5 +1,9 @@
 """The fused right-hand side of the spatial cooperative system (docs/model.md s.5, 177, 183).
 
+The numba kernels, kept for the numba code of ``coopctrl/`` that still calls them (its integrators, a record's
+node poses); :class:`~plants.cooperative.CooperativePlant` calls the compiled core (``plants/core/cooperative_*``),
+which computes the same numbers. This module goes with its last caller.
+
 One numba call evaluates ``x' = f(t, x, tau)`` for ``x = (z, z')``, ``z = (q_1..q_m, Y_0)``:
 
 .. math::
@@ -17,9 +21,8 @@ The interconnections' forces, dampers included (frame invariant by default, docs
 the kernels of :mod:`plants.elastic`. Rotation charts (docs/model.md s.2): rows of ``node_params`` wider
 than ``NODE_CHART_KIND`` carry each node's chart (the object's and contact points' stored, an arm of kind
 ``ARM_SERIAL_OWN_CHART`` in its own), applied to the node frames after they are evaluated; with the
-book's 4-column rows nothing else runs. numba keys a cached function on its own file; the cache directory
-is keyed on every kernel source (:mod:`plants.numba_cache`), so a change to a kernel called from another
-file recompiles this one too.
+book's 4-column rows nothing else runs. numba keys a cached function on its own file only: after a change to
+a kernel it calls from another file, clear the ``__pycache__`` folders of plants/.
 
 Allocation-free entry points (issue 10): ``rhs_into`` (the right-hand side into ``dx``),
 ``control_terms_into`` and ``node_state_into``, each with a workspace made once per run by
@@ -249,8 +252,7 @@ def rhs_into(x, tau, arm_kind, arm_dof, q_off, dh_all, dh_off, bases, tools, gra
         x: State ``(z, z')``, float64 (2 nz,), C-contiguous.
         tau: Inputs (nz - 6,): joint torques [N m] (or node forces of a contact point).
         arm_kind ... immobile: The plant's packed arrays, in the order of
-            ``CooperativePlant.kernel_into[1]`` (which ends with ``status``; by name
-            :class:`~plants.cooperative.plant_args.PlantArgs`).
+            :class:`~plants.cooperative.plant_args.PlantArgs`' fields.
         status: int64 (2,): receives a status code (``plants.elastic._layout.STATUS_*``) and
             the node index it concerns; ``STATUS_OK`` = 0.
         ws: A :class:`SpatialWorkspace` from :func:`make_workspace` (``CooperativePlant.workspace()``),

@@ -1,7 +1,11 @@
 """The cooperative plant's preallocated workspaces (``CooperativePlant.workspace`` and ``control_workspace``),
 made in Python: zero-filled float64 arrays in the namedtuples the plant's numba kernels take
 (:class:`plants.cooperative._spatial_kernel.SpatialWorkspace`, ``SpatialControlWorkspace``, and their planar
-twins; their docstrings list the fields), with the shapes the kernels' own ``make_workspace`` gives them."""
+twins; their docstrings list the fields), with the shapes the kernels' own ``make_workspace`` gives them.
+
+Kept for the numba code that still calls it: coopctrl/'s numba integrators (CooperativePlant.workspace). It goes
+with its last caller (tests/test_plants_without_numba.py lists it).
+"""
 
 from __future__ import annotations
 

@@ -1,5 +1,8 @@
 """numba kernels of the planar elastic system (docs/model.md s.2-3, planar reduction).
 
+Kept for the numba code that still calls it: the cooperative numba kernels; ElasticSystem calls the compiled core
+(plants/core/elastic_*). It goes with its last caller (tests/test_plants_without_numba.py lists it).
+
 ``Y`` and ``dY`` are (N, 3) node poses ``(x, z, theta)`` in the vertical x-z plane and their
 rates; ``node_params`` is (N, 2) ``(mass, I)``; ``edge_index`` (E, 4) and ``edge_params``
 (E, ``EDGE_WIDTH_PLANAR``) follow :mod:`plants.elastic._layout`, whose named columns the kernels read. In the plane ``L = 1``, so ``W`` is constant

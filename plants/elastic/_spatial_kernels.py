@@ -1,5 +1,8 @@
 """numba kernels of the spatial elastic system (docs/model.md s.3, eqs. 104-121).
 
+Kept for the numba code that still calls it: the cooperative numba kernels; ElasticSystem calls the compiled core
+(plants/core/elastic_*). It goes with its last caller (tests/test_plants_without_numba.py lists it).
+
 Arrays: ``Y`` and ``dY`` are (N, 6) node poses ``(r, A)`` and their rates; ``node_params`` is
 (N, 4) ``(mass, I1, I2, I3)``; ``edge_index`` (E, 4) and ``edge_params`` (E, ``EDGE_WIDTH_SPATIAL``) follow
 :mod:`plants.elastic._layout`, whose named columns (``SPRING_*``, ``MATRIX_*``) the kernels read. Forces are *added* into the (N, 6) output arrays so that the
