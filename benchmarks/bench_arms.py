@@ -1,16 +1,16 @@
-"""Benchmark: one Puma 560 evaluation of ``spatial_arm_terms`` vs Pinocchio.
+"""Benchmark: one Puma 560 evaluation of the arm's terms (H, h, J, dJ dq, the tip pose) vs Pinocchio.
 
 Run from the repository root::
 
     python benchmarks/bench_arms.py [--calls 20000] [--quick]
 
-Prints the median time of one warm ``spatial_arm_terms`` call from Python, the same call
-inside numba (loop amortised, what the fused right-hand side pays), the same two figures for
-the general-chain kernel ``chain_arm_terms`` (the Puma converted from DH, and the Panda, UR5e
-and iiwa 14 from their URDF files), and Pinocchio's
+Prints the median time of one warm ``SerialArm.terms`` call from Python (the DH kernel in the compiled core,
+plants/core/dh_arm.h), the same for ``ChainArm.terms`` (plants/core/chain_arm.h: the Panda, UR5e and iiwa 14
+from their URDF files), and Pinocchio's
 ``crba + nonLinearEffects + computeFrameJacobian`` (+ the frame placement) for the same
-configuration, with their ratio. Medians over repeated batches (docs/performance.md: runs agree only
-to ~1.5x, compare ratios from one run).
+configuration from Python, with their ratio. Both sides pay a Python call; inside the tick the arm's terms
+cost what ``benchmarks/bench_plant.py``'s in-core right-hand side shows. Medians over repeated calls
+(docs/performance.md: runs agree only to ~1.5x, compare ratios from one run).
 """
 
 from __future__ import annotations
@@ -22,52 +22,22 @@ import sys
 import time
 
 import numpy as np
-from numba import njit
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from plants.arms import iiwa14, panda, puma560, ur5e  # noqa: E402
-from plants.arms._chain_kernels import chain_arm_terms  # noqa: E402
-from plants.arms._spatial_kernels import spatial_arm_terms  # noqa: E402
 
 
-@njit(cache=True)
-def _repeat_terms(count, q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq):
-    status = 0
-    for i in range(count):
-        q[0] += 1e-12  # keep the loop from being hoisted
-        status += spatial_arm_terms(q, dq, dh, base, tool, gravity, H, h, Y, J, Jdq)
-    return status
-
-
-@njit(cache=True)
-def _repeat_chain(count, q, dq, table, base, tool, gravity, H, h, Y, J, Jdq):
-    status = 0
-    for i in range(count):
-        q[0] += 1e-12  # keep the loop from being hoisted
-        status += chain_arm_terms(q, dq, table, base, tool, gravity, H, h, Y, J, Jdq)
-    return status
-
-
-def chain_rows(count=10000):
-    """us per evaluation of the general-chain kernel (joint transforms and axes, issue 13):
-    the Puma 560 converted from DH, and the URDF arms, beside the DH kernel's Puma row."""
+def chain_rows(calls: int):
+    """us per ``ChainArm.terms`` call from Python on the URDF arms."""
     rows = []
-    for label, arm in (("Puma 560 (DH -> chain)", puma560()), ("Panda (URDF)", panda()), ("UR5e (URDF)", ur5e()),
-                       ("iiwa 14 (URDF)", iiwa14())):
+    for label, arm in (("Panda (URDF)", panda()), ("UR5e (URDF)", ur5e()), ("iiwa 14 (URDF)", iiwa14())):
         n = arm.dof
         rng = np.random.default_rng(0)
         lo, hi = np.maximum(arm.q_limits[:, 0], -np.pi), np.minimum(arm.q_limits[:, 1], np.pi)
-        q = rng.uniform(lo, hi)
-        dq = rng.uniform(-2.0, 2.0, n)
-        table, base, tool, g = arm.kernel_table(), arm.base, np.ascontiguousarray(arm.kernel_tool()), arm.gravity
-        H, h, Y, J, Jdq = np.empty((n, n)), np.empty(n), np.empty(6), np.empty((6, n)), np.empty(6)
-        chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq)
-        py = median_us(lambda: chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq), 20000)
-        qq = q.copy()
-        _repeat_chain(10, qq, dq, table, base, tool, g, H, h, Y, J, Jdq)
-        inner = median_us(lambda: _repeat_chain(count, qq, dq, table, base, tool, g, H, h, Y, J, Jdq), 200) / count
-        rows.append((label, n, py, inner))
+        q, dq = rng.uniform(lo, hi), rng.uniform(-2.0, 2.0, n)
+        arm.terms(q, dq)
+        rows.append((label, n, median_us(lambda: arm.terms(q, dq), calls)))
     return rows
 
 
@@ -90,24 +60,16 @@ def main(argv=None):
     rng = np.random.default_rng(0)
     q = rng.uniform(arm.q_limits[:, 0], arm.q_limits[:, 1])
     dq = rng.uniform(-2.0, 2.0, 6)
-    dh, base, tool, g = arm.dh_array(), arm.base, arm.tool, arm.gravity
-    H, h, Y, J, Jdq = np.empty((6, 6)), np.empty(6), np.empty(6), np.empty((6, 6)), np.empty(6)
-    spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq)  # warm up / load cache
-
-    ours = median_us(lambda: spatial_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq), calls)
-    count = 10000
-    qq = q.copy()
-    _repeat_terms(10, qq, dq, dh, base, tool, g, H, h, Y, J, Jdq)
-    inner = median_us(lambda: _repeat_terms(count, qq, dq, dh, base, tool, g, H, h, Y, J, Jdq), 200) / count
+    dh = arm.dh_array()
+    arm.terms(q, dq)  # warm up
+    ours = median_us(lambda: arm.terms(q, dq), calls)
 
     print(f"command: {sys.executable} {' '.join(sys.argv)}")
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, python {platform.python_version()}")
-    print(f"spatial_arm_terms (Puma 560), from Python, warm : {ours:8.2f} us  (median)")
-    print(f"spatial_arm_terms (Puma 560), inside numba      : {inner:8.2f} us  (median of {count}-call batches)")
-    print("chain_arm_terms (general joints), per arm evaluation:")
-    for label, n, py, chain_inner in chain_rows(count):
-        print(f"  {label:24s} n={n}, from Python: {py:8.2f} us, inside numba: {chain_inner:8.2f} us "
-              f"({chain_inner / inner:5.2f}x the DH Puma inside numba)")
+    print(f"SerialArm.terms (Puma 560, DH), from Python      : {ours:8.2f} us  (median)")
+    print("ChainArm.terms (general joints), from Python, per arm evaluation:")
+    for label, n, py in chain_rows(calls):
+        print(f"  {label:24s} n={n}: {py:8.2f} us")
     try:
         import pinocchio as pin
     except ImportError:
@@ -139,7 +101,6 @@ def main(argv=None):
     theirs = median_us(pinocchio_terms, calls)
     print(f"pinocchio crba+nle+jacobian+placement, Python   : {theirs:8.2f} us  (median)")
     print(f"ratio pinocchio / ours (both from Python)       : {theirs / ours:8.2f}")
-    print(f"ratio pinocchio / ours (ours inside numba)      : {theirs / inner:8.2f}")
 
 
 if __name__ == "__main__":

@@ -23,7 +23,7 @@ Two settings, both on spatial_two_puma_carry (two Pumas, 36 states), in one run:
    ``coopctrl.simulate`` runs it): 0.5 s of the carry, the controller at T = 1 ms with the torque held
    between ticks. A fixed-step integrator takes ``n`` substeps of ``h = T / n`` per tick; euler,
    symplectic_euler, rk4 and the implicit schemes run in the compiled loop (the whole tick in one
-   numba kernel); a scheme the kernel does not implement steps the plant in Python between kernel
+   compiled core); a scheme the core does not implement steps the plant in Python between core
    calls (its rows say "plant in Python"). The reference is the same
    loop, same scenario, same controller code and the same compiled QP, with the plant integrated by
    solve_ivp, restarted at every tick over ``[t_k, t_k + T]`` (the held torque jumps there; the last
@@ -36,7 +36,7 @@ Two settings, both on spatial_two_puma_carry (two Pumas, 36 states), in one run:
    - **whole loop**: the wall time of ``loop.run(x0, 0.5)`` (sensors, QP, controllers, integration,
      guards, recording; a warm-up run first loads the compiled kernel, a one-time cost per process);
    - **integration only**: solve_ivp's calls (timed around each call); for the
-     compiled loop, the same zero-order-hold integration replayed in a numba loop on the run's
+     compiled loop, the same zero-order-hold integration replayed by the core's schemes on the run's
      recorded torques with the plant's allocation-free right-hand side (the kernel's arithmetic: the
      replayed states are checked to equal the run's, and the difference is printed).
    The ratios solve_ivp / fixed step are printed for both, and the verdict against issue 10's target:
@@ -69,7 +69,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-from numba import njit
 from scipy.integrate import solve_ivp
 
 REPO = Path(__file__).resolve().parent.parent
@@ -161,55 +160,8 @@ def error(x, ref, nz):
 
 
 # ---------------------------------------------------------------------- 1. closed loop
-@njit(cache=True)
-def replay_zoh(rhs_into, args, ws, method, steps, x0, taus, xs):
-    """The compiled loop's plant integration alone: from ``x0``, each tick's torques ``taus[k]`` held over
-    the period's ``steps`` [s] (euler 0, symplectic_euler 1, rk4 2, with the kernel's arithmetic);
-    ``xs[k + 1]`` gets the state after tick ``k``. Returns the right-hand-side evaluations."""
-    nx = x0.shape[0]
-    nz = nx // 2
-    x = x0.copy()
-    k1, k2, k3, k4, y = np.empty(nx), np.empty(nx), np.empty(nx), np.empty(nx), np.empty(nx)
-    xs[0] = x
-    evals = 0
-    for k in range(taus.shape[0] - 1):
-        tau = taus[k]
-        for si in range(steps.shape[0]):
-            hs = steps[si]
-            if method == 2:
-                h2 = 0.5 * hs
-                rhs_into(x, tau, *args, ws, k1)
-                for c in range(nx):
-                    y[c] = k1[c] * h2 + x[c]
-                rhs_into(y, tau, *args, ws, k2)
-                for c in range(nx):
-                    y[c] = k2[c] * h2 + x[c]
-                rhs_into(y, tau, *args, ws, k3)
-                for c in range(nx):
-                    y[c] = k3[c] * hs + x[c]
-                rhs_into(y, tau, *args, ws, k4)
-                h6 = hs / 6.0
-                for c in range(nx):
-                    x[c] = ((((k2[c] + k3[c]) * 2.0) + k1[c]) + k4[c]) * h6 + x[c]
-                evals += 4
-            elif method == 1:
-                rhs_into(x, tau, *args, ws, k1)
-                for c in range(nz):
-                    x[nz + c] = k1[nz + c] * hs + x[nz + c]
-                for c in range(nz):
-                    x[c] = x[nz + c] * hs + x[c]
-                evals += 1
-            else:
-                rhs_into(x, tau, *args, ws, k1)
-                for c in range(nx):
-                    x[c] = k1[c] * hs + x[c]
-                evals += 1
-        xs[k + 1] = x
-    return evals
-
-
-#: Kernel method codes of the schemes :func:`replay_zoh` replays.
-REPLAY_METHODS = {"euler": 0, "symplectic_euler": 1, "rk4": 2}
+#: The fixed-step schemes whose integration the benchmark replays on a run's recorded torques.
+REPLAY_METHODS = ("euler", "symplectic_euler", "rk4")
 
 
 class LoopRun:
@@ -283,18 +235,26 @@ class LoopProblem:
 
     def replay(self, loop, rec):
         """``(seconds, rhs evaluations, max |replayed - recorded| state)`` of the compiled loop's integration
-        replayed on the recorded torques of ``rec`` (:func:`replay_zoh`)."""
-        fn, args = self.plant.kernel_into
-        ws = self.plant.workspace()
+        replayed on the recorded torques of ``rec``: each tick's torques held over the period's steps by the core's
+        scheme (``coopctrl._core.plant_advance``, one call a tick: its call from Python included)."""
+        import coopctrl._core as _core
+        from coopctrl.integrators.compiled import make_plan
+
         taus = np.ascontiguousarray(rec["tau"])
-        xs = np.empty((taus.shape[0], self.x0.size))
+        nx = self.x0.size
+        xs = np.empty((taus.shape[0], nx))
         steps = np.array(loop._steps, dtype=float)
-        method = REPLAY_METHODS[loop.integrator.name]
-        x0 = np.ascontiguousarray(self.x0, dtype=float)
+        plan = make_plan(loop.integrator, nx, loop.T)
+        status, x_fail, out_int, out_float = np.zeros(2, np.int64), np.zeros(nx), np.zeros(8, np.int64), np.zeros(2)
+        P = self.plant.plant_args
+        x = np.array(self.x0, dtype=float)
+        xs[0] = x
         t0 = time.perf_counter()
-        evals = replay_zoh(fn, args, ws, method, steps, x0, taus, xs)
+        for k in range(taus.shape[0] - 1):
+            _core.plant_advance(plan, x, taus[k], P, status, k * loop.T, steps, x_fail, out_int, out_float)
+            xs[k + 1] = x
         seconds = time.perf_counter() - t0
-        return seconds, evals, float(np.max(np.abs(xs - rec["x"]))) if xs.shape == rec["x"].shape else math.inf
+        return seconds, int(out_int[7]), float(np.max(np.abs(xs - rec["x"]))) if xs.shape == rec["x"].shape else math.inf
 
 
 def python_rhs_seconds(plant, x, tau, calls: int = 2000) -> float:
