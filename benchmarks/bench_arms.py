@@ -1,15 +1,16 @@
-"""Benchmark: one Puma 560 evaluation of the compiled core's arm terms vs Pinocchio.
+"""Benchmark: one Puma 560 evaluation of the arm's terms (H, h, J, dJ dq, the tip pose) vs Pinocchio.
 
 Run from the repository root::
 
     python benchmarks/bench_arms.py [--calls 20000] [--quick]
 
-Prints the median time of one call of the compiled core's DH arm terms (``plants._core.dh_arm_terms``, what
-``SerialArm.terms`` calls) from Python, the same figure for the general-chain terms ``chain_arm_terms``
-(the Puma converted from DH, and the Panda, UR5e and iiwa 14 from their URDF files), and Pinocchio's
+Prints the median time of one warm ``SerialArm.terms`` call from Python (the DH kernel in the compiled core,
+plants/core/dh_arm.h), the same for ``ChainArm.terms`` (plants/core/chain_arm.h: the Panda, UR5e and iiwa 14
+from their URDF files), and Pinocchio's
 ``crba + nonLinearEffects + computeFrameJacobian`` (+ the frame placement) for the same
-configuration, with their ratio. Medians over repeated batches (docs/performance.md: runs agree only
-to ~1.5x, compare ratios from one run).
+configuration from Python, with their ratio. Both sides pay a Python call; inside the tick the arm's terms
+cost what ``benchmarks/bench_plant.py``'s in-core right-hand side shows. Medians over repeated calls
+(docs/performance.md: runs agree only to ~1.5x, compare ratios from one run).
 """
 
 from __future__ import annotations
@@ -25,25 +26,18 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from plants.arms import iiwa14, panda, puma560, ur5e  # noqa: E402
-from plants._core import chain_arm_terms, dh_arm_terms  # noqa: E402
 
 
-def chain_rows(calls):
-    """us per call of the general-chain terms (joint transforms and axes, issue 13) from Python:
-    the Puma 560 converted from DH, and the URDF arms, beside the DH terms' Puma row."""
+def chain_rows(calls: int):
+    """us per ``ChainArm.terms`` call from Python on the URDF arms."""
     rows = []
-    for label, arm in (("Puma 560 (DH -> chain)", puma560()), ("Panda (URDF)", panda()), ("UR5e (URDF)", ur5e()),
-                       ("iiwa 14 (URDF)", iiwa14())):
+    for label, arm in (("Panda (URDF)", panda()), ("UR5e (URDF)", ur5e()), ("iiwa 14 (URDF)", iiwa14())):
         n = arm.dof
         rng = np.random.default_rng(0)
         lo, hi = np.maximum(arm.q_limits[:, 0], -np.pi), np.minimum(arm.q_limits[:, 1], np.pi)
-        q = rng.uniform(lo, hi)
-        dq = rng.uniform(-2.0, 2.0, n)
-        table, base, tool, g = arm.kernel_table(), arm.base, np.ascontiguousarray(arm.kernel_tool()), arm.gravity
-        H, h, Y, J, Jdq = np.empty((n, n)), np.empty(n), np.empty(6), np.empty((6, n)), np.empty(6)
-        chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq)
-        py = median_us(lambda: chain_arm_terms(q, dq, table, base, tool, g, H, h, Y, J, Jdq), calls)
-        rows.append((label, n, py))
+        q, dq = rng.uniform(lo, hi), rng.uniform(-2.0, 2.0, n)
+        arm.terms(q, dq)
+        rows.append((label, n, median_us(lambda: arm.terms(q, dq), calls)))
     return rows
 
 
@@ -66,18 +60,16 @@ def main(argv=None):
     rng = np.random.default_rng(0)
     q = rng.uniform(arm.q_limits[:, 0], arm.q_limits[:, 1])
     dq = rng.uniform(-2.0, 2.0, 6)
-    dh, base, tool, g = arm.dh_array(), arm.base, arm.tool, arm.gravity
-    H, h, Y, J, Jdq = np.empty((6, 6)), np.empty(6), np.empty(6), np.empty((6, 6)), np.empty(6)
-    dh_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq)  # warm up
-
-    ours = median_us(lambda: dh_arm_terms(q, dq, dh, base, tool, g, H, h, Y, J, Jdq), calls)
+    dh = arm.dh_array()
+    arm.terms(q, dq)  # warm up
+    ours = median_us(lambda: arm.terms(q, dq), calls)
 
     print(f"command: {sys.executable} {' '.join(sys.argv)}")
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, python {platform.python_version()}")
-    print(f"dh_arm_terms (Puma 560), from Python, warm      : {ours:8.2f} us  (median)")
-    print("chain_arm_terms (general joints), per arm evaluation:")
+    print(f"SerialArm.terms (Puma 560, DH), from Python      : {ours:8.2f} us  (median)")
+    print("ChainArm.terms (general joints), from Python, per arm evaluation:")
     for label, n, py in chain_rows(calls):
-        print(f"  {label:24s} n={n}, from Python: {py:8.2f} us ({py / ours:5.2f}x the DH Puma)")
+        print(f"  {label:24s} n={n}: {py:8.2f} us")
     try:
         import pinocchio as pin
     except ImportError:

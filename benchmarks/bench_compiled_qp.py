@@ -1,4 +1,4 @@
-"""Benchmark of the compiled load-distribution QP (Goldfarb-Idnani in numba) beside the libraries.
+"""Benchmark of the compiled load-distribution QP (Goldfarb-Idnani in the compiled core) beside the libraries.
 
 Problems (each a sequence of 1 kHz ticks, solved in order, so the warm starts see what they
 see in the loop):
@@ -14,7 +14,7 @@ see in the loop):
 
 Columns, all medians in one run [us per solve]:
 
-- ``compiled, in numba loop``: ``gi_solve`` called from a numba loop over the recorded ticks,
+- ``compiled, in a compiled loop``: ``gi_solve`` called from a compiled loop (``coopctrl._core.gi_replay``) over the recorded ticks,
   warm started, each tick's arrays first copied into fixed buffers (as the loop's assembly
   writes them in place): the median over chunks of 50 ticks of (copy + solve) per tick, minus
   that of the copy alone: what a compiled tick pays for its QP;
@@ -22,7 +22,7 @@ Columns, all medians in one run [us per solve]:
 - ``proxsuite``: one persistent ``dense.QP`` updated in place and warm started (as
   ``ProxsuiteSolver``), eps_abs 1e-9, each ``update + solve`` timed;
 - ``daqp``, ``quadprog``: their native Python calls, each timed (they build the problem every call);
-- the ratios of the libraries to the compiled QP in the numba loop, and the largest force
+- the ratios of the libraries to the compiled QP in the compiled loop, and the largest force
   difference to proxsuite [N].
 
 Run: ``python benchmarks/bench_compiled_qp.py [--steps N] [--repeats R] [--arms 2 3 4] [--quick]``
@@ -37,13 +37,16 @@ import sys
 import time
 
 import numpy as np
-from numba import njit
+import coopctrl._core as _core
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from coopctrl.load_distribution import LoadDistribution, LoadDistributionConfig, LoadDistributionProblem  # noqa: E402
-from coopctrl.load_distribution.goldfarb_idnani import SOLVED, gi_solve, gi_workspace  # noqa: E402
+from coopctrl._core import gi_solve  # noqa: E402
+from coopctrl.load_distribution.goldfarb_idnani import gi_workspace  # noqa: E402
+
+SOLVED = 0  #: gi_solve's status of an optimal answer (coopctrl/core/goldfarb_idnani.h GI_SOLVED)
 
 TOL = 1e-9
 MAX_ITER = 1000
@@ -127,37 +130,17 @@ def trajectory_problems(m: int, steps: int, seed: int = 0) -> Sequence:
                     np.array([o[1] for o in out]), np.array([o[2] for o in out]), np.array([o[3] for o in out]), pb.k)
 
 
-@njit(cache=True)
-def replay(P, g, M, lo, hi, n_eq, ws, bufs, x, z, X, status, iters, start, stop, solve, tol, max_iter):
-    """Ticks ``start:stop`` in order: copy the tick's arrays into the fixed buffers ``bufs``
-    (as the loop's assembly writes them in place, so that they are in cache), then, if ``solve``,
-    solve with one workspace (warm started), as a compiled loop would."""
-    gb, Mb, lob, hib = bufs
-    for s in range(start, stop):
-        gb[:] = g[s]
-        Mb[:, :] = M[s]
-        lob[:] = lo[s]
-        hib[:] = hi[s]
-        if solve:
-            st, it = gi_solve(P, gb, Mb, lob, hib, n_eq, x, z, ws, s == 0, tol, max_iter)
-            status[s] = st
-            iters[s] = it
-            X[s, :] = x
-
-
-#: Ticks per timed chunk of the numba-loop replay: the ~5 us of one call from Python spread over
+#: Ticks per timed chunk of the compiled-loop replay: the ~5 us of one call from Python spread over
 #: 50 solves is 0.1 us per solve; the median over chunks drops the ones the scheduler interrupted.
 CHUNK = 50
 
 
-def bench_numba_loop(seq: Sequence, repeats: int):
+def bench_compiled_loop(seq: Sequence, repeats: int):
     """Median per tick of (copy + solve) minus median per tick of (copy only) [us]."""
     n, rows = seq.P.shape[0], seq.M.shape[1]
     X = np.zeros((seq.steps, n))
     status = np.zeros(seq.steps, np.int64)
     iters = np.zeros(seq.steps, np.int64)
-    x, z = np.zeros(n), np.zeros(rows)
-    bufs = (np.zeros(n), np.zeros((rows, n)), np.zeros(rows), np.zeros(rows))
     per = {True: [], False: []}
     for _ in range(repeats):
         for solve in (True, False):
@@ -165,8 +148,8 @@ def bench_numba_loop(seq: Sequence, repeats: int):
             for start in range(0, seq.steps, CHUNK):
                 stop = min(start + CHUNK, seq.steps)
                 t0 = time.perf_counter()
-                replay(seq.P, seq.g, seq.M, seq.lo, seq.hi, seq.n_eq, ws, bufs, x, z, X, status, iters,
-                       start, stop, solve, TOL, MAX_ITER)
+                _core.gi_replay(seq.P, seq.g, seq.M, seq.lo, seq.hi, seq.n_eq, ws, X, status, iters, start, stop,
+                                solve, TOL, MAX_ITER)
                 per[solve].append((time.perf_counter() - t0) / (stop - start))
     assert np.all(status == SOLVED), np.unique(status)
     return (float(np.median(per[True])) - float(np.median(per[False]))) * 1e6, X, iters
@@ -246,7 +229,7 @@ def bench_quadprog(seq: Sequence):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=2000, help="ticks per m-sequence (1 ms each)")
-    ap.add_argument("--repeats", type=int, default=5, help="repeats of the numba-loop replay (median)")
+    ap.add_argument("--repeats", type=int, default=5, help="repeats of the compiled-loop replay (median)")
     ap.add_argument("--arms", type=int, nargs="+", default=[2, 3, 4], help="arm counts of the m-sequences")
     ap.add_argument("--quick", action="store_true", help="a short smoke run: 300 ticks, 2 repeats")
     args = ap.parse_args(argv)
@@ -259,7 +242,7 @@ def main(argv=None):
     print("command:", " ".join([pathlib.Path(sys.executable).name] + sys.argv))
     seqs = [record_carry()] + [trajectory_problems(m, args.steps) for m in args.arms]
     # compile (or load from the cache) before timing
-    bench_numba_loop(Sequence("warm-up", seqs[1].P, seqs[1].g[:2], seqs[1].M[:2], seqs[1].lo[:2], seqs[1].hi[:2],
+    bench_compiled_loop(Sequence("warm-up", seqs[1].P, seqs[1].g[:2], seqs[1].M[:2], seqs[1].lo[:2], seqs[1].hi[:2],
                               seqs[1].n_eq), 1)
     print(f"median us per solve (eps_abs / tol 1e-9), {args.steps} ticks per m-sequence, "
           f"{seqs[0].steps} ticks of the carry")
@@ -269,7 +252,7 @@ def main(argv=None):
     print(head)
     print("-" * len(head))
     for seq in seqs:
-        loop_us, X, iters = bench_numba_loop(seq, args.repeats)
+        loop_us, X, iters = bench_compiled_loop(seq, args.repeats)
         py_us = bench_python(seq)
         px_us, Xp = bench_proxsuite(seq)
         dq_us = bench_daqp(seq)

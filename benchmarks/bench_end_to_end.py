@@ -4,15 +4,13 @@ Run: python benchmarks/bench_end_to_end.py [--repeats N] [--sweep-runs N] [--job
      python benchmarks/bench_end_to_end.py --profile spatial_two_puma_carry
      python benchmarks/bench_end_to_end.py --profile-sweep spatial_two_puma_carry
 
-For every shipped scene (``scenarios/*.toml``), after a warm-up of each measure (the numba kernels
-compiled or loaded first, never timed), ``repeats`` rounds each time, side by side in that order:
+For every shipped scene (``scenarios/*.toml``), after a warm-up of each measure (never timed), ``repeats`` rounds each time, side by side in that order:
 
-* **ticks**: the compiled kernel alone, the sum of the wall times of the calls into ``run_ticks`` of a
+* **ticks**: the compiled tick alone, the sum of the wall times of the calls into ``Tick.run_ticks`` of a
   ``closed_loop(scenario).run(x0, duration)`` (``loop.run``, timed too: the loop's per-run set-up on
-  top of the ticks; the approach of ``bench_closed_loop.py``). The calls are timed by wrapping the
-  kernel's entry point the loop resolves once per run (``coopctrl.loop.compiled._entry_point``: there
-  is no public hook for the ticks' time). Where that hook is missing the ticks column is ``loop.run``
-  and the output says so;
+  top of the ticks; the approach of ``bench_closed_loop.py``). The calls are timed by wrapping the tick
+  class the loop builds once per run (``coopctrl.loop.compiled._core.Tick``: there is no public hook for the
+  ticks' time). Where that hook is missing the ticks column is ``loop.run`` and the output says so;
 * **simulate**: ``coopctrl.simulate(scenario)`` in this process (the scenario loaded once);
 * **CLI**: ``coopctrl.cli.main(["run", SCENE, "-q"])`` in this process: loading the scene file, the
   record's memory check, pre-flight, the run and its summary; no output folder;
@@ -64,11 +62,11 @@ TARGET_TICK_S = 12e-6  # one tick, at most [s]
 
 
 class KernelClock:
-    """The summed wall time [s] of the calls into the compiled kernel since :meth:`reset`.
+    """The summed wall time [s] of the calls into the compiled tick since :meth:`reset`.
 
-    Installed by wrapping ``coopctrl.loop.compiled._entry_point`` (private: no public hook gives the
-    ticks' time): the loop resolves the kernel's compiled entry point once per run and calls it per chunk
-    of ticks; the wrapper times each such call (a few per run, about 1 us of its own each).
+    Installed by wrapping the tick class the loop builds once per run (``coopctrl._core.Tick``, as
+    ``coopctrl.loop.compiled`` reaches it): each call of its ``run_ticks`` (a chunk of ticks) and
+    ``reference_step`` (a tick of the reference path) is timed, about 1 us of its own each.
     """
 
     def __init__(self):
@@ -80,25 +78,38 @@ class KernelClock:
         try:
             import coopctrl.loop.compiled as compiled
 
-            resolve = compiled._entry_point
+            core = compiled._core
+            Tick = core.Tick
         except (ImportError, AttributeError):
             return False
         clock = self
 
-        def entry_point(dispatcher, args):
-            kernel = resolve(dispatcher, args)  # compiled or loaded for these types (outside the clock)
+        class TimedTick:
+            def __init__(self, *args):
+                self._tick = Tick(*args)
 
-            def timed(*a):
+            def _timed(self, method, *a):
                 t0, c0 = time.perf_counter(), time.process_time()
                 try:
-                    return kernel(*a)
+                    return method(*a)
                 finally:
                     clock.total += time.perf_counter() - t0
                     clock.cpu += time.process_time() - c0
 
-            return timed
+            def run_ticks(self, *a):
+                return self._timed(self._tick.run_ticks, *a)
 
-        compiled._entry_point = entry_point
+            def reference_step(self, *a):
+                return self._timed(self._tick.reference_step, *a)
+
+            def __getattr__(self, name):
+                return getattr(self._tick, name)
+
+        class Core:  # the compiled module with its Tick timed
+            def __getattr__(self, name):
+                return TimedTick if name == "Tick" else getattr(core, name)
+
+        compiled._core = Core()
         return True
 
     def reset(self) -> None:
@@ -353,7 +364,7 @@ def main(argv=None) -> int:
         return 0
     clock = KernelClock()
     if not clock.installed:
-        print("note: no kernel clock (coopctrl.loop.compiled._entry_point is gone): the ticks column is loop.run")
+        print("note: no kernel clock (coopctrl.loop.compiled._core.Tick is gone): the ticks column is loop.run")
     results = []
     for name in scenes:
         r = measure_scene(name, args.repeats, args.sweep_runs, args.jobs, clock)

@@ -23,7 +23,7 @@ Two settings, both on spatial_two_puma_carry (two Pumas, 36 states), in one run:
    ``coopctrl.simulate`` runs it): 0.5 s of the carry, the controller at T = 1 ms with the torque held
    between ticks. A fixed-step integrator takes ``n`` substeps of ``h = T / n`` per tick; euler,
    symplectic_euler, rk4 and the implicit schemes run in the compiled loop (the whole tick in one
-   numba kernel); a scheme the kernel does not implement steps the plant in Python between kernel
+   compiled core); a scheme the core does not implement steps the plant in Python between core
    calls (its rows say "plant in Python"). The reference is the same
    loop, same scenario, same controller code and the same compiled QP, with the plant integrated by
    solve_ivp, restarted at every tick over ``[t_k, t_k + T]`` (the held torque jumps there; the last
@@ -36,8 +36,8 @@ Two settings, both on spatial_two_puma_carry (two Pumas, 36 states), in one run:
    - **whole loop**: the wall time of ``loop.run(x0, 0.5)`` (sensors, QP, controllers, integration,
      guards, recording; a warm-up run first loads the compiled kernel, a one-time cost per process);
    - **integration only**: solve_ivp's calls (timed around each call); for the
-     compiled loop, the same zero-order-hold integration replayed by the compiled core on the run's
-     recorded torques (``coopctrl._core.plant_advance``, one call per tick: the tick's arithmetic; the
+     compiled loop, the same zero-order-hold integration replayed by the core's schemes on the run's
+     recorded torques with the plant's allocation-free right-hand side (the kernel's arithmetic: the
      replayed states are checked to equal the run's, and the difference is printed).
    The ratios solve_ivp / fixed step are printed for both, and the verdict against issue 10's target:
    the fastest fixed-step closed loop at least 50 times faster, whole loop, than the fastest solve_ivp
@@ -160,8 +160,8 @@ def error(x, ref, nz):
 
 
 # ---------------------------------------------------------------------- 1. closed loop
-#: The schemes the replay times (:meth:`LoopRun.replay`), with their right-hand-side evaluations per step.
-REPLAY_METHODS = {"euler": 1, "symplectic_euler": 1, "rk4": 4}
+#: The fixed-step schemes whose integration the benchmark replays on a run's recorded torques.
+REPLAY_METHODS = ("euler", "symplectic_euler", "rk4")
 
 
 class LoopRun:
@@ -235,30 +235,26 @@ class LoopProblem:
 
     def replay(self, loop, rec):
         """``(seconds, rhs evaluations, max |replayed - recorded| state)`` of the compiled loop's integration
-        replayed on the recorded torques of ``rec``: the compiled core's plant integration
-        (``coopctrl._core.plant_advance``, the scheme's plan, as ``Integrator.step`` calls it), one call per tick."""
-        from coopctrl import _core as core
-        from coopctrl.integrators import compiled
+        replayed on the recorded torques of ``rec``: each tick's torques held over the period's steps by the core's
+        scheme (``coopctrl._core.plant_advance``, one call a tick: its call from Python included)."""
+        import coopctrl._core as _core
+        from coopctrl.integrators.compiled import make_plan
 
         taus = np.ascontiguousarray(rec["tau"])
         nx = self.x0.size
         xs = np.empty((taus.shape[0], nx))
         steps = np.array(loop._steps, dtype=float)
-        plan = compiled.make_plan(loop.integrator, nx, None)
-        P = self.plant.plant_args
+        plan = make_plan(loop.integrator, nx, loop.T)
         status, x_fail, out_int, out_float = np.zeros(2, np.int64), np.zeros(nx), np.zeros(8, np.int64), np.zeros(2)
+        P = self.plant.plant_args
         x = np.array(self.x0, dtype=float)
         xs[0] = x
-        period = float(steps.sum())
         t0 = time.perf_counter()
         for k in range(taus.shape[0] - 1):
-            if core.plant_advance(plan, x, taus[k], P, status, k * period, steps, x_fail, out_int,
-                                  out_float) != compiled.STEP_OK:
-                return time.perf_counter() - t0, 0, math.inf
+            _core.plant_advance(plan, x, taus[k], P, status, k * loop.T, steps, x_fail, out_int, out_float)
             xs[k + 1] = x
         seconds = time.perf_counter() - t0
-        evals = REPLAY_METHODS[loop.integrator.name] * steps.size * (taus.shape[0] - 1)
-        return seconds, evals, float(np.max(np.abs(xs - rec["x"]))) if xs.shape == rec["x"].shape else math.inf
+        return seconds, int(out_int[7]), float(np.max(np.abs(xs - rec["x"]))) if xs.shape == rec["x"].shape else math.inf
 
 
 def python_rhs_seconds(plant, x, tau, calls: int = 2000) -> float:

@@ -320,64 +320,6 @@ def test_plan_slots_hold_every_family_in_one_type_and_give_back_its_own_arrays(n
     assert field[0] == 7.25  # the plan's own array
 
 
-def test_invert_into_inverts_and_reports_a_singular_matrix():
-    """``invert_into`` reports an exactly singular matrix (where numpy.linalg.inv raises) and inverts
-    a regular one to rounding (1e-12 on a seeded well-conditioned 12 x 12 matrix, condition < 10)."""
-    rng = np.random.default_rng(3)
-    A = np.eye(12) + 0.05 * rng.standard_normal((12, 12))
-    LU, M = np.empty_like(A), np.empty_like(A)
-    assert integrate.invert_into(A, LU, M)
-    np.testing.assert_allclose(M @ A, np.eye(12), atol=1e-12)
-    S = A.copy()
-    S[:, 0] = 0.0  # an exactly zero first pivot
-    assert not integrate.invert_into(S, LU, M)
-
-
-_ALLOC_SCRIPT = textwrap.dedent("""
-    import numpy as np
-    from numba.core.runtime import rtsys
-    import coopctrl
-    from coopctrl.integrators import get_integrator
-    import coopctrl.integrators.compiled as integrate
-    from coopctrl.scenario import build
-    from coopctrl.simulator import closed_loop
-
-    scene = coopctrl.load_scenario({scene!r}, {{}})
-    plant = closed_loop(scene).plant
-    x0 = build.initial_state(scene) + 1e-3 * np.random.default_rng(7).standard_normal(plant.state_size)
-    tau = np.zeros(plant.input_size)
-    P = plant.plant_args
-    for name in ("rk4", "implicit_midpoint", "implicit_euler"):
-        plan = integrate.make_plan(get_integrator(name), x0.size)
-        ws, status, out_int, out_float = plant.workspace(), np.zeros(2, np.int64), np.zeros(8, np.int64), np.zeros(2)
-        x, x_fail = x0.copy(), x0.copy()
-        counts = []
-        for n in (1, 5, 505):  # the first call compiles (or loads) and makes the first Jacobian
-            a0 = rtsys.get_allocation_stats().alloc
-            steps = np.where(np.arange(n) % 2 == 0, 1e-4, 5e-5)  # a new step size: a new Newton matrix each step
-            code = integrate.advance_period(plan, x, tau, P, status, ws, 0.0, steps, x_fail, out_int, out_float)
-            counts.append(rtsys.get_allocation_stats().alloc - a0)
-            assert code == 0, code
-        print(name, counts[1], counts[2], int(plan.memo[2]) if name != "rk4" else 0)
-""")
-
-
-def test_steps_allocate_nothing():
-    """505 steps of a period allocate what 5 steps do (only the call from Python allocates), for RK4 and the
-    implicit schemes. The step size alternates, so every implicit step makes a new Jacobian and Newton
-    matrix (one per step, counted): the refresh allocates nothing either."""
-    env = dict(os.environ, NUMBA_NRT_STATS="1", PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
-    script = _ALLOC_SCRIPT.format(scene=str(SCENARIOS / "planar_two_arm_lift.toml"))
-    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=900)
-    assert out.returncode == 0, out.stderr[-3000:]
-    rows = [line.split() for line in out.stdout.strip().splitlines()]
-    assert [r[0] for r in rows] == ["rk4", "implicit_midpoint", "implicit_euler"], out.stdout
-    for name, few, many, jacobians in rows:
-        assert int(many) == int(few), f"{name}: {few} allocations for 5 steps, {many} for 505"
-        if name != "rk4":
-            assert int(jacobians) >= 1 + 4 + 504  # each period's first step keeps the last period's matrix
-
-
 def test_scheme_functions_are_copied_into_their_callers_never_compiled_alone():
     """The scheme functions are ``@njit(inline="always")``: a compiled caller gets their code without numba
     compiling them on their own (``signatures`` stays empty), and Python runs the same code through

@@ -137,8 +137,6 @@ def test_the_wrappers_give_the_numba_functions_numbers():
     """``qp_inputs.contact_normals`` and ``torque_model`` (the compiled core's, coopctrl/core/qp_contact_model.h)
     give the numbers of the numba functions they replaced, bit for bit, from plant terms and from a
     non-contiguous ``ddYn``."""
-    from coopctrl.controllers._kernels import control_work
-
     for name in ("heavy_payload_torque_limits", "contact_points_only", "three_iiwa_tray"):
         scenario, plant = _scene(name)
         terms = plant.control_terms(build.unloaded_state(scenario))
@@ -152,7 +150,7 @@ def test_the_wrappers_give_the_numba_functions_numbers():
         dofs = [int(n) for n in P.arm_dof]
         nmax = max(p, *dofs)
         Jg, bias = np.zeros((plant.arm_count, p, nmax)), np.zeros(sum(dofs))
-        wv, wm = control_work(nmax)
+        wv, wm = np.empty((8, nmax)), np.empty((4, nmax, nmax))  # the torque model's work rows
         f64 = np.ascontiguousarray
         contact_model.torque_model_into(spatial, f64(terms.Y), f64(ddYn), f64(terms.W), f64(terms.w_free), f64(terms.H),
                                         f64(terms.h), f64(terms.J), f64(terms.Jdq), P.arm_kind, P.arm_dof, Jg, bias,

@@ -16,6 +16,7 @@ void bind_squeeze(nb::module_& m);
 void bind_tick_checks(nb::module_& m);
 void bind_tick(nb::module_& m);
 void bind_plant_advance(nb::module_& m);
+void bind_qp_replay(nb::module_& m);
 }  // namespace coopctrl::binding
 
 NB_MODULE(_core, m) {
@@ -30,4 +31,5 @@ NB_MODULE(_core, m) {
     coopctrl::binding::bind_tick_checks(m);
     coopctrl::binding::bind_tick(m);
     coopctrl::binding::bind_plant_advance(m);
+    coopctrl::binding::bind_qp_replay(m);
 }

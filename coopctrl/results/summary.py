@@ -193,7 +193,7 @@ _ROWS = (
     ("simulated_time_s", "simulated time", 1.0, "s"),
     ("wall_time_s", "wall time", 1.0, "s"),
     ("realtime_factor", "real-time factor", 1.0, "x"),
-    ("startup_s", "startup (compile or load)", 1.0, "s"),
+    ("startup_s", "startup", 1.0, "s"),
     ("object_position_error_rms_m", "object position error RMS", 1e3, "mm"),
     ("object_position_error_max_m", "object position error max", 1e3, "mm"),
     ("object_orientation_error_max_rad", "object orientation error max", 1e3, "mrad"),
