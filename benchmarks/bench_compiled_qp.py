@@ -1,4 +1,4 @@
-"""Benchmark of the compiled load-distribution QP (Goldfarb-Idnani in numba) beside the libraries.
+"""Benchmark of the compiled load-distribution QP (Goldfarb-Idnani, the C++ core's) beside the libraries.
 
 Problems (each a sequence of 1 kHz ticks, solved in order, so the warm starts see what they
 see in the loop):
@@ -14,18 +14,14 @@ see in the loop):
 
 Columns, all medians in one run [us per solve]:
 
-- ``compiled, in numba loop``: ``gi_solve`` called from a numba loop over the recorded ticks,
-  warm started, each tick's arrays first copied into fixed buffers (as the loop's assembly
-  writes them in place): the median over chunks of 50 ticks of (copy + solve) per tick, minus
-  that of the copy alone: what a compiled tick pays for its QP;
-- ``compiled, from Python``: ``gi_solve`` called from Python, each call timed;
+- ``compiled, from Python``: the core's ``gi_solve`` (``coopctrl._core``) called from Python, warm started, each
+  call timed (nanobind's conversion of the arrays included: the compiled tick calls the solver without it);
 - ``proxsuite``: one persistent ``dense.QP`` updated in place and warm started (as
   ``ProxsuiteSolver``), eps_abs 1e-9, each ``update + solve`` timed;
 - ``daqp``, ``quadprog``: their native Python calls, each timed (they build the problem every call);
-- the ratios of the libraries to the compiled QP in the numba loop, and the largest force
-  difference to proxsuite [N].
+- the ratios of the libraries to the compiled QP, and the largest force difference to proxsuite [N].
 
-Run: ``python benchmarks/bench_compiled_qp.py [--steps N] [--repeats R] [--arms 2 3 4] [--quick]``
+Run: ``python benchmarks/bench_compiled_qp.py [--steps N] [--arms 2 3 4] [--quick]``
 """
 
 from __future__ import annotations
@@ -37,13 +33,13 @@ import sys
 import time
 
 import numpy as np
-from numba import njit
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from coopctrl.load_distribution import LoadDistribution, LoadDistributionConfig, LoadDistributionProblem  # noqa: E402
-from coopctrl.load_distribution.goldfarb_idnani import SOLVED, gi_solve, gi_workspace  # noqa: E402
+from coopctrl._core import gi_solve  # noqa: E402
+from coopctrl.load_distribution.goldfarb_idnani import SOLVED, gi_workspace  # noqa: E402
 
 TOL = 1e-9
 MAX_ITER = 1000
@@ -127,61 +123,20 @@ def trajectory_problems(m: int, steps: int, seed: int = 0) -> Sequence:
                     np.array([o[1] for o in out]), np.array([o[2] for o in out]), np.array([o[3] for o in out]), pb.k)
 
 
-@njit(cache=True)
-def replay(P, g, M, lo, hi, n_eq, ws, bufs, x, z, X, status, iters, start, stop, solve, tol, max_iter):
-    """Ticks ``start:stop`` in order: copy the tick's arrays into the fixed buffers ``bufs``
-    (as the loop's assembly writes them in place, so that they are in cache), then, if ``solve``,
-    solve with one workspace (warm started), as a compiled loop would."""
-    gb, Mb, lob, hib = bufs
-    for s in range(start, stop):
-        gb[:] = g[s]
-        Mb[:, :] = M[s]
-        lob[:] = lo[s]
-        hib[:] = hi[s]
-        if solve:
-            st, it = gi_solve(P, gb, Mb, lob, hib, n_eq, x, z, ws, s == 0, tol, max_iter)
-            status[s] = st
-            iters[s] = it
-            X[s, :] = x
-
-
-#: Ticks per timed chunk of the numba-loop replay: the ~5 us of one call from Python spread over
-#: 50 solves is 0.1 us per solve; the median over chunks drops the ones the scheduler interrupted.
-CHUNK = 50
-
-
-def bench_numba_loop(seq: Sequence, repeats: int):
-    """Median per tick of (copy + solve) minus median per tick of (copy only) [us]."""
-    n, rows = seq.P.shape[0], seq.M.shape[1]
-    X = np.zeros((seq.steps, n))
-    status = np.zeros(seq.steps, np.int64)
-    iters = np.zeros(seq.steps, np.int64)
-    x, z = np.zeros(n), np.zeros(rows)
-    bufs = (np.zeros(n), np.zeros((rows, n)), np.zeros(rows), np.zeros(rows))
-    per = {True: [], False: []}
-    for _ in range(repeats):
-        for solve in (True, False):
-            ws = gi_workspace(n, rows)
-            for start in range(0, seq.steps, CHUNK):
-                stop = min(start + CHUNK, seq.steps)
-                t0 = time.perf_counter()
-                replay(seq.P, seq.g, seq.M, seq.lo, seq.hi, seq.n_eq, ws, bufs, x, z, X, status, iters,
-                       start, stop, solve, TOL, MAX_ITER)
-                per[solve].append((time.perf_counter() - t0) / (stop - start))
-    assert np.all(status == SOLVED), np.unique(status)
-    return (float(np.median(per[True])) - float(np.median(per[False]))) * 1e6, X, iters
-
-
 def bench_python(seq: Sequence):
+    """Median [us] of the core's warm-started solves called from Python; the answers and iterations."""
     n, rows = seq.P.shape[0], seq.M.shape[1]
     ws = gi_workspace(n, rows)
     x, z = np.zeros(n), np.zeros(rows)
-    times = []
+    times, X, iters = [], np.zeros((seq.steps, n)), np.zeros(seq.steps, np.int64)
     for s in range(seq.steps):
+        g, M, lo, hi = (np.ascontiguousarray(a[s]) for a in (seq.g, seq.M, seq.lo, seq.hi))
         t0 = time.perf_counter()
-        gi_solve(seq.P, seq.g[s], seq.M[s], seq.lo[s], seq.hi[s], seq.n_eq, x, z, ws, s == 0, TOL, MAX_ITER)
+        st, it = gi_solve(seq.P, g, M, lo, hi, seq.n_eq, x, z, ws, s == 0, TOL, MAX_ITER)
         times.append(time.perf_counter() - t0)
-    return float(np.median(times)) * 1e6
+        assert st == SOLVED, st
+        X[s], iters[s] = x, it
+    return float(np.median(times)) * 1e6, X, iters
 
 
 def bench_proxsuite(seq: Sequence):
@@ -246,40 +201,34 @@ def bench_quadprog(seq: Sequence):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=2000, help="ticks per m-sequence (1 ms each)")
-    ap.add_argument("--repeats", type=int, default=5, help="repeats of the numba-loop replay (median)")
     ap.add_argument("--arms", type=int, nargs="+", default=[2, 3, 4], help="arm counts of the m-sequences")
-    ap.add_argument("--quick", action="store_true", help="a short smoke run: 300 ticks, 2 repeats")
+    ap.add_argument("--quick", action="store_true", help="a short smoke run: 300 ticks")
     args = ap.parse_args(argv)
     if args.quick:
-        args.steps, args.repeats = 300, 2
-    if args.steps < 1 or args.repeats < 1:
-        ap.error(f"--steps {args.steps} / --repeats {args.repeats}: both must be integers >= 1")
+        args.steps = 300
+    if args.steps < 1:
+        ap.error(f"--steps {args.steps}: must be an integer >= 1")
     if any(m < 2 for m in args.arms):
         ap.error(f"--arms {' '.join(map(str, args.arms))}: arm counts must be integers >= 2")
     print("command:", " ".join([pathlib.Path(sys.executable).name] + sys.argv))
     seqs = [record_carry()] + [trajectory_problems(m, args.steps) for m in args.arms]
-    # compile (or load from the cache) before timing
-    bench_numba_loop(Sequence("warm-up", seqs[1].P, seqs[1].g[:2], seqs[1].M[:2], seqs[1].lo[:2], seqs[1].hi[:2],
-                              seqs[1].n_eq), 1)
     print(f"median us per solve (eps_abs / tol 1e-9), {args.steps} ticks per m-sequence, "
           f"{seqs[0].steps} ticks of the carry")
-    head = (f"{'problem':<40} | {'n':>2} | {'rows':>4} | {'compiled loop':>13} | {'compiled Py':>11} | "
-            f"{'proxsuite':>9} | {'daqp':>6} | {'quadprog':>8} | {'prox/loop':>9} | {'daqp/loop':>9} | "
-            f"{'qp/loop':>7} | {'iters':>9} | {'max |dF| vs prox':>16}")
+    head = (f"{'problem':<40} | {'n':>2} | {'rows':>4} | {'compiled Py':>11} | "
+            f"{'proxsuite':>9} | {'daqp':>6} | {'quadprog':>8} | {'prox/comp':>9} | {'daqp/comp':>9} | "
+            f"{'qp/comp':>7} | {'iters':>9} | {'max |dF| vs prox':>16}")
     print(head)
     print("-" * len(head))
     for seq in seqs:
-        loop_us, X, iters = bench_numba_loop(seq, args.repeats)
-        py_us = bench_python(seq)
+        py_us, X, iters = bench_python(seq)
         px_us, Xp = bench_proxsuite(seq)
         dq_us = bench_daqp(seq)
         qp_us = bench_quadprog(seq)
         it = f"{np.mean(iters):.2f}/{int(iters.max())}"
-        print(f"{seq.name:<40} | {seq.P.shape[0]:>2} | {seq.M.shape[1]:>4} | {loop_us:>10.2f} us | {py_us:>8.2f} us | "
-              f"{px_us:>6.1f} us | {dq_us:>3.1f} us | {qp_us:>5.1f} us | {px_us / loop_us:>8.1f}x | "
-              f"{dq_us / loop_us:>8.1f}x | {qp_us / loop_us:>6.1f}x | {it:>9} | {np.abs(X - Xp).max():>14.2e} N")
-    print("iters = mean/max additions+drops per solve of the warm-started compiled QP; "
-          "target: <= 5 us per solve inside a loop for the two-Puma carry")
+        print(f"{seq.name:<40} | {seq.P.shape[0]:>2} | {seq.M.shape[1]:>4} | {py_us:>8.2f} us | "
+              f"{px_us:>6.1f} us | {dq_us:>3.1f} us | {qp_us:>5.1f} us | {px_us / py_us:>8.1f}x | "
+              f"{dq_us / py_us:>8.1f}x | {qp_us / py_us:>6.1f}x | {it:>9} | {np.abs(X - Xp).max():>14.2e} N")
+    print("iters = mean/max additions+drops per solve of the warm-started compiled QP")
 
 
 if __name__ == "__main__":

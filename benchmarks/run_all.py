@@ -10,7 +10,7 @@ run that loads the compiled kernels, or compiles them on an empty cache):
    tick, the QP solved by proxsuite in Python): microseconds per tick, real-time factor and their ratio, and
    the compiled tick's CPU time (which a busy machine's waiting for a core does not inflate);
 2. the integrators on the two-Puma carry: microseconds per tick for each scheme, and the ratio to RK4;
-3. the load-distribution QP per solve: the compiled Goldfarb-Idnani solver called from a numba loop
+3. the load-distribution QP per solve: the compiled Goldfarb-Idnani solver (the C++ core's) called from Python
    (warm started), beside proxsuite from Python, on seeded sequences of the loop's problems.
 
 The table (machine, date, versions, medians, ratios) goes to ``--out`` (default docs/data/benchmarks.md,
@@ -127,14 +127,12 @@ def integrator_rows(integrators, repeats: int) -> list[dict]:
 
 
 def qp_rows(arm_counts, steps: int, repeats: int) -> list[dict]:
-    from bench_compiled_qp import Sequence, bench_numba_loop, bench_proxsuite, trajectory_problems
+    from bench_compiled_qp import bench_proxsuite, bench_python, trajectory_problems
 
     seqs = [trajectory_problems(m, steps) for m in arm_counts]
-    warm = seqs[0]
-    bench_numba_loop(Sequence("warm-up", warm.P, warm.g[:2], warm.M[:2], warm.lo[:2], warm.hi[:2], warm.n_eq), 1)
     rows = []
     for m, seq in zip(arm_counts, seqs):
-        loop_us, _, _ = bench_numba_loop(seq, repeats)
+        loop_us = min(bench_python(seq)[0] for _ in range(repeats))
         prox_us, _ = bench_proxsuite(seq)
         rows.append({"problem": seq.name, "n": seq.P.shape[0], "rows": seq.M.shape[1], "compiled_us": loop_us,
                      "proxsuite_us": prox_us})
@@ -176,7 +174,7 @@ def table(info: dict, command: str, repeats: int, loops: list[dict], integrators
         ratio = f"{r['us'] / rk4:.2f}" if rk4 else "-"
         out.append(f"| `{r['integrator']}` | {r['status']} | {_fmt(r['us'])} | {_fmt(r['rt'])} | {ratio} |")
     out += ["", "**The load-distribution QP per solve** (seeded sequences of the loop's problems, grip, friction and "
-            "torque rows; the compiled solver warm started inside a numba loop, proxsuite from Python):", "",
+            "torque rows; the compiled solver warm started, called from Python as proxsuite is):", "",
             "| problem | variables | rows | compiled us | proxsuite us | ratio |", "|---|---|---|---|---|---|"]
     for r in qps:
         out.append(f"| {r['problem']} | {r['n']} | {r['rows']} | {r['compiled_us']:.2f} | {r['proxsuite_us']:.1f} "
