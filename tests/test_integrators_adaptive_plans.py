@@ -1,5 +1,6 @@
 """Error-controlled integration in the compiled loop (coopctrl/core/adaptive_schemes.h on the plans of
-:mod:`coopctrl.integrators.adaptive_plans`, stepping the plant in the core as the loop's tick does: ``_core.plant_advance``):
+:mod:`coopctrl.integrators.adaptive_plans`, stepping the plant in the core as the loop's tick does,
+``_core.plant_advance``):
 ``rk23``, ``rk45`` and ``trbdf2`` against scipy's ``solve_ivp`` (step for step), their orders against DOP853, the
 global error's proportionality to ``rtol``, the step statistics, and the stop below ``min_step``."""
 

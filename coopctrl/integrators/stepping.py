@@ -134,9 +134,9 @@ def _step_too_small(scheme, plant, x_fail, out_float):
 
 
 class CompiledScheme(FrozenSettings, Integrator):
-    """A built-in scheme: :meth:`step` runs the compiled core's scheme on its plan (:mod:`coopctrl.integrators.compiled`). The
-    scheme's plan (its Newton state) is kept from step to step for the same ``f`` and state size;
-    :meth:`reset` drops it. Use one instance per simulation. Its settings are frozen
+    """A built-in scheme: :meth:`step` runs the compiled core's scheme on its plan
+    (:mod:`coopctrl.integrators.compiled`). The plan (its Newton state) is kept from step to step for the same
+    ``f`` and state size; :meth:`reset` drops it. Use one instance per simulation. Its settings are frozen
     (:class:`~coopctrl.integrators.base.FrozenSettings`)."""
 
     def __init__(self):

@@ -21,8 +21,8 @@ def _available_qpsolvers() -> list[str]:
 def solver_allowed_message() -> str:
     """What ``solver`` accepts on this machine, with the command that installs more."""
     return (
-        f"'proxsuite' (persistent dense QP), 'compiled' (the compiled core's Goldfarb-Idnani) or an installed qpsolvers backend "
-        f"(found: {', '.join(_available_qpsolvers()) or 'none'}); "
+        f"'proxsuite' (persistent dense QP), 'compiled' (the compiled core's Goldfarb-Idnani) or an installed "
+        f"qpsolvers backend (found: {', '.join(_available_qpsolvers()) or 'none'}); "
         "to add one: pip install qpsolvers[<name>]"
     )
 

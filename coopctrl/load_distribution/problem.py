@@ -200,8 +200,8 @@ class LoadDistributionProblem:
             K = np.asarray(K, dtype=float)
             if K.shape != (n, n):
                 raise ScenarioError("K", K.shape, f"an array of shape ({n}, {n})")
-            # any K here; the compiled tick's fill_elastic_split (coopctrl/core/qp_elastic_assembly.h) builds a block-diagonal
-            # K from the object-frame stiffnesses and exploits its blocks
+            # any K here; the compiled tick's fill_elastic_split (coopctrl/core/qp_elastic_assembly.h) builds a
+            # block-diagonal K from the object-frame stiffnesses and exploits its blocks
             KGt = K @ G.T
             y = _spd_solve(G @ KGt, w)
             np.matmul(KGt, y, out=self.external)
