@@ -15,8 +15,6 @@ and what is allowed (:mod:`coopctrl.arguments`). Heavy modules are imported lazi
 
 from __future__ import annotations
 
-import plants  # noqa: F401  first: it keys numba's cache on every kernel source (plants.numba_cache)
-
 __all__ = ["load_scenario", "simulate", "SimulationResult", "Controller", "Measurement"]
 
 

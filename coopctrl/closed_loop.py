@@ -29,7 +29,7 @@ an Euler-angle singularity (and a nominal path that does is refused when the loo
 The loop's other concepts have files of their own in :mod:`coopctrl.loop`: the failure diagnosis
 (:mod:`~coopctrl.loop.diagnosis`), the loaded start (:mod:`~coopctrl.loop.loaded_start`), the Euler-angle
 band (:mod:`~coopctrl.loop.euler_band`) and the QP's contact inputs (:mod:`~coopctrl.loop.qp_inputs`, defined in
-:mod:`~coopctrl.load_distribution.contact_model`);
+the compiled core's coopctrl/core/qp_contact_model.h);
 the methods below that name them delegate. The loop imports nothing of ``coopctrl.analysis``.
 """
 

@@ -98,8 +98,8 @@ class StepTooSmall(DivergenceError):
 
 def interruption_in(exc: BaseException | None) -> KeyboardInterrupt | None:
     """The ``KeyboardInterrupt`` (Ctrl-C, or SIGTERM turned into one by the command line) that ``exc`` is,
-    or that it was raised while handling: a library may wrap it (numba's ``SystemError`` "returned a
-    result with an exception set") or fail in its own clean-up ("Can't close the ZIP file" during
+    or that it was raised while handling: a library may wrap it (a compiled extension's ``SystemError``
+    "returned a result with an exception set") or fail in its own clean-up ("Can't close the ZIP file" during
     ``np.savez``). None when ``exc`` is an ordinary error."""
     seen: set[int] = set()
     while exc is not None and id(exc) not in seen:

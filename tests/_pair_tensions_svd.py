@@ -1,5 +1,5 @@
 """The former numpy pair tensions (a batched LAPACK SVD), kept as the independent reference of the compiled
-one-sided Jacobi of :mod:`coopctrl.load_distribution.tensions`."""
+one-sided Jacobi of the compiled core (coopctrl/core/qp_tensions.h)."""
 
 from __future__ import annotations
 

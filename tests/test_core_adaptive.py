@@ -1,10 +1,14 @@
-"""coopctrl/core's error-controlled schemes (adaptive_schemes.h; coopctrl._core.adaptive_advance on a planar plant's
-PlantArgs, adaptive_advance_f on a Python f): bit for bit the numba advances of coopctrl.integrators.adaptive_plans
-(embedded_advance for rk23 and rk45 under each step controller, trbdf2_advance), over several control periods
-from the golden records' states of planar shipped scenes, the plans' state (step carried over, Newton matrix,
-statistics rows), the codes, status, x_fail and out_int / out_float compared after every period; the stop below
-min_step, TR-BDF2's Newton iteration that does not converge and a plant failure take the same paths. On a Python f
-the reference is adaptive_plans run by Python (numba compiles no Python f), through the NaN-error rejections too."""
+"""coopctrl/core's error-controlled schemes (adaptive_schemes.h): ``coopctrl._core.adaptive_advance`` on a planar
+plant's PlantArgs against ``adaptive_advance_f`` on the plant's own ``rhs`` as a Python f (the plant's Python path,
+an independent evaluation of the same right-hand side: the same bits, plan and statistics after every period), for
+rk23 and rk45 under each step controller and trbdf2, over several control periods from the golden records' states
+of planar shipped scenes; the stop below min_step, TR-BDF2's Newton iteration that does not converge, a plant
+failure and a Python f that is NaN beyond a wall take their documented paths; the first step against its numpy
+statement (scipy's select_initial_step); the packed arrays read by name.
+
+The schemes' arithmetic is checked against scipy (step for step) and DOP853 in tests/test_integrators_adaptive_plans.py.
+The core was checked bit for bit against the numba advances it replaced when it was ported; the golden records lock
+a run's numbers since."""
 
 from __future__ import annotations
 
@@ -16,9 +20,7 @@ import coopctrl
 import coopctrl.integrators.adaptive_plans as adaptive
 from coopctrl import _core
 from coopctrl.integrators import get_integrator
-import coopctrl.integrators.compiled as compiled
 from coopctrl.integrators.compiled import STEP_OK, STEP_PLANT_ERROR, STEP_TOO_SMALL
-from coopctrl.integrators.stepping import PythonRightHandSide
 from coopctrl.wiring import closed_loop
 from plants import _core as plants_core
 
@@ -55,33 +57,25 @@ def _scene(name: str) -> _Scene:
     return _SCENES[name]
 
 
-def _numba_advance(plan):
-    return adaptive.embedded_advance if isinstance(plan, adaptive.EmbeddedPlan) else adaptive.trbdf2_advance
-
-
-def _run_both(scene: _Scene, integrator, controller, x0, tau, periods=PERIODS, fixed_step=0.0, f=None):
-    """``periods`` periods from ``x0`` by the numba advance and by the core's (on the PlantArgs, or on the Python
-    ``f``), everything compared after each; the codes."""
+def _run_both(scene: _Scene, integrator, controller, x0, tau, periods=PERIODS, fixed_step=0.0):
+    """``periods`` periods from ``x0`` by the core on the PlantArgs and by the core on the plant's ``rhs`` as a Python
+    ``f``, everything compared after each; the codes and the plan."""
     nx = x0.shape[0]
     plans = [adaptive.adaptive_plan(integrator, nx, scene.T, periods, controller=controller, fixed_step=fixed_step)
              for _ in range(2)]
     states = [x0.copy(), x0.copy()]
-    statuses = [np.zeros(2, np.int64), np.zeros(2, np.int64)]
+    status = np.zeros(2, np.int64)
     fails = [np.zeros(nx), np.zeros(nx)]
     out_ints = [np.zeros(8, np.int64), np.zeros(8, np.int64)]
     out_floats = [np.zeros(2), np.zeros(2)]
-    ws = scene.plant.workspace()
+    plant = scene.plant
     codes = []
     for k in range(periods):
         t = k * scene.T
-        want = _numba_advance(plans[0])(plans[0], states[0], tau, scene.P, statuses[0], ws, None, t, fails[0],
-                                        out_ints[0], out_floats[0])
-        if f is None:
-            got = _core.adaptive_advance(plans[1], states[1], tau, scene.P, statuses[1], t, fails[1], out_ints[1],
-                                         out_floats[1])
-            np.testing.assert_array_equal(statuses[1], statuses[0])
-        else:
-            got = _core.adaptive_advance_f(plans[1], f, states[1], tau, t, fails[1], out_ints[1], out_floats[1])
+        want = _core.adaptive_advance(plans[0], states[0], tau, scene.P, status, t, fails[0], out_ints[0],
+                                      out_floats[0])
+        got = _core.adaptive_advance_f(plans[1], lambda t, x, u: plant.rhs(t, x, u), states[1], tau, t, fails[1],
+                                       out_ints[1], out_floats[1])
         assert got == want, f"period {k}"
         np.testing.assert_array_equal(states[1], states[0], err_msg=f"x, period {k}")
         np.testing.assert_array_equal(fails[1], fails[0], err_msg=f"x_fail, period {k}")
@@ -92,80 +86,63 @@ def _run_both(scene: _Scene, integrator, controller, x0, tau, periods=PERIODS, f
         codes.append(int(want))
         if want != STEP_OK:
             break
-    return codes, plans[0]
+    return codes, plans[0], out_floats[0]
 
 
 @pytest.mark.parametrize("name", SCENES)
 @pytest.mark.parametrize("scheme,controller", SCHEMES)
-def test_a_run_of_periods_matches_the_numba_advance_bit_for_bit(name, scheme, controller):
+def test_a_run_of_periods_on_the_plant_args_is_the_python_f_path(name, scheme, controller):
     scene = _scene(name)
     rng = np.random.default_rng(len(name) + len(scheme))
     for x0, tau in zip(scene.states, scene.torques):
         x = x0 + rng.normal(scale=1e-3, size=x0.shape)  # every spring and damper works
         fixed_step = scene.T / 4.0 if controller == "fixed" else 0.0
-        codes, plan = _run_both(scene, get_integrator(scheme), controller, x, tau, fixed_step=fixed_step)
+        codes, plan, _ = _run_both(scene, get_integrator(scheme), controller, x, tau, fixed_step=fixed_step)
         assert codes == [STEP_OK] * PERIODS
         assert np.all(plan.stats[:, adaptive.STAT_ACCEPTED] >= 1)
 
 
 @pytest.mark.parametrize("scheme,controller", [case for case in SCHEMES if case[1] != "fixed"])
-def test_the_step_controllers_reject_and_recover_as_the_numba_advance(scheme, controller):
+def test_the_step_controllers_reject_and_recover(scheme, controller):
     """A stiff grasp over ten periods: hundreds of controlled steps, rejected ones among them."""
     scene = _scene("stiff_grasp_extreme")
     x = scene.states[1] + np.random.default_rng(11).normal(scale=1e-3, size=scene.states[1].shape)
-    codes, plan = _run_both(scene, get_integrator(scheme), controller, x, scene.torques[1], periods=10)
+    codes, plan, _ = _run_both(scene, get_integrator(scheme), controller, x, scene.torques[1], periods=10)
     assert codes == [STEP_OK] * 10
     assert plan.stats[:, adaptive.STAT_REJECTED].sum() > 0
     assert plan.stats[:, adaptive.STAT_ACCEPTED].sum() > 100
 
 
 @pytest.mark.parametrize("scheme", ["rk23", "rk45", "trbdf2"])
-def test_a_step_below_min_step_stops_as_the_numba_advance(scheme):
-    """A tight tolerance with a large min_step: the controller's step falls below it within the first periods."""
+def test_a_step_below_min_step_stops(scheme):
+    """A tight tolerance with a large min_step: the controller's step falls below it within the first periods;
+    ``out_float`` = (that step, the time it was tried at, within the period)."""
     scene = _scene("planar_two_arm_lift")
     integrator = get_integrator(scheme, rtol=1e-12, atol=1e-14, min_step=scene.T / 8.0)
     x = scene.states[1] + np.random.default_rng(3).normal(scale=1e-2, size=scene.states[1].shape)
-    codes, plan = _run_both(scene, integrator, None, x, scene.torques[1])
+    codes, plan, out_float = _run_both(scene, integrator, None, x, scene.torques[1])
     assert codes[-1] == STEP_TOO_SMALL
+    k = len(codes) - 1
+    assert 0.0 < out_float[0] < scene.T / 8.0
+    assert k * scene.T <= out_float[1] < (k + 1) * scene.T
 
 
 @pytest.mark.parametrize("name", SCENES)
-def test_trbdf2_whose_newton_iteration_does_not_converge_matches_the_numba_advance(name):
+def test_trbdf2_whose_newton_iteration_does_not_converge(name):
     """One Newton iteration per stage: a stage that does not converge takes a Jacobian at x, then quarters the
     remaining steps (counted as rejected). At Newton's own tolerance the steps converge once small enough (hundreds
     of Jacobians over three periods); at a tolerance a single iteration cannot meet, they fall below min_step."""
     scene = _scene(name)
     x = scene.states[1] + np.random.default_rng(5).normal(scale=1e-3, size=scene.states[1].shape)
     integrator = get_integrator("trbdf2", max_iterations=1, min_step=1e-7)
-    codes, plan = _run_both(scene, integrator, None, x, scene.torques[1], periods=3)
+    codes, plan, _ = _run_both(scene, integrator, None, x, scene.torques[1], periods=3)
     assert codes == [STEP_OK] * 3
     assert plan.stats[:, adaptive.STAT_REJECTED].sum() > 100
     assert plan.memo[adaptive.M_JACOBIANS] > 100
     integrator = get_integrator("trbdf2", max_iterations=1, newton_tol=1e-6, min_step=1e-7)
-    codes, plan = _run_both(scene, integrator, None, x, scene.torques[1], periods=3)
+    codes, plan, _ = _run_both(scene, integrator, None, x, scene.torques[1], periods=3)
     assert codes == [STEP_TOO_SMALL]
     assert plan.stats[0, adaptive.STAT_REJECTED] > 0
-
-
-@pytest.mark.parametrize("scheme,controller", [("rk45", "pi"), ("trbdf2", "pi")])
-def test_the_python_f_path_gives_the_same_bits(scheme, controller):
-    """On f = the plant's own rhs (its numba kernel), called from C++ through Python."""
-    scene = _scene("planar_two_arm_lift")
-    plant = scene.plant
-    codes, _ = _run_both(scene, get_integrator(scheme), controller, scene.states[1], scene.torques[1], periods=3,
-                         f=lambda t, x, u: plant.rhs(t, x, u))
-    assert codes == [STEP_OK] * 3
-
-
-def _python_advances():
-    """adaptive_plans' functions as Python runs them (their numba py_func, calling each other's Python selves, as
-    coopctrl.integrators.compiled.PYTHON does for the fixed-step schemes): the reference on a Python f, which numba
-    does not compile."""
-    namespace = dict(vars(adaptive))
-    namespace.update(stage_failed=compiled.PYTHON.stage_failed, jacobian_into=compiled.PYTHON.jacobian_into,
-                     copy_into=compiled.copy_into.py_func)
-    return compiled._python_functions(namespace, ("embedded_advance", "trbdf2_advance", "initial_step", "_jacobian",
-                                                  "_iteration_matrix", "_stage", "_rms_scaled", "_tick_of", "_record"))
 
 
 def _pendulum_to_a_wall(t, x, u):
@@ -177,64 +154,77 @@ def _pendulum_to_a_wall(t, x, u):
 
 @pytest.mark.parametrize("scheme,controller", [("rk23", "pi"), ("rk45", "pi"), ("rk45", "elementary"),
                                                ("trbdf2", "pi")])
-def test_a_python_f_that_is_nan_beyond_a_wall_matches_the_python_run_of_adaptive_plans(scheme, controller):
-    """Swinging up to the wall: the steps into it are rejected on their NaN error until one is below min_step."""
-    python = _python_advances()
+def test_a_python_f_that_is_nan_beyond_a_wall_stops_below_min_step(scheme, controller):
+    """Swinging up to the wall: the steps into it are rejected on their NaN error until one is below min_step; the
+    state stays on the defined side, and ``x_fail`` is the state the too small step was tried from."""
     T = 0.05
     integrator = get_integrator(scheme, min_step=1e-9)
-    plans = [adaptive.adaptive_plan(integrator, 2, T, 10, controller=controller) for _ in range(2)]
-    states = [np.array([0.5, 3.0]), np.array([0.5, 3.0])]
+    plan = adaptive.adaptive_plan(integrator, 2, T, 10, controller=controller)
+    x = np.array([0.5, 3.0])
     tau = np.array([0.5])
-    out_ints, out_floats = [np.zeros(8, np.int64), np.zeros(8, np.int64)], [np.zeros(2), np.zeros(2)]
-    fails = [np.zeros(2), np.zeros(2)]
-    advance = python.trbdf2_advance if scheme == "trbdf2" else python.embedded_advance
+    out_int, out_float, x_fail = np.zeros(8, np.int64), np.zeros(2), np.zeros(2)
     codes = []
     for k in range(10):
-        want = advance(plans[0], states[0], tau, PythonRightHandSide(_pendulum_to_a_wall), np.zeros(2, np.int64),
-                       None, None, k * T, fails[0], out_ints[0], out_floats[0])
-        got = _core.adaptive_advance_f(plans[1], _pendulum_to_a_wall, states[1], tau, k * T, fails[1], out_ints[1],
-                                       out_floats[1])
-        assert got == want
-        for a, b in ((states, "x"), (fails, "x_fail"), (out_ints, "out_int"), (out_floats, "out_float")):
-            np.testing.assert_array_equal(a[1], a[0], err_msg=f"{b}, period {k}")
-        for field, a, b in zip(plans[0]._fields, plans[1], plans[0]):
-            np.testing.assert_array_equal(a, b, err_msg=f"plan.{field}, period {k}")
-        codes.append(int(want))
-        if want != STEP_OK:
+        code = _core.adaptive_advance_f(plan, _pendulum_to_a_wall, x, tau, k * T, x_fail, out_int, out_float)
+        codes.append(int(code))
+        if code != STEP_OK:
             break
     assert codes[-1] == STEP_TOO_SMALL and len(codes) > 2
-    assert plans[0].stats[len(codes) - 1, adaptive.STAT_REJECTED] > 0
+    assert plan.stats[len(codes) - 1, adaptive.STAT_REJECTED] > 0
+    assert out_float[0] < 1e-9
+    np.testing.assert_array_equal(x_fail, x)
+    assert np.all(np.isfinite(x)) and x[0] <= 1.0
 
 
 @pytest.mark.parametrize("scheme", ["rk45", "trbdf2"])
-def test_a_plant_failure_is_reported_as_the_numba_one(scheme):
+def test_a_plant_failure_is_reported(scheme):
     """The object's centre on a contact (a central spring of rest length > 0 at zero length): the plant fails at
-    the period's first evaluation."""
+    the period's first evaluation (its status set, ``x_fail`` the state), as the plant's own ``rhs`` does."""
     scene = _scene("central_spring_buckling")
     x = scene.states[0].copy()
     nz = x.shape[0] // 2
     x[nz - 3:nz - 1] = plants_core.planar_control_terms(x, scene.P)["Y"][1, :2]
-    codes, _ = _run_both(scene, get_integrator(scheme), None, x, scene.torques[0], periods=1)
-    assert codes == [STEP_PLANT_ERROR]
+    plan = adaptive.adaptive_plan(get_integrator(scheme), x.shape[0], scene.T, 1)
+    status, x_fail = np.zeros(2, np.int64), np.zeros_like(x)
+    code = _core.adaptive_advance(plan, x.copy(), scene.torques[0], scene.P, status, 0.0, x_fail,
+                                  np.zeros(8, np.int64), np.zeros(2))
+    assert code == STEP_PLANT_ERROR and status[0] != 0
+    np.testing.assert_array_equal(x_fail, x)
+    with pytest.raises(Exception):
+        scene.plant.rhs(0.0, x, scene.torques[0])
 
 
 @pytest.mark.parametrize("name", SCENES)
-def test_the_initial_step_matches_the_numba_one(name):
+def _initial_step(x, f0, f1_of, atol, rtol, order, interval):
+    """The first step (the module docstring of coopctrl.integrators.adaptive_plans, scipy's select_initial_step) in
+    numpy; ``f1_of(y1)`` the slope after the Euler step."""
+    scale = atol + np.abs(x) * rtol
+    d0, d1 = np.sqrt(np.mean((x / scale) ** 2)), np.sqrt(np.mean((f0 / scale) ** 2))
+    h0 = min(1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1, interval)
+    y1 = x + h0 * f0
+    d2 = np.sqrt(np.mean(((f1_of(y1) - f0) / scale) ** 2)) / h0
+    h1 = max(1e-6, h0 * 1e-3) if d1 <= 1e-15 and d2 <= 1e-15 else (0.01 / max(d1, d2)) ** (1.0 / (order + 1.0))
+    return min(100.0 * h0, h1, interval), y1
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_the_initial_step_is_scipys_rule(name):
+    """The core's first step and its Euler state against the numpy statement (1e-12 relative: sums in another
+    order), at the golden records' states."""
     scene = _scene(name)
     integrator = get_integrator("rk23")
-    ws = scene.plant.workspace()
     for x, tau in zip(scene.states, scene.torques):
         nx = x.shape[0]
         atol = integrator.tolerances(nx // 2, scene.T)
         f0 = scene.plant.rhs(0.0, x, tau)
-        outs = [(np.zeros(nx), np.zeros(nx), np.zeros(2, np.int64)) for _ in range(2)]
         for order in (2.0, 4.0):
-            want = adaptive.initial_step(x, f0, *outs[0][:2], atol, 1e-6, order, scene.T, tau, scene.P, outs[0][2], ws)
-            got = _core.adaptive_initial_step(x, f0, *outs[1][:2], atol, 1e-6, order, scene.T, tau, scene.P,
-                                              outs[1][2])
-            assert got == want
-            for a, b in zip(outs[1], outs[0]):
-                np.testing.assert_array_equal(a, b)
+            y1, f1, status = np.zeros(nx), np.zeros(nx), np.zeros(2, np.int64)
+            got = _core.adaptive_initial_step(x, f0, y1, f1, atol, 1e-6, order, scene.T, tau, scene.P, status)
+            want, y1_want = _initial_step(x, f0, lambda y: scene.plant.rhs(0.0, y, tau), atol, 1e-6, order, scene.T)
+            assert got == pytest.approx(want, rel=1e-12)
+            np.testing.assert_array_equal(y1, y1_want)
+            np.testing.assert_array_equal(f1, scene.plant.rhs(0.0, y1, tau))
+            assert status[0] == 0
 
 
 def test_the_packed_arrays_are_read_where_the_python_plans_write_them():

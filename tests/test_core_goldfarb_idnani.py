@@ -1,11 +1,13 @@
-"""coopctrl/core/goldfarb_idnani (the compiled core's QP solver, coopctrl._core.gi_solve): the same bits as the
-numba kernel it ports (coopctrl.load_distribution.goldfarb_idnani) on seeded random load-distribution QPs,
-feasible, infeasible and degenerate, cold and warm started (answer, multipliers, status, iteration count and the
-whole shared workspace, scratch included), the same answers as proxsuite, daqp and quadprog, and its arguments
-checked once at the binding.
+"""coopctrl/core/goldfarb_idnani (the compiled core's QP solver, coopctrl._core.gi_solve) on seeded random
+load-distribution QPs, feasible, infeasible and degenerate, cold and warm started: each kind's verdict (known by
+construction), the KKT conditions at rounding level, warm and cold starts giving the same answer, iteration limits;
+special cases with known verdicts; the same answers as proxsuite, daqp and quadprog; the ``"compiled"`` backend
+warm starting the core as a direct call does; and its arguments checked once at the binding.
 
 The random problems are those of ``tests/test_goldfarb_idnani.py`` (its generator: the loop's QP with every
-inequality family, each kind's verdict known by construction, with a margin).
+inequality family, each kind's verdict known by construction, with a margin). The solver was checked bit for bit
+against the numba kernel it replaced (whole workspace included) when it was ported; the golden records lock the
+loop's splits since.
 """
 
 from __future__ import annotations
@@ -30,7 +32,6 @@ from test_goldfarb_idnani import (
 )
 
 from coopctrl import _core
-from coopctrl.load_distribution import goldfarb_idnani as numba_gi
 from coopctrl.load_distribution.goldfarb_idnani import (
     INFEASIBLE,
     MAX_ITER,
@@ -41,43 +42,42 @@ from coopctrl.load_distribution.goldfarb_idnani import (
 )
 
 
-def _both(args, ws_numba, ws_core, new_H, tol=TOL, max_iter=1000):
-    """Solve with the numba kernel and the core on their own (equal) workspaces; assert the same bits in every
-    output and in the whole workspace; return the numba kernel's (status, iterations, x, z)."""
+def _solve(args, ws, new_H, tol=TOL, max_iter=1000):
+    """The core's solve on ``ws``; a solved answer is checked: the KKT stationarity ``H x + g + M^T z = 0`` at
+    rounding level (1e-9 (1 + |g|_inf): an active-set answer is exact up to rounding) and every row within its
+    bounds (``_accept``). Returns (status, iterations, x, z)."""
     H, g, M, lo, hi, n_eq = args
     n, rows = H.shape[0], M.shape[0]
-    xa, za, xb, zb = np.full(n, 7.0), np.full(rows, 7.0), np.full(n, 7.0), np.full(rows, 7.0)
-    ra = numba_gi.gi_solve(H, g, M, lo, hi, n_eq, xa, za, ws_numba, new_H, tol, max_iter)
-    rb = _core.gi_solve(H, g, M, lo, hi, n_eq, xb, zb, ws_core, new_H, tol, max_iter)
-    assert rb == ra
-    np.testing.assert_array_equal(xb, xa)
-    np.testing.assert_array_equal(zb, za)
-    for got, want in zip(ws_core, ws_numba):
-        np.testing.assert_array_equal(got, want)  # the warm start and the scratch
-    assert (_core.gi_active_inequalities(ws_core, n_eq)
-            == numba_gi.gi_active_inequalities(ws_numba, n_eq))
-    return ra[0], ra[1], xa, za
+    x, z = np.full(n, 7.0), np.full(rows, 7.0)
+    status, iters = _core.gi_solve(H, g, M, lo, hi, n_eq, x, z, ws, new_H, tol, max_iter)
+    if status == SOLVED:
+        assert np.abs(H @ x + g + M.T @ z).max() <= 1e-9 * (1 + np.abs(g).max())
+        assert _accept(x, M, lo, hi)
+        assert _core.gi_active_inequalities(ws, n_eq) == int(np.sum(z[n_eq:] != 0.0))
+    return status, iters, x, z
 
 
 @pytest.mark.parametrize("space", ["planar", "spatial"])
 @pytest.mark.parametrize("kind", KINDS)
-def test_gi_solve_matches_the_numba_kernel_bit_for_bit(space, kind):
+def test_gi_solve_cold_and_warm_started_meets_the_kkt_conditions(space, kind):
     """For m = 1 to 4 arms, 40 problems each: cold, warm started from the previous problem's active set (wrong
-    rows dropped, then iterations), and once more from its own (the fast path); every kind's verdict is the
-    construction's."""
+    rows dropped, then iterations), and once more from its own (the fast path, the same answer to 1e-9 N); every
+    kind's verdict is the construction's."""
     statuses, fast = set(), 0
     for m in (1, 2, 3, 4):
         b = generate(space, m, kind, 40, _seed(space, m, kind) + 31)
         n, rows, k = b["n"], b["M"].shape[1], b["k"]
-        ws_numba, ws_core = gi_workspace(n, rows), gi_workspace(n, rows)
+        ws = gi_workspace(n, rows)
         for j in range(40):
             args = (b["P"][j], b["g"][j], b["M"][j], b["lo"][j], b["hi"][j], k)
             if j % 3 == 0:
-                ws_numba[3][WARM_ACTIVE] = ws_core[3][WARM_ACTIVE] = 0
-            status, _, _, _ = _both(args, ws_numba, ws_core, True)
+                ws[3][WARM_ACTIVE] = 0
+            status, _, x, _ = _solve(args, ws, True)
             statuses.add(status)
-            again, iters, _, _ = _both(args, ws_numba, ws_core, False)
+            again, iters, y, _ = _solve(args, ws, False)
             assert again == status
+            if status == SOLVED:
+                assert np.abs(y - x).max() <= 1e-9 * (1 + np.abs(x).max())
             fast += status == SOLVED and iters == 0
     assert statuses == ({SOLVED} if kind in ("feasible", "degenerate") else {INFEASIBLE})
     if kind in ("feasible", "degenerate"):
@@ -86,16 +86,16 @@ def test_gi_solve_matches_the_numba_kernel_bit_for_bit(space, kind):
 
 @pytest.mark.parametrize("space", ["planar", "spatial"])
 @pytest.mark.parametrize("m", [2, 3, 4])
-def test_warm_started_sequence_matches_the_numba_kernel_bit_for_bit(space, m):
+def test_warm_started_sequence_with_iteration_limits_agrees_with_cold_solves(space, m):
     """Along 200 slowly varying problems (load, preferred split and torque bounds drift; H factorised once,
-    then kept), the core and the numba kernel, each warm started from its previous solve, agree bit for bit;
-    an iteration limit of 3 on every fifth step gives MAX_ITER and the next step goes on from that state."""
+    then kept), the core warm started from its previous solve agrees with a cold solve (1e-9 N); an iteration
+    limit of 3 on every fifth step may give MAX_ITER, and the next step goes on from that state."""
     b = generate(space, m, "degenerate", 1, _seed(space, m, "degenerate") + 7)
     rng = np.random.default_rng(2000 + m)
     k, n = b["k"], b["n"]
     P, g0, M, lo0, hi0 = b["P"][0], b["g"][0], b["M"][0], b["lo"][0], b["hi"][0]
     dg, dw = rng.normal(size=n) * 2.0, rng.normal(size=k) * 1.0
-    ws_numba, ws_core = gi_workspace(n, M.shape[0]), gi_workspace(n, M.shape[0])
+    ws = gi_workspace(n, M.shape[0])
     statuses = []
     for step in range(200):
         t = step * 1e-2
@@ -105,16 +105,20 @@ def test_warm_started_sequence_matches_the_numba_kernel_bit_for_bit(space, m):
         hi[:k] = lo[:k]
         lo[k + m:] += 0.3 * math.sin(t)
         hi[k + m:] += 0.3 * math.sin(t)
-        status, _, _, _ = _both((P, g, M, lo, hi, k), ws_numba, ws_core, step == 0,
-                                max_iter=3 if step % 5 == 4 else 1000)
+        limited = step % 5 == 4
+        status, _, x, _ = _solve((P, g, M, lo, hi, k), ws, step == 0, max_iter=3 if limited else 1000)
         statuses.append(status)
-    assert SOLVED in statuses
+        assert status in ((SOLVED, MAX_ITER) if limited else (SOLVED,))
+        if status == SOLVED:
+            cold, _, y, _ = _solve((P, g, M, lo, hi, k), gi_workspace(n, M.shape[0]), True)
+            assert cold == SOLVED and np.abs(y - x).max() <= 1e-9 * (1 + np.abs(y).max())
+    assert statuses.count(SOLVED) >= 160
 
 
-def test_special_cases_match_the_numba_kernel_bit_for_bit():
+def test_special_cases_give_their_known_verdicts():
     """Not positive definite H, a NaN in M or a bound, a non-finite g, a zero row whose bound excludes 0,
     consistent and inconsistent dependent equalities, only equalities, only inequalities, infinite bounds,
-    a dense H and iteration limits 0 and 1: the same status, iterations and bits."""
+    a dense H and iteration limits 0 and 1: each case's known status (a solved one meets the KKT conditions)."""
     rng = np.random.default_rng(5)
     n = 3
     eye = np.eye(n)
@@ -138,15 +142,13 @@ def test_special_cases_match_the_numba_kernel_bit_for_bit():
          np.array([0.5, 0.3, np.inf, np.inf]), 1, SOLVED),
     ]
     for H, g, M, lo, hi, n_eq, want in cases:
-        ws_numba, ws_core = gi_workspace(n, M.shape[0]), gi_workspace(n, M.shape[0])
-        status, _, _, _ = _both((H, g, M, lo, hi, n_eq), ws_numba, ws_core, True)
+        status, _, _, _ = _solve((H, g, M, lo, hi, n_eq), gi_workspace(n, M.shape[0]), True)
         assert status == want, (M, lo, hi, status)
     b = generate("spatial", 3, "feasible", 1, 77)
     args = (b["P"][0], b["g"][0], b["M"][0], b["lo"][0], b["hi"][0], b["k"])
     limits = []
     for max_iter in (0, 1, 1000):
-        ws_numba, ws_core = gi_workspace(b["n"], b["M"].shape[1]), gi_workspace(b["n"], b["M"].shape[1])
-        limits.append(_both(args, ws_numba, ws_core, True, max_iter=max_iter)[0])
+        limits.append(_solve(args, gi_workspace(b["n"], b["M"].shape[1]), True, max_iter=max_iter)[0])
     assert limits == [MAX_ITER, MAX_ITER, SOLVED]
 
 
@@ -190,8 +192,8 @@ def test_gi_solve_matches_proxsuite_daqp_quadprog(space):
 
 def test_compiled_backend_solves_with_the_core():
     """``LoadDistribution(solver="compiled")`` answers with the core: along 12 problems, each warm started from
-    the last, its split ``F`` is the numba kernel's answer, bit for bit, on the problem it assembled, the numba
-    kernel warm started the same way (one workspace carried along, ``P`` factorised on the first solve)."""
+    the last, its split ``F`` is the core's answer, bit for bit, on the problem it assembled, the core called
+    directly and warm started the same way (one workspace carried along, ``P`` factorised on the first solve)."""
     from coopctrl.load_distribution import LoadDistribution, LoadDistributionConfig
 
     m = 3
@@ -211,12 +213,12 @@ def test_compiled_backend_solves_with_the_core():
         if first:
             ref_ws = gi_workspace(n, rows)
         x, z = np.zeros(n), np.zeros(rows)
-        status, iters = numba_gi.gi_solve(problem.P, problem.g, problem.M, problem.lo, problem.hi, problem.dims[1],
-                                          x, z, ref_ws, first, cfg.eps_abs, cfg.max_iter)
+        status, iters = _core.gi_solve(problem.P, problem.g, problem.M, problem.lo, problem.hi, problem.dims[1],
+                                       x, z, ref_ws, first, cfg.eps_abs, cfg.max_iter)
         assert status == SOLVED and split.status == "solved"
         assert split.iterations == iters
         np.testing.assert_array_equal(split.F.ravel(), x)
-        warm += not first and numba_gi.gi_active_inequalities(ref_ws, problem.dims[1]) > 0
+        warm += not first and _core.gi_active_inequalities(ref_ws, problem.dims[1]) > 0
     assert warm >= 3  # warm starts from non-empty active sets were compared
 
 

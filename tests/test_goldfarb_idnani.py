@@ -1,5 +1,6 @@
-"""Tests of coopctrl.load_distribution.goldfarb_idnani (the compiled dual active-set QP) and of the
-``"compiled"`` backend, against proxsuite (eps_abs 1e-9), daqp and quadprog.
+"""Tests of the compiled dual active-set QP (coopctrl/core/goldfarb_idnani.h, ``coopctrl._core.gi_solve``, on the
+workspace of :func:`coopctrl.load_distribution.goldfarb_idnani.gi_workspace`) and of the ``"compiled"`` backend,
+against proxsuite (eps_abs 1e-9), daqp and quadprog.
 
 The random problems are the loop's load-distribution QP (``LoadDistributionProblem``'s stacked
 ``M = [G; C]``, ``lo``, ``hi``), generated in batches with numpy (one seeded ``Generator`` per
@@ -26,23 +27,13 @@ So the verdict of every problem is known exactly, with a margin, and no solver's
 from __future__ import annotations
 
 import math
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
-from numba import njit
 
 from coopctrl.load_distribution import LoadDistributionConfig, LoadDistributionProblem
-from coopctrl.load_distribution.goldfarb_idnani import (
-    INFEASIBLE,
-    NOT_CONVEX,
-    SOLVED,
-    gi_solve,
-    gi_workspace,
-)
+from coopctrl._core import gi_active_inequalities, gi_solve
+from coopctrl.load_distribution.goldfarb_idnani import INFEASIBLE, NOT_CONVEX, SOLVED, gi_workspace
 
 K_OF = {"spatial": 6, "planar": 3}
 P_OF = {"spatial": 3, "planar": 2}
@@ -484,53 +475,6 @@ def test_dependent_equalities():
     assert gi_solve(np.eye(3), g, M, b, b.copy(), 3, x, z, ws, True, TOL, 100)[0] == INFEASIBLE
 
 
-@njit(cache=True)
-def _solve_n_times(P, g, M, lo, hi, n_eq, x, z, ws, times):
-    for i in range(times):
-        gi_solve(P, g, M, lo, hi, n_eq, x, z, ws, i == 0, TOL, 1000)
-
-
-_ALLOCATIONS = """
-import sys
-sys.path.insert(0, {tests!r})
-import numpy as np
-from numba import njit
-from numba.core.runtime import rtsys
-from test_goldfarb_idnani import _solve_n_times, generate, gi_workspace
-
-allocating = njit(lambda k: np.empty(k))
-allocating(3)  # compiled (and numba's runtime started) before counting
-a0 = rtsys.get_allocation_stats().alloc
-allocating(3)
-print(rtsys.get_allocation_stats().alloc - a0)  # the counter is on: this allocation is counted
-
-b = generate("spatial", 3, "degenerate", 1, 5)
-n, rows = b["n"], b["M"].shape[1]
-args = (b["P"][0], b["g"][0], b["M"][0], b["lo"][0], b["hi"][0], b["k"], np.zeros(n), np.zeros(rows),
-        gi_workspace(n, rows))
-_solve_n_times(*args, 1)  # compile or load
-for times in (1, 200):
-    before = rtsys.get_allocation_stats().alloc
-    _solve_n_times(*args, times)
-    print(rtsys.get_allocation_stats().alloc - before)
-"""
-
-
-def test_no_allocation_per_solve():
-    """Called from a numba loop, a solve allocates nothing (numba's allocation counter: the
-    loop's own argument handling costs the same for 1 solve as for 200). The counter is numba's
-    public one (``NUMBA_NRT_STATS=1``, read when numba's runtime starts: so in a process of its own)."""
-    tests = Path(__file__).resolve().parent
-    env = dict(os.environ, NUMBA_NRT_STATS="1",
-               PYTHONPATH=os.pathsep.join([str(tests.parent), os.environ.get("PYTHONPATH", "")]))
-    out = subprocess.run([sys.executable, "-c", _ALLOCATIONS.format(tests=str(tests))], env=env,
-                         capture_output=True, text=True, timeout=600)
-    assert out.returncode == 0, out.stderr[-3000:]
-    probe, *counts = [int(line) for line in out.stdout.split()]
-    assert probe >= 1, "numba's allocation counter did not count an allocation"
-    assert len(counts) == 2 and counts[0] == counts[1], counts
-
-
 @pytest.mark.parametrize("space", ["planar", "spatial"])
 def test_compiled_backend_elastic_split_with_changing_stiffness(space):
     """Through ``LoadDistribution`` with the elastic split (dense ``P = K^{-1}``), the compiled
@@ -593,7 +537,6 @@ def test_active_inequalities_counts_the_rows_held_at_a_bound():
     """min x^2 + y^2 - 2 x - 2 y (unconstrained optimum (1, 1)) with x + y = 1 and the boxes x <= 0.2,
     y <= 5: the optimum is (0.2, 0.8) with the x box active (the equality is not counted); without the
     tight box no inequality is active. The count is read from the workspace the solve left."""
-    from coopctrl.load_distribution.goldfarb_idnani import gi_active_inequalities
 
     H = 2.0 * np.eye(2)
     g = np.array([-2.0, -2.0])

@@ -1,5 +1,7 @@
-"""Error-controlled integration in the compiled loop (:mod:`coopctrl.integrators.adaptive_plans`): ``rk23``, ``rk45``
-and ``trbdf2`` against scipy's ``solve_ivp`` (step for step), their orders against DOP853, the
+"""Error-controlled integration in the compiled loop (coopctrl/core/adaptive_schemes.h on the plans of
+:mod:`coopctrl.integrators.adaptive_plans`, stepping the plant in the core as the loop's tick does,
+``_core.plant_advance``):
+``rk23``, ``rk45`` and ``trbdf2`` against scipy's ``solve_ivp`` (step for step), their orders against DOP853, the
 global error's proportionality to ``rtol``, the step statistics, and the stop below ``min_step``."""
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from coopctrl.errors import ScenarioError
 from coopctrl.integrators import BogackiShampine, DormandPrince, get_integrator
 import coopctrl.integrators.adaptive_plans as adaptive
 import coopctrl.integrators.compiled as integrate
+from coopctrl import _core
 from coopctrl.scenario import build
 from coopctrl.simulator import closed_loop
 
@@ -43,11 +46,10 @@ class _Plant:
     def advance(self, integrator, period: float, controller: str | None = None, fixed_step: float = 0.0):
         """One period by the compiled scheme: ``(code, x, rhs evaluations, stats row)``."""
         plan = adaptive.adaptive_plan(integrator, self.x.size, period, 1, controller=controller, fixed_step=fixed_step)
-        ws = self.plant.workspace()
         status, out_int, out_float = np.zeros(2, np.int64), np.zeros(8, np.int64), np.zeros(2)
         x, x_fail = self.x.copy(), self.x.copy()
-        code = integrate.advance_period(plan, x, self.tau, self.P, status, ws, 0.0, np.array([period]), x_fail,
-                                        out_int, out_float)
+        code = _core.plant_advance(plan, x, self.tau, self.P, status, 0.0, np.array([period]), x_fail, out_int,
+                                   out_float)
         return code, x, int(out_int[7]), plan.stats[0].copy()
 
 

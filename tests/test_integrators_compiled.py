@@ -1,17 +1,15 @@
-"""The integrators' one source (:mod:`coopctrl.integrators.compiled`): the five integrators, the implicit
-ones with their Newton iteration in the kernel, against the numpy oracle of ``tests/_integrator_oracle.py``
-(itself checked against scipy in ``tests/test_integrator_oracle.py``) one step at a time; the public
-``Integrator.step`` (compiled on a plant, run by Python on any ``f``) against the kernel; and whole
-closed-loop runs against the Python tick with the plant stepped outside the kernel."""
+"""The integrators' one source, the compiled core's schemes (coopctrl/core: explicit_schemes.h, implicit_schemes.h,
+on the plans of :mod:`coopctrl.integrators.compiled`): the five integrators, the implicit ones with their Newton
+iteration, stepping a plant in the core (``coopctrl._core.plant_advance``, as the loop's tick does) against the
+numpy oracle of ``tests/_integrator_oracle.py`` (itself checked against scipy in ``tests/test_integrator_oracle.py``)
+one step at a time; the public ``Integrator.step`` (on a plant's ``rhs``, and on any Python ``f``) against the core;
+and whole closed-loop runs against the Python tick with the plant stepped outside the core. (The core's inverse and
+pseudo-inverse are checked against numpy in tests/test_core_integrators.py.)"""
 
 from __future__ import annotations
 
 import math
-import os
 import re
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +17,7 @@ import pytest
 
 import coopctrl
 import coopctrl.integrators.compiled as integrate
+from coopctrl import _core
 from _integrator_oracle import SDIRK, oracle_step
 from coopctrl.integrators import DiagonallyImplicitRungeKutta, ImplicitEuler, NewtonConvergenceError, get_integrator
 from coopctrl.loop.compiled import compiled_unsupported
@@ -54,15 +53,14 @@ class _Plant:
         self.P = plant.plant_args  # the kernel arrays by name
 
     def kernel_steps(self, integrator, h: float, n: int):
-        """``n`` steps of ``h`` by the kernel (one period of one step each, the plan kept between them):
-        the states after each step, the plan and the right-hand-side count."""
+        """``n`` steps of ``h`` by the compiled core on the plant's own kernels (one period of one step each, the
+        plan kept between them): the states after each step, the plan and the right-hand-side count."""
         plan = integrate.make_plan(integrator, self.x.size)
-        ws = self.plant.workspace()
         status, out_int, out_float = np.zeros(2, np.int64), np.zeros(8, np.int64), np.zeros(2)
         x, x_fail, states, codes = self.x.copy(), self.x.copy(), [], []
         for _ in range(n):
-            codes.append(integrate.advance_period(plan, x, self.tau, self.P, status, ws, 0.0, np.array([h]), x_fail,
-                                                  out_int, out_float))
+            codes.append(_core.plant_advance(plan, x, self.tau, self.P, status, 0.0, np.array([h]), x_fail, out_int,
+                                             out_float))
             states.append(x.copy())
         return codes, states, plan, out_int, out_float
 
@@ -281,66 +279,3 @@ def test_plans_by_scheme():
     assert integrate.make_plan(get_integrator("implicit_euler"), 4).tableau.tolist() == [[1.0]]
     with pytest.raises(TypeError, match="has no compiled step"):
         integrate.make_plan(object(), 4)
-
-
-
-@pytest.mark.parametrize("name", ["euler", "symplectic_euler", "rk4", "implicit_midpoint", "implicit_euler", "rk23",
-                                  "rk45", "trbdf2"])
-def test_plan_slots_hold_every_family_in_one_type_and_give_back_its_own_arrays(name):
-    """``plan_slots`` puts a plan of any family in slots of one numba type (so the loop's tick is compiled
-    once for every integrator), and the family's ``*_plan_of`` gives back the plan: the same fields, the
-    very same arrays (the advance writes into the plan the loop state carries), in Python and compiled."""
-    import coopctrl.integrators.adaptive_plans as adaptive
-    from numba import njit, typeof
-
-    nx = 6
-    plan = integrate.make_plan(get_integrator(name), nx, 1e-3, 3)
-    slots = integrate.plan_slots(plan)
-    reference = integrate.plan_slots(integrate.make_plan(get_integrator("rk4"), nx))
-    assert typeof(slots) == typeof(reference)  # one type for every family
-    of = {integrate.ExplicitPlan: integrate.explicit_plan_of, integrate.ImplicitPlan: integrate.implicit_plan_of,
-          adaptive.EmbeddedPlan: adaptive.embedded_plan_of, adaptive.TRBDF2Plan: adaptive.trbdf2_plan_of}[type(plan)]
-    back = of(slots)
-    assert type(back) is type(plan) and len(back) == len(plan)
-    for a, b in zip(back, plan):
-        assert a is b or (not isinstance(b, np.ndarray) and a == b)
-
-    explicit = type(plan) is integrate.ExplicitPlan
-
-    @njit
-    def touch_y(slots, value):  # compiled: rebuild the plan, write through one of its fields
-        integrate.explicit_plan_of(slots).y[0] = value
-
-    @njit
-    def touch_memo(slots, value):
-        of(slots).memo[0] = value
-
-    (touch_y if explicit else touch_memo)(slots, 7.25)
-    field = plan.y if explicit else plan.memo
-    assert field[0] == 7.25  # the plan's own array
-
-
-def test_scheme_functions_are_copied_into_their_callers_never_compiled_alone():
-    """The scheme functions are ``@njit(inline="always")``: a compiled caller gets their code without numba
-    compiling them on their own (``signatures`` stays empty), and Python runs the same code through
-    ``integrate.PYTHON``, whose functions call each other's Python selves."""
-    from numba import njit
-
-    @njit
-    def caller(y, status, x_fail, out_int):  # a new function: compiled here, never loaded from a cache
-        return integrate.stage_failed(y, status, x_fail, out_int)
-
-    y, x_fail, out_int = np.array([1.0, 2.0]), np.zeros(2), np.zeros(8, dtype=np.int64)
-    assert caller(y, np.array([0, 0]), x_fail, out_int) is False
-    assert caller(y, np.array([3, 0]), x_fail, out_int) is True
-    np.testing.assert_array_equal(x_fail, y)  # the failing state kept
-    assert out_int[7] == 2  # both evaluations counted
-    for name in ("stage_failed", "explicit_period", "jacobian_into", "implicit_period"):
-        assert getattr(integrate, name).signatures == [], name
-        python = getattr(integrate.PYTHON, name)
-        assert python.__code__ is getattr(integrate, name).py_func.__code__  # one source
-        assert not hasattr(python, "signatures")  # a plain function
-        assert python.__globals__["jacobian_into"] is integrate.PYTHON.jacobian_into  # calls the Python selves
-    x_fail[:] = 0.0
-    assert integrate.PYTHON.stage_failed(y, np.array([1, 0]), x_fail, out_int) is True
-    np.testing.assert_array_equal(x_fail, y)

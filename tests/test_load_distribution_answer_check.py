@@ -1,5 +1,6 @@
-"""The QP answer check and binding families (``coopctrl.load_distribution.answer_check``): written once,
-compiled, run by the compiled tick and by ``LoadDistribution``.
+"""The QP answer check and binding families (coopctrl/core/qp_answer_check.h, bound in ``coopctrl._core``; the rule
+in :mod:`coopctrl.load_distribution.answer_check`): written once, compiled, run by the compiled tick and by
+``LoadDistribution``.
 
 Issue 18: the check was written twice (numpy in ``LoadDistribution``, loops in the kernel). The one
 compiled definition is checked here against numpy formulas written from the documented rule and against
@@ -11,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from coopctrl._core import answer_ok, answer_tolerance, answer_violation, binding_families
 from coopctrl.load_distribution import LoadDistribution, LoadDistributionConfig
-from coopctrl.load_distribution.answer_check import (FAMILY_MIN_GRIP, answer_ok, answer_tolerance, answer_violation,
-                                                     binding_families)
+from coopctrl.load_distribution.answer_check import FAMILY_MIN_GRIP
 from coopctrl.load_distribution.load_distribution import ANSWER_TOLERANCE_OF_LOAD
 
 #: Relative agreement of a compiled reduction with numpy's: sums of a dozen products of order 10 in

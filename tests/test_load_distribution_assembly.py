@@ -1,7 +1,7 @@
 """The QP's rows are written once (issue 10, Layout): ``LoadDistributionProblem.update`` and the public
 helpers ``grasp_matrix`` / ``internal_force_basis`` call the C++ core's assembly (``coopctrl._core``,
-coopctrl/core/qp_assembly.h), which the compiled tick calls too, and which writes the rows of the numba
-functions of :mod:`coopctrl.load_distribution.assembly` bit for bit.
+coopctrl/core/qp_assembly.h), which the compiled tick calls too; the rows are checked here against their
+statements (the class docstring, the rows' statements of tests/test_core_qp_assembly.py, the analytic grasp).
 
 Seeded random spatial and planar configurations with the three inequality families (min_grip,
 friction, torque_limits) and a desired squeeze."""
@@ -10,16 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_core_qp_assembly import friction_rows
 
 from coopctrl.errors import ScenarioError
 from coopctrl.load_distribution import LoadDistributionConfig, LoadDistributionProblem, grasp_matrix, internal_force_basis
-from coopctrl.load_distribution import assembly
-from coopctrl.load_distribution.grasp_matrix import identity_grasp_matrix
 
 K_OF = {"spatial": 6, "planar": 3}
 P_OF = {"spatial": 3, "planar": 2}
-FUNCTIONS = ("fill_grasp_rows", "pseudo_inverse_external", "fill_squeeze_basis", "fill_grip_rows",
-             "fill_friction_rows", "fill_torque_rows")
 
 
 def random_inputs(space: str, m: int, seed: int):
@@ -45,90 +42,57 @@ def config(space: str, m: int) -> LoadDistributionConfig:
 
 @pytest.mark.parametrize("space", ["spatial", "planar"])
 @pytest.mark.parametrize("m", [2, 3])
-def test_update_writes_the_assembly_functions_rows(space, m):
-    """``update``'s arrays (every family of rows, the external split, the squeeze basis) equal, bitwise, what
-    the numba functions write into fresh arrays from the same inputs."""
+def test_update_writes_the_documented_rows(space, m):
+    """``update``'s arrays (every family of rows, the external split, the squeeze basis) are what the class
+    docstring says: the balance rows map the external split onto the load, the squeeze basis is internal, the
+    grip rows hold the unit normals, the friction rows the pyramid's statement, the torque rows ``J_i^T`` within
+    ``-tau_max - bias .. tau_max - bias``; the preferred split is the external one plus the desired squeeze."""
     k, p, n = K_OF[space], P_OF[space], K_OF[space] * m
     for seed in range(3):
         r, r0, w, normals, J, bias, tau_max = random_inputs(space, m, seed=100 * m + seed)
         pb = LoadDistributionProblem(config(space, m), space, m)
         pb.update(r, r0, w, normals=normals, jacobians=J, biases=bias, tau_max=tau_max)
-
-        # the same functions on fresh arrays, the row layout written out here
         nf = 6 if space == "spatial" else 2
-        dofs = np.array([j.shape[1] for j in J], dtype=np.int64)
-        n_in = m + m * nf + int(dofs.sum())
-        M = np.zeros((k + n_in, n))
-        M[:k] = identity_grasp_matrix(m, space)
-        lo, hi = np.full(k + n_in, -np.inf), np.full(k + n_in, np.inf)
-        lo[:k] = hi[:k] = w
-        lo[k:k + m] = 2.0
-        hi[k + m:k + m + m * nf] = 0.0
-        spatial = space == "spatial"
-        assembly.fill_grasp_rows(M, r, r0, spatial)
-        W_inv = 1.0 / pb.W_diag
-        external = np.zeros(n)
-        assert assembly.pseudo_inverse_external(M, k, W_inv, w, external, np.zeros((k, k)), np.zeros(k))
-        E = np.zeros((n, m * (m - 1) // 2))
-        assert assembly.fill_squeeze_basis(E, r, k)
-        nrm = normals / np.sqrt(np.einsum("ij,ij->i", normals, normals))[:, None]  # update's normalisation (Python side)
-        assembly.fill_grip_rows(M, k, nrm, k)
-        phi = 2.0 * np.pi * np.arange(nf) / nf
-        mu_c = 0.5 * np.cos(np.pi / nf) if spatial else 0.5
-        assembly.fill_friction_rows(M, k + m, nrm, k, nf, mu_c, np.cos(phi), np.sin(phi), spatial)
-        Jg = np.zeros((m, k, int(dofs.max())))
-        for i, Ji in enumerate(J):
-            Jg[i, :, :dofs[i]] = Ji
-        assembly.fill_torque_rows(M, lo, hi, k + m + m * nf, Jg, dofs, k, np.concatenate(tau_max), np.concatenate(bias))
-
-        assert np.array_equal(pb.M, M)
-        assert np.array_equal(pb.lo, lo) and np.array_equal(pb.hi, hi)
-        assert np.array_equal(pb.external, external)
-        assert np.array_equal(pb.E, E)
-        assert np.array_equal(pb.F_pref, external + E @ pb.s_des)
-        # and the rows mean what the class docstring says. Tolerances: |w| <= ~60 N and G W^-1 G^T is well
-        # conditioned here (contacts ~0.3 m apart, shares 1..3), so the Cholesky solve is good to ~1e-13
-        # relative; E's entries are O(1) and G's moment arms O(1) m, so G E is zero to ~1e-15
-        G, C = M[:k], M[k:]
-        np.testing.assert_allclose(G @ external, w, rtol=0, atol=1e-11 * np.abs(w).max())
-        np.testing.assert_allclose(G @ E, 0.0, atol=1e-13)
+        dofs = [j.shape[1] for j in J]
+        n_in = m + m * nf + sum(dofs)
+        assert pb.M.shape == (k + n_in, n)
+        np.testing.assert_array_equal(pb.M[:k], grasp_matrix(r, r0, space))
+        np.testing.assert_array_equal(pb.lo[:k], w)
+        np.testing.assert_array_equal(pb.hi[:k], w)
+        np.testing.assert_array_equal(pb.E, internal_force_basis(r, space))
+        assert np.array_equal(pb.F_pref, pb.external + pb.E @ pb.s_des)
+        # Tolerances: |w| <= ~60 N and G W^-1 G^T is well conditioned here (contacts ~0.3 m apart, shares 1..3),
+        # so the Cholesky solve is good to ~1e-13 relative; E's entries are O(1) and G's moment arms O(1) m, so
+        # G E is zero to ~1e-15
+        G, C = pb.M[:k], pb.M[k:]
+        np.testing.assert_allclose(G @ pb.external, w, rtol=0, atol=1e-11 * np.abs(w).max())
+        np.testing.assert_allclose(G @ pb.E, 0.0, atol=1e-13)
+        nrm = normals / np.sqrt(np.einsum("ij,ij->i", normals, normals))[:, None]  # update's normalisation
         for i in range(m):
-            np.testing.assert_allclose(C[i, k * i:k * i + p], nrm[i], rtol=0, atol=0)
+            np.testing.assert_allclose(C[i, k * i:k * i + p], nrm[i], rtol=0, atol=1e-15)
+        np.testing.assert_array_equal(pb.lo[k:k + m], 2.0)
+        want = np.zeros((m * nf, n))
+        phi = 2.0 * np.pi * np.arange(nf) / nf
+        mu_c = 0.5 * np.cos(np.pi / nf) if space == "spatial" else 0.5
+        friction_rows(want, 0, nrm, k, nf, mu_c, np.cos(phi), np.sin(phi), space == "spatial")
+        np.testing.assert_allclose(C[m:m + m * nf], want, rtol=0, atol=1e-15)
+        np.testing.assert_array_equal(pb.hi[k + m:k + m + m * nf], 0.0)
         row = m + m * nf
         for i, Ji in enumerate(J):
             np.testing.assert_array_equal(C[row:row + dofs[i], k * i:k * (i + 1)], Ji.T)
-            np.testing.assert_array_equal(hi[k + row:k + row + dofs[i]], tau_max[i] - bias[i])
-            np.testing.assert_array_equal(lo[k + row:k + row + dofs[i]], -tau_max[i] - bias[i])
+            np.testing.assert_array_equal(pb.hi[k + row:k + row + dofs[i]], tau_max[i] - bias[i])
+            np.testing.assert_array_equal(pb.lo[k + row:k + row + dofs[i]], -tau_max[i] - bias[i])
             row += dofs[i]
 
 
-def test_python_side_calls_no_numba_function(monkeypatch):
-    """The problem and the helpers run the core's assembly, never the numba functions (which only the
-    numba tick calls), for inputs of any kind (lists, Fortran order), in both
-    kinds of scene; the helpers' arrays equal the numba functions' bit for bit."""
-    expected = {}
+def test_helpers_take_lists_and_any_memory_order():
+    """The helpers' arrays do not depend on the inputs' kind (lists, Fortran order)."""
     for space in ("spatial", "planar"):
         for m in (2, 3):
             r, r0, _, _, _, _, _ = random_inputs(space, m, seed=7 + m)
-            G = identity_grasp_matrix(m, space)
-            assembly.fill_grasp_rows(G, r, r0, space == "spatial")
-            E = np.zeros((K_OF[space] * m, m * (m - 1) // 2))
-            assert assembly.fill_squeeze_basis(E, r, K_OF[space])
-            expected[space, m] = G, E
-
-    def refuse(*args):
-        raise AssertionError("a numba assembly function was called")
-
-    for name in FUNCTIONS:
-        monkeypatch.setattr(assembly, name, refuse)
-    for space in ("spatial", "planar"):
-        for m in (2, 3):
-            r, r0, w, normals, J, bias, tau_max = random_inputs(space, m, seed=7 + m)
-            LoadDistributionProblem(config(space, m), space, m).update(
-                r, r0, w, normals=normals.tolist(), jacobians=J, biases=bias, tau_max=50.0)
-            G, E = expected[space, m]
-            np.testing.assert_array_equal(grasp_matrix(r.tolist(), r0, space), G)
-            np.testing.assert_array_equal(internal_force_basis(np.asfortranarray(r), space), E)
+            np.testing.assert_array_equal(grasp_matrix(r.tolist(), r0, space), grasp_matrix(r, r0, space))
+            np.testing.assert_array_equal(internal_force_basis(np.asfortranarray(r), space),
+                                          internal_force_basis(r, space))
 
 
 @pytest.mark.parametrize("space", ["spatial", "planar"])

@@ -1,16 +1,17 @@
-"""The QP's contact inputs are written once (issue 10, Layout): :mod:`coopctrl.load_distribution.contact_model`
-defines the contact normals and the torque-limit model; the compiled tick (``_qp_rows``) and the loaded start's
-wrappers (:mod:`coopctrl.loop.qp_inputs`) call it. Here each is checked against an independent computation:
+"""The QP's contact inputs are written once (issue 10, Layout): the compiled core (coopctrl/core/qp_contact_model.h)
+defines the contact normals and the torque-limit model; the compiled tick and the loaded start's wrappers
+(:mod:`coopctrl.loop.qp_inputs`) call it. Here each is checked against an independent computation:
 the normals against the frame's rotation, the torque model against each arm's own inverse dynamics with
 the world angular-velocity Jacobian taken by finite differences of its forward kinematics. Every random
 draw is seeded."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
-from coopctrl.load_distribution import contact_model
 from coopctrl.loop.qp_inputs import TorqueModel, contact_normals, torque_model
 from coopctrl.scenario import build, load_scenario
 from plants.cooperative import ContactPoint
@@ -19,10 +20,9 @@ from test_cli import REPO
 
 
 def _normals(Y, spatial):
-    m = Y.shape[0] - 1
-    nrm = np.empty((m, 3 if spatial else 2))
-    contact_model.contact_normals_into(Y, spatial, nrm, np.empty((3, 3)))
-    return nrm
+    """:func:`contact_normals` of the node poses ``Y`` (the plant and terms it reads, by name)."""
+    plant = SimpleNamespace(space="spatial" if spatial else "planar", arm_count=Y.shape[0] - 1)
+    return contact_normals(plant, SimpleNamespace(Y=Y))
 
 
 @pytest.mark.parametrize("space", ["spatial", "planar"])
@@ -133,33 +133,20 @@ def test_torque_model_is_the_arms_inverse_dynamics(name):
                                        atol=1e-7 * (1.0 + np.abs(tau_ref).max()))
 
 
-def test_the_wrappers_give_the_numba_functions_numbers():
-    """``qp_inputs.contact_normals`` and ``torque_model`` (the compiled core's, coopctrl/core/qp_contact_model.h)
-    give the numbers of the numba functions they replaced, bit for bit, from plant terms and from a
-    non-contiguous ``ddYn``."""
+def test_the_wrappers_take_any_memory_order():
+    """``contact_normals`` and ``torque_model`` give the same numbers from plant terms and from a non-contiguous
+    ``ddYn`` as from C-ordered copies."""
     for name in ("heavy_payload_torque_limits", "contact_points_only", "three_iiwa_tray"):
         scenario, plant = _scene(name)
         terms = plant.control_terms(build.unloaded_state(scenario))
-        spatial = plant.space == "spatial"
-        want_n = np.empty((plant.arm_count, 3 if spatial else 2))
-        contact_model.contact_normals_into(np.ascontiguousarray(terms.Y), spatial, want_n, np.empty((3, 3)))
-        np.testing.assert_array_equal(contact_normals(plant, terms), want_n)
-        ddYn = np.asfortranarray(np.zeros((plant.arm_count + 1, plant.p)) + 1.0)
-        jacobians, biases = torque_model(plant, terms, ddYn)
-        P, p = plant.plant_args, plant.p
-        dofs = [int(n) for n in P.arm_dof]
-        nmax = max(p, *dofs)
-        Jg, bias = np.zeros((plant.arm_count, p, nmax)), np.zeros(sum(dofs))
-        wv, wm = np.empty((8, nmax)), np.empty((4, nmax, nmax))  # the torque model's work rows
-        f64 = np.ascontiguousarray
-        contact_model.torque_model_into(spatial, f64(terms.Y), f64(ddYn), f64(terms.W), f64(terms.w_free), f64(terms.H),
-                                        f64(terms.h), f64(terms.J), f64(terms.Jdq), P.arm_kind, P.arm_dof, Jg, bias,
-                                        np.empty(p), np.empty(p), np.empty(nmax), np.empty(nmax, np.int64), wv, wm,
-                                        np.empty((3, 3, 3)))
-        offsets = np.concatenate(([0], np.cumsum(dofs)))
-        for i, n in enumerate(dofs):
-            np.testing.assert_array_equal(jacobians[i], Jg[i, :, :n])
-            np.testing.assert_array_equal(biases[i], bias[offsets[i]:offsets[i + 1]])
+        np.testing.assert_array_equal(contact_normals(plant, terms),
+                                      contact_normals(plant, SimpleNamespace(Y=np.ascontiguousarray(terms.Y))))
+        ddYn = np.zeros((plant.arm_count + 1, plant.p)) + 1.0
+        jacobians, biases = torque_model(plant, terms, np.asfortranarray(ddYn))
+        want_j, want_b = torque_model(plant, terms, ddYn)
+        for i in range(plant.arm_count):
+            np.testing.assert_array_equal(jacobians[i], want_j[i])
+            np.testing.assert_array_equal(biases[i], want_b[i])
 
 
 @pytest.mark.parametrize("name", ["three_iiwa_tray", "contact_points_only"])

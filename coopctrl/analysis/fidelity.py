@@ -57,7 +57,7 @@ TASK_ATOL = 1e-9
 #: Largest out-of-plane offset [m] or rotation [rad] of a spatial task pose (object, grasps,
 #: vias) accepted as "in the x-z plane": the numbers in the files are exact, so 1e-9.
 PLANE_TOLERANCE = 1e-9
-#: Control periods of a warm-up run (loads the numba kernels and the QP before timing).
+#: Control periods of a warm-up run (loads the compiled core and the QP before timing).
 WARM_UP_TICKS = 10
 
 

@@ -1,7 +1,6 @@
 """Computed torque on the full cooperative model, in node coordinates (docs/model.md s.4-6).
 
-The laws run in the C++ core (``coopctrl._core``, coopctrl/core/control_laws.h), the ports, bit for bit, of the
-numba kernels of :mod:`coopctrl.controllers.laws` and :mod:`coopctrl.controllers._kernels`."""
+The laws run in the C++ core (``coopctrl._core``, coopctrl/core/control_laws.h), the ones the loop's tick runs."""
 
 from __future__ import annotations
 
@@ -23,7 +22,7 @@ def _vector(name: str, value, size: int | None = None) -> np.ndarray:
 
 def pose_error(Y_target, Y, space: str) -> np.ndarray:
     """``Y_target - Y`` with the angle components wrapped into [-pi, pi) [m, rad]: the C++ core's
-    ``pose_error`` (the loop's own; :func:`coopctrl.controllers.laws.pose_error_into`)."""
+    ``pose_error`` (the loop's own)."""
     target = _vector("Y_target", Y_target)
     Yc = _vector("Y", Y, target.shape[0])
     out = np.empty(target.shape[0])
@@ -67,7 +66,7 @@ class PostureTask:
 
     def torque(self, terms):
         """``tau_0`` [N m] at ``terms`` (its ``z``, ``dz``, ``H``), or ``None`` for a square arm: the C++ core's
-        ``posture_torque`` (the loop's own; :func:`coopctrl.controllers.laws.posture_torque_into`)."""
+        ``posture_torque`` (the loop's own)."""
         if not self.active:
             return None
         out = np.empty(self.n)
@@ -89,8 +88,7 @@ def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.nd
     where ``w_i = w_free + S_i`` holds the gyroscopic and gravity terms and the
     interconnection forces at the node (from ``terms``). For a contact point ``tau = F_i``.
     A square arm (``n = p``) inverts ``J``; a singular ``J`` raises
-    :class:`~plants.errors.SingularJacobianError`. In the C++ core: ``coopctrl._core.node_torque``
-    (the port of :func:`coopctrl.controllers._kernels.node_torque`).
+    :class:`~plants.errors.SingularJacobianError`. In the C++ core: ``coopctrl._core.node_torque``.
 
     Redundant arm (``n > p``, e.g. a 7-joint arm in space): with ``N = H + J^T W_i J`` (the
     arm-and-node inertia of (177)) and its dynamically consistent generalized inverse
@@ -103,8 +101,7 @@ def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.nd
 
     the task torque plus the null-space torque ``P^T tau_0``, which gives the node no
     acceleration (``J N^-1 P^T = 0``). ``tau_posture`` is ``tau_0`` (:class:`PostureTask`;
-    ``None`` = 0). In the C++ core: ``coopctrl._core.node_torque`` (the port of
-    :func:`coopctrl.controllers._kernels.node_torque_redundant`).
+    ``None`` = 0). In the C++ core: ``coopctrl._core.node_torque``.
     """
     k = i + 1
     arm = plant.arms[i]
@@ -125,7 +122,7 @@ def node_computed_torque(plant, terms, i: int, a_cmd, tau_posture=None) -> np.nd
 def arm_torque(plant, terms, i: int, a_cmd, posture: PostureTask) -> np.ndarray:
     """Joint torques [N m] of arm ``i`` that give its node the acceleration ``a_cmd`` (p,) [m/s^2, rad/s^2]
     at ``terms``, the null-space ``posture`` task of a redundant arm included: the C++ core's ``arm_torque``
-    (:func:`coopctrl.controllers.laws.arm_torque_into`), the loop's own (the law of :func:`node_computed_torque`
+    (coopctrl/core/control_laws.h), the loop's own (the law of :func:`node_computed_torque`
     with ``tau_posture = posture.torque(terms)``). Raises :class:`~plants.errors.SingularJacobianError` where
     the arm's Jacobian is singular."""
     k = i + 1

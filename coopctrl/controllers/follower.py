@@ -38,10 +38,7 @@ class FollowerForceController:
     With ``force_loop=False`` the follower only tracks the feedforward pose (position control).
 
     The law is the loop's own, in the C++ core (``coopctrl._core.follower_correction``, ``pose_increment``,
-    ``tracking_acceleration``, ``arm_torque``, coopctrl/core/control_laws.h: the ports of
-    :func:`coopctrl.controllers.laws.follower_correction_into`,
-    :func:`~coopctrl.controllers.laws.follower_acceleration_into` and
-    :func:`~coopctrl.controllers.laws.arm_torque_into`): :meth:`torque` calls it.
+    ``tracking_acceleration``, ``arm_torque``, coopctrl/core/control_laws.h): :meth:`torque` calls it.
 
     A redundant follower (7 joints in space) runs the same inner loop with the dynamically
     consistent inverse and the damped null-space posture task of :class:`PostureTask`, through

@@ -116,8 +116,7 @@ class GraspCompliance:
     def pose_increment(self, i: int, F_world, Y0, Yi) -> np.ndarray:
         """Pose-coordinate increment of node i that changes its wrench on the object by ``F_world`` (linear).
 
-        The loop's own law, in the C++ core: ``coopctrl._core.pose_increment`` (coopctrl/core/control_laws.h, the
-        port of :func:`coopctrl.controllers.laws.pose_increment_into`)."""
+        The loop's own law, in the C++ core: ``coopctrl._core.pose_increment`` (coopctrl/core/control_laws.h)."""
         F = np.ascontiguousarray(F_world, dtype=float)
         Y0 = np.ascontiguousarray(Y0, dtype=float)
         Yi = np.ascontiguousarray(Yi, dtype=float)

@@ -17,9 +17,7 @@ class LeaderController:
         K_p = \\omega_n^2, \\; K_d = 2 \\zeta \\omega_n
 
     then :func:`node_computed_torque`: the loop's own law, in the C++ core (``coopctrl._core.tracking_acceleration``
-    and ``arm_torque``, coopctrl/core/control_laws.h: the ports of
-    :func:`coopctrl.controllers.laws.leader_acceleration_into` and
-    :func:`~coopctrl.controllers.laws.arm_torque_into`), which :meth:`acceleration` and :meth:`torque` call.
+    and ``arm_torque``, coopctrl/core/control_laws.h), which :meth:`acceleration` and :meth:`torque` call.
     ``Y_v^N`` is the nominal leader node trajectory: the
     object's nominal motion carried to the grasp (148) plus the nominal deformation that makes
     the leader's interconnection carry its QP share. With an exact model the node error obeys
@@ -54,7 +52,7 @@ class LeaderController:
     def acceleration(self, terms, Y_ref, dY_ref, ddY_ref) -> np.ndarray:
         """Commanded node acceleration ``a_cmd`` [m/s^2, rad/s^2] toward the node reference ``Y_ref`` [m, rad],
         ``dY_ref`` [m/s, rad/s], ``ddY_ref`` [m/s^2, rad/s^2] at ``terms`` (the plant's control terms):
-        ``coopctrl._core.tracking_acceleration`` (:func:`coopctrl.controllers.laws.tracking_acceleration_into`).
+        ``coopctrl._core.tracking_acceleration`` (coopctrl/core/control_laws.h).
         In the loop ``Y_ref`` is the nominal deformed node pose,
         ``GraspCompliance.deformation(index, F*, Y0^N, Y_v^N)``."""
         k = self.index + 1

@@ -37,13 +37,11 @@ from typing import Callable
 
 import numpy as np
 
-from coopctrl.controllers.laws import acceleration_from_error_into
-
 
 def computed_torque_law(err, dY_ref, dY, ddY_ref, npos, params, a_cmd):
     """The default leader law: ``a_cmd = ddY_ref + Kd (dY_ref - dY) + Kp err`` with ``params = (Kp
     [1/s^2], Kd [1/s])``: with an exact model the node error obeys ``e'' + Kd e' + Kp e = 0``."""
-    acceleration_from_error_into(err, dY_ref, dY, ddY_ref, params[0], params[1], a_cmd)
+    a_cmd[:] = ddY_ref + params[1] * (dY_ref - dY) + params[0] * err
 
 
 def object_impedance_law(err, dY_ref, dY, ddY_ref, npos, params, a_cmd):
@@ -76,7 +74,7 @@ class LeaderLaw:
         f = self.function
         if not callable(f) or not hasattr(f, "__code__"):
             raise TypeError(f"LeaderLaw.function = {f!r}: expected a plain Python function "
-                            "law(err, dY_ref, dY, ddY_ref, npos, params, a_cmd) (not a numba-decorated one)")
+                            "law(err, dY_ref, dY, ddY_ref, npos, params, a_cmd) (not a compiled one)")
         if f.__code__.co_argcount != 7:
             raise TypeError(f"LeaderLaw.function = {f.__name__} takes {f.__code__.co_argcount} arguments: expected 7, "
                             "law(err, dY_ref, dY, ddY_ref, npos, params, a_cmd)")

@@ -1,6 +1,6 @@
 // The load-distribution QP's kernels in coopctrl._core: the Goldfarb-Idnani solver (coopctrl/core/goldfarb_idnani.h)
 // on the workspace tuple (mats, vecs, rowv, ints) of coopctrl.load_distribution.goldfarb_idnani.gi_workspace, and
-// the QP's assembly and checks (coopctrl/core/qp_*.h) with the numba kernels' signatures (drop-ins). Each function
+// the QP's assembly and checks (coopctrl/core/qp_*.h). Each function
 // checks that every index it will touch lies inside the arrays it is given, once, and calls the core.
 #include <algorithm>
 #include <cstddef>
@@ -355,7 +355,7 @@ void bind_qp(nb::module_& m) {
           nb::arg("n_eq"), nb::arg("x").noconvert(), nb::arg("z").noconvert(), nb::arg("ws"), nb::arg("new_H"),
           nb::arg("tol"), nb::arg("max_iter"),
           "Solve min 1/2 x^T H x + g^T x s.t. M[:n_eq] x = lo[:n_eq], lo <= M x <= hi, warm started from the\n"
-          "active set in ws (gi_workspace's tuple, shared with the numba solver); writes x and z (H x + g + M^T z\n"
+          "active set in ws (gi_workspace's tuple); writes x and z (H x + g + M^T z\n"
           "= 0). Returns (status, iterations) (coopctrl/core/goldfarb_idnani.h).");
     m.def("gi_active_inequalities", &active_inequalities, nb::arg("ws"), nb::arg("n_eq"),
           "Number of inequality rows (>= n_eq) in the active set the last gi_solve with ws left.");

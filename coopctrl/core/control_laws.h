@@ -1,7 +1,9 @@
-// The control laws of one tick (docs/model.md s.4-6): coopctrl/controllers/laws.py and _kernels.py, expression for
-// expression. Node poses Y are (position [m], angles [rad]): npos = 3 positions then 3 ZYX Euler angles (spatial,
-// p = 6) or 2 positions then 1 angle (planar, p = 3). Matrices are row-major with a leading dimension (ld: the
-// doubles between two rows), so that an arm's n x n block can sit in a larger array.
+// The control laws of one tick (docs/model.md s.4-6), the one definition the tick and the Python controllers
+// (coopctrl.controllers, through bind_control_laws.cpp) run; ported expression for expression from the numba laws
+// they replaced (the same bits, which the golden records keep). Node poses Y are (position [m], angles [rad]):
+// npos = 3 positions then 3 ZYX Euler angles (spatial, p = 6) or 2 positions then 1 angle (planar, p = 3).
+// Matrices are row-major with a leading dimension (ld: the doubles between two rows), so that an arm's n x n block
+// can sit in a larger array.
 #pragma once
 
 #include <cstdint>

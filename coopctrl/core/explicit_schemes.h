@@ -1,5 +1,5 @@
 // The explicit fixed-step schemes over one control period, the inputs held (zero-order hold): Euler, symplectic
-// Euler and RK4, as coopctrl/integrators/compiled.py states them, expression for expression.
+// Euler and RK4, as coopctrl/integrators/compiled.py's docstring states them, expression for expression.
 //
 // A Plant is any type with
 //     void rhs(const double* x, const double* tau, double t, double* dx, int64_t* status);

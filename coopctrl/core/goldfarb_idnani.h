@@ -1,13 +1,13 @@
 // The Goldfarb-Idnani dual active-set QP solver, warm started (coopctrl/load_distribution/goldfarb_idnani.py,
 // whose module docstring derives the method): min 1/2 x^T H x + g^T x s.t. M[:n_eq] x = lo[:n_eq] and
-// lo <= M x <= hi on the rows n_eq.., ported line by line from the numba kernel (the same bits).
+// lo <= M x <= hi on the rows n_eq.. (ported line by line from the numba kernel it replaced: the same bits).
 #pragma once
 
 #include <cstdint>
 
 namespace coopctrl {
 
-/// Status of a solve (the numba kernel's SOLVED, INFEASIBLE, MAX_ITER, NOT_CONVEX).
+/// Status of a solve (goldfarb_idnani.py's SOLVED, INFEASIBLE, MAX_ITER, NOT_CONVEX).
 enum GIStatus : int {
     GI_SOLVED = 0,      ///< optimal; x and z hold the answer
     GI_INFEASIBLE = 1,  ///< inconsistent constraints (a dependent violated row with no blocking multiplier)
@@ -41,7 +41,7 @@ struct GIWarmState {
 };
 
 /// The solver's workspace and warm start, by name: views into the numpy arrays (mats, vecs, rowv, ints) of
-/// gi_workspace (layout in goldfarb_idnani.py), so that the numba and the C++ solver share one workspace.
+/// gi_workspace (layout in goldfarb_idnani.py), which Python allocates once per run.
 /// Everything a solve needs is here: nothing is allocated per solve.
 struct GIWorkspace {
     int n;                 ///< variables

@@ -1,7 +1,7 @@
 // The singly diagonally implicit Runge-Kutta schemes (implicit midpoint, implicit Euler) over one control period,
-// the inputs held: coopctrl/integrators/compiled.py's _sdirk_step, expression for expression (its docstring and
-// DiagonallyImplicitRungeKutta's state the stages, the simplified Newton iteration, the Jacobian reuse and the
-// stopping tests). The Plant is that of explicit_schemes.h.
+// the inputs held (coopctrl/integrators/compiled.py's docstring and DiagonallyImplicitRungeKutta's state the stages,
+// the simplified Newton iteration, the Jacobian reuse and the stopping tests). The Plant is that of
+// explicit_schemes.h.
 #pragma once
 
 #include <cmath>

@@ -1,6 +1,6 @@
-// The small dense solves the QP's assembly and the control laws share, ported line by line from their numba kernels
-// (the same bits): lu_factor_into, lu_solve_factored_into, lu_solve_into and consistent_acceleration_into
-// (coopctrl/controllers/_kernels.py); the Cholesky solve is plants/core/cholesky.h's. Matrices are row-major with a leading
+// The small dense solves the QP's assembly and the control laws share (ported line by line from the numba kernels
+// they replaced: the same bits): the LU factorization and solves, and the redundant arm's dynamically consistent
+// joint acceleration; the Cholesky solve is plants/core/cholesky.h's. Matrices are row-major with a leading
 // dimension (doubles from one row to the next), so that the leading block of a larger array can be passed.
 #pragma once
 

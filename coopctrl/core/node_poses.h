@@ -1,5 +1,5 @@
-// The node (end-effector) poses of a run's recorded states (coopctrl/results/node_poses.py's kernels, expression
-// for expression, so the same bits):
+// The node (end-effector) poses of a run's recorded states (coopctrl/results/node_poses.py calls it; the plant's own
+// node poses per sample, bit for bit):
 //     Y_nodes[k, i] = Phi_i(q_i(t_k))   [m, rad]
 // for every sample k whose state row X[k] is finite; rows that are not finite are left as they are (the caller
 // fills them with NaN). Spatial: the forward kinematics alone (plants/core/chain_arm.h's chain_arm_pose, the pose

@@ -1,5 +1,6 @@
-// Pre-flight's warm-started inverse kinematics (coopctrl/analysis/preflight_ik.py's numba kernels, expression for
-// expression, so the same bits), on plants/core's forward kinematics (dh_arm_tip, chain_arm_tip, planar_arm_terms):
+// Pre-flight's warm-started inverse kinematics (coopctrl/analysis/preflight_ik.py calls it; ported expression for
+// expression from the numba kernels it replaced), on plants/core's forward kinematics (dh_arm_tip, chain_arm_tip,
+// planar_arm_terms):
 // damped least squares from the seed q,
 //     dq = J_e^T (J_e J_e^T + lambda I)^-1 e,   q <- clip(q + dq, q_lower, q_upper),
 // kept when |e|^2 falls (then lambda <- max(0.3 lambda, 1e-12), else lambda <- 5 lambda, given up above 1e6), from

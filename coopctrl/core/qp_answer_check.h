@@ -1,5 +1,5 @@
-// The check of a QP answer and its binding families (coopctrl/load_distribution/answer_check.py ported line by
-// line: the same bits; docs/model.md section 6). M (rows, ldM) row-major = [G; C], k balance rows.
+// The check of a QP answer and its binding families (the rule: coopctrl/load_distribution/answer_check.py's
+// docstring; docs/model.md section 6). M (rows, ldM) row-major = [G; C], k balance rows.
 #pragma once
 
 #include <cstdint>

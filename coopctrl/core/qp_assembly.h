@@ -1,5 +1,6 @@
-// The load-distribution QP's rows, filled in place (coopctrl/load_distribution/assembly.py ported line by line: the
-// same bits). They work on the stacked arrays M = [G; C] (rows 0..k-1 the wrench balance, then the inequality
+// The load-distribution QP's rows, filled in place: the one definition of each family, which
+// LoadDistributionProblem (coopctrl/load_distribution/problem.py, whose docstring states the rows) and the tick call.
+// They work on the stacked arrays M = [G; C] (rows 0..k-1 the wrench balance, then the inequality
 // families), lo = [w_N; l], hi = [w_N; u]; matrices are row-major with a leading dimension ld (doubles per row).
 #pragma once
 

@@ -1,6 +1,12 @@
-// The load-distribution QP's contact inputs from the plant's control terms (coopctrl/load_distribution/
-// contact_model.py ported line by line: the same bits): the contacts' unit normals and the torque model
-// tau_i = Jg_i^T F_i + bias_i of every arm (the maths in that module's docstring). Node k = i + 1 is contact i's.
+// The load-distribution QP's contact inputs from the plant's control terms, which the tick and
+// coopctrl/loop/qp_inputs.py call: the contacts' unit normals and the torque model of every arm,
+//     tau_i = Jg_i^T F_i + bias_i,   bias_i = H_i ddq_i + h_i + J_i^T (W_k ddYn_k + w_free_k),
+// at the nominal node accelerations ddYn; ddq_i tracks them, J_i ddq_i = ddYn_k - Jdq_i: J_i^-1 (ddYn_k - Jdq_i) for
+// a square arm (LU solve), J^# (ddYn_k - Jdq_i) with J^# = N^-1 J^T (J N^-1 J^T)^-1, N = H_i + J_i^T W_k J_i for a
+// redundant arm, and 0 where that solve is singular (a pivot <= 1e-13 of the matrix's largest entry). Jg_i maps the
+// joint rates to the node's world twist: J_i with, spatial, its angular rows R(A_k) L(A_k) J_i[3:] (L the body-rate
+// map). A contact point carries the wrench directly: Jg_i = I, bias_i = W_k ddYn_k + w_free_k. Node k = i + 1 is
+// contact i's.
 #pragma once
 
 #include <cstdint>
@@ -49,7 +55,7 @@ struct TorqueModelWork {
     double* R3;
 };
 
-/// Write tau_i = Jg_i^T F_i + bias_i of every arm (contact_model.py's torque_model_into).
+/// Write tau_i = Jg_i^T F_i + bias_i of every arm (the torque model above).
 void torque_model(bool spatial, const TorqueModelInputs& in, TorqueModel& out, TorqueModelWork& work) noexcept;
 
 }  // namespace coopctrl

@@ -1,5 +1,5 @@
-// The elastic split's QP inputs (coopctrl/load_distribution/elastic_assembly.py ported line by line: the same
-// bits): K = blockdiag_i sym(R_b K_i R_b^T), the external part K G^T (G K G^T)^{-1} w_N and P = sym(K^{-1}).
+// The elastic split's QP inputs, which the tick fills (LoadDistributionProblem takes any K in Python):
+// K = blockdiag_i sym(R_b K_i R_b^T), the external part K G^T (G K G^T)^{-1} w_N and P = sym(K^{-1}).
 #pragma once
 
 namespace coopctrl {

@@ -1,5 +1,7 @@
-// Pair tensions of an internal load on the virtual-linkage columns (coopctrl/load_distribution/tensions.py ported
-// line by line: the same bits): s = s_des + E^+ (f - E s_des) by a one-sided Jacobi singular value decomposition.
+// Pair tensions of an internal load on the virtual-linkage columns, which the tick's squeeze and
+// coopctrl.load_distribution.grasp_matrix.pair_tensions (whose module docstring states the rank rules) run:
+// s = s_des + E^+ (f - E s_des) by a one-sided Jacobi singular value decomposition of the columns E (R, P), W = E V
+// with orthogonal columns of norms sigma_j (on E^T when P > R).
 #pragma once
 
 namespace coopctrl {

@@ -15,9 +15,10 @@ symplectic Euler ``h omega <= 2 / (zeta + sqrt(1 + zeta^2))``, RK4 2.6 to 2.96. 
 ``dx/dt = A x`` (every mode, coupled and damped), ``max_stable_step(A)``; see
 :mod:`coopctrl.integrators.base` and :mod:`coopctrl.analysis.stability`.
 
-Each scheme's arithmetic is written once, in :mod:`coopctrl.integrators.compiled` (fixed-step) and
-:mod:`coopctrl.integrators.adaptive_plans` (error-controlled): the loop's kernel compiles it, and
-``step`` of the classes here runs it (:mod:`coopctrl.integrators.stepping`). The classes are the
+Each scheme's arithmetic is written once, in the C++ core (coopctrl/core: explicit_schemes.h,
+implicit_schemes.h, adaptive_schemes.h), on the plans of :mod:`coopctrl.integrators.compiled` (fixed-step)
+and :mod:`coopctrl.integrators.adaptive_plans` (error-controlled), which state the schemes: the loop's tick
+runs it, and so does ``step`` of the classes here (:mod:`coopctrl.integrators.stepping`). The classes are the
 schemes' configuration: name, order, stability, settings (frozen once built).
 """
 

@@ -81,7 +81,7 @@ class DiagonallyImplicitRungeKutta(CompiledScheme):
     :attr:`stability_numerator` (``s`` stages). The built-in schemes are A-stable
     (``|R(z)| <= 1`` on the closed left half-plane), so :meth:`predicted_max_step` is ``math.inf``.
 
-    The step is :mod:`coopctrl.integrators.compiled` (the loop's kernel runs the same functions). The
+    The step is the compiled core's (:mod:`coopctrl.integrators.compiled`; the loop's tick runs the same). The
     cached iteration matrix and stage slopes are the only state; :meth:`reset` drops them. Use
     one instance per simulation.
 

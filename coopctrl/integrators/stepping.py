@@ -22,26 +22,6 @@ import numpy as np
 from coopctrl.integrators.base import FrozenSettings, Integrator
 
 
-class PythonRightHandSide:
-    """A Python ``f(t, x, u) -> dx`` in place of a plant's kernel arrays ``P`` for the scheme functions
-    run by Python: :func:`~coopctrl.integrators.compiled.rhs_into` calls :meth:`evaluate`, at the time
-    ``t`` [s] :func:`~coopctrl.integrators.compiled.at_time` set (the stage time)."""
-
-    __slots__ = ("f", "t")
-
-    def __init__(self, f):
-        self.f = f
-        self.t = 0.0
-
-    def evaluate(self, x, u, status, dx):
-        """``dx = f(t, x, u)`` (``f`` gets a copy of ``x``: the schemes reuse their work arrays)."""
-        out = np.asarray(self.f(self.t, x.copy(), u), dtype=float)
-        if out.shape != dx.shape:
-            raise ValueError(f"f(t, x, u) returned shape {out.shape}: expected {dx.shape}, the state's shape "
-                             "(dz, ddz)")
-        dx[:] = out
-
-
 def _plant_of(f):
     """The cooperative plant whose own ``rhs`` ``f`` is, else ``None``."""
     owner = getattr(f, "__self__", None)
@@ -154,9 +134,9 @@ def _step_too_small(scheme, plant, x_fail, out_float):
 
 
 class CompiledScheme(FrozenSettings, Integrator):
-    """A built-in scheme: :meth:`step` runs :mod:`coopctrl.integrators.compiled` (see the module). The
-    scheme's plan (its Newton state) is kept from step to step for the same ``f`` and state size;
-    :meth:`reset` drops it. Use one instance per simulation. Its settings are frozen
+    """A built-in scheme: :meth:`step` runs the compiled core's scheme on its plan
+    (:mod:`coopctrl.integrators.compiled`). The plan (its Newton state) is kept from step to step for the same
+    ``f`` and state size; :meth:`reset` drops it. Use one instance per simulation. Its settings are frozen
     (:class:`~coopctrl.integrators.base.FrozenSettings`)."""
 
     def __init__(self):

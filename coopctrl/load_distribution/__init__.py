@@ -1,18 +1,20 @@
 """Load distribution: contact wrenches that carry the object's nominal load (docs/model.md section 6).
 
 One concept per module: :mod:`.grasp_matrix` (``G``, the virtual-linkage basis ``E``, the null-space basis and the pair tensions),
-:mod:`.config` (:class:`LoadDistributionConfig`), :mod:`.assembly` (the QP's rows, in numba: written
-once, ported bit for bit to the C++ core, ``coopctrl._core``, which :mod:`.problem` and the compiled tick
-call), :mod:`.answer_check` (the answer's check and binding families, likewise), :mod:`.contact_model`
-(the rows' inputs from the plant's terms, the contact normals and the torque-limit model, in numba: written
-once, called by :mod:`coopctrl.loop.qp_inputs`; the compiled tick runs its C++ port), :mod:`.problem`
-(the QP arrays),
+:mod:`.config` (:class:`LoadDistributionConfig`), :mod:`.answer_check` (the answer's check and binding families),
+:mod:`.goldfarb_idnani` (the compiled solver's method and workspace), :mod:`.problem` (the QP arrays),
 :mod:`.solvers` (backends and :class:`QPStats`), :mod:`.load_split` (:class:`LoadSplit`) and
 :mod:`.load_distribution` (:class:`LoadDistribution`, with the failure policy).
 
 The configuration and the grasp matrix load with numpy alone; the QP's classes are imported on first use
 (:func:`__getattr__`, PEP 562), so that validating a scenario (which reads :class:`LoadDistributionConfig`)
-does not import scipy and numba: a bad input is refused, and a sweep's runs are validated, before those load.
+does not import scipy or the compiled core: a bad input is refused, and a sweep's runs are validated, before
+those load.
+
+The QP's rows (coopctrl/core/qp_assembly.h), their inputs from the plant's terms (the contact normals and the
+torque-limit model, coopctrl/core/qp_contact_model.h), the elastic split's inputs (qp_elastic_assembly.h), the
+answer's check (qp_answer_check.h) and the pair tensions (qp_tensions.h) are written once, in the C++ core
+(``coopctrl._core``), which :mod:`.problem`, :mod:`coopctrl.loop.qp_inputs` and the compiled tick call.
 """
 
 import importlib

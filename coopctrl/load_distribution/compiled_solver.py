@@ -1,7 +1,7 @@
 """The compiled QP backend: the Goldfarb-Idnani solver of :mod:`.goldfarb_idnani`, warm started.
 
-It calls the C++ core's port of that solver (``coopctrl._core.gi_solve``, coopctrl/core/goldfarb_idnani.h:
-the same bits as the numba kernel, on the same workspace, as the compiled tick's).
+It calls the C++ core's solver (``coopctrl._core.gi_solve``, coopctrl/core/goldfarb_idnani.h: the same bits, on
+the same workspace, as the compiled tick's).
 
 Selected with ``load_distribution.solver = "compiled"``. It solves the same problem as the
 other backends,

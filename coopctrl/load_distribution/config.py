@@ -21,8 +21,8 @@ def _available_qpsolvers() -> list[str]:
 def solver_allowed_message() -> str:
     """What ``solver`` accepts on this machine, with the command that installs more."""
     return (
-        f"'proxsuite' (persistent dense QP), 'compiled' (numba Goldfarb-Idnani) or an installed qpsolvers backend "
-        f"(found: {', '.join(_available_qpsolvers()) or 'none'}); "
+        f"'proxsuite' (persistent dense QP), 'compiled' (the compiled core's Goldfarb-Idnani) or an installed "
+        f"qpsolvers backend (found: {', '.join(_available_qpsolvers()) or 'none'}); "
         "to add one: pip install qpsolvers[<name>]"
     )
 
@@ -68,7 +68,7 @@ class LoadDistributionConfig:
             about each contact normal, or ``None`` (off).
         friction_facets: Number of facets of the pyramid (>= 3; planar scenes always use 2).
         torque_limits: Enforce ``-tau_max <= J_i^T F_i + bias_i <= tau_max`` [N m].
-        solver: ``"compiled"`` (the default: the numba dual active-set solver of
+        solver: ``"compiled"`` (the default: the compiled core's dual active-set solver of
             :mod:`~coopctrl.load_distribution.goldfarb_idnani`, warm started from the last active
             set, inside the compiled tick of :mod:`coopctrl.loop`), ``"proxsuite"`` (one persistent
             dense QP, warm started) or a qpsolvers backend name such as ``"daqp"`` or

@@ -48,7 +48,7 @@ columns relative to the desired squeeze ``s_des``:
     s = s_{des} + E^+ (f_{int} - E s_{des}),
 
 with ``E^+`` the pseudo-inverse of the pair columns' numerical rank (a one-sided Jacobi singular value
-decomposition, :mod:`coopctrl.load_distribution.tensions`, run by its C++ port as the compiled tick does): the
+decomposition, coopctrl/core/qp_tensions.h, as the compiled tick runs it): the
 pair tensions nearest the setpoint (least ``||s - s_des||``) whose linkage forces ``E s`` match ``f_int`` best.
 Where the pairs are independent, ``E^+ E = I`` and ``s = E^+ f_int`` (the unique pair tensions, whatever ``s_des``).
 The rank is read from the singular values ``sigma`` of ``E``: ``sigma / sigma_max <= PAIR_ZERO_RTOL``
@@ -102,7 +102,7 @@ def _positions(r_contacts, r_object, space: str) -> tuple[np.ndarray, np.ndarray
 
 def fill_grasp_matrix(G: np.ndarray, r: np.ndarray, r0: np.ndarray, space: str) -> None:
     """Write the moment-arm entries of ``G`` in place (the identity blocks must already be set): the
-    formula of :func:`coopctrl.load_distribution.assembly.fill_grasp_rows`, called with numpy arrays.
+    formula of the C++ core's ``fill_grasp_rows`` (coopctrl/core/qp_assembly.h), in numpy.
 
     Args:
         G: Preallocated grasp matrix (6 × 6m or 3 × 3m), C-contiguous float64, whose identity blocks are set.
@@ -146,7 +146,7 @@ def grasp_matrix(r_contacts, r_object, space: str) -> np.ndarray:
 
 def fill_internal_force_basis(E: np.ndarray, r: np.ndarray, space: str) -> None:
     """Write the virtual-linkage squeeze columns into a preallocated zero ``E`` (n × pairs, C-contiguous
-    float64): the formula of :func:`coopctrl.load_distribution.assembly.fill_squeeze_basis`.
+    float64): the formula of the C++ core's ``fill_squeeze_basis`` (coopctrl/core/qp_assembly.h), in numpy.
 
     Only the force entries are written; the moment entries stay zero. Raises
     ``ScenarioError`` if two contacts coincide (the squeeze direction is undefined).
@@ -246,8 +246,8 @@ def pair_tensions(E, F_internal, desired=None) -> np.ndarray:
     where they are dependent (planar m >= 4, spatial m >= 5 or coplanar contacts) it is the solution
     nearest ``s_des``. A sample whose pair columns are ill-conditioned (a singular value between
     :data:`PAIR_ZERO_RTOL` and :data:`PAIR_KEEP_RTOL` of the largest) or not finite gets NaN. The
-    compiled :func:`coopctrl.load_distribution.tensions.pair_tensions_into` (one-sided Jacobi), which
-    the loop's squeeze runs too.
+    compiled ``pair_tensions_into`` (coopctrl/core/qp_tensions.h, one-sided Jacobi), which the loop's squeeze
+    runs too.
 
     Args:
         E: Pair columns, (n, P) or (N, n, P) (:func:`internal_force_basis`).
@@ -273,8 +273,7 @@ def pair_tensions(E, F_internal, desired=None) -> np.ndarray:
         return s[0] if single else s
     from coopctrl._core import pair_tensions_into  # here: importing the package (scenario validation) loads no core
 
-    # tensions.pair_tensions_batch's pass, sample by sample on the C++ core's port of pair_tensions_into (one
-    # scratch for all, NaN where a sample is not finite)
+    # sample by sample on the C++ core's pair_tensions_into (one scratch for all, NaN where a sample is not finite)
     E = np.ascontiguousarray(E)
     F = np.ascontiguousarray(f).reshape(N, n, 1)
     rows, cols = (n, P) if P <= n else (P, n)

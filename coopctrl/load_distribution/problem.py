@@ -63,9 +63,8 @@ class LoadDistributionProblem:
 
     All arrays are allocated once (the torque rows once the joint counts are known) and filled in
     place by :meth:`update`, so that a solver can take them without copies. The rows are written by
-    the C++ core's assembly (``coopctrl._core``, coopctrl/core/qp_assembly.h: the port, bit for bit, of
-    :mod:`coopctrl.load_distribution.assembly`), the one definition of each family, which the compiled tick
-    calls too: ``update`` checks its inputs and calls them.
+    the C++ core's assembly (``coopctrl._core``, coopctrl/core/qp_assembly.h), the one definition of each
+    family, which the compiled tick calls too: ``update`` checks its inputs and calls them.
     """
 
     def __init__(self, config: LoadDistributionConfig, space: str, m: int):
@@ -176,7 +175,7 @@ class LoadDistributionProblem:
     # ------------------------------------------------------------------ per step
     def update(self, r_contacts, r_object, w_N, normals=None, jacobians=None, biases=None, tau_max=None, K=None):
         """Fill every array of the QP for one step (arguments as in ``LoadDistribution.solve``)."""
-        from coopctrl import _core as asm  # the C++ assembly (coopctrl/core/qp_assembly.h), bit for bit as .assembly
+        from coopctrl import _core as asm  # the C++ assembly (coopctrl/core/qp_assembly.h)
 
         k, p, m, n = self.k, self.p, self.m, self.n
         r = np.asarray(r_contacts, dtype=float)
@@ -201,8 +200,8 @@ class LoadDistributionProblem:
             K = np.asarray(K, dtype=float)
             if K.shape != (n, n):
                 raise ScenarioError("K", K.shape, f"an array of shape ({n}, {n})")
-            # any K here; the compiled tick's elastic_assembly.fill_elastic_split builds a block-diagonal
-            # K from the object-frame stiffnesses and exploits its blocks
+            # any K here; the compiled tick's fill_elastic_split (coopctrl/core/qp_elastic_assembly.h) builds a
+            # block-diagonal K from the object-frame stiffnesses and exploits its blocks
             KGt = K @ G.T
             y = _spd_solve(G @ KGt, w)
             np.matmul(KGt, y, out=self.external)

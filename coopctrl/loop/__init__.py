@@ -4,7 +4,7 @@ codes (:mod:`.tick_codes`), the driver that runs a :class:`~coopctrl.closed_loop
 (:mod:`.compiled`), the record
 (:mod:`.record`), why a run stopped (:mod:`.diagnosis`), the loaded start (:mod:`.loaded_start`), the
 Euler-angle band (:mod:`.euler_band`) and the QP's contact inputs for the loaded start (:mod:`.qp_inputs`,
-wrapping their one definition in :mod:`coopctrl.load_distribution.contact_model`). Nothing here
+wrapping their one definition in the compiled core, coopctrl/core/qp_contact_model.h). Nothing here
 imports ``coopctrl.analysis``.
 
 :class:`LoopState` is imported on first use (PEP 562)."""

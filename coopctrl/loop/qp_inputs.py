@@ -6,8 +6,8 @@
   nominal node accelerations, planned within :data:`TORQUE_HEADROOM` of each joint's limit
   (:class:`TorqueModel`: the same into one reused workspace).
 
-Both are defined once, in the compiled core (coopctrl/core/qp_contact_model.h, as :mod:`coopctrl.load_distribution.contact_model` states them)
-(which the compiled tick calls on its measured terms): the functions here only give them the arrays of a
+Both are defined once, in the compiled core (coopctrl/core/qp_contact_model.h, which the compiled tick calls on its
+measured terms): the functions here only give them the arrays of a
 :class:`~plants.cooperative.control_terms.ControlTerms` and return the Python structures
 :class:`~coopctrl.load_distribution.LoadDistribution` takes.
 """
@@ -36,7 +36,7 @@ def _f64(a) -> np.ndarray:
 
 def contact_normals(plant, terms) -> np.ndarray:
     """Inward unit contact normals (m, npos): each node's approach axis (its frame's x axis), from the
-    node poses ``terms.Y`` [m, rad] (:func:`~coopctrl.load_distribution.contact_model.contact_normals_into`)."""
+    node poses ``terms.Y`` [m, rad] (the core's ``contact_normals_into``)."""
     spatial = plant.space == "spatial"
     out = np.empty((plant.arm_count, 3 if spatial else 2))
     contact_normals_into(_f64(terms.Y), spatial, out, np.empty((3, 3)))
@@ -48,7 +48,7 @@ def torque_model(plant, terms, ddYn) -> tuple[list[np.ndarray], list[np.ndarray]
     node accelerations ``ddYn`` ((m+1, p) [m/s^2, rad/s^2]); ``Jg_i`` (p, n_i) maps the joint rates to the
     node's world twist, ``bias_i = H_i qdd_i + h_i + J_i^T (W_i ddYn_i + w_free_i)`` (n_i,) with ``qdd_i``
     the joint acceleration that tracks ``ddYn_i`` (zero where the arm is singular)
-    (:func:`~coopctrl.load_distribution.contact_model.torque_model_into`). New arrays; :class:`TorqueModel`
+    (the core's ``torque_model_into``). New arrays; :class:`TorqueModel`
     reuses one workspace from call to call."""
     jacobians, biases = TorqueModel(plant)(terms, ddYn)
     return [J.copy() for J in jacobians], [b.copy() for b in biases]

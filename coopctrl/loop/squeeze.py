@@ -3,7 +3,7 @@
 
 The squeeze of the contact wrenches ``F`` (m, p) at the contacts ``r`` (m, npos) [m] is the pair
 tensions of their internal part on the virtual-linkage columns ``E`` (the squeeze basis of
-:func:`coopctrl.load_distribution.assembly.fill_squeeze_basis`, docs/model.md section 6):
+coopctrl/core/qp_assembly.h's ``fill_squeeze_basis``, docs/model.md section 6):
 
 .. math::
 

@@ -165,7 +165,7 @@ def _dh_table(value) -> tuple[tuple[float, ...], ...]:
 def urdf_chain_dof(path: str, base_link: str, tip_link: str) -> int:
     """Moving joints between ``base_link`` and ``tip_link`` of a URDF file, read by
     :func:`plants.urdf_reader.chain_dof` (the safe parser and the tree, size and chain-length checks
-    of ``plants.arms.from_urdf``, without the numbers or numba: the full checks are made when the
+    of ``plants.arms.from_urdf``, without the numbers or the compiled core: the full checks are made when the
     arm is built)."""
     from plants.errors import ParameterError
     from plants.urdf_reader import chain_dof
