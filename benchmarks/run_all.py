@@ -64,7 +64,6 @@ def _commit() -> str:
 
 def machine() -> dict[str, str]:
     """What the figures were measured on."""
-    import numba
     import numpy
     import scipy
 
@@ -74,7 +73,7 @@ def machine() -> dict[str, str]:
         "date": datetime.datetime.now(datetime.timezone.utc).date().isoformat(),
         "machine": f"{_cpu_model()}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.machine()}",
         "versions": (f"coopctrl {version('coopctrl')} ({_commit()}), Python {platform.python_version()}, "
-                     f"numpy {numpy.__version__}, numba {numba.__version__}, scipy {scipy.__version__}, "
+                     f"numpy {numpy.__version__}, scipy {scipy.__version__}, "
                      f"proxsuite {version('proxsuite')}"),
     }
 
@@ -176,7 +175,7 @@ def table(info: dict, command: str, repeats: int, loops: list[dict], integrators
         ratio = f"{r['us'] / rk4:.2f}" if rk4 else "-"
         out.append(f"| `{r['integrator']}` | {r['status']} | {_fmt(r['us'])} | {_fmt(r['rt'])} | {ratio} |")
     out += ["", "**The load-distribution QP per solve** (seeded sequences of the loop's problems, grip, friction and "
-            "torque rows; the compiled solver warm started inside a numba loop, proxsuite from Python):", "",
+            "torque rows; the compiled solver warm started inside a compiled loop, proxsuite from Python):", "",
             "| problem | variables | rows | compiled us | proxsuite us | ratio |", "|---|---|---|---|---|---|"]
     for r in qps:
         out.append(f"| {r['problem']} | {r['n']} | {r['rows']} | {r['compiled_us']:.2f} | {r['proxsuite_us']:.1f} "

@@ -10,8 +10,7 @@ Stateless: every function takes (t, x, u) or (Y, dY) and returns arrays. Subpack
   immobile linear model (4.5);
 - :mod:`plants.cooperative` - the cooperative system ``Gamma z'' + phi = (tau, 0)`` (177, 183).
 
-The numerics run in the compiled core (``plants._core``, built from plants/core at install); importing
-the package imports no numba.
+The numerics run in the compiled core (``plants._core``, built from plants/core at install).
 
 This package never imports :mod:`coopctrl`.
 """

@@ -20,9 +20,6 @@ Planar reduction: ``Y = (x, z, theta)``, rotation in the vertical x-z plane with
 measured from +x towards +z, ``L = 1``.
 
 Every function here calls the compiled core (``plants._core``, plants/core/frames.h) or is plain Python.
-The numba kernels of the same maps that the numba kernels of ``coopctrl/`` still call (``rotation_zyx_into``,
-``body_rate_map_inverse``, ``rotation_vector_into``, ...) live in :mod:`plants._numba_frames`, which this
-module imports only when one of those names is asked of it.
 """
 
 from __future__ import annotations
@@ -109,16 +106,3 @@ def rotation_vector(M) -> np.ndarray:
     _core.rotation_vector_into(np.ascontiguousarray(M, dtype=float), out)
     return out
 
-
-#: The numba kernels of these maps that ``coopctrl/``'s numba kernels import from here (plants._numba_frames).
-_NUMBA_NAMES = ("rotation_zyx_into", "rotation_zyx_partials_into", "rotation_zyx_and_partials_into",
-                "rotation_and_partials_from_trig", "rotation_vector_into", "body_rate_map_inverse")
-
-
-def __getattr__(name):
-    """The numba kernels of :data:`_NUMBA_NAMES` on first request (importing numba then, not before)."""
-    if name in _NUMBA_NAMES:
-        from plants import _numba_frames
-
-        return getattr(_numba_frames, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

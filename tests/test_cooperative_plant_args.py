@@ -1,12 +1,10 @@
 """``plants.cooperative.plant_args``: the plant's kernel arrays by name, each the plant's own array in the shape its
-documentation states, and the space read from them as from their numba type (the numba integrators of
-``coopctrl/`` choose their kernel on it while they remain)."""
+documentation states, and the space read from their shapes."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from numba import typeof
 
 from plants.cooperative import PlantArgs
 from plants.cooperative.plant_args import is_spatial
@@ -37,8 +35,7 @@ def test_plant_args_are_the_plants_arrays_by_name(space, m, unloaded_state):
 
 
 @pytest.mark.parametrize("space", ["spatial", "planar"])
-def test_space_from_the_arrays_and_from_their_numba_type(space):
-    """``is_spatial`` picks the kernel from the values (Python) and from their numba type (an overload)."""
+def test_space_from_the_arrays(space):
+    """``is_spatial`` tells the space from the arrays' shapes."""
     P = scene(space, m=2, arms="full")[0].plant_args
     assert is_spatial(P) is (space == "spatial")
-    assert is_spatial(typeof(P)) is (space == "spatial")

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg.lapack import dposv
 
 from ..errors import ScenarioError
 from .config import LoadDistributionConfig
@@ -18,7 +17,10 @@ def _degenerate_grasp() -> ScenarioError:
 
 def _spd_solve(M: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Solve ``M y = b`` for a small symmetric positive definite ``M`` (LAPACK ``dposv``, about
-    1 us; ``np.linalg.solve`` costs 4 to 11 us). Raises ``ScenarioError`` if ``M`` is singular."""
+    1 us; ``np.linalg.solve`` costs 4 to 11 us). Raises ``ScenarioError`` if ``M`` is singular. scipy is imported
+    here, by the scenes that split elastically in Python (a run imports it only if its scene needs it)."""
+    from scipy.linalg.lapack import dposv
+
     _, y, info = dposv(M, b)
     if info != 0:
         raise _degenerate_grasp()

@@ -30,7 +30,7 @@ import numpy as np
 from coopctrl.mujoco import mjcf
 from coopctrl.mujoco.requirement import import_mujoco
 from coopctrl.mujoco.state_map import StateMap
-from plants.arms._chain_kernels import COULOMB_SMOOTHING
+from plants.arms.chain_table import COULOMB_SMOOTHING
 
 
 def _charted(plant) -> bool:

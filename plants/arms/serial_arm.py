@@ -91,7 +91,7 @@ class SerialArm(ArmQueries, SpatialInverseKinematics):
         return _chain_joints(self.name, self.links)
 
     def kernel_table(self) -> np.ndarray:
-        """The (n, 32) joint table of :mod:`plants.arms._chain_kernels` for this arm (a new array: the
+        """The (n, 32) joint table of :mod:`plants.arms.chain_table` for this arm (a new array: the
         table is computed once per arm name and DH table, and copied)."""
         return _kernel_table(self.name, self.links).copy()
 

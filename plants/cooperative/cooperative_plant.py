@@ -378,13 +378,6 @@ class CooperativePlant:
             self._check(status, x)
         return dx
 
-    def workspace(self):
-        """A new zero-filled workspace of the numba right-hand side that ``coopctrl/``'s numba integrators still
-        take (:mod:`plants.cooperative.workspaces`; it imports numba). Goes with them."""
-        from plants.cooperative.workspaces import new_workspace
-
-        return new_workspace(self.space, self._arm_dof, self.node_count)
-
     def _state(self, x, name: str = "x") -> np.ndarray:
         """``x`` as a state (``state_size`` floats), checked for its size only (cheap; see
         :func:`plants._validation.sized_vector`)."""
@@ -442,13 +435,6 @@ class CooperativePlant:
         nz = self.nz
         return ControlTerms(d["Y"], d["dY"], d["H"], d["h"], d["J"], d["Jdq"], d["W"], d["w_free"], d["S"], d["Fw"],
                             xc[:nz], xc[nz:2 * nz])
-
-    def control_workspace(self):
-        """A new zero-filled workspace of the numba control terms (:meth:`workspace`'s twin), for ``coopctrl/``'s
-        numba kernels while they remain. Goes with them."""
-        from plants.cooperative.workspaces import new_control_workspace
-
-        return new_control_workspace(self.space, self._arm_dof, self.node_count)
 
     # ------------------------------------------------------------------ energy
     def elastic_potential(self, Y) -> float:

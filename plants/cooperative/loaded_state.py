@@ -49,12 +49,3 @@ def nominal_node_motion(Y0, dY0, ddY0, grasps, space: str = "spatial"):
         check_euler(Y[bad, 3:], f"nominal pose of contact node {bad}")
     return Y, dY, ddY
 
-
-def __getattr__(name):
-    """``body_rate_map_into``, the numba kernel of ``L(A)`` that ``coopctrl/``'s numba kernels import from here, on
-    first request (plants._numba_frames; numba is imported then, not before)."""
-    if name == "body_rate_map_into":
-        from plants import _numba_frames
-
-        return _numba_frames.body_rate_map_into
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -37,9 +37,5 @@ their stiffness [N/m, N m/rad], damping [N s/m, N m s/rad] and rest geometry (``
 
 
 def is_spatial(P) -> bool:
-    """True for a spatial plant's arrays (bases (m, 4, 4)), from :class:`PlantArgs` or from its numba type
-    (an overload chooses the spatial or the planar kernel on it)."""
-    bases = getattr(P, "bases", None)
-    if bases is None:  # numba's type of a PlantArgs: its fields' types by position
-        bases = P.types[PlantArgs._fields.index("bases")]
-    return bases.ndim == 3
+    """True for a spatial plant's arrays (bases (m, 4, 4)), False for a planar plant's (bases (m, 3))."""
+    return P.bases.ndim == 3
