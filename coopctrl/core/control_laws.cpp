@@ -2,25 +2,13 @@
 
 #include <cmath>
 
+#include "coopctrl/core/angle_wrap.h"
 #include "coopctrl/core/linear_algebra.h"
 #include "plants/core/frames.h"
 
 namespace coopctrl {
 
 namespace {
-
-constexpr double PI = 3.141592653589793;
-
-/// a mod b with Python's sign convention (the result has the sign of b), as numba and CPython compute it.
-double python_mod(double a, double b) noexcept {
-    double m = std::fmod(a, b);
-    if (m != 0.0) {
-        if ((b < 0.0) != (m < 0.0)) m += b;
-    } else {
-        m = std::copysign(0.0, b);
-    }
-    return m;
-}
 
 /// F = W a + w_free + S, the node's wrench on the arm [N, N m].
 void node_wrench(const double* W, const double* w_free, const double* S, const double* a_cmd, int p,
@@ -98,7 +86,7 @@ bool node_torque_redundant(const double* W, const double* w_free, const double* 
 void pose_error(const double* target, const double* Y, int p, int npos, double* out) noexcept {
     for (int a = 0; a < p; ++a) {
         double e = target[a] - Y[a];
-        if (a >= npos) e = python_mod(e + PI, 2.0 * PI) - PI;
+        if (a >= npos) e = wrap_angle(e);
         out[a] = e;
     }
 }

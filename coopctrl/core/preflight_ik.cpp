@@ -5,24 +5,12 @@
 #include <utility>
 #include <vector>
 
+#include "coopctrl/core/angle_wrap.h"
 #include "plants/core/frames.h"
 
 namespace coopctrl {
 
 namespace {
-
-constexpr double PI = 3.141592653589793;
-
-/// a mod b with Python's sign convention (the result has the sign of b), as numba computes it.
-double python_mod(double a, double b) noexcept {
-    double m = std::fmod(a, b);
-    if (m != 0.0) {
-        if ((b < 0.0) != (m < 0.0)) m += b;
-    } else {
-        m = std::copysign(0.0, b);
-    }
-    return m;
-}
 
 /// The spatial forward kinematics' work for an arm of n joints.
 struct TipWork {
@@ -256,7 +244,7 @@ bool planar_ik(const PlanarIKArm& arm, const IKSettings& settings, const double*
         plants::planar_arm_terms(arm.arm, qq, dq.data(), H.data(), n, h.data(), Y, Je, n, Jdq, chain.data());
         e[0] = target[0] - Y[0];
         e[1] = target[1] - Y[1];
-        e[2] = python_mod(target[2] - Y[2] + PI, 2.0 * PI) - PI;
+        e[2] = wrap_angle(target[2] - Y[2]);
         return e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
     };
     auto converged = [&](const double* e) {
