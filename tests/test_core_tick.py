@@ -189,3 +189,4 @@ def test_a_law_that_raises_stops_the_run_with_its_exception():
 
     with pytest.raises(ValueError, match=r"a_cmd\[0\]"):
         _run(closed_loop(scenario, follower_law=LeaderLaw(silent, (1.0,))), scenario, 0.05)
+

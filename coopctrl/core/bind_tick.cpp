@@ -433,6 +433,19 @@ private:
 }  // namespace
 
 void bind_tick(nb::module_& m) {
+    // the stop codes and split sources by name (coopctrl/loop/tick_codes.py states the same numbers)
+    nb::dict codes;
+    codes["DONE"] = static_cast<int64_t>(TICK_DONE), codes["NONFINITE"] = static_cast<int64_t>(TICK_NONFINITE), codes["NEAR_SINGULARITY"] = static_cast<int64_t>(TICK_NEAR_SINGULARITY);
+    codes["DEFORMATION"] = static_cast<int64_t>(TICK_DEFORMATION), codes["PLANT_ERROR"] = static_cast<int64_t>(TICK_PLANT_ERROR), codes["QP_FAILED"] = static_cast<int64_t>(TICK_QP_FAILED);
+    codes["NOMINAL_SINGULAR"] = static_cast<int64_t>(TICK_NOMINAL_SINGULAR), codes["SINGULAR_JACOBIAN"] = static_cast<int64_t>(TICK_SINGULAR_JACOBIAN);
+    codes["POSE_INCREMENT_SINGULAR"] = static_cast<int64_t>(TICK_POSE_INCREMENT_SINGULAR), codes["CHUNK_END"] = static_cast<int64_t>(TICK_CHUNK_END);
+    codes["NEWTON_FAILED"] = static_cast<int64_t>(TICK_NEWTON_FAILED), codes["ENERGY"] = static_cast<int64_t>(TICK_ENERGY);
+    codes["PLANT_EXTERNAL"] = static_cast<int64_t>(TICK_PLANT_EXTERNAL), codes["STEP_TOO_SMALL"] = static_cast<int64_t>(TICK_STEP_TOO_SMALL);
+    codes["RECORDED"] = static_cast<int64_t>(TICK_RECORDED), codes["MEASUREMENT_NOT_FINITE"] = static_cast<int64_t>(TICK_MEASUREMENT_NOT_FINITE);
+    codes["LAW_FAILED"] = static_cast<int64_t>(TICK_LAW_FAILED);
+    codes["SPLIT_SOLVED"] = static_cast<int64_t>(SPLIT_SOLVED), codes["SPLIT_HELD"] = static_cast<int64_t>(SPLIT_HELD), codes["SPLIT_NONE"] = static_cast<int64_t>(SPLIT_NONE);
+    m.attr("TICK_CODES") = codes;
+
     nb::class_<TickRun>(m, "Tick",
                         "One run's closed-loop tick (coopctrl/core/tick.h) on its model (coopctrl.loop.model.LoopModel) and "
                         "data (coopctrl.loop.data.LoopData), read by name once; the run's arrays are written in place.")

@@ -45,7 +45,7 @@ struct QPConstants {
     const QPRows* rows;        ///< QPConstants.rows
 };
 
-/// The tick's check of a solved QP (coopctrl/loop/kernel.py's _qp_answer after the solve): whether the answer
+/// The check of a solved QP (tick.h's solve_split after the solve): whether the answer
 /// x (qp.n) passes answer_ok with the constants' eps_abs and answer_rho, and if so *families, the mask of the
 /// binding families of the multipliers z (qp.n_rows, the solver's: balance rows first) on the m contacts.
 bool qp_answer_check(const QPConstants& c, const QP& qp, const double* x, const double* z, int m,

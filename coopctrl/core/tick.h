@@ -1,4 +1,5 @@
-// The closed loop's tick (coopctrl/loop/kernel.py, stage for stage, expression for expression: the same bits).
+// The closed loop's tick (ported stage for stage, expression for expression from the numba tick it replaced: the
+// same bits; tests/golden/tick holds that tick's records).
 //
 // A tick is two phases, as MuJoCo's mj_step1 and mj_step2:
 //   sense:  the plant's control terms at the true state and, with noisy sensors, at the measured one; the guards;
@@ -44,7 +45,7 @@ struct PeriodPlan {
     TRBDF2Plan trbdf2_plan;
 };
 
-/// The tick's work arrays, made once per run (the names of coopctrl/loop/kernel.py's TickWorkspace).
+/// The tick's work arrays, made once per run.
 struct TickWork {
     int nw;  ///< the control laws' width: max(p, the largest arm dof, the plant's arm row width)
     std::vector<double> F_cmd, F_seen, xm, Fm, F_set, wN, nrm, Jg, bias, a_cmd, err, Yn, dYn, ddYn, R3, rc, r0, Wa,
@@ -91,7 +92,7 @@ public:
     Tick(const TickModel& model, TickData& data, Plant& plant, PeriodPlan& plan, GIWorkspace& qp_ws)
         : md_(model), d_(data), plant_(plant), plan_(plan), ws_(qp_ws), w_(model, plant.terms(TERMS_TRUE).nmax) {}
 
-    /// Ticks k0 .. until N are recorded, an event, or tick k_stop (coopctrl/loop/kernel.py's run_ticks).
+    /// Ticks k0 .. until N are recorded, an event, or tick k_stop.
     void run(int64_t k0, int64_t k_stop) noexcept {
         StopReport& stop = *d_.stop;
         int64_t k = k0;

@@ -1,10 +1,10 @@
-// Two small stages of a tick (coopctrl/loop/kernel.py, expression for expression): the object's required wrench and
+// Two small stages of a tick: the object's required wrench and
 // the guards on the state.
 #pragma once
 
 namespace coopctrl {
 
-/// Codes of the guards (the tick's stop codes of the same names, coopctrl/loop/kernel.py).
+/// Codes of the guards (the tick's stop codes of the same numbers, tick_model.h's TickCode).
 enum GuardCode : int {
     GUARD_OK = 0,                ///< DONE: every guard passed
     GUARD_NONFINITE = 1,         ///< NONFINITE: the state is not finite
