@@ -6,8 +6,8 @@ impedance law, and a run continued from another's final state.
 
 The numba tick's records of these cases are test data (``tests/golden/tick/*.npz``, written by
 ``python tests/test_core_tick.py`` while the numba tick ran the loop, 2026-12-06); each case runs again here on the
-core and every recorded array must be equal to them, as the shipped scenes' records are
-(``tests/test_golden_records.py``)."""
+core and every recorded array must agree with them as the shipped scenes' records do (``tests/test_golden_records.py``:
+to 1e-10 of each signal's largest value; bit-identical on this machine)."""
 
 from __future__ import annotations
 
@@ -102,13 +102,27 @@ def run_case(name: str) -> dict:
     return out
 
 
+def _assert_recorded(got, want, key) -> None:
+    """Integers and names exactly; reals to 1e-10 of the signal's largest magnitude, NaN where the record has NaN
+    (the golden records' rule, tests/test_golden_records.py: bit-identical on this machine, and room for a compiler
+    that rounds differently)."""
+    if want.dtype.kind != "f":
+        np.testing.assert_array_equal(got, want, err_msg=key)
+        return
+    assert got.shape == want.shape, key
+    np.testing.assert_array_equal(np.isnan(got), np.isnan(want), err_msg=key)
+    finite = np.isfinite(want)
+    scale = float(np.abs(want[finite]).max()) if finite.any() else 0.0
+    np.testing.assert_allclose(got[finite], want[finite], rtol=0, atol=1e-10 * scale, err_msg=key)
+
+
 @pytest.mark.parametrize("name", list(CASES) + list(API_CASES))
 def test_the_core_tick_records_what_the_numba_tick_recorded(name):
     got = run_case(name)
     with np.load(FOLDER / f"{name}.npz") as want:
         assert sorted(got) == sorted(want.files)
         for key in want.files:
-            np.testing.assert_array_equal(got[key], want[key], err_msg=key)
+            _assert_recorded(got[key], want[key], key)
     if name == "lift_qp_failed":  # the case reaches the failure policy: its min_grip is beyond the torque limits
         assert str(got["status"]) == "qp_failed"
     if name == "carry_energy_guard":
