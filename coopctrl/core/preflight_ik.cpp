@@ -72,6 +72,33 @@ struct DLSWork {
     DLSWork(int m, int n) : Je(m * n), Je_new(m * n), e(m), e_new(m), A(m * m), y(m), q_new(n) {}
 };
 
+/// The damped least squares from q (clipped to its limits), which gets the answer: error(q, Je, e) writes the
+/// error e (rows) and its Jacobian Je at q and returns the cost |e|^2; converged(e) says when to stop. A trial that
+/// lowers the cost is taken and the damping lowered (x 0.3, down to 1e-12), else raised (x 5, up to 1e6).
+template <class Error, class Converged>
+bool dls_minimize(DLSWork& w, int rows, int n, const double* lower, const double* upper, double* q, Error error,
+                  Converged converged) {
+    for (int k = 0; k < n; ++k) q[k] = std::min(std::max(q[k], lower[k]), upper[k]);
+    double cost = error(q, w.Je.data(), w.e.data());
+    double lam = 1e-2;
+    for (int it = 0; it < IK_MAX_ITERATIONS; ++it) {
+        if (converged(w.e.data())) break;
+        dls_trial(w.Je.data(), rows, n, w.e.data(), lam, q, lower, upper, w.A.data(), w.y.data(), w.q_new.data());
+        const double cost_new = error(w.q_new.data(), w.Je_new.data(), w.e_new.data());
+        if (cost_new < cost) {
+            std::copy(w.q_new.begin(), w.q_new.end(), q);
+            std::swap(w.e, w.e_new);
+            std::swap(w.Je, w.Je_new);
+            cost = cost_new;
+            lam = std::max(lam * 0.3, 1e-12);
+        } else {
+            lam *= 5.0;
+            if (lam > 1e6) break;
+        }
+    }
+    return converged(w.e.data());
+}
+
 /// The spatial pose error e (6) and geometric Jacobian Jg at q; returns |e|^2.
 double spatial_error(const SpatialIKArm& arm, const double* p_target, const double* R_target, const double* q,
                      TipWork& w, double* T, double* Jg, double* M, double* e) noexcept {
@@ -98,27 +125,12 @@ bool spatial_dls(const SpatialIKArm& arm, const IKSettings& settings, const doub
     TipWork tip(n);
     DLSWork w(6, n);
     double T[16], M[9];
-    for (int k = 0; k < n; ++k) q[k] = std::min(std::max(q[k], arm.lower[k]), arm.upper[k]);
-    double cost = spatial_error(arm, p_target, R_target, q, tip, T, w.Je.data(), M, w.e.data());
-    double lam = 1e-2;
-    for (int it = 0; it < IK_MAX_ITERATIONS; ++it) {
-        if (spatial_converged(w.e.data(), settings.tolerance)) break;
-        dls_trial(w.Je.data(), 6, n, w.e.data(), lam, q, arm.lower, arm.upper, w.A.data(), w.y.data(),
-                  w.q_new.data());
-        const double cost_new =
-            spatial_error(arm, p_target, R_target, w.q_new.data(), tip, T, w.Je_new.data(), M, w.e_new.data());
-        if (cost_new < cost) {
-            std::copy(w.q_new.begin(), w.q_new.end(), q);
-            std::swap(w.e, w.e_new);
-            std::swap(w.Je, w.Je_new);
-            cost = cost_new;
-            lam = std::max(lam * 0.3, 1e-12);
-        } else {
-            lam *= 5.0;
-            if (lam > 1e6) break;
-        }
-    }
-    return spatial_converged(w.e.data(), settings.tolerance);
+    return dls_minimize(
+        w, 6, n, arm.lower, arm.upper, q,
+        [&](const double* qq, double* Je, double* e) {
+            return spatial_error(arm, p_target, R_target, qq, tip, T, Je, M, e);
+        },
+        [&](const double* e) { return spatial_converged(e, settings.tolerance); });
 }
 
 /// The null-space step d = (I - J_g^+ J_g)(posture - q) at q and |d|, as numba computes
@@ -250,26 +262,7 @@ bool planar_ik(const PlanarIKArm& arm, const IKSettings& settings, const double*
     auto converged = [&](const double* e) {
         return std::sqrt(e[0] * e[0] + e[1] * e[1]) <= settings.tolerance && std::abs(e[2]) <= settings.tolerance;
     };
-    for (int k = 0; k < n; ++k) q[k] = std::min(std::max(q[k], arm.lower[k]), arm.upper[k]);
-    double cost = error(q, w.Je.data(), w.e.data());
-    double lam = 1e-2;
-    for (int it = 0; it < IK_MAX_ITERATIONS; ++it) {
-        if (converged(w.e.data())) break;
-        dls_trial(w.Je.data(), 3, n, w.e.data(), lam, q, arm.lower, arm.upper, w.A.data(), w.y.data(),
-                  w.q_new.data());
-        const double cost_new = error(w.q_new.data(), w.Je_new.data(), w.e_new.data());
-        if (cost_new < cost) {
-            std::copy(w.q_new.begin(), w.q_new.end(), q);
-            std::swap(w.e, w.e_new);
-            std::swap(w.Je, w.Je_new);
-            cost = cost_new;
-            lam = std::max(lam * 0.3, 1e-12);
-        } else {
-            lam *= 5.0;
-            if (lam > 1e6) break;
-        }
-    }
-    return converged(w.e.data());
+    return dls_minimize(w, 3, n, arm.lower, arm.upper, q, error, converged);
 }
 
 bool square_joint_rates(const double* J, int m, int p, int ldJ, const double* dY, int lddY, const int64_t* dofs,

@@ -32,12 +32,8 @@ nb::tuple planar_rhs_py(Vector x, Vector tau, nb::handle P, VectorOut dx) {
     return nb::make_tuple(status[0], status[1]);
 }
 
-nb::dict planar_node_state_py(Vector x, nb::handle P) {
-    PlanarPlant plant(P);
-    PlanarWork w(plant.model);
-    expect(x.shape(0) % 2 == 0, "x", "an even length 2 nz");
-    int64_t status[2] = {0, 0};
-    planar_node_state(plant.model, x.data(), static_cast<int>(x.shape(0)), status, w.data);
+/// The status and the node state at x in w (Y, dY and the arms' H, h, J, Jdq), copied into a new dict.
+nb::dict node_state_dict(const PlanarWork& w, const int64_t* status) {
     const size_t N = w.N, m = w.m, n = w.nmax;
     nb::dict d;
     d["status"] = nb::make_tuple(status[0], status[1]);
@@ -47,6 +43,16 @@ nb::dict planar_node_state_py(Vector x, nb::handle P) {
     d["h"] = numpy_copy(w.h, {m, n});
     d["J"] = numpy_copy(w.J, {m, 3, n});
     d["Jdq"] = numpy_copy(w.Jdq, {m, 3});
+    return d;
+}
+
+nb::dict planar_node_state_py(Vector x, nb::handle P) {
+    PlanarPlant plant(P);
+    PlanarWork w(plant.model);
+    expect(x.shape(0) % 2 == 0, "x", "an even length 2 nz");
+    int64_t status[2] = {0, 0};
+    planar_node_state(plant.model, x.data(), static_cast<int>(x.shape(0)), status, w.data);
+    nb::dict d = node_state_dict(w, status);
     return d;
 }
 
@@ -67,15 +73,8 @@ nb::dict planar_control_terms_py(Vector x, nb::handle P) {
     PlanarWork w(plant.model);
     int64_t status[2] = {0, 0};
     planar_control_terms(plant.model, x.data(), static_cast<int>(x.shape(0)), status, w.data, w.terms);
-    const size_t N = w.N, m = w.m, n = w.nmax;
-    nb::dict d;
-    d["status"] = nb::make_tuple(status[0], status[1]);
-    d["Y"] = numpy_copy(w.Y, {N, 3});
-    d["dY"] = numpy_copy(w.dY, {N, 3});
-    d["H"] = numpy_copy(w.H, {m, n, n});
-    d["h"] = numpy_copy(w.h, {m, n});
-    d["J"] = numpy_copy(w.J, {m, 3, n});
-    d["Jdq"] = numpy_copy(w.Jdq, {m, 3});
+    const size_t N = w.N, m = w.m;
+    nb::dict d = node_state_dict(w, status);
     d["W"] = numpy_copy(w.W, {N, 3, 3});
     d["w_free"] = numpy_copy(w.w_free, {N, 3});
     d["S"] = numpy_copy(w.S, {N, 3});

@@ -53,14 +53,10 @@ nb::tuple spatial_rhs_py(Vector x, Vector tau, nb::handle P, VectorOut dx) {
     return nb::make_tuple(status[0], status[1]);
 }
 
-nb::dict spatial_control_terms_py(Vector x, nb::handle P) {
-    SpatialPlant plant(P);
-    expect_state(x, plant.model);
-    SpatialWork w(plant.model);
-    int64_t status[2] = {0, 0};
-    spatial_control_terms(plant.model, x.data(), static_cast<int>(x.shape(0)), status, w.data, w.terms);
+/// The status and the node state at x in w (Y, dY, the arms' H, h, J, Jdq and every node's frames), copied into a
+/// new dict.
+nb::dict node_state_dict(const SpatialWork& w, const int64_t* status) {
     const size_t N = w.N, m = w.m, n = w.nmax;
-    constexpr size_t blocks = NODE_FRAME_BLOCKS;
     nb::dict d;
     d["status"] = nb::make_tuple(status[0], status[1]);
     d["Y"] = numpy_copy(w.Y, {N, 6});
@@ -69,8 +65,19 @@ nb::dict spatial_control_terms_py(Vector x, nb::handle P) {
     d["h"] = numpy_copy(w.h, {m, n});
     d["J"] = numpy_copy(w.J, {m, 6, n});
     d["Jdq"] = numpy_copy(w.Jdq, {m, 6});
+    d["frames"] = numpy_copy(&w.frames[0].R[0][0], N * NODE_FRAME_BLOCKS * 9, {N, NODE_FRAME_BLOCKS, 3, 3});
+    return d;
+}
+
+nb::dict spatial_control_terms_py(Vector x, nb::handle P) {
+    SpatialPlant plant(P);
+    expect_state(x, plant.model);
+    SpatialWork w(plant.model);
+    int64_t status[2] = {0, 0};
+    spatial_control_terms(plant.model, x.data(), static_cast<int>(x.shape(0)), status, w.data, w.terms);
+    const size_t N = w.N, m = w.m;
+    nb::dict d = node_state_dict(w, status);
     d["Wr"] = numpy_copy(w.Wr, {N, 3, 3});
-    d["frames"] = numpy_copy(&w.frames[0].R[0][0], N * blocks * 9, {N, blocks, 3, 3});
     d["W"] = numpy_copy(w.W, {N, 6, 6});
     d["w_free"] = numpy_copy(w.w_free, {N, 6});
     d["S"] = numpy_copy(w.S, {N, 6});
@@ -86,18 +93,7 @@ nb::dict spatial_node_state_py(Vector x, nb::handle P) {
     spatial_node_state(plant.model, x.data(), static_cast<int>(x.shape(0)), status, w.data);
     // every node's frames in its chart, as the elastic system's: an own-chart arm's chart is the one it just wrote
     node_frames_charted(w.Y.data(), w.N, plant.model.node_rows, plant.model.node_width, w.frames.data());
-    const size_t N = w.N, m = w.m, n = w.nmax;
-    constexpr size_t blocks = NODE_FRAME_BLOCKS;
-    nb::dict d;
-    d["status"] = nb::make_tuple(status[0], status[1]);
-    d["Y"] = numpy_copy(w.Y, {N, 6});
-    d["dY"] = numpy_copy(w.dY, {N, 6});
-    d["H"] = numpy_copy(w.H, {m, n, n});
-    d["h"] = numpy_copy(w.h, {m, n});
-    d["J"] = numpy_copy(w.J, {m, 6, n});
-    d["Jdq"] = numpy_copy(w.Jdq, {m, 6});
-    d["frames"] = numpy_copy(&w.frames[0].R[0][0], N * blocks * 9, {N, blocks, 3, 3});
-    return d;
+    return node_state_dict(w, status);
 }
 
 nb::tuple spatial_interconnection_wrenches_py(Matrix Y, Matrix dY, nb::handle P) {
