@@ -127,7 +127,7 @@ void follower_correction(const double* F_cmd, const double* F_seen, double* inte
 bool pose_increment(bool spatial, const double* C, const double* F, const double* Y0, const double* Yi,
                     ControlWork& work, double* out) noexcept {
     if (!spatial) {
-        const double c = std::cos(Y0[2]), s = std::sin(Y0[2]);
+        const auto [s, c] = plants::sin_cos(Y0[2]);
         const double f0 = c * F[0] + s * F[1];
         const double f1 = -s * F[0] + c * F[1];
         const double f2 = F[2];

@@ -72,7 +72,7 @@ int fill_elastic_split(ElasticSplit& e, bool spatial, bool* P_changed) noexcept 
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) Rb[(3 + r) * p + 3 + c] = Rb[r * p + c];
     } else {
-        const double cs = std::cos(e.Y0[2]), sn = std::sin(e.Y0[2]);
+        const auto [sn, cs] = plants::sin_cos(e.Y0[2]);
         Rb[0 * p + 0] = cs;
         Rb[0 * p + 1] = -sn;
         Rb[1 * p + 0] = sn;

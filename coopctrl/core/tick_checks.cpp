@@ -55,7 +55,7 @@ int guards(bool spatial, const double* x, int nx, const double* Y, int m, const 
                 d[a] = s - rho[i * npos + a];
             }
         } else {
-            const double c0 = std::cos(Y[2]), s0 = std::sin(Y[2]);
+            const auto [s0, c0] = plants::sin_cos(Y[2]);
             const double e0 = Yi[0] - Y[0], e1 = Yi[1] - Y[1];
             d[0] = c0 * e0 + s0 * e1 - rho[i * npos + 0];
             d[1] = -s0 * e0 + c0 * e1 - rho[i * npos + 1];

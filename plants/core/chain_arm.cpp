@@ -22,7 +22,8 @@ bool is_prismatic(const ChainJointRow& joint) noexcept {
 
 }  // namespace
 
-void chain_link_frame(const ChainBody& p, const ChainJointRow& joint, double qk, ChainBody& c) noexcept {
+void chain_link_frame(const ChainBody& __restrict p, const ChainJointRow& joint, double qk,
+                      ChainBody& __restrict c) noexcept {
     const int kind = static_cast<int>(joint.type);
     const double* Ro = joint.rotation;
     const double o00 = Ro[0], o01 = Ro[1], o02 = Ro[2];
@@ -32,7 +33,7 @@ void chain_link_frame(const ChainBody& p, const ChainJointRow& joint, double qk,
     double l00, l01, l02, l10, l11, l12, l20, l21, l22;
     double ax_, ay_, az_;
     if (kind == JOINT_REVOLUTE_Z) {
-        const double ct = std::cos(qk), st = std::sin(qk);
+        const auto [st, ct] = sin_cos(qk);
         l00 = ct * o00 + st * o01; l01 = ct * o01 - st * o00; l02 = o02;
         l10 = ct * o10 + st * o11; l11 = ct * o11 - st * o10; l12 = o12;
         l20 = ct * o20 + st * o21; l21 = ct * o21 - st * o20; l22 = o22;
@@ -48,7 +49,7 @@ void chain_link_frame(const ChainBody& p, const ChainJointRow& joint, double qk,
             l20 = o20; l21 = o21; l22 = o22;
         } else {
             // Rodrigues: Rot = c I + s [a]x + (1 - c) a a^T
-            const double ct = std::cos(qk), st = std::sin(qk);
+            const auto [st, ct] = sin_cos(qk);
             const double vt = 1.0 - ct;
             const double m00 = ct + vt * ax * ax, m01 = vt * ax * ay - st * az, m02 = vt * ax * az + st * ay;
             const double m10 = vt * ax * ay + st * az, m11 = ct + vt * ay * ay, m12 = vt * ay * az - st * ax;
@@ -126,8 +127,9 @@ int chain_arm_pose(const ChainArmModel& arm, const double* q, bool own_chart, Ch
     return cth < EULER_SINGULARITY_COS ? 1 : 0;
 }
 
-int chain_arm_terms(const ChainArmModel& arm, const double* q, const double* dq, double* H, double* h, double* Y,
-                    double* J, double* Jdq, ChainBody* work, bool own_chart, double* chart) noexcept {
+int chain_arm_terms(const ChainArmModel& arm, const double* q, const double* dq, double* __restrict H,
+                    double* __restrict h, double* __restrict Y, double* __restrict J, double* __restrict Jdq,
+                    ChainBody* __restrict work, bool own_chart, double* __restrict chart) noexcept {
     const int n = arm.dof;
     const double gx = arm.gravity[0], gy = arm.gravity[1], gz = arm.gravity[2];
     ChainBody& b = work[0];

@@ -1,5 +1,5 @@
 // The Cholesky solve of the small symmetric positive-definite blocks (an arm's N_i, the QP's grasp blocks), written
-// as loops (plants/cooperative/_linalg.py's cholesky_solve_n, the same bits).
+// as loops: for n <= 64 with the loop bounds known to the compiler, the same operations in the same order either way.
 #pragma once
 
 namespace plants {

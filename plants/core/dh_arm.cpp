@@ -28,8 +28,8 @@ int dh_arm_terms(const DHArmModel& arm, const double* q, const double* dq, doubl
         DHFrame& c = work[k];
         const DHLink& row = arm.links[k - 1];
         const double th = q[k - 1] + row.offset;
-        const double ct = std::cos(th), st = std::sin(th);
-        const double ca = std::cos(row.alpha), sa = std::sin(row.alpha);
+        const auto [st, ct] = sin_cos(th);
+        const auto [sa, ca] = sin_cos(row.alpha);
         const double la = row.a, ld = row.d;
         // local DH rotation Rz(th) Rx(alpha)
         const double a00 = ct, a01 = -st * ca, a02 = st * sa;
@@ -265,8 +265,8 @@ namespace {
 /// Frame k from frame k-1 in place: o += R (a cos th, a sin th, d), R = R Rz(th) Rx(alpha).
 void advance_dh_frame(const DHLink& row, double qk, double* R, double* o) noexcept {
     const double th = qk + row.offset;
-    const double ct = std::cos(th), st = std::sin(th);
-    const double ca = std::cos(row.alpha), sa = std::sin(row.alpha);
+    const auto [st, ct] = sin_cos(th);
+    const auto [sa, ca] = sin_cos(row.alpha);
     const double la = row.a, ld = row.d;
     for (int i = 0; i < 3; ++i) {
         const double r0 = R[3 * i], r1 = R[3 * i + 1], r2 = R[3 * i + 2];

@@ -120,7 +120,7 @@ double planar_matrix_element(const PlanarMatrixElement& m, int i, int j, const d
     const double* Yi = Y + 3 * i;
     const double* Yj = Y + 3 * j;
     const double te = Yi[2] + m.frame_angle;
-    const double c = std::cos(te), s = std::sin(te);
+    const auto [s, c] = sin_cos(te);
     const double rx = Yj[0] - Yi[0];
     const double rz = Yj[1] - Yi[1];
     const double p0 = c * rx + s * rz;

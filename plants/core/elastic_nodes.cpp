@@ -12,8 +12,8 @@ using elastic_detail::rotation_and_partials_from_trig;
 namespace {
 
 void body_rate_matrix(const double* A, double L[3][3]) noexcept {
-    const double cth = std::cos(A[1]), sth = std::sin(A[1]);
-    const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+    const auto [sth, cth] = sin_cos(A[1]);
+    const auto [sph, cph] = sin_cos(A[2]);
     L[0][0] = -sth; L[0][1] = 0.0; L[0][2] = 1.0;
     L[1][0] = sph * cth; L[1][1] = cph; L[1][2] = 0.0;
     L[2][0] = cph * cth; L[2][1] = -sph; L[2][2] = 0.0;
@@ -61,8 +61,10 @@ void node_frames(const double* Y, int N, NodeFrames* frames) noexcept {
     for (int k = 0; k < N; ++k) {
         const double* A = Y + 6 * k + 3;
         NodeFrames& f = frames[k];
-        rotation_and_partials_from_trig(std::cos(A[0]), std::sin(A[0]), std::cos(A[1]), std::sin(A[1]),
-                                        std::cos(A[2]), std::sin(A[2]), f.R, f.dR[0], f.dR[1], f.dR[2]);
+        const auto [sps, cps] = sin_cos(A[0]);
+        const auto [sth, cth] = sin_cos(A[1]);
+        const auto [sph, cph] = sin_cos(A[2]);
+        rotation_and_partials_from_trig(cps, sps, cth, sth, cph, sph, f.R, f.dR[0], f.dR[1], f.dR[2]);
         body_rate_matrix(A, f.L);
     }
 }
@@ -90,7 +92,9 @@ void node_frames_charted(const double* Y, int N, const double* node_rows, int no
 }
 
 void node_rotational_terms(const double* A, const double* dA, const double* I, double* Wr, double* g) noexcept {
-    rotational_terms_from_trig(std::cos(A[1]), std::sin(A[1]), std::cos(A[2]), std::sin(A[2]), dA, I, Wr, g);
+    const auto [sth, cth] = sin_cos(A[1]);
+    const auto [sph, cph] = sin_cos(A[2]);
+    rotational_terms_from_trig(cth, sth, cph, sph, dA, I, Wr, g);
 }
 
 int node_terms(const double* Y, const double* dY, int N, const double* node_rows, int node_width,
@@ -121,9 +125,9 @@ void node_frames_terms(const double* Y, const double* dY, int N, const double* n
                        const double* gravity, NodeFrames* frames, double* Wr, double* w) noexcept {
     for (int k = 0; k < N; ++k) {
         const double* A = Y + 6 * k + 3;
-        const double cps = std::cos(A[0]), sps = std::sin(A[0]);
-        const double cth = std::cos(A[1]), sth = std::sin(A[1]);
-        const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+        const auto [sps, cps] = sin_cos(A[0]);
+        const auto [sth, cth] = sin_cos(A[1]);
+        const auto [sph, cph] = sin_cos(A[2]);
         NodeFrames& f = frames[k];
         rotation_and_partials_from_trig(cps, sps, cth, sth, cph, sph, f.R, f.dR[0], f.dR[1], f.dR[2]);
         f.L[0][0] = -sth; f.L[0][1] = 0.0; f.L[0][2] = 1.0;
@@ -139,10 +143,9 @@ void node_frames_terms(const double* Y, const double* dY, int N, const double* n
 }
 
 bool solve_node_rotation(const double* A, const double* I, const double* b, double* out) noexcept {
-    const double cth = std::cos(A[1]);
+    const auto [sth, cth] = sin_cos(A[1]);
     if (std::fabs(cth) < EULER_SINGULARITY_COS) return false;
-    const double sth = std::sin(A[1]);
-    const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+    const auto [sph, cph] = sin_cos(A[2]);
     const double tth = sth / cth;
     // Linv rows: [0, sph/cth, cph/cth], [0, cph, -sph], [1, sph*tth, cph*tth]; y = Linv^T b
     const double y0 = b[2] / I[0];

@@ -51,7 +51,7 @@ int planar_elastic_edges(const Interconnections& ic, const double* Y, double* F,
             Fj[0] -= f0;
             Fj[1] -= f1;
         } else {
-            const double c = std::cos(Yi[2]), sn = std::sin(Yi[2]);
+            const auto [sn, c] = sin_cos(Yi[2]);
             const double d0 = Yj[0] - Yi[0];
             const double d1 = Yj[1] - Yi[1];
             const double e0 = c * d0 + sn * d1 - s.rest_offset[0];
@@ -110,7 +110,7 @@ double planar_damping_edges(const Interconnections& ic, const double* Y, const d
                 f0 = dd * v0;
                 f1 = dd * v1;
             } else {
-                const double c = std::cos(Y[3 * i + 2]), sn = std::sin(Y[3 * i + 2]);
+                const auto [sn, c] = sin_cos(Y[3 * i + 2]);
                 // rho = R_i^T (r_j - r_i); r_j - r_i = -(d0, d1); dr_j - dr_i = -(v0, v1)
                 const double rho0 = -(c * d0 + sn * d1);
                 const double rho1 = -(-sn * d0 + c * d1);

@@ -11,6 +11,25 @@
 
 namespace plants {
 
+/// The sine and cosine of one angle.
+struct SinCos {
+    double s;  ///< sin(a)
+    double c;  ///< cos(a)
+};
+
+/// sin(a) and cos(a) [a in rad] in one call: glibc's sincos (the same bits as its sin and cos, in about the time of
+/// one of them), elsewhere std::sin and std::cos.
+inline SinCos sin_cos(double a) noexcept {
+    SinCos r;
+#if defined(__GLIBC__)
+    ::sincos(a, &r.s, &r.c);
+#else
+    r.s = std::sin(a);
+    r.c = std::cos(a);
+#endif
+    return r;
+}
+
 /// Smallest |cos(theta)| [-] at which L(A)^-1 is still evaluated (plants.frames.EULER_SINGULARITY_COS).
 constexpr double EULER_SINGULARITY_COS = 1e-6;
 
@@ -62,24 +81,26 @@ inline void rotation_zyx_from_trig(double cps, double sps, double cth, double st
 
 /// R = R(A) = Rz(psi) Ry(theta) Rx(phi) for A = (psi, theta, phi) [rad].
 inline void rotation_zyx(const double* A, double* R) noexcept {
-    const double cps = std::cos(A[0]), sps = std::sin(A[0]);
-    const double cth = std::cos(A[1]), sth = std::sin(A[1]);
-    const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+    const auto [sps, cps] = sin_cos(A[0]);
+    const auto [sth, cth] = sin_cos(A[1]);
+    const auto [sph, cph] = sin_cos(A[2]);
     rotation_zyx_from_trig(cps, sps, cth, sth, cph, sph, R);
 }
 
 /// (dR/dpsi, dR/dtheta, dR/dphi) of R(A), exact.
 inline void rotation_zyx_partials(const double* A, double* dpsi, double* dth, double* dph) noexcept {
-    rotation_zyx_partials_from_trig(std::cos(A[0]), std::sin(A[0]), std::cos(A[1]), std::sin(A[1]), std::cos(A[2]),
-                                    std::sin(A[2]), dpsi, dth, dph);
+    const auto [sps, cps] = sin_cos(A[0]);
+    const auto [sth, cth] = sin_cos(A[1]);
+    const auto [sph, cph] = sin_cos(A[2]);
+    rotation_zyx_partials_from_trig(cps, sps, cth, sth, cph, sph, dpsi, dth, dph);
 }
 
 /// R(A) and its three partials (dR: 27 doubles, dR/dpsi, dR/dtheta, dR/dphi) from one evaluation of the six
 /// sines and cosines.
 inline void rotation_zyx_and_partials(const double* A, double* R, double* dR) noexcept {
-    const double cps = std::cos(A[0]), sps = std::sin(A[0]);
-    const double cth = std::cos(A[1]), sth = std::sin(A[1]);
-    const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+    const auto [sps, cps] = sin_cos(A[0]);
+    const auto [sth, cth] = sin_cos(A[1]);
+    const auto [sph, cph] = sin_cos(A[2]);
     rotation_zyx_from_trig(cps, sps, cth, sth, cph, sph, R);
     rotation_zyx_partials_from_trig(cps, sps, cth, sth, cph, sph, dR, dR + 9, dR + 18);
 }
@@ -99,8 +120,8 @@ void rotation_vector(const double* M, double* out) noexcept;
 
 /// L = L(A) with omega_body = L(A) dA/dt (105).
 inline void body_rate_map(const double* A, double* L) noexcept {
-    const double cth = std::cos(A[1]), sth = std::sin(A[1]);
-    const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+    const auto [sth, cth] = sin_cos(A[1]);
+    const auto [sph, cph] = sin_cos(A[2]);
     for (int i = 0; i < 9; ++i) L[i] = 0.0;
     L[0] = -sth;
     L[2] = 1.0;
@@ -112,8 +133,8 @@ inline void body_rate_map(const double* A, double* L) noexcept {
 
 /// Ld = dL/dt at the angles A [rad] and the Euler rates dA [rad/s].
 inline void body_rate_map_dot(const double* A, const double* dA, double* Ld) noexcept {
-    const double cth = std::cos(A[1]), sth = std::sin(A[1]);
-    const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+    const auto [sth, cth] = sin_cos(A[1]);
+    const auto [sph, cph] = sin_cos(A[2]);
     const double dth = dA[1], dph = dA[2];
     for (int i = 0; i < 9; ++i) Ld[i] = 0.0;
     Ld[0] = -cth * dth;
@@ -126,9 +147,9 @@ inline void body_rate_map_dot(const double* A, const double* dA, double* Ld) noe
 /// Linv = L(A)^-1 = [[0, s_phi/c_theta, c_phi/c_theta], [0, c_phi, -s_phi], [1, s_phi t_theta, c_phi t_theta]];
 /// returns false (Linv untouched) where |cos(theta)| < EULER_SINGULARITY_COS.
 inline bool body_rate_map_inverse(const double* A, double* Linv) noexcept {
-    const double cth = std::cos(A[1]), sth = std::sin(A[1]);
+    const auto [sth, cth] = sin_cos(A[1]);
     if (std::abs(cth) < EULER_SINGULARITY_COS) return false;
-    const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+    const auto [sph, cph] = sin_cos(A[2]);
     const double tth = sth / cth;
     Linv[0] = 0.0;
     Linv[1] = sph / cth;
@@ -144,7 +165,7 @@ inline bool body_rate_map_inverse(const double* A, double* Linv) noexcept {
 
 /// R (2x2, row-major) = the rotation by theta [rad] in the (x, z) plane, from +x towards +z.
 inline void rotation_planar(double theta, double* R) noexcept {
-    const double c = std::cos(theta), s = std::sin(theta);
+    const auto [s, c] = sin_cos(theta);
     R[0] = c;
     R[1] = -s;
     R[2] = s;

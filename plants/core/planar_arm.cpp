@@ -1,6 +1,7 @@
 #include "plants/core/planar_arm.h"
 
 #include <cmath>
+#include "plants/core/frames.h"
 
 namespace plants {
 
@@ -29,7 +30,7 @@ int planar_arm_terms(const PlanarArmModel& arm, const double* q, const double* d
         w += dq[k];
         r[O] = ox; r[O + 1] = oz; r[TH] = th; r[W] = w;
         r[A] = ax; r[A + 1] = az;
-        const double ct = std::cos(th), st = std::sin(th);
+        const auto [st, ct] = sin_cos(th);
         // the centre of mass and its acceleration (alpha = 0 with qdd = 0): a_c = a_o - w^2 d
         const double sx = ct * link.rc_x - st * link.rc_y;
         const double sz = st * link.rc_x + ct * link.rc_y;
@@ -92,7 +93,7 @@ int planar_arm_terms(const PlanarArmModel& arm, const double* q, const double* d
     }
 
     // the tip
-    const double ct = std::cos(th), st = std::sin(th);
+    const auto [st, ct] = sin_cos(th);
     const double tx = ox + ct * arm.tool[0] - st * arm.tool[1];
     const double tz = oz + st * arm.tool[0] + ct * arm.tool[1];
     Y[0] = tx; Y[1] = tz; Y[2] = th + arm.tool[2];
@@ -115,7 +116,7 @@ double planar_arm_potential(const PlanarArmModel& arm, const double* q) noexcept
     for (int k = 0; k < arm.dof; ++k) {
         const PlanarLink& link = arm.links[k];
         th += q[k];
-        const double ct = std::cos(th), st = std::sin(th);
+        const auto [st, ct] = sin_cos(th);
         const double cx = ox + ct * link.rc_x - st * link.rc_y;
         const double cz = oz + st * link.rc_x + ct * link.rc_y;
         U -= link.mass * (arm.gravity[0] * cx + arm.gravity[1] * cz);

@@ -15,8 +15,8 @@ void cross(const double* a, const double* b, double* out) noexcept {
 }  // namespace
 
 void body_rates(const double* A, const double* dA, const double* ddA, double* w, double* dw) noexcept {
-    const double cth = std::cos(A[1]), sth = std::sin(A[1]);
-    const double cph = std::cos(A[2]), sph = std::sin(A[2]);
+    const auto [sth, cth] = sin_cos(A[1]);
+    const auto [sph, cph] = sin_cos(A[2]);
     const double dth = dA[1], dph = dA[2];
     w[0] = -sth * dA[0] + dA[2];
     w[1] = sph * cth * dA[0] + cph * dA[1];
@@ -82,8 +82,8 @@ int spatial_motion(const double* Y0, const double* dY0, const double* ddY0, cons
         }
         for (int a = 0; a < 3; ++a)
             d[a] = Linv[a * 3 + 0] * t[0] + Linv[a * 3 + 1] * t[1] + Linv[a * 3 + 2] * t[2];  // dA_j
-        const double cth = std::cos(Aj[1]), sth = std::sin(Aj[1]);
-        const double cph = std::cos(Aj[2]), sph = std::sin(Aj[2]);
+        const auto [sth, cth] = sin_cos(Aj[1]);
+        const auto [sph, cph] = sin_cos(Aj[2]);
         const double dth = d[1], dph = d[2];
         u[0] -= (-cth * dth) * d[0];
         u[1] -= (cph * cth * dph - sph * sth * dth) * d[0] + (-sph * dph) * d[1];
@@ -104,7 +104,7 @@ void planar_motion(const double* Y0, const double* dY0, const double* ddY0, cons
         ddY[a] = ddY0[a];
     }
     const double th = Y0[2], w = dY0[2], al = ddY0[2];
-    const double c = std::cos(th), s = std::sin(th);
+    const auto [s, c] = sin_cos(th);
     for (int j = 0; j < m; ++j) {
         const double* g = G + j * 3;
         double* Yj = Y + (j + 1) * 3;
