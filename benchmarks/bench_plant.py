@@ -69,16 +69,16 @@ def core_us(plant, x, tau, chunk: int, rounds: int) -> float:
     nx = x.shape[0]
     plan = make_plan(ExplicitEuler(), nx)
     status, x_fail = np.zeros(2, np.int64), np.zeros(nx)
-    out_int, out_float = np.zeros(8, np.int64), np.zeros(2)
+    report = _core.StopReport()
     many, one = np.full(chunk, 1e-9), np.full(1, 1e-9)
     per = []
     for _ in range(rounds):
         y = x.copy()
         t0 = time.perf_counter()
-        _core.plant_advance(plan, y, tau, plant.plant_args, status, 0.0, one, x_fail, out_int, out_float)
+        _core.plant_advance(plan, y, tau, plant.plant_args, status, 0.0, one, x_fail, report)
         t1 = time.perf_counter()
         y = x.copy()
-        _core.plant_advance(plan, y, tau, plant.plant_args, status, 0.0, many, x_fail, out_int, out_float)
+        _core.plant_advance(plan, y, tau, plant.plant_args, status, 0.0, many, x_fail, report)
         t2 = time.perf_counter()
         assert status[0] == 0, status
         per.append(((t2 - t1) - (t1 - t0)) / (chunk - 1))

@@ -245,16 +245,16 @@ class LoopProblem:
         xs = np.empty((taus.shape[0], nx))
         steps = np.array(loop._steps, dtype=float)
         plan = make_plan(loop.integrator, nx, loop.T)
-        status, x_fail, out_int, out_float = np.zeros(2, np.int64), np.zeros(nx), np.zeros(8, np.int64), np.zeros(2)
+        status, x_fail, report = np.zeros(2, np.int64), np.zeros(nx), _core.StopReport()
         P = self.plant.plant_args
         x = np.array(self.x0, dtype=float)
         xs[0] = x
         t0 = time.perf_counter()
         for k in range(taus.shape[0] - 1):
-            _core.plant_advance(plan, x, taus[k], P, status, k * loop.T, steps, x_fail, out_int, out_float)
+            _core.plant_advance(plan, x, taus[k], P, status, k * loop.T, steps, x_fail, report)
             xs[k + 1] = x
         seconds = time.perf_counter() - t0
-        return seconds, int(out_int[7]), float(np.max(np.abs(xs - rec["x"]))) if xs.shape == rec["x"].shape else math.inf
+        return seconds, report.rhs_evaluations, float(np.max(np.abs(xs - rec["x"]))) if xs.shape == rec["x"].shape else math.inf
 
 
 def python_rhs_seconds(plant, x, tau, calls: int = 2000) -> float:

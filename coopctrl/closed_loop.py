@@ -312,7 +312,7 @@ class ClosedLoop:
                                     "continued", ValueError)
         m, p = plant.arm_count, plant.p
         if (np.shape(state.x) != (plant.state_size,) or np.shape(state.tau) != (plant.input_size,)
-                or np.shape(state.integrals) != (m, p) or np.shape(state.flags) != (7,)):
+                or np.shape(state.integrals) != (m, p)):
             raise arguments.invalid(name, state, f"{allowed}: its sizes are another loop's", ValueError)
         if state.chart is not None and self.rotations != "charts":
             raise arguments.invalid(name, state, f"{allowed}: it is the state of a run in rotation charts and this "

@@ -61,7 +61,7 @@ def test_step_equals_loop(scene):
     scale = np.maximum(np.max(np.abs(rec["tau"]), axis=0), 1.0)  # [N m] per joint
     worst = np.max(np.abs(taus - rec["tau"]) / scale, axis=1)
     assert np.all(worst <= 1e-12), f"tick {int(np.argmax(worst))}: {np.max(worst):.3g} of the joint's scale"
-    assert controller.state.flags[3] == ticks  # one QP solve per step, none held
+    assert controller.state.flags.qp_solves == ticks  # one QP solve per step, none held
     assert np.array_equal(taus, rec["tau"])
 
 
@@ -94,7 +94,7 @@ def test_reset_is_a_fresh_controller(carry):
     for k in range(3):
         c.step(k * c.control_period, meas)
     c.reset()
-    assert c.state.steps == 0 and not np.any(c.state.integrals) and c.state.flags[3] == 0
+    assert c.state.steps == 0 and not np.any(c.state.integrals) and c.state.flags.qp_solves == 0
     fresh = coopctrl.Controller(c.scenario)
     assert np.array_equal(c.step(0.0, meas).tau, fresh.step(0.0, meas).tau)
 
@@ -121,7 +121,7 @@ def test_a_failed_split_holds_the_last_one_then_gives_up():
     fast = c.measurement(x, good.wrench)
     tau = c.step(3 * T, fast).tau
     held = c.state
-    assert held.flags[1] == 1 and held.flags[3] == saved.flags[3] + 1  # one failed solve, counted
+    assert held.flags.consecutive_failures == 1 and held.flags.qp_solves == saved.flags.qp_solves + 1  # one failed solve, counted
     assert np.array_equal(held.last_split, saved.last_split)
     assert np.all(np.isfinite(tau)) and np.all(np.abs(tau) <= np.concatenate(
         [np.broadcast_to(a.tau_max, (a.dof,)) for a in loop.plant.arms]))
@@ -131,7 +131,7 @@ def test_a_failed_split_holds_the_last_one_then_gives_up():
         c.step(7 * T, fast)
     assert "\n" not in str(info.value)
     c.step(8 * T, good)
-    assert c.state.flags[1] == 0
+    assert c.state.flags.consecutive_failures == 0
 
 
 def test_state_is_a_frozen_copy(scene):

@@ -66,27 +66,24 @@ def _run_both(scene: _Scene, integrator, controller, x0, tau, periods=PERIODS, f
     states = [x0.copy(), x0.copy()]
     status = np.zeros(2, np.int64)
     fails = [np.zeros(nx), np.zeros(nx)]
-    out_ints = [np.zeros(8, np.int64), np.zeros(8, np.int64)]
-    out_floats = [np.zeros(2), np.zeros(2)]
+    reports = [_core.StopReport(), _core.StopReport()]
     plant = scene.plant
     codes = []
     for k in range(periods):
         t = k * scene.T
-        want = _core.adaptive_advance(plans[0], states[0], tau, scene.P, status, t, fails[0], out_ints[0],
-                                      out_floats[0])
+        want = _core.adaptive_advance(plans[0], states[0], tau, scene.P, status, t, fails[0], reports[0])
         got = _core.adaptive_advance_f(plans[1], lambda t, x, u: plant.rhs(t, x, u), states[1], tau, t, fails[1],
-                                       out_ints[1], out_floats[1])
+                                       reports[1])
         assert got == want, f"period {k}"
         np.testing.assert_array_equal(states[1], states[0], err_msg=f"x, period {k}")
         np.testing.assert_array_equal(fails[1], fails[0], err_msg=f"x_fail, period {k}")
-        np.testing.assert_array_equal(out_ints[1], out_ints[0], err_msg=f"out_int, period {k}")
-        np.testing.assert_array_equal(out_floats[1], out_floats[0], err_msg=f"out_float, period {k}")
+        assert reports[1] == reports[0], f"report, period {k}: {reports[1]} != {reports[0]}"
         for field, a, b in zip(plans[0]._fields, plans[1], plans[0]):
             np.testing.assert_array_equal(a, b, err_msg=f"plan.{field}, period {k}")
         codes.append(int(want))
         if want != STEP_OK:
             break
-    return codes, plans[0], out_floats[0]
+    return codes, plans[0], np.array(reports[0].value)
 
 
 @pytest.mark.parametrize("name", SCENES)
@@ -116,15 +113,15 @@ def test_the_step_controllers_reject_and_recover(scheme, controller):
 @pytest.mark.parametrize("scheme", ["rk23", "rk45", "trbdf2"])
 def test_a_step_below_min_step_stops(scheme):
     """A tight tolerance with a large min_step: the controller's step falls below it within the first periods;
-    ``out_float`` = (that step, the time it was tried at, within the period)."""
+    the report's ``value`` = (that step, the time it was tried at, within the period)."""
     scene = _scene("planar_two_arm_lift")
     integrator = get_integrator(scheme, rtol=1e-12, atol=1e-14, min_step=scene.T / 8.0)
     x = scene.states[1] + np.random.default_rng(3).normal(scale=1e-2, size=scene.states[1].shape)
-    codes, plan, out_float = _run_both(scene, integrator, None, x, scene.torques[1])
+    codes, plan, value = _run_both(scene, integrator, None, x, scene.torques[1])
     assert codes[-1] == STEP_TOO_SMALL
     k = len(codes) - 1
-    assert 0.0 < out_float[0] < scene.T / 8.0
-    assert k * scene.T <= out_float[1] < (k + 1) * scene.T
+    assert 0.0 < value[0] < scene.T / 8.0
+    assert k * scene.T <= value[1] < (k + 1) * scene.T
 
 
 @pytest.mark.parametrize("name", SCENES)
@@ -162,16 +159,16 @@ def test_a_python_f_that_is_nan_beyond_a_wall_stops_below_min_step(scheme, contr
     plan = adaptive.adaptive_plan(integrator, 2, T, 10, controller=controller)
     x = np.array([0.5, 3.0])
     tau = np.array([0.5])
-    out_int, out_float, x_fail = np.zeros(8, np.int64), np.zeros(2), np.zeros(2)
+    report, x_fail = _core.StopReport(), np.zeros(2)
     codes = []
     for k in range(10):
-        code = _core.adaptive_advance_f(plan, _pendulum_to_a_wall, x, tau, k * T, x_fail, out_int, out_float)
+        code = _core.adaptive_advance_f(plan, _pendulum_to_a_wall, x, tau, k * T, x_fail, report)
         codes.append(int(code))
         if code != STEP_OK:
             break
     assert codes[-1] == STEP_TOO_SMALL and len(codes) > 2
     assert plan.stats[len(codes) - 1, adaptive.STAT_REJECTED] > 0
-    assert out_float[0] < 1e-9
+    assert report.value[0] < 1e-9  # the step [s]
     np.testing.assert_array_equal(x_fail, x)
     assert np.all(np.isfinite(x)) and x[0] <= 1.0
 
@@ -186,8 +183,7 @@ def test_a_plant_failure_is_reported(scheme):
     x[nz - 3:nz - 1] = plants_core.planar_control_terms(x, scene.P)["Y"][1, :2]
     plan = adaptive.adaptive_plan(get_integrator(scheme), x.shape[0], scene.T, 1)
     status, x_fail = np.zeros(2, np.int64), np.zeros_like(x)
-    code = _core.adaptive_advance(plan, x.copy(), scene.torques[0], scene.P, status, 0.0, x_fail,
-                                  np.zeros(8, np.int64), np.zeros(2))
+    code = _core.adaptive_advance(plan, x.copy(), scene.torques[0], scene.P, status, 0.0, x_fail, _core.StopReport())
     assert code == STEP_PLANT_ERROR and status[0] != 0
     np.testing.assert_array_equal(x_fail, x)
     with pytest.raises(Exception):
@@ -249,7 +245,7 @@ def test_bad_arguments_are_named():
     x, tau = scene.states[0].copy(), scene.torques[0]
     nx = x.shape[0]
     plan = adaptive.adaptive_plan(get_integrator("rk23"), nx, scene.T, 1)
-    args = (np.zeros(2, np.int64), 0.0, np.zeros(nx), np.zeros(8, np.int64), np.zeros(2))
+    args = (np.zeros(2, np.int64), 0.0, np.zeros(nx), _core.StopReport())
     with pytest.raises(ValueError, match=r"plan\.K: expected"):
         _core.adaptive_advance(plan._replace(K=np.zeros((3, nx))), x, tau, scene.P, *args)
     with pytest.raises(ValueError, match=r"^x: expected length"):
@@ -266,8 +262,7 @@ def test_a_python_exception_in_f_reaches_the_caller():
 
     plan = adaptive.adaptive_plan(get_integrator("rk45"), 2, 0.01, 1)
     with pytest.raises(ZeroDivisionError, match="f failed"):
-        _core.adaptive_advance_f(plan, broken, np.zeros(2), np.zeros(1), 0.0, np.zeros(2), np.zeros(8, np.int64),
-                                 np.zeros(2))
+        _core.adaptive_advance_f(plan, broken, np.zeros(2), np.zeros(1), 0.0, np.zeros(2), _core.StopReport())
 
 
 def test_a_python_f_gets_the_stage_times():
@@ -281,7 +276,7 @@ def test_a_python_f_gets_the_stage_times():
 
     plan = adaptive.adaptive_plan(get_integrator("rk45"), 2, 0.5, 2, controller="fixed", fixed_step=0.25)
     x = np.array([0.5, 0.0])
-    code = _core.adaptive_advance_f(plan, clock, x, None, 0.5, np.zeros(2), np.zeros(8, np.int64), np.zeros(2))
+    code = _core.adaptive_advance_f(plan, clock, x, None, 0.5, np.zeros(2), _core.StopReport())
     assert code == STEP_OK
     C = get_integrator("rk45").C
     want = [0.5] + [t0 + c * 0.25 for t0 in (0.5, 0.75) for c in (*C[1:], 1.0)]

@@ -46,11 +46,10 @@ class _Plant:
     def advance(self, integrator, period: float, controller: str | None = None, fixed_step: float = 0.0):
         """One period by the compiled scheme: ``(code, x, rhs evaluations, stats row)``."""
         plan = adaptive.adaptive_plan(integrator, self.x.size, period, 1, controller=controller, fixed_step=fixed_step)
-        status, out_int, out_float = np.zeros(2, np.int64), np.zeros(8, np.int64), np.zeros(2)
+        status, report = np.zeros(2, np.int64), _core.StopReport()
         x, x_fail = self.x.copy(), self.x.copy()
-        code = _core.plant_advance(plan, x, self.tau, self.P, status, 0.0, np.array([period]), x_fail, out_int,
-                                   out_float)
-        return code, x, int(out_int[7]), plan.stats[0].copy()
+        code = _core.plant_advance(plan, x, self.tau, self.P, status, 0.0, np.array([period]), x_fail, report)
+        return code, x, report.rhs_evaluations, plan.stats[0].copy()
 
 
 @pytest.fixture(scope="module")

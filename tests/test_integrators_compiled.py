@@ -56,13 +56,12 @@ class _Plant:
         """``n`` steps of ``h`` by the compiled core on the plant's own kernels (one period of one step each, the
         plan kept between them): the states after each step, the plan and the right-hand-side count."""
         plan = integrate.make_plan(integrator, self.x.size)
-        status, out_int, out_float = np.zeros(2, np.int64), np.zeros(8, np.int64), np.zeros(2)
+        status, report = np.zeros(2, np.int64), _core.StopReport()
         x, x_fail, states, codes = self.x.copy(), self.x.copy(), [], []
         for _ in range(n):
-            codes.append(_core.plant_advance(plan, x, self.tau, self.P, status, 0.0, np.array([h]), x_fail, out_int,
-                                             out_float))
+            codes.append(_core.plant_advance(plan, x, self.tau, self.P, status, 0.0, np.array([h]), x_fail, report))
             states.append(x.copy())
-        return codes, states, plan, out_int, out_float
+        return codes, states, plan, report
 
     def python_steps(self, step, h: float, n: int):
         """The same with ``step(f, t, x, u, h)`` (the oracle's, or a scheme's public ``step``) on the
@@ -104,12 +103,12 @@ def test_explicit_steps_are_the_oracle_arithmetic(planar, name):
     """The explicit schemes repeat the oracle's numpy operations element by element: bit-identical. The
     public ``step`` gives the kernel's bits too, compiled on the plant's ``rhs`` and run by Python on a
     Python function of it."""
-    codes, states, _, out_int, _ = planar.kernel_steps(get_integrator(name), 1e-3, 3)
+    codes, states, _, report = planar.kernel_steps(get_integrator(name), 1e-3, 3)
     expected, calls = planar.python_steps(oracle_step(get_integrator(name)), 1e-3, 3)
     assert codes == [integrate.STEP_OK] * 3
     for got, want in zip(states, expected):
         np.testing.assert_array_equal(got, want)
-    assert out_int[7] == calls
+    assert report.rhs_evaluations == calls
     interpreted, interpreted_calls = planar.python_steps(get_integrator(name).step, 1e-3, 3)
     assert interpreted_calls == calls
     scheme, x = get_integrator(name), planar.x.copy()
@@ -144,10 +143,10 @@ def test_implicit_steps_match_the_oracle(scene, name, h, steps, jacobians):
     new = name if isinstance(name, type) else (lambda: get_integrator(name))
     ki, pi = new(), new()
     oracle = SDIRK(pi)
-    codes, states, plan, out_int, _ = case.kernel_steps(ki, h, steps)
+    codes, states, plan, report = case.kernel_steps(ki, h, steps)
     expected, calls = case.python_steps(oracle.step, h, steps)
     assert codes == [integrate.STEP_OK] * steps
-    assert out_int[7] == calls
+    assert report.rhs_evaluations == calls
     assert plan.memo[2] == oracle.jacobian_evaluations == jacobians
     tol = pi.atol + pi.rtol * max(np.abs(x).max() for x in expected)
     diff = max(np.abs(a - b).max() for a, b in zip(states, expected))
@@ -168,12 +167,12 @@ def test_newton_failure_is_the_oracle_exception():
     case = _Plant("planar_two_arm_lift")
     case.x[case.x.size // 2:] += 0.5  # every velocity 0.5 m/s or rad/s: a strongly nonlinear step
     h = 0.05
-    codes, _, _, out_int, out_float = case.kernel_steps(ImplicitEuler(max_iterations=2), h, 1)
+    codes, _, _, report = case.kernel_steps(ImplicitEuler(max_iterations=2), h, 1)
     with pytest.raises(NewtonConvergenceError) as info:
         case.python_steps(SDIRK(ImplicitEuler(max_iterations=2)).step, h, 1)
     want = info.value
     assert codes == [integrate.STEP_NEWTON_FAILED]
-    got = integrate.newton_failure("implicit_euler", np.array([h]), out_int, out_float)
+    got = integrate.newton_failure("implicit_euler", np.array([h]), report)
     assert type(got) is NewtonConvergenceError and isinstance(got, ArithmeticError)
     assert (got.time, got.step, got.iterations, got.scheme) == (want.time, want.step, want.iterations, want.scheme)
     assert want.value > 1e3 * (1e-14 + 1e-12 * np.abs(case.x).max())

@@ -119,7 +119,7 @@ class Controller:
         qa = cl.qp_arrays()
         opts = cl.options(loop, loop.empty_record(1), False)
         x_fail = np.zeros(nx)
-        out_int = np.zeros(8, dtype=np.int64)
+        stop = _core.StopReport()
         nq = plant.nz - p
         self._P = P
         # the run's model and data (coopctrl.loop.model, .data) with no plant advance and no record: the tick's
@@ -132,9 +132,9 @@ class Controller:
                         sq=squeeze_workspace(m, 3 if cl.spatial else 2, loop.squeeze_desired), x=state.x,
                         tau=state.tau, integrals=state.integrals, last_split=state.last_split, flags=state.flags,
                         saturated_joints=state.saturated_joints, hold=state.hold, record=None, x_good=np.zeros(nx),
-                        x_fail=x_fail, out_int=out_int, out_float=np.zeros(2))
+                        x_fail=x_fail, stop=stop)
         self._model, self._data, self._qa, self._opts = model, data, qa, opts  # the tick shares their arrays
-        self._out_int, self._x_fail = out_int, x_fail
+        self._stop, self._x_fail = stop, x_fail
         self._tick = _core.Tick(model, data)
         self._tau = state.tau
         from coopctrl.loop.charts import RECENTRE_COS
@@ -266,21 +266,21 @@ class Controller:
         from coopctrl.loop import compiled as C
         from coopctrl.loop import tick_codes as K
 
-        out = self._out_int
+        stop = self._stop
         if code == K.MEASUREMENT_NOT_FINITE:
-            field, i, c = (int(v) for v in out[2:5])
+            field, i, c = stop.detail
             name = _FIELDS[field]
             a = args[field][i] if field < 2 else args[field]
             where = f"{name}[{i}][{c}]" if field < 2 else (f"{name}[{i}][{c}]" if field == 2 else f"{name}[{c}]")
             value = float(a[c] if field != 2 else a[i, c])
             raise MeasurementError(where, value, f"a finite value: {_WHAT[name]}")
         if code == K.QP_FAILED:  # the load distribution's failure policy, as the loop applies it (may raise)
-            C._qp_failure(self._loop, self._cl, self._qa, int(out[2]), int(out[3]),
+            C._qp_failure(self._loop, self._cl, self._qa, stop.detail[0], stop.detail[1],
                           SimpleNamespace(ws=self._state.ws, flags=self._state.flags))
             code = self._tick.controller_step(k, True, *args)
             if code == 0:
                 return
-        raise C._exception(self._loop, self._cl, code, k, out, np.zeros(2), self._x_fail, self._traj)
+        raise C._exception(self._loop, self._cl, code, k, stop, self._x_fail, self._traj)
 
     # ------------------------------------------------------------------ state
     @property

@@ -6,6 +6,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+import coopctrl._core as _core
+
 
 @dataclass(frozen=True)
 class ControllerState:
@@ -20,8 +22,9 @@ class ControllerState:
         integrals: (m, p) the followers' force-error integrals [N s, N m s] (the leader's row stays 0).
         last_split: (3, m, p) the last feasible split ``(F, external, internal)`` [N, N m], held when a QP
             solve fails.
-        flags: int64 ``(have_last_split, consecutive_qp_failures, saturated_steps, qp_solves,
-            first_saturated_step, last_saturated_step, -)``.
+        flags: the tallies by name (a copy of the controller's :class:`coopctrl._core.LoopFlags`:
+            ``have_last_split``, ``consecutive_failures``, ``saturated_ticks`` (steps), ``qp_solves``,
+            ``first_saturated``, ``last_saturated`` (steps)).
         saturated_joints: (nu,) int64 steps on which each joint's torque was clipped.
         qp_workspace: the compiled QP's workspace (its factor and active set: the next solve's warm start).
         qp_hessian: (n, n) the QP's cost matrix (the elastic split keeps it between steps).
@@ -33,7 +36,7 @@ class ControllerState:
     tau: np.ndarray
     integrals: np.ndarray
     last_split: np.ndarray
-    flags: np.ndarray
+    flags: _core.LoopFlags
     saturated_joints: np.ndarray
     qp_workspace: tuple
     qp_hessian: np.ndarray
@@ -46,6 +49,8 @@ class ControllerState:
     def of(cls, live: dict, steps: int) -> "ControllerState":
         """A snapshot of the ``live`` arrays (field name -> the controller's own array, or tuple of arrays)."""
         def frozen(a):
+            if isinstance(a, _core.LoopFlags):
+                return a.copy()
             a = np.array(a, copy=True)
             a.flags.writeable = False
             return a
@@ -60,13 +65,19 @@ class ControllerState:
             if f.name == "steps":
                 continue
             mine, theirs = getattr(self, f.name), live[f.name]
+            if isinstance(mine, _core.LoopFlags):
+                pairs.append((mine, theirs))
+                continue
             for a, b in (zip(mine, theirs) if isinstance(mine, tuple) else ((mine, theirs),)):
                 if a.shape != b.shape:
                     raise ValueError(f"state.{f.name} has shape {a.shape}, this controller's {b.shape}: restore a "
                                      "snapshot taken from a controller of the same scene")
                 pairs.append((a, b))
         for a, b in pairs:
-            b[...] = a
+            if isinstance(b, _core.LoopFlags):
+                b.assign(a)
+            else:
+                b[...] = a
 
     def __copy__(self):
         return self

@@ -105,7 +105,7 @@ struct TRBDF2Plan {
     double* pinv_work;  ///< (2 nx^2 + nx,) work of the pseudo-inverse, the fallback for a singular I - d h J
 };
 
-/// Where and why a step fell below min_step (STEP_TOO_SMALL; adaptive_plans' out_float).
+/// Where and why a step fell below min_step (STEP_TOO_SMALL; a StopReport's value).
 struct TooSmallStep {
     double step = 0.0;  ///< [s] the step the controller asked for
     double time = 0.0;  ///< [s] the time it would have started at

@@ -1,8 +1,7 @@
 // The error-controlled schemes in coopctrl._core (coopctrl/core/adaptive_schemes.h) on the Python plans of
 // coopctrl.integrators.adaptive_plans.adaptive_plan (an EmbeddedPlan or a TRBDF2Plan, read by field name and
 // advanced in place: the step carried over, the Newton matrix and the statistics rows are the plan's own arrays),
-// with the numba advance's signature: on a planar cooperative plant's PlantArgs, or on a Python f(t, x, u) (the
-// documented slower path).
+// on a planar cooperative plant's PlantArgs, or on a Python f(t, x, u) (the documented slower path).
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
@@ -18,6 +17,7 @@
 #include "coopctrl/core/adaptive_schemes.h"
 #include "coopctrl/core/integration_plan.h"
 #include "coopctrl/core/python_plant.h"
+#include "coopctrl/core/run_state.h"
 #include "plants/core/binding_checks.h"
 #include "plants/core/cooperative_planar.h"
 #include "plants/core/planar_plant_reader.h"
@@ -35,24 +35,16 @@ using MatrixIn = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device
 using MatrixOut = nb::ndarray<double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using IntVectorOut = nb::ndarray<int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 
-/// The numba advance's out_int and out_float entries an adaptive advance writes.
-constexpr size_t OUT_INT_EVALUATIONS = 7;  ///< the run's right-hand-side evaluations, counted on
-constexpr size_t OUT_INT_LENGTH = 8;
-constexpr size_t OUT_FLOAT_STEP = 0;  ///< STEP_TOO_SMALL: the step [s]
-constexpr size_t OUT_FLOAT_TIME = 1;  ///< STEP_TOO_SMALL: the time [s]
-constexpr size_t OUT_FLOAT_LENGTH = 2;
-
-/// The plan's scheme over one period on the plant, out_int and out_float written as the numba advance does.
+/// The plan's scheme over one period on the plant; out: the evaluations counted on, and a STEP_TOO_SMALL's
+/// value = (step [s], time [s]).
 template <class Plant>
 int advance(nb::handle plan, VectorOut x, const double* tau, Plant& plant, int64_t* status, double t,
-            VectorOut x_fail, IntVectorOut out_int, VectorOut out_float) {
+            VectorOut x_fail, StopReport& out) {
     const size_t nx = x.shape(0);
     expect_length(x_fail.shape(0), nx, "x_fail");
-    expect_length(out_int.shape(0), OUT_INT_LENGTH, "out_int");
-    expect_length(out_float.shape(0), OUT_FLOAT_LENGTH, "out_float");
     const std::string kind = nb::cast<std::string>(plan.type().attr("__name__"));
     AdvanceReport report;
-    report.rhs_evaluations = out_int(OUT_INT_EVALUATIONS);
+    report.rhs_evaluations = out.rhs_evaluations;
     TooSmallStep too_small;
     int code;
     const int n = static_cast<int>(nx);
@@ -67,10 +59,10 @@ int advance(nb::handle plan, VectorOut x, const double* tau, Plant& plant, int64
         throw nb::type_error(("plan: an EmbeddedPlan or a TRBDF2Plan (coopctrl.integrators.adaptive_plans."
                               "adaptive_plan) expected, got a " + kind).c_str());
     }
-    out_int(OUT_INT_EVALUATIONS) = report.rhs_evaluations;
+    out.rhs_evaluations = report.rhs_evaluations;
     if (code == STEP_TOO_SMALL) {
-        out_float(OUT_FLOAT_STEP) = too_small.step;
-        out_float(OUT_FLOAT_TIME) = too_small.time;
+        out.value[0] = too_small.step;
+        out.value[1] = too_small.time;
     }
     return code;
 }
@@ -99,20 +91,20 @@ void expect_planar_sizes(const plants::binding::PlanarPlant& plant, size_t nx, s
 }
 
 int advance_on_plant(nb::handle plan, VectorOut x, Vector tau, nb::handle P, IntVectorOut status, double t,
-                     VectorOut x_fail, IntVectorOut out_int, VectorOut out_float) {
+                     VectorOut x_fail, StopReport& out) {
     plants::binding::PlanarPlant plant(P);
     expect_planar_sizes(plant, x.shape(0), tau.shape(0));
     expect_length(status.shape(0), 2, "status");
     plants::binding::PlanarWork work(plant.model);
     PlanarRhs rhs{plant.model, work.data, static_cast<int>(x.shape(0))};
-    return advance(plan, x, tau.data(), rhs, status.data(), t, x_fail, out_int, out_float);
+    return advance(plan, x, tau.data(), rhs, status.data(), t, x_fail, out);
 }
 
 int advance_on_f(nb::handle plan, nb::callable f, VectorOut x, nb::object tau, double t, VectorOut x_fail,
-                 IntVectorOut out_int, VectorOut out_float) {
+                 StopReport& out) {
     PythonPlant plant{f, tau, x.shape(0), {}, {}};
     int64_t status[2] = {0, 0};
-    const int code = advance(plan, x, nullptr, plant, status, t, x_fail, out_int, out_float);
+    const int code = advance(plan, x, nullptr, plant, status, t, x_fail, out);
     raise_python_plant_error(plant);
     return code;
 }
@@ -138,14 +130,13 @@ double initial_step_on_plant(Vector x, Vector f0, VectorOut y1, VectorOut f1, Ve
 void bind_adaptive(nb::module_& m) {
     m.def("adaptive_advance", &advance_on_plant, nb::arg("plan"), nb::arg("x").noconvert(), nb::arg("tau"),
           nb::arg("P"), nb::arg("status").noconvert(), nb::arg("t"), nb::arg("x_fail").noconvert(),
-          nb::arg("out_int").noconvert(), nb::arg("out_float").noconvert(),
+          nb::arg("report"),
           "Advance x in place over one control period [t, t + T] with an error-controlled plan (rk23, rk45: "
-          "EmbeddedPlan; trbdf2: TRBDF2Plan) on a planar cooperative plant (its PlantArgs P), as "
-          "adaptive_plans.embedded_advance / trbdf2_advance do: the plan's memo and stats, status, x_fail, "
-          "out_int[7] (evaluations) and out_float (step, time of a STEP_TOO_SMALL) written; returns the StepCode.");
+          "EmbeddedPlan; trbdf2: TRBDF2Plan) on a planar cooperative plant (its PlantArgs P): the plan's memo and "
+          "stats, status, x_fail and report (a StopReport: rhs_evaluations counted on, a STEP_TOO_SMALL's value = "
+          "(step [s], time [s])) written; returns the StepCode.");
     m.def("adaptive_advance_f", &advance_on_f, nb::arg("plan"), nb::arg("f"), nb::arg("x").noconvert(),
-          nb::arg("tau").none(), nb::arg("t"), nb::arg("x_fail").noconvert(), nb::arg("out_int").noconvert(),
-          nb::arg("out_float").noconvert(),
+          nb::arg("tau").none(), nb::arg("t"), nb::arg("x_fail").noconvert(), nb::arg("report"),
           "adaptive_advance on a Python f(t, x, u) -> dx (called at each stage's time); f's exception is raised "
           "again.");
     m.def("adaptive_initial_step", &initial_step_on_plant, nb::arg("x"), nb::arg("f0"), nb::arg("y1").noconvert(),

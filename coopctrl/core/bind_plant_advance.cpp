@@ -15,6 +15,7 @@
 #include "coopctrl/core/explicit_schemes.h"
 #include "coopctrl/core/implicit_schemes.h"
 #include "coopctrl/core/plan_reader.h"
+#include "coopctrl/core/run_state.h"
 #include "plants/core/cooperative_planar_work.h"
 #include "plants/core/cooperative_spatial_work.h"
 #include "plants/core/planar_plant_reader.h"
@@ -27,12 +28,6 @@ namespace {
 using VectorOut = nb::ndarray<double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using Vector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using IntVectorOut = nb::ndarray<int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-
-/// out_int's and out_float's entries an advance writes (the loop's: coopctrl/loop/tick_codes.py).
-struct AdvanceOut {
-    int64_t* out_int;    ///< [2] failed step, [3] Newton iterations, [7] right-hand-side evaluations (counted on)
-    double* out_float;   ///< Newton: (correction, time); too small: (step [s], time [s])
-};
 
 /// A plant's right-hand side as the schemes' Plant; a period's first slope is evaluated afresh.
 template <class Model, class Work, void (*Rhs)(const Model&, const double*, int, const double*, int64_t*,
@@ -55,10 +50,10 @@ using SpatialRhs = PlantRhs<plants::SpatialCooperativeModel, plants::SpatialWork
 
 template <class Plant>
 int advance(nb::handle plan, double* x, int nx, const double* tau, Plant& plant, int64_t* status, double t,
-            const double* steps, int nsteps, double* x_fail, AdvanceOut out) {
+            const double* steps, int nsteps, double* x_fail, StopReport& out) {
     const std::string kind = plan_kind(plan);
     AdvanceReport report;
-    report.rhs_evaluations = out.out_int[7];
+    report.rhs_evaluations = out.rhs_evaluations;
     int code;
     if (kind == "ExplicitPlan") {
         code = explicit_period(read_explicit_plan(plan, nx), x, nx, tau, plant, status, t, steps, nsteps, x_fail,
@@ -68,10 +63,10 @@ int advance(nb::handle plan, double* x, int nx, const double* tau, Plant& plant,
         code = implicit_period(read_implicit_plan(plan, nx, pinv_work), x, nx, tau, plant, status, t, steps, nsteps,
                                x_fail, report);
         if (code == STEP_NEWTON_FAILED) {
-            out.out_int[2] = report.failed_step;
-            out.out_int[3] = report.newton_iterations;
-            out.out_float[0] = report.last_correction;
-            out.out_float[1] = report.failed_time;
+            out.detail[0] = report.failed_step;
+            out.detail[1] = report.newton_iterations;
+            out.value[0] = report.last_correction;
+            out.value[1] = report.failed_time;
         }
     } else if (kind == "EmbeddedPlan" || kind == "TRBDF2Plan") {
         TooSmallStep too_small;
@@ -82,24 +77,22 @@ int advance(nb::handle plan, double* x, int nx, const double* tau, Plant& plant,
             code = trbdf2_advance(trbdf2_plan(plan, nx, pinv_work), x, nx, tau, plant, status, t, x_fail, report,
                                   too_small);
         if (code == STEP_TOO_SMALL) {
-            out.out_float[0] = too_small.step;
-            out.out_float[1] = too_small.time;
+            out.value[0] = too_small.step;
+            out.value[1] = too_small.time;
         }
     } else {
         throw nb::type_error(("plan: a " + kind + ": expected an ExplicitPlan, ImplicitPlan, EmbeddedPlan or "
                               "TRBDF2Plan (coopctrl.integrators.compiled.make_plan)").c_str());
     }
-    out.out_int[7] = report.rhs_evaluations;
+    out.rhs_evaluations = report.rhs_evaluations;
     return code;
 }
 
 int plant_advance(nb::handle plan, VectorOut x, Vector tau, nb::handle P, IntVectorOut status, double t, Vector steps,
-                  VectorOut x_fail, IntVectorOut out_int, VectorOut out_float) {
+                  VectorOut x_fail, StopReport& out) {
     const int nx = static_cast<int>(x.shape(0));
     if (x_fail.shape(0) != x.shape(0)) throw nb::value_error("x_fail: expected the state's length");
-    if (status.shape(0) != 2 || out_int.shape(0) != 8 || out_float.shape(0) != 2)
-        throw nb::value_error("status, out_int, out_float: expected lengths 2, 8 and 2");
-    const AdvanceOut out{out_int.data(), out_float.data()};
+    if (status.shape(0) != 2) throw nb::value_error("status: expected length 2");
     const bool spatial = nb::cast<int>(P.attr("bases").attr("ndim")) == 3;
     int code;
     if (spatial) {
@@ -123,10 +116,12 @@ int plant_advance(nb::handle plan, VectorOut x, Vector tau, nb::handle P, IntVec
 void bind_plant_advance(nb::module_& m) {
     m.def("plant_advance", &plant_advance, nb::arg("plan"), nb::arg("x").noconvert(), nb::arg("tau"), nb::arg("P"),
           nb::arg("status").noconvert(), nb::arg("t"), nb::arg("steps"), nb::arg("x_fail").noconvert(),
-          nb::arg("out_int").noconvert(), nb::arg("out_float").noconvert(),
+          nb::arg("report"),
           "Advance x in place over one control period from t [s], a step per entry of steps [s] (an "
           "error-controlled plan: its own steps over the period), with the plan's scheme on the cooperative plant "
-          "of P (PlantArgs), tau held; returns the StepCode (coopctrl/core/integration_plan.h).");
+          "of P (PlantArgs), tau held; returns the StepCode (coopctrl/core/integration_plan.h). report (a "
+          "StopReport): rhs_evaluations counted on; a failed Newton's detail = (step, iterations) and value = "
+          "(last correction, time [s]); a step too small's value = (step [s], time [s]).");
 }
 
 }  // namespace coopctrl::binding

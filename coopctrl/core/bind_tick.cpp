@@ -29,13 +29,19 @@ namespace {
 using Vector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using Matrix = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 
-static_assert(sizeof(LoopFlags) == 7 * sizeof(int64_t), "LoopFlags is LoopState.flags, 7 int64");
-static_assert(sizeof(HoldState) == 4 * sizeof(int64_t), "HoldState is LoopState.hold, 4 int64");
-static_assert(sizeof(StopReport) == 8 * sizeof(int64_t), "StopReport is out_int, 8 int64");
 
 template <class T>
 T attr(nb::handle owner, const char* name) {
     return nb::cast<T>(owner.attr(name));
+}
+
+/// data.<name>, one of the run-state classes (bind_loop_state.cpp), the object itself: the tick writes into it.
+template <class T>
+T& run_state(nb::handle data, const char* name, const char* type_name) {
+    T* value = nullptr;
+    if (!nb::try_cast<T*>(data.attr(name), value) || value == nullptr)
+        throw nb::type_error((std::string("data.") + name + ": expected a " + type_name).c_str());
+    return *value;
 }
 
 /// A node law written in Python, f(err, dY_ref, dY, ddY_ref, npos, params, a_cmd) writing a_cmd in place, called
@@ -319,13 +325,12 @@ private:
         d_.tau = doubles(data, D, "tau", {nu});
         d_.integrals = doubles(data, D, "integrals", {m, p});
         d_.last_split = doubles(data, D, "last_split", {3, m, p});
-        d_.flags = reinterpret_cast<LoopFlags*>(ints(data, D, "flags", {7}));
+        d_.flags = &run_state<LoopFlags>(data, "flags", "coopctrl._core.LoopFlags");
         d_.saturated_joints = ints(data, D, "saturated_joints", {nu});
-        d_.hold = reinterpret_cast<HoldState*>(ints(data, D, "hold", {4}));
+        d_.hold = &run_state<HoldState>(data, "hold", "coopctrl._core.HoldState");
         d_.x_good = doubles(data, D, "x_good", {nx});
         d_.x_fail = doubles(data, D, "x_fail", {nx});
-        d_.stop = reinterpret_cast<StopReport*>(ints(data, D, "out_int", {8}));
-        d_.stop_value = doubles(data, D, "out_float", {2});
+        d_.stop = &run_state<StopReport>(data, "stop", "coopctrl._core.StopReport");
         // the QP arrays (QPArrays, by name)
         nb::handle qa = data.attr("qp_arrays");
         const int64_t n = m * p;
@@ -451,11 +456,11 @@ void bind_tick(nb::module_& m) {
                         "data (coopctrl.loop.data.LoopData), read by name once; the run's arrays are written in place.")
         .def(nb::init<nb::object, nb::object>(), nb::arg("model"), nb::arg("data"))
         .def("run_ticks", &TickRun::run_ticks, nb::arg("k0"), nb::arg("k_stop"),
-             "Ticks k0 .. until N are recorded, an event, or tick k_stop; data.out_int says which.")
+             "Ticks k0 .. until N are recorded, an event, or tick k_stop; data.stop says which.")
         .def("controller_step", &TickRun::controller_step, nb::arg("k"), nb::arg("hold"), nb::arg("q"), nb::arg("dq"),
              nb::arg("wrench"), nb::arg("pose"), nb::arg("twist"),
              "The controller's step from a measurement at row k of the trajectory table (coopctrl.Controller); the "
-             "code (data.out_int[0]), the torques in data.tau.")
+             "code (data.stop.code), the torques in data.tau.")
         .def("world_moved", &TickRun::world_moved,
              "Read the plant's bases and gravity again after a world chart turned them in place.")
         .def("reference_step", &TickRun::reference_step, nb::arg("k"), nb::arg("act"), nb::arg("source"),

@@ -9,6 +9,7 @@ namespace coopctrl::binding {
 void bind_adaptive(nb::module_& m);
 void bind_control_laws(nb::module_& m);
 void bind_integrators(nb::module_& m);
+void bind_loop_state(nb::module_& m);
 void bind_node_poses(nb::module_& m);
 void bind_preflight_ik(nb::module_& m);
 void bind_qp(nb::module_& m);
@@ -24,6 +25,7 @@ NB_MODULE(_core, m) {
     coopctrl::binding::bind_adaptive(m);
     coopctrl::binding::bind_control_laws(m);
     coopctrl::binding::bind_integrators(m);
+    coopctrl::binding::bind_loop_state(m);
     coopctrl::binding::bind_node_poses(m);
     coopctrl::binding::bind_preflight_ik(m);
     coopctrl::binding::bind_qp(m);

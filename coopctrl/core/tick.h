@@ -268,7 +268,7 @@ public:
                 copy(d_.x_fail, x, nx);
             } else if (gcode == GUARD_DEFORMATION) {
                 stop.detail[0] = contact;
-                d_.stop_value[0] = deformation;
+                d_.stop->value[0] = deformation;
             }
             return gcode;
         }
@@ -283,7 +283,7 @@ public:
             }
             if (md_.switches.energy == 2 && !(std::abs(e.total) <= md_.switches.max_energy)) {
                 stop.code = TICK_ENERGY;
-                d_.stop_value[0] = e.total;
+                d_.stop->value[0] = e.total;
                 return TICK_ENERGY;
             }
             if (md_.switches.passive) {
@@ -427,8 +427,8 @@ private:
                 code = trbdf2_advance(plan_.trbdf2_plan, d_.x, md_.nx, d_.tau, plant_, status_, t, d_.x_fail, report,
                                       too_small);
             if (code == STEP_TOO_SMALL) {
-                d_.stop_value[0] = too_small.step;
-                d_.stop_value[1] = too_small.time;
+                d_.stop->value[0] = too_small.step;
+                d_.stop->value[1] = too_small.time;
             }
         } else {
             code = implicit_period(plan_.implicit_plan, d_.x, md_.nx, d_.tau, plant_, status_, t, md_.run.steps,
@@ -436,8 +436,8 @@ private:
             if (code == STEP_NEWTON_FAILED) {
                 d_.stop->detail[0] = report.failed_step;
                 d_.stop->detail[1] = report.newton_iterations;
-                d_.stop_value[0] = report.last_correction;
-                d_.stop_value[1] = report.failed_time;
+                d_.stop->value[0] = report.last_correction;
+                d_.stop->value[1] = report.failed_time;
             }
         }
         d_.stop->rhs_evaluations = report.rhs_evaluations;

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "coopctrl/core/qp_constants.h"
+#include "coopctrl/core/run_state.h"
 
 namespace coopctrl {
 
@@ -162,35 +163,6 @@ struct TickModel {
     const double* squeeze_desired;  ///< (pairs) the desired squeeze the recorded squeeze is relative to [N]
 };
 
-/// The loop state's tallies (LoopState.flags: 7 int64 in this order).
-struct LoopFlags {
-    int64_t have_last_split;       ///< a feasible split has been solved
-    int64_t consecutive_failures;  ///< failed QP solves in a row
-    int64_t saturated_ticks;       ///< ticks with a saturated joint
-    int64_t qp_solves;             ///< solves so far (the first solve starts cold)
-    int64_t first_saturated;       ///< the first saturated tick (-1: none)
-    int64_t last_saturated;        ///< the last saturated tick
-    int64_t advance_first;         ///< advance the period a run ending at tick k_base - 1 did not, then clear
-};
-
-/// The next tick's hold (LoopState.hold: 4 int64 in this order).
-struct HoldState {
-    int64_t mode;        ///< 1: take the last feasible split (the caller applied the failure policy)
-    int64_t qp_status;   ///< the failed solve's status, recorded
-    int64_t iterations;  ///< its iterations, recorded
-    int64_t binding;     ///< its binding families mask
-};
-
-/// How a run stopped (out_int: 8 int64 in this order) and its real details (out_float: 2 doubles).
-struct StopReport {
-    int64_t code;            ///< TickCode
-    int64_t tick;            ///< the tick it stopped at, or where to resume
-    int64_t detail[3];       ///< the code's details (TickCode's comments)
-    int64_t ticks_recorded;  ///< rows of the record written
-    int64_t last_good_tick;  ///< the last tick whose state passed the guards (-1: none)
-    int64_t rhs_evaluations; ///< right-hand-side evaluations (the integrators' count)
-};
-
 /// The rows a tick records (row k), by the record's names (coopctrl/loop/record.py).
 struct TickRecord {
     double* t;              ///< (N) [s]
@@ -244,7 +216,6 @@ struct TickData {
     double* x_good;          ///< (nx) the last state that passed the guards
     double* x_fail;          ///< (nx) the state a failure was met at
     StopReport* stop;
-    double* stop_value;      ///< (2) the stop's real details
 };
 
 }  // namespace coopctrl

@@ -54,7 +54,7 @@ The first step of a run is scipy's ``select_initial_step`` (Hairer, Norsett and 
 ``h1 = (0.01 / max(|f0|, |f1 - f0| / h0))^(1 / (order + 1))`` from one explicit Euler step, and
 ``min(100 h0, h1, T)``; the next periods start from the step carried over.
 
-A step below ``min_step`` returns :data:`~coopctrl.integrators.compiled.STEP_TOO_SMALL` (``out_float = (h, t)``);
+A step below ``min_step`` returns :data:`~coopctrl.integrators.compiled.STEP_TOO_SMALL` (its report's ``value = (h, t)``);
 the caller names the stiffest mode. Every period's accepted and rejected steps, right-hand-side evaluations and
 smallest step are written to the plan's ``stats`` row of the tick ``k = round(t / T)``.
 """

@@ -42,14 +42,14 @@ import numpy as np
 from coopctrl.integrators.methods import (METHOD_ADAPTIVE, METHOD_EULER, METHOD_RK4, METHOD_SDIRK,  # noqa: F401 (API)
                                           METHOD_SYMPLECTIC_EULER)
 
-#: Results of a period's integration. Its outputs: ``out_int[7]`` counts the right-hand-side evaluations; on
-#: :data:`STEP_NEWTON_FAILED` ``out_int[2]`` is the index of the failed step in ``steps``, ``out_int[3]`` the
-#: Newton iterations of the failed stage and ``out_float = (last Newton correction, time [s] at the start of the
-#: failed step)``.
+#: Results of a period's integration. Its report (a :class:`coopctrl._core.StopReport`): ``rhs_evaluations`` counts
+#: the right-hand-side evaluations; on :data:`STEP_NEWTON_FAILED` ``detail[0]`` is the index of the failed step in
+#: ``steps``, ``detail[1]`` the Newton iterations of the failed stage and ``value = (last Newton correction, time [s]
+#: at the start of the failed step)``.
 STEP_OK = 0  #: the period is integrated
 STEP_PLANT_ERROR = 1  #: the right-hand side failed (``status`` holds its code, ``x_fail`` the state it was called at)
-STEP_TOO_SMALL = 3  #: an error-controlled step fell below ``min_step`` (:mod:`coopctrl.integrators.adaptive_plans`; ``out_float = (step [s], time [s])``)
-STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``out_int[2:4]``, ``out_float``)
+STEP_TOO_SMALL = 3  #: an error-controlled step fell below ``min_step`` (:mod:`coopctrl.integrators.adaptive_plans`; ``value = (step [s], time [s])``)
+STEP_NEWTON_FAILED = 2  #: an implicit stage did not converge (``detail[:2]``, ``value``)
 
 #: Work arrays of the explicit schemes (float64 ``(nx,)`` each): the slopes ``k1 .. k4`` and the stage state ``y``.
 ExplicitPlan = namedtuple("ExplicitPlan", "method k1 k2 k3 k4 y")
@@ -108,10 +108,12 @@ def make_plan(integrator, nx: int, period: float | None = None, ticks: int = 1):
                         *(np.zeros(nx) for _ in range(7)), np.zeros(3))
 
 
-def newton_failure(scheme: str, steps, out_int, out_float):
+def newton_failure(scheme: str, steps, report):
     """The :class:`~coopctrl.integrators.NewtonConvergenceError` of a period that returned
-    :data:`STEP_NEWTON_FAILED` on the period ``steps``, from its outputs."""
+    :data:`STEP_NEWTON_FAILED` on the period ``steps``, from its ``report`` (a :class:`coopctrl._core.StopReport`:
+    ``detail = (failed step, iterations, -)``, ``value = (last correction, time [s])``)."""
     from coopctrl.integrators import NewtonConvergenceError
 
-    return NewtonConvergenceError(float(out_float[1]), float(out_float[0]), int(out_int[3]),
-                                  float(steps[int(out_int[2])]), scheme)
+    failed_step, iterations, _ = report.detail
+    correction, time = report.value
+    return NewtonConvergenceError(float(time), float(correction), int(iterations), float(steps[failed_step]), scheme)

@@ -38,8 +38,7 @@ class Stepper:
     """The plan of one scheme object and what it is for: the right-hand side (plant or Python ``f``)
     and the state size. A new ``f`` or size starts cold (a new plan), as does :meth:`reset`."""
 
-    __slots__ = ("f", "plant", "nx", "period", "plan", "P", "status", "steps", "x_fail", "out_int",
-                 "out_float", "jacobians")
+    __slots__ = ("f", "plant", "nx", "period", "plan", "P", "status", "steps", "x_fail", "report", "jacobians")
 
     def __init__(self):
         self.f = None
@@ -76,8 +75,9 @@ class Stepper:
         self.status = np.zeros(2, np.int64)
         self.steps = np.zeros(1)
         self.x_fail = np.zeros(nx)
-        self.out_int = np.zeros(8, np.int64)
-        self.out_float = np.zeros(2)
+        import coopctrl._core as _core
+
+        self.report = _core.StopReport()  # how the last step ended, by name
 
     def step(self, scheme, f, t, x, u, h) -> np.ndarray:
         """One step of ``scheme`` (see :meth:`Integrator.step <coopctrl.integrators.Integrator.step>`)."""
@@ -102,27 +102,27 @@ class Stepper:
                 f(t, x, u)  # the plant names the bad input
                 raise TypeError(f"u = {u!r} is invalid: expected the plant's {self.plant.input_size} joint torques [N m]")
             code = _core.plant_advance(self.plan, x, tau, self.P, self.status, t, self.steps, self.x_fail,
-                                       self.out_int, self.out_float)
+                                       self.report)
         elif adaptive:  # the compiled core's error-controlled schemes on the Python f (adaptive_schemes.h)
-            code = _core.adaptive_advance_f(self.plan, f, x, u, t, self.x_fail, self.out_int, self.out_float)
+            code = _core.adaptive_advance_f(self.plan, f, x, u, t, self.x_fail, self.report)
         else:  # the compiled core's schemes on the Python f (coopctrl/core: explicit_schemes.h, implicit_schemes.h)
             report = _core.zoh_advance(self.plan, f, x, u, t, self.steps, self.x_fail)
             code = report["code"]
-            self.out_int[2], self.out_int[3] = report["failed_step"], report["newton_iterations"]
-            self.out_float[0], self.out_float[1] = report["last_correction"], report["failed_time"]
+            self.report.detail = (report["failed_step"], report["newton_iterations"], 0)
+            self.report.value = (report["last_correction"], report["failed_time"])
         if code == compiled.STEP_OK:
             return x
         if code == compiled.STEP_NEWTON_FAILED:
-            raise compiled.newton_failure(scheme.name, self.steps, self.out_int, self.out_float)
+            raise compiled.newton_failure(scheme.name, self.steps, self.report)
         if code == compiled.STEP_TOO_SMALL:
-            raise _step_too_small(scheme, self.plant, self.x_fail, self.out_float)
+            raise _step_too_small(scheme, self.plant, self.x_fail, self.report)
         if code == compiled.STEP_PLANT_ERROR and self.plant is not None:
             f(t, self.x_fail.copy(), u)  # the plant's own exception for the state it failed at
         raise RuntimeError(f"{scheme.name}: the right-hand side failed at t = {t:.6g} s (code {int(code)}, "
                            f"status {self.status.tolist()})")
 
 
-def _step_too_small(scheme, plant, x_fail, out_float):
+def _step_too_small(scheme, plant, x_fail, report):
     """The :class:`~coopctrl.errors.StepTooSmall` of an error-controlled step below ``min_step``, naming
     the stiffest mode at the state it stopped at (as the loop does)."""
     from coopctrl.errors import StepTooSmall
@@ -130,7 +130,8 @@ def _step_too_small(scheme, plant, x_fail, out_float):
 
     mode, omega = stiffest_mode(plant, x_fail)
     pose = tuple(float(v) for v in x_fail[plant.nz - plant.p:plant.nz])
-    return StepTooSmall(float(out_float[1]), float(out_float[0]), scheme.min_step, scheme.name, mode, omega, pose)
+    step, time = report.value
+    return StepTooSmall(float(time), float(step), scheme.min_step, scheme.name, mode, omega, pose)
 
 
 class CompiledScheme(FrozenSettings, Integrator):

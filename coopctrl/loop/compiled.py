@@ -317,17 +317,20 @@ def _qp_failure(loop, cl: CompiledLoop, qa, code: int, iters: int, state: LoopSt
             violated = sorted(((v, k) for k, v in pb.violations(x).items() if v > tol), reverse=True)
     state.ws[3][0] = 0  # cold start next time (CompiledSolver.reset)
     status, binding, detail, advice = ld._failure_cause(status, violated, tol)
-    state.flags[1] += 1
-    if not state.flags[0]:
+    flags = state.flags
+    flags.consecutive_failures += 1
+    if not flags.have_last_split:
         raise InfeasibleLoad(status, binding, f"{detail}; first solve failed, no previous split to hold", advice)
-    if state.flags[1] >= cl.ld_config.max_consecutive_failures:
-        raise InfeasibleLoad(status, binding, f"{detail}; {state.flags[1]} consecutive failed solves", advice)
+    if flags.consecutive_failures >= cl.ld_config.max_consecutive_failures:
+        raise InfeasibleLoad(status, binding, f"{detail}; {flags.consecutive_failures} consecutive failed solves",
+                             advice)
     return status, binding
 
 
-def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_fail, traj, kb: int = 0):
+def _exception(loop, cl: CompiledLoop, code: int, k: int, stop, x_fail, traj, kb: int = 0):
     """The exception that names the kernel's stop ``code`` at tick ``k`` of a run whose first tick is ``kb``
-    (what the plant, the guards and the controllers raise from Python)."""
+    (what the plant, the guards and the controllers raise from Python), from its details in ``stop`` (the run's
+    :class:`coopctrl._core.StopReport`)."""
     from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
     from coopctrl.loop.euler_band import closest_to_singularity
     from plants.cooperative import nominal_node_motion
@@ -338,33 +341,34 @@ def _exception(loop, cl: CompiledLoop, code: int, k: int, out_int, out_float, x_
     if code == K.NONFINITE:
         return DivergenceError(t, "state (non-finite)", float("nan"))
     if code == K.NEWTON_FAILED:  # the Python integrator's exception, from the step that failed
-        return I.newton_failure(loop.integrator.name, cl.steps, out_int, out_float)
+        return I.newton_failure(loop.integrator.name, cl.steps, stop)
     if code == K.STEP_TOO_SMALL:
         from coopctrl.loop.stiffest_mode import stiffest_mode
 
         name, omega = stiffest_mode(plant, x_fail)
         pose = x_fail[plant.nz - plant.p:plant.nz]
-        return StepTooSmall(float(out_float[1]), float(out_float[0]), loop.integrator.min_step, loop.integrator.name,
+        step, time = stop.value
+        return StepTooSmall(float(time), float(step), loop.integrator.min_step, loop.integrator.name,
                             name, omega, tuple(float(v) for v in pose))
     if code == K.DEFORMATION:
-        return DivergenceError(t, f"deformation of contact {int(out_int[2])} [m]", float(out_float[0]))
+        return DivergenceError(t, f"deformation of contact {stop.detail[0]} [m]", float(stop.value[0]))
     if code == K.ENERGY:
-        return DivergenceError(t, "energy [J]", float(out_float[0]))
+        return DivergenceError(t, "energy [J]", float(stop.value[0]))
     if code == K.NEAR_SINGULARITY:
         return _NearSingularity(closest_to_singularity(plant.node_poses(x_fail).reshape(-1, plant.p), t))
     try:
         if code == K.PLANT_ERROR:
-            if out_int[2] == -1:
+            if stop.detail[0] == -1:
                 th = float(x_fail[plant.nz - 6 + 4])
                 raise EulerSingularityError("object", th, float(np.cos(th)))
-            plant._check(np.array([out_int[2], out_int[3]], dtype=np.int64), x_fail)
+            plant._check(np.array(stop.detail[:2], dtype=np.int64), x_fail)
         elif code in (K.NOMINAL_SINGULAR, K.POSE_INCREMENT_SINGULAR):
             Yn = nominal_node_motion(traj[0, k], traj[1, k], traj[2, k], loop.grasps, loop.space)[0]
-            i = int(out_int[2])
+            i = stop.detail[0]
             if code == K.POSE_INCREMENT_SINGULAR:
                 body_rate_map_inv(Yn[i + 1, 3:6], f"contact node {i + 1}")
         elif code == K.SINGULAR_JACOBIAN:
-            i = int(out_int[2])
+            i = stop.detail[0]
             raise SingularJacobianError(f"Jacobian of arm {i} ('{plant.arms[i].name}')", float("inf"))
     except PlantError as exc:
         return exc
@@ -396,7 +400,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
         state = start.for_continuation()
         x0 = state.x.copy()  # in the book's world coordinates: the diagnosis' start, the record's continuity
     kb = state.tick  # the run's first tick, counted from the motion's start
-    pending, state.flags[6] = bool(state.flags[6]), 0  # set again for the kernel's first call (not its loading)
+    pending, state.flags.advance_first = bool(state.flags.advance_first), 0  # set again for the kernel's first call
     passive = not loop.enabled
     ld = None
     if cl.external_qp and not passive:  # the reference path: the kernel assembles, the chosen backend solves
@@ -442,9 +446,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     qb = np.zeros(N, dtype=np.int64)
     x_good = state.x.copy()
     x_fail = state.x.copy()
-    out_int = np.zeros(8, dtype=np.int64)
-    out_int[6] = -1
-    out_float = np.zeros(2)
+    stop = _core.StopReport()
     held: dict[int, tuple[str, tuple[str, ...]]] = {}
     events: list[tuple[float, str, str]] = []
     from coopctrl.loop.euler_band import margin_cos
@@ -458,7 +460,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     data = LoopData(plan=plan, qp_arrays=qa, ws=state.ws, sq=sq, x=state.x, tau=state.tau,
                     integrals=state.integrals, last_split=state.last_split, flags=state.flags,
                     saturated_joints=state.saturated_joints, hold=state.hold, record=record, x_good=x_good, x_fail=x_fail,
-                    out_int=out_int, out_float=out_float)
+                    stop=stop)
 
     model = LoopModel(spatial=cl.spatial, N=N, k_base=kb, T=loop.T, steps=cl.steps, P=P, grasps=cl.grasps, traj=traj,
                       obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation, band=band,
@@ -480,10 +482,8 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             t += hs
         return x
 
-    out_int[0] = out_int[1] = 0
-    out_int[6] = -1
     if pending and not cl.plant_outside:  # the kernel's first call advances the period the run it continues did not
-        state.flags[6] = 1
+        state.flags.advance_first = 1
     startup = _time.perf_counter() - wall0  # the run's set-up: its model, data and tick built
     bar = None
     if progress:
@@ -510,16 +510,16 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     def reference_ticks(k0: int, k_stop: int) -> None:
         """Ticks ``k0 .. k_stop - 1`` (or to the end or an event) of the reference path, as ``Tick.run_ticks``
         runs them but with the chosen backend's solve between the two phases of each tick (one core entry
-        a tick: ``Tick.reference_step``); ``out_int`` as the kernel leaves it. A solve
-        that gives up raises :class:`InfeasibleLoad` (``out_int[1]``: its tick)."""
+        a tick: ``Tick.reference_step``); ``stop`` as the kernel leaves it. A solve
+        that gives up raises :class:`InfeasibleLoad` (``stop.tick``: its tick)."""
         nonlocal qp_time
-        if state.flags[6]:  # the period the run it continues did not advance (the kernel's first call does it)
+        if state.flags.advance_first:  # the period the run it continues did not advance (the kernel does it)
             advance(0, 0)
-            if out_int[0] != K.CHUNK_END:
+            if stop.code != K.CHUNK_END:
                 return
         k = k0
         if k >= N or k == k_stop:
-            out_int[0], out_int[1] = (K.DONE if k >= N else K.CHUNK_END), k
+            stop.code, stop.tick = (K.DONE if k >= N else K.CHUNK_END), k
             return
         code, P_changed = tick.reference_step(k - 1, False, 0, 0, 0, 0, True)  # phase 1 of tick k
         while code == K.DONE:
@@ -540,11 +540,11 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             sense_next = k + 1 != k_stop  # (tick N - 1 is recorded, not advanced: no next tick to sense)
             code, P_changed = tick.reference_step(k, True, source, st, iterations, binding, sense_next)
             if code == K.RECORDED:
-                out_int[0], out_int[1] = K.DONE, k
+                stop.code, stop.tick = K.DONE, k
                 return
             k += 1
             if code == K.DONE and not sense_next:
-                out_int[0], out_int[1] = K.CHUNK_END, k
+                stop.code, stop.tick = K.CHUNK_END, k
                 return
 
     try:
@@ -574,10 +574,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                     reference_ticks(k, k_stop)
                 except InfeasibleLoad as e:
                     exc = e
-                    k = int(out_int[1])
+                    k = stop.tick
                     break
-            code = int(out_int[0])
-            k = int(out_int[1])
+            code = stop.code
+            k = stop.tick
             state.tick = k
             if code == K.CHUNK_END:
                 if bar is not None:
@@ -613,29 +613,31 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
                 continue
             if code == K.QP_FAILED:
                 try:
-                    qstatus, binding = _qp_failure(loop, cl, qa, int(out_int[2]), int(out_int[3]), state)
+                    qstatus, binding = _qp_failure(loop, cl, qa, stop.detail[0], stop.detail[1], state)
                 except InfeasibleLoad as e:
                     exc = e
                     break
                 held[k] = (qstatus, binding)
                 events.append(((kb + k) * loop.T, "qp_held", f"QP status '{qstatus}' (binding: {', '.join(binding) or '-'}); "
                                                       "holding the last feasible split"))
-                state.hold[:] = (1, _QP_STATUS.index(qstatus) if qstatus in _QP_STATUS else 3, int(out_int[3]), 0)
+                hold = state.hold
+                hold.mode, hold.iterations, hold.binding = 1, stop.detail[1], 0
+                hold.qp_status = _QP_STATUS.index(qstatus) if qstatus in _QP_STATUS else 3
                 continue
             if code != K.DONE:
-                exc = _exception(loop, cl, code, k, out_int, out_float, x_fail, traj, kb)
+                exc = _exception(loop, cl, code, k, stop, x_fail, traj, kb)
             break
     finally:
         if bar is not None:
             bar.close()
-    k_done = int(out_int[5])
-    saturated = int(state.flags[2])
-    sat_first = float(state.flags[4] * loop.T) if saturated else math.nan
+    k_done = stop.ticks_recorded
+    saturated = state.flags.saturated_ticks
+    sat_first = float(state.flags.first_saturated * loop.T) if saturated else math.nan
     saturation = {"saturated_ticks": saturated, "saturated_joint_ticks": state.saturated_joints.copy(),
                   "saturation_first_time_s": sat_first,
-                  "saturated_last_tick": int(state.flags[5]) - kb if saturated else -1}  # a record row
+                  "saturated_last_tick": state.flags.last_saturated - kb if saturated else -1}  # a record row
     if exc is not None:
-        good = int(out_int[6])
+        good = stop.last_good_tick
         t_good = (kb + good) * loop.T if good >= 0 else kb * loop.T
         status, reason = loop._stop_reason(exc, kb + k, k_done, rec, state.x, x_good, t_good, x0, events, saturation)
     wall = _time.perf_counter() - wall0 - startup
@@ -644,7 +646,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             rec[key] = val[:k_done]
     # where a continuation starts: the tick after the last recorded one, whose period is yet to be advanced
     state.tick = kb + k_done
-    state.flags[6] = int(k_done > 0)
+    state.flags.advance_first = int(k_done > 0)
     state.resumable = exc is None
     if charts is not None:  # the record in the book's world coordinates, the object's rotation exactly
         state.chart = ChartState(charts.C.copy(), state.x.copy(), state.tau.copy(), state.integrals.copy(),
@@ -668,7 +670,7 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
     rec.update(status=status, reason=reason, events=events, wall_time_s=wall, startup_s=startup,
                qp_time_s=qp_time if ld is not None or passive else math.nan,
                qp_binding_counts=counts, qp_status=statuses, qp_binding=bindings,
-               rhs_evaluations=None if cl.plant_outside else int(out_int[7]),
+               rhs_evaluations=None if cl.plant_outside else stop.rhs_evaluations,
                integration_steps=plan.stats[kb:kb + k_done].copy() if hasattr(plan, "stats") else None,
                final_state=state, **saturation)
     return rec

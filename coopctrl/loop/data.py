@@ -16,7 +16,7 @@ TickRecord = namedtuple("TickRecord", "t x tau Y0_nominal F_measured F_commanded
 
 #: What a run reads and writes, by name (as MuJoCo's ``mjData``): its state, work arrays, record and outputs.
 LoopData = namedtuple("LoopData", "plan qp_arrays ws sq x tau integrals last_split flags saturated_joints hold record "
-                                  "x_good x_fail out_int out_float")
+                                  "x_good x_fail stop")
 LoopData.__doc__ = """What one run of the compiled tick (:class:`coopctrl._core.Tick`) reads and writes, by name.
 
 - ``plan``: the integration plan (:func:`coopctrl.integrators.compiled.make_plan`: its work arrays and the
@@ -27,15 +27,14 @@ LoopData.__doc__ = """What one run of the compiled tick (:class:`coopctrl._core.
 - the loop state, updated in place (:class:`~coopctrl.loop.state.LoopState`, whose fields these are): ``x``
   (nx) the plant state; ``tau`` (nu) the held torques [N m]; ``integrals`` (m, p) the followers' force-error
   integrals [N s]; ``last_split`` (3, m, p) the last feasible split ``(F, external, internal)`` [N, N m];
-  ``flags`` int64 ``(have_last, consecutive_failures, saturated_ticks, solves, first saturated tick, last
-  saturated tick, advance first)``; ``saturated_joints`` (nu,) int64; ``hold`` (mode, QP status, iterations,
-  binding mask);
+  ``flags`` the run's tallies (:class:`coopctrl._core.LoopFlags`, by name); ``saturated_joints`` (nu,) int64;
+  ``hold`` the next tick's hold (:class:`coopctrl._core.HoldState`);
 - ``record``: the rows written per tick (:class:`TickRecord`; ``squeeze`` the virtual-linkage squeeze [N] of
   the measured wrenches, ``qp_active_rows`` the inequality rows active at the compiled solver's answer, -1 on
   a held, passive or externally solved tick);
-- ``x_good``: the last state that passed the guards; ``x_fail``: the state a failure was met at; ``out_int``,
-  ``out_float``: the stop's code and details (:mod:`coopctrl.loop.tick_codes`); ``record`` is None for a
-  controller's step, which records nothing.
+- ``x_good``: the last state that passed the guards; ``x_fail``: the state a failure was met at; ``stop``: how
+  the run stopped (:class:`coopctrl._core.StopReport`: its code, tick and details by name,
+  :mod:`coopctrl.loop.tick_codes`); ``record`` is None for a controller's step, which records nothing.
 """
 
 

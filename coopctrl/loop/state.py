@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import coopctrl._core as _core
 from coopctrl.load_distribution.goldfarb_idnani import gi_workspace
 
 
@@ -48,13 +49,14 @@ class LoopState:
         integrals: (m, p) followers' force-error integrals [N s, N m s] (the leader's row stays 0).
         last_split: (3, m, p) the last feasible split ``(F, external, internal)`` [N, N m], held when a
             QP solve fails.
-        flags: int64 ``(have_last_split, consecutive_qp_failures, saturated_ticks, qp_solves,
-            first_saturated_tick, last_saturated_tick, pending)``; ``pending`` = 1 at the end of a run: ``x``
-            is the state of tick ``tick - 1``, the last recorded, and the plant is yet to advance over that
-            tick's period with ``tau`` (a continuation does it first).
+        flags: the run's tallies by name (:class:`coopctrl._core.LoopFlags`: ``have_last_split``,
+            ``consecutive_failures``, ``saturated_ticks``, ``qp_solves``, ``first_saturated``, ``last_saturated``,
+            ``advance_first``); ``advance_first`` = 1 at the end of a run: ``x`` is the state of tick
+            ``tick - 1``, the last recorded, and the plant is yet to advance over that tick's period with
+            ``tau`` (a continuation does it first).
         saturated_joints: (nu,) int64 ticks on which each joint's torque was clipped.
-        hold: int64 ``(mode, qp_status_code, qp_iterations, binding_mask)`` for the next tick: mode 1 holds
-            the last split (a failed compiled solve, after the failure policy).
+        hold: the next tick's hold (:class:`coopctrl._core.HoldState`: ``mode``, ``qp_status``, ``iterations``,
+            ``binding``): mode 1 holds the last split (a failed compiled solve, after the failure policy).
         ws: The compiled QP's workspace (its factor and the active set: the warm start of the next solve).
         tick: Index of the next tick to record, counted from the motion's start (the trajectory's time
             ``tick T`` [s] and the position in the sensor-noise streams).
@@ -68,9 +70,9 @@ class LoopState:
     tau: np.ndarray
     integrals: np.ndarray
     last_split: np.ndarray
-    flags: np.ndarray
+    flags: _core.LoopFlags
     saturated_joints: np.ndarray
-    hold: np.ndarray
+    hold: _core.HoldState
     ws: tuple
     tick: int = 0
     plan: object = None
@@ -81,8 +83,7 @@ class LoopState:
     def start(cls, x0, nu: int, m: int, p: int, n_qp: int, n_rows: int) -> "LoopState":
         """The state at tick 0: plant state ``x0``, zero torques and integrals, no split yet, a cold QP."""
         return cls(np.array(x0, dtype=float), np.zeros(nu), np.zeros((m, p)), np.zeros((3, m, p)),
-                   np.array([0, 0, 0, 0, -1, -1, 0], dtype=np.int64), np.zeros(nu, dtype=np.int64),
-                   np.zeros(4, dtype=np.int64), gi_workspace(n_qp, n_rows), 0)
+                   _core.LoopFlags(), np.zeros(nu, dtype=np.int64), _core.HoldState(), gi_workspace(n_qp, n_rows), 0)
 
     def copy(self) -> "LoopState":
         """A copy that shares no array with this state (a run works on a copy: what it was given is unchanged)."""
@@ -93,8 +94,9 @@ class LoopState:
         afresh; the dynamics' state (``x``, ``tau``, integrals, last split, the QP's warm start and failure
         count, the integrator's plan) is carried over."""
         state = self.copy()
-        state.flags[2] = 0
-        state.flags[4] = state.flags[5] = -1
+        fresh = _core.LoopFlags()
+        state.flags.saturated_ticks = fresh.saturated_ticks
+        state.flags.first_saturated, state.flags.last_saturated = fresh.first_saturated, fresh.last_saturated
         state.saturated_joints[:] = 0
         return state
 
