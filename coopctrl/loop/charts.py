@@ -109,9 +109,9 @@ def target_motion(trajectory, times):
     acceleration [rad/s^2] (N, 3). A :class:`~coopctrl.trajectory.GeodesicTrajectory` (any trajectory with
     ``sample_rotation``) gives it at every rotation; any other through its Euler view ``evaluate(t)``,
     ``omega_b = L(A) dA``, ``alpha_b = L(A) ddA + dL dA`` (defined at every angle: ``L`` is). For a shipped
-    trajectory computed once per trajectory and times (:func:`coopctrl.trajectory.derived.derived`): the arrays
+    trajectory computed once per trajectory and times (:func:`coopctrl.derived.derived`): the arrays
     are read-only."""
-    from coopctrl.trajectory.derived import derived
+    from coopctrl.derived import derived
 
     times = np.array(times, dtype=float)
 
@@ -186,8 +186,8 @@ def check_nominal_path_in_charts(trajectory, grasps) -> None:
     in a run as late as :data:`CHART_PITCH_MAX` (55 deg): both sequences are checked, every 0.25 deg of the
     object's turn (at least 200 samples per segment). The error names ``arms[k].grasp`` (per-node charts for
     contact nodes are not implemented: docs/model.md s.2). A shipped trajectory's path passed with these grasps
-    is not checked again (:func:`coopctrl.trajectory.derived.derived`)."""
-    from coopctrl.trajectory.derived import derived
+    is not checked again (:func:`coopctrl.derived.derived`)."""
+    from coopctrl.derived import derived
 
     grasps = np.array(np.atleast_2d(np.asarray(grasps, dtype=float)))
     derived(trajectory, ("charts_path_passed", grasps.shape, grasps.tobytes()),
@@ -245,8 +245,8 @@ def chart_table(traj: np.ndarray, motion, C: np.ndarray, k: int = 0) -> None:
 def world_table(trajectory, times) -> np.ndarray:
     """The kernel's trajectory table (3, N, 6) of the nominal motion at ``times`` (N,) [s] in the book's world,
     the first world chart (``C = I``; :func:`chart_table`): a new array, computed once per shipped trajectory and
-    times (:func:`coopctrl.trajectory.derived.derived`)."""
-    from coopctrl.trajectory.derived import derived
+    times (:func:`coopctrl.derived.derived`)."""
+    from coopctrl.derived import derived
 
     times = np.array(times, dtype=float)
 

@@ -717,8 +717,8 @@ def _moment_arms(M, m: int, p: int, npos: int) -> np.ndarray:
 def _trajectory_samples(trajectory, times, p: int) -> np.ndarray:
     """``(Y, dY, ddY)`` of the nominal object motion at ``times``, stacked (3, N, p) [m, rad, per s, per s^2], a new
     array: ``sample`` (vectorized) when the trajectory has it, computed once per shipped trajectory and times
-    (:func:`coopctrl.trajectory.derived.derived`), else ``evaluate`` tick by tick."""
-    from coopctrl.trajectory.derived import derived, immutable
+    (:func:`coopctrl.derived.derived`), else ``evaluate`` tick by tick."""
+    from coopctrl.derived import derived, immutable
 
     if not len(times):
         return np.zeros((3, 0, p))

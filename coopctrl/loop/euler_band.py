@@ -158,9 +158,9 @@ def check_nominal_path(trajectory, grasps, margin_deg: float = EULER_PITCH_MARGI
 
     The error names ``trajectory.via[k].pose``, the via point that ends the offending segment
     (``trajectory.via[0].pose`` for a path of one pose), the pose, and what is allowed. A shipped trajectory's
-    path passed with these grasps and margin is not checked again (:func:`coopctrl.trajectory.derived.derived`).
+    path passed with these grasps and margin is not checked again (:func:`coopctrl.derived.derived`).
     """
-    from coopctrl.trajectory.derived import derived
+    from coopctrl.derived import derived
 
     grasps = np.array(grasps, dtype=float)
     found = derived(trajectory, ("book_path_hit", grasps.shape, grasps.tobytes(), float(margin_deg)),

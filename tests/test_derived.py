@@ -1,4 +1,4 @@
-"""Values derived from a shipped trajectory (coopctrl.trajectory.derived): computed once per trajectory object and
+"""Values derived from a shipped trajectory (coopctrl.derived): computed once per trajectory object and
 key, the same values as a fresh computation, read-only where shared; a user's trajectory computed at every call."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from coopctrl.loop.charts import WorldChart, target_motion, world_table
 from coopctrl.scenario import build
 from coopctrl.scenario.loader import load_scenario
 from coopctrl.trajectory import GeodesicTrajectory, MinimumJerkTrajectory
-from coopctrl.trajectory.derived import ENTRIES, derived, immutable
+from coopctrl.derived import ENTRIES, derived, immutable
 
 TIMES = [0.0, 1.0, 2.0]
 POSES = [[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.1, 0.0, 0.2, 0.3, 0.2, 0.1], [0.2, 0.1, 0.2, 0.6, 0.1, 0.0]]
@@ -97,3 +97,39 @@ def test_the_world_table_is_the_first_charts_table_in_a_new_array():
     assert table.flags.writeable and world_table(path, t) is not table
     table[:] = 0.0  # the caller's own: the next is whole
     assert np.array_equal(world_table(path, t), fresh)
+
+
+def carry():
+    scenario = load_scenario("scenarios/spatial_two_puma_carry.toml")
+    return scenario, build.build_plant(scenario)
+
+
+def test_a_plants_grasp_compliance_is_computed_once_each_holding_its_own_copies():
+    from coopctrl.controllers import GraspCompliance
+
+    _, plant = carry()
+    first, second = GraspCompliance(plant), GraspCompliance(plant)
+    assert np.array_equal(first.K, second.K) and np.array_equal(first.C, second.C)
+    assert first.K is not second.K and first.K.flags.writeable
+    first.K[:] = 0.0  # one compliance's arrays: the next plant's compliance is whole
+    fresh = GraspCompliance(build.build_plant(load_scenario("scenarios/spatial_two_puma_carry.toml")))
+    assert np.array_equal(fresh.K, second.K) and np.array_equal(fresh.C, second.C)
+    assert np.array_equal(GraspCompliance(plant, step=2e-6).K, GraspCompliance(plant, step=2e-6).K)
+    assert not np.array_equal(GraspCompliance(plant, step=2e-6).K, second.K)  # another step: its own numbers
+
+
+def test_the_loaded_state_kept_is_a_fresh_ones_in_a_new_array():
+    from coopctrl.loop.loaded_start import loaded_state
+    from coopctrl.wiring import closed_loop
+
+    scenario, _ = carry()
+    loop = closed_loop(scenario)
+    x = build.unloaded_state(scenario)
+    first = loaded_state(loop.plant, loop.trajectory, loop.grasps, loop.ld.config, loop.compliance, False, x)
+    again = loaded_state(loop.plant, loop.trajectory, loop.grasps, loop.ld.config, loop.compliance, False, x)
+    assert first is not again and np.array_equal(first, again) and first.flags.writeable
+    other = load_scenario("scenarios/spatial_two_puma_carry.toml")  # its own plant: computed afresh
+    fresh = build.initial_state(other)
+    assert np.array_equal(fresh, first) and not np.array_equal(fresh, x)
+    moved = loaded_state(loop.plant, loop.trajectory, loop.grasps + 0.001, loop.ld.config, loop.compliance, False, x)
+    assert not np.array_equal(moved, first)  # other grasps: another state
