@@ -358,6 +358,12 @@ def test_run_with_non_finite_metrics_is_not_ok(capsys):
     assert "not finite at t = 0.002 s" in non_finite_signal(rec)
     rec["F_measured"][:] = 1.0
     assert non_finite_signal(rec) is None
+    rec["F_measured"][:] = 1.2e154  # each square finite, their sum not
+    assert "measured contact wrenches up to 1.2e+154" in non_finite_signal(rec)
+    rec["F_measured"][:] = -1e149  # large, and their sum of squares finite
+    assert non_finite_signal(rec) is None
+    rec["F_measured"][1, 0, 2] = -np.inf
+    assert "not finite at t = 0.001 s" in non_finite_signal(rec)
 
 
 # ---------------------------------------------------------------------- 11. a scheduler that is no scheduler

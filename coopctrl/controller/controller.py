@@ -108,7 +108,7 @@ class Controller:
         if self._charts:  # the loop's world chart (coopctrl.loop.charts), its first one: the book's world
             own = plant.with_own_world().plant_args
             P = P._replace(bases=own.bases, gravity=own.gravity)
-        traj[:, :self._rows] = self._table(np.arange(self._rows) * T, P)
+        traj[:, :self._rows] = self._table(np.arange(self._rows) * T)
         self._traj = traj
         # [s] where the trajectory ends (its motion is constant from there on), and the table's first row there
         self._trajectory_end = float(getattr(loop.trajectory, "duration", math.inf))
@@ -174,7 +174,7 @@ class Controller:
         self._steps += 1
         return Torques(self._tau.copy(), self.arm_names, self._slices)
 
-    def _table(self, times, P) -> np.ndarray:
+    def _table(self, times) -> np.ndarray:
         """The nominal object motion ``(Y, dY, ddY)`` at ``times`` (N,) [s], (3, N, p), as the loop tabulates it
         (in rotation charts: in the world chart, here the book's world, through the rotation group)."""
         from coopctrl.loop import charts as loop_charts
@@ -182,9 +182,7 @@ class Controller:
 
         if not self._charts:
             return C._trajectory_samples(self._trajectory, times, self.p)
-        out = np.zeros((3, len(times), self.p))
-        loop_charts.WorldChart(P, self._nz, loop_charts.target_motion(self._trajectory, times)).table(out, 0)
-        return out
+        return loop_charts.world_table(self._trajectory, times)
 
     def _row(self, t) -> int:
         """The trajectory table's row of time ``t`` [s]: its period's row; after the trajectory's end, the row where it
@@ -200,7 +198,7 @@ class Controller:
             return k
         if self._end_row is not None and t >= self._trajectory_end:  # the trajectory holds its last pose
             return self._end_row
-        self._traj[:, -1] = self._table(np.array([float(t)]), self._P)[:, 0]
+        self._traj[:, -1] = self._table(np.array([float(t)]))[:, 0]
         return self._rows
 
     def _beyond_chart(self, pose) -> None:

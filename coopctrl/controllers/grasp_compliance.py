@@ -31,12 +31,22 @@ class GraspCompliance:
     pseudo-inverse).
 
     :meth:`deformation` maps a desired wrench to the node pose that produces it (the nominal
-    deformation of docs/model.md s.6, feedforward for the leader and the followers).
+    deformation of docs/model.md s.6, feedforward for the leader and the followers). ``K`` and ``C`` are computed
+    once per plant and step (:func:`coopctrl.derived.derived`: a scene's plant is built once), each compliance
+    holding its own copies.
     """
 
     def __init__(self, plant, step: float = 1e-6):
+        from coopctrl.derived import derived
+
         self.plant = plant
         self.space = plant.space
+        K, C = derived(plant, ("grasp_compliance", type(self), float(step)), lambda: self._stiffness(float(step)))
+        self.K, self.C = K.copy(), C.copy()
+
+    def _stiffness(self, step: float) -> tuple[np.ndarray, np.ndarray]:
+        """``(K, C)``, read-only: the stiffness by central differences of ``step`` and its pseudo-inverse."""
+        plant = self.plant
         p = plant.p
         m = plant.arm_count
         Y_ref = plant.elastic.Y_ref.copy()
@@ -54,7 +64,9 @@ class GraspCompliance:
                 with np.errstate(over="ignore", invalid="ignore"):  # checked below
                     self.K[i, :, a] = (cols[0] - cols[1]) / (2 * step)
         self._check_finite()
-        self.C = np.array([np.linalg.pinv(Ki, rcond=1e-9) for Ki in self.K])
+        K, C = self.K, np.array([np.linalg.pinv(Ki, rcond=1e-9) for Ki in self.K])
+        K.flags.writeable = C.flags.writeable = False
+        return K, C
 
     #: Largest grasp stiffness entry [N/m, N m/rad, N/rad] the pseudo-inverse is trusted with: beyond it the
     #: singular value decomposition's scaling overflows (LAPACK may then iterate without end).

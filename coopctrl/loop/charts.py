@@ -108,10 +108,26 @@ def target_motion(trajectory, times):
     alpha_b)``, positions [m, m/s, m/s^2] (N, 3), rotations (N, 3, 3), body angular velocity [rad/s] and
     acceleration [rad/s^2] (N, 3). A :class:`~coopctrl.trajectory.GeodesicTrajectory` (any trajectory with
     ``sample_rotation``) gives it at every rotation; any other through its Euler view ``evaluate(t)``,
-    ``omega_b = L(A) dA``, ``alpha_b = L(A) ddA + dL dA`` (defined at every angle: ``L`` is)."""
+    ``omega_b = L(A) dA``, ``alpha_b = L(A) ddA + dL dA`` (defined at every angle: ``L`` is). For a shipped
+    trajectory computed once per trajectory and times (:func:`coopctrl.derived.derived`): the arrays
+    are read-only."""
+    from coopctrl.derived import derived
+
+    times = np.array(times, dtype=float)
+
+    def compute():
+        motion = _target_motion(trajectory, times)
+        for v in motion:
+            v.flags.writeable = False
+        return motion
+
+    return derived(trajectory, ("target_motion", times.shape, times.tobytes()), compute)
+
+
+def _target_motion(trajectory, times):
+    """:func:`target_motion`, computed."""
     from coopctrl.trajectory import MinimumJerkTrajectory
 
-    times = np.asarray(times, dtype=float)
     if hasattr(trajectory, "sample_rotation"):  # a path on the rotations (GeodesicTrajectory, or one read later)
         m = trajectory.sample_rotation(times)
         return m.r, m.dr, m.ddr, quat.matrix(m.q), m.omega_body, m.alpha_body
@@ -169,12 +185,21 @@ def check_nominal_path_in_charts(trajectory, grasps) -> None:
     chart is re-centred (``C = R_0``) when the object's pitch in it passes 45.6 deg (:data:`RECENTRE_COS`), or
     in a run as late as :data:`CHART_PITCH_MAX` (55 deg): both sequences are checked, every 0.25 deg of the
     object's turn (at least 200 samples per segment). The error names ``arms[k].grasp`` (per-node charts for
-    contact nodes are not implemented: docs/model.md s.2)."""
+    contact nodes are not implemented: docs/model.md s.2). A shipped trajectory's path passed with these grasps
+    is not checked again (:func:`coopctrl.derived.derived`)."""
+    from coopctrl.derived import derived
+
+    grasps = np.array(np.atleast_2d(np.asarray(grasps, dtype=float)))
+    derived(trajectory, ("charts_path_passed", grasps.shape, grasps.tobytes()),
+            lambda: _check_nominal_path_in_charts(trajectory, grasps))
+
+
+def _check_nominal_path_in_charts(trajectory, grasps) -> None:
+    """:func:`check_nominal_path_in_charts`, checked."""
     from coopctrl.errors import ScenarioError
     from coopctrl.loop.euler_band import margin_cos
     from plants.frames import rotation_zyx
 
-    grasps = np.atleast_2d(np.asarray(grasps, dtype=float))
     G = np.stack([rotation_zyx(np.ascontiguousarray(g[3:6])) for g in grasps])  # (m, 3, 3)
     ends = np.asarray(trajectory.times, dtype=float)
     t = np.unique(np.concatenate([np.linspace(a, b, 200) for a, b in zip(ends[:-1], ends[1:])] or [ends[:1]]))
@@ -209,6 +234,31 @@ def check_nominal_path_in_charts(trajectory, grasps) -> None:
             C, n0 = R[n0 + end], n0 + end  # re-centred on the object: its angles there are 0
 
 
+def chart_table(traj: np.ndarray, motion, C: np.ndarray, k: int = 0) -> None:
+    """Rows ``k ..`` of the kernel's trajectory table ``traj`` (3, N, 6) of the target ``motion``
+    (:func:`target_motion`) in the world chart ``C`` (:meth:`WorldChart.table`)."""
+    r, dr, ddr, R, w, a = (v[k:] for v in motion)
+    traj[0, k:, :3], traj[1, k:, :3], traj[2, k:, :3] = r @ C, dr @ C, ddr @ C
+    traj[0, k:, 3:], traj[1, k:, 3:], traj[2, k:, 3:] = euler_motion(C.T @ R, w, a)
+
+
+def world_table(trajectory, times) -> np.ndarray:
+    """The kernel's trajectory table (3, N, 6) of the nominal motion at ``times`` (N,) [s] in the book's world,
+    the first world chart (``C = I``; :func:`chart_table`): a new array, computed once per shipped trajectory and
+    times (:func:`coopctrl.derived.derived`)."""
+    from coopctrl.derived import derived
+
+    times = np.array(times, dtype=float)
+
+    def compute():
+        table = np.zeros((3, times.shape[0], 6))
+        chart_table(table, target_motion(trajectory, times), np.eye(3))
+        table.flags.writeable = False
+        return table
+
+    return derived(trajectory, ("world_table", times.shape, times.tobytes()), compute).copy()
+
+
 class WorldChart:
     """The rotated world of one run in charts: re-centres it between kernel calls, remembers it tick by
     tick, and gives the record back in the book's world coordinates (module docstring).
@@ -236,9 +286,7 @@ class WorldChart:
         """Rows ``k ..`` of the kernel's trajectory table ``traj`` (3, N, 6) in the current world chart:
         ``r' = C^T r``, ``R' = C^T R``, ``A' = euler(R')``, ``dA' = L(A')^-1 omega_b``,
         ``ddA' = L(A')^-1 (alpha_b - dL(A', dA') dA')`` (the body rates do not depend on the chart)."""
-        r, dr, ddr, R, w, a = (v[k:] for v in self.motion)
-        traj[0, k:, :3], traj[1, k:, :3], traj[2, k:, :3] = r @ self.C, dr @ self.C, ddr @ self.C
-        traj[0, k:, 3:], traj[1, k:, 3:], traj[2, k:, 3:] = euler_motion(self.C.T @ R, w, a)
+        chart_table(traj, self.motion, self.C, k)
 
     def ticks_ahead(self, x: np.ndarray, T: float) -> int:
         """Ticks of period ``T`` [s] the next kernel call may run from the state ``x`` without the object's

@@ -435,8 +435,10 @@ def run_compiled(loop, rec: dict, x0, N: int, progress: bool = False, integrals=
             charts.turn_to(cs.C)
             state.x[:], state.tau[:], state.integrals[:], state.last_split[:] = cs.x, cs.tau, cs.integrals, cs.last_split
             next_check = max(cs.next_check - kb, 0)
-        traj = np.zeros((3, N, p))
-        charts.table(traj, 0)
+            traj = np.zeros((3, N, p))
+            charts.table(traj, 0)
+        else:  # the first chart is the book's world
+            traj = loop_charts.world_table(loop.trajectory, times)
     else:
         traj = _trajectory_samples(loop.trajectory, times, p)
     noise_q, noise_o, noise_f, noise_cfg = _noise(loop, kb + N, plant)
@@ -715,14 +717,22 @@ def _moment_arms(M, m: int, p: int, npos: int) -> np.ndarray:
 
 
 def _trajectory_samples(trajectory, times, p: int) -> np.ndarray:
-    """``(Y, dY, ddY)`` of the nominal object motion at ``times``, stacked (3, N, p) [m, rad, per s, per s^2]:
-    ``sample`` (vectorized) when the trajectory has it, else ``evaluate`` tick by tick."""
-    from coopctrl.trajectory import GeodesicTrajectory, MinimumJerkTrajectory
+    """``(Y, dY, ddY)`` of the nominal object motion at ``times``, stacked (3, N, p) [m, rad, per s, per s^2], a new
+    array: ``sample`` (vectorized) when the trajectory has it, computed once per shipped trajectory and times
+    (:func:`coopctrl.derived.derived`), else ``evaluate`` tick by tick."""
+    from coopctrl.derived import derived, immutable
 
     if not len(times):
         return np.zeros((3, 0, p))
-    if type(trajectory) in (MinimumJerkTrajectory, GeodesicTrajectory):  # their sample() is evaluate() at every time
-        return np.ascontiguousarray(np.stack(trajectory.sample(times)))
+    if immutable(trajectory):  # their sample() is evaluate() at every time
+        times = np.array(times, dtype=float)
+
+        def compute():
+            table = np.ascontiguousarray(np.stack(trajectory.sample(times)))
+            table.flags.writeable = False
+            return table
+
+        return derived(trajectory, ("samples", times.shape, times.tobytes()), compute).copy()
     out = np.empty((3, len(times), p))
     for k, t in enumerate(times):
         out[:, k] = trajectory.evaluate(float(t))

@@ -157,9 +157,14 @@ def check_nominal_path(trajectory, grasps, margin_deg: float = EULER_PITCH_MARGI
     """Raise :class:`ScenarioError` if the nominal path enters the band around pitch +-90 deg.
 
     The error names ``trajectory.via[k].pose``, the via point that ends the offending segment
-    (``trajectory.via[0].pose`` for a path of one pose), the pose, and what is allowed.
+    (``trajectory.via[0].pose`` for a path of one pose), the pose, and what is allowed. A shipped trajectory's
+    path passed with these grasps and margin is not checked again (:func:`coopctrl.derived.derived`).
     """
-    found = first_path_hit(trajectory, grasps, margin_deg)
+    from coopctrl.derived import derived
+
+    grasps = np.array(grasps, dtype=float)
+    found = derived(trajectory, ("book_path_hit", grasps.shape, grasps.tobytes(), float(margin_deg)),
+                    lambda: first_path_hit(trajectory, grasps, margin_deg))
     if found is None:
         return
     hit, seg = found

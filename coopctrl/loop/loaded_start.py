@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from coopctrl.controllers import required_object_wrench
+from coopctrl.controllers import GraspCompliance, required_object_wrench
 from coopctrl.load_distribution import LoadDistribution
 from coopctrl.loop.qp_inputs import contact_normals, qp_torque_limits, torque_model
 from plants.cooperative import ContactPoint, nominal_node_motion
@@ -33,10 +33,32 @@ def loaded_state(plant, trajectory, grasps, ld_config, compliance, torque_limits
         torque_limits: Whether the QP carries the torque-limit family.
         x_unloaded: The unloaded state: the inverse kinematics' seeds.
 
+    Computed once per plant for the same parts (:func:`coopctrl.derived.derived`) when the trajectory is a shipped
+    one and the compliance a :class:`~coopctrl.controllers.GraspCompliance`; a new array each call.
+
     Raises:
         InfeasibleLoad: no split of t = 0 exists.
         UnreachablePoseError: an arm cannot reach its loaded node pose.
     """
+    from coopctrl.derived import derived, immutable
+
+    grasps = np.array(grasps, dtype=float)
+    x_unloaded = np.array(x_unloaded, dtype=float)
+
+    def compute():
+        x = _loaded_state(plant, trajectory, grasps, ld_config, compliance, torque_limits, x_unloaded)
+        x.flags.writeable = False
+        return x
+
+    if not immutable(trajectory) or type(compliance) is not GraspCompliance:
+        return compute().copy()
+    key = ("loaded_state", trajectory, grasps.shape, grasps.tobytes(), ld_config, compliance.K.tobytes(),
+           compliance.C.tobytes(), bool(torque_limits), x_unloaded.tobytes())
+    return derived(plant, key, compute).copy()
+
+
+def _loaded_state(plant, trajectory, grasps, ld_config, compliance, torque_limits: bool, x_unloaded) -> np.ndarray:
+    """:func:`loaded_state`, computed."""
     space = plant.space
     p, m = plant.p, plant.arm_count
     npos = 3 if space == "spatial" else 2
