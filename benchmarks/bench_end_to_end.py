@@ -9,7 +9,7 @@ For every shipped scene (``scenarios/*.toml``), after a warm-up of each measure 
 * **ticks**: the compiled tick alone, the sum of the wall times of the calls into ``Tick.run_ticks`` of a
   ``closed_loop(scenario).run(x0, duration)`` (``loop.run``, timed too: the loop's per-run set-up on
   top of the ticks; the approach of ``bench_closed_loop.py``). The calls are timed by wrapping the tick
-  class the loop builds once per run (``coopctrl.loop.compiled._core.Tick``: there is no public hook for the
+  class the loop builds once per run (``coopctrl.loop.run._core.Tick``: there is no public hook for the
   ticks' time). Where that hook is missing the ticks column is ``loop.run`` and the output says so;
 * **simulate**: ``coopctrl.simulate(scenario)`` in this process (the scenario loaded once);
 * **CLI**: ``coopctrl.cli.main(["run", SCENE, "-q"])`` in this process: loading the scene file, the
@@ -65,7 +65,7 @@ class KernelClock:
     """The summed wall time [s] of the calls into the compiled tick since :meth:`reset`.
 
     Installed by wrapping the tick class the loop builds once per run (``coopctrl._core.Tick``, as
-    ``coopctrl.loop.compiled`` reaches it): each call of its ``run_ticks`` (a chunk of ticks) and
+    ``coopctrl.loop.run`` reaches it): each call of its ``run_ticks`` (a chunk of ticks) and
     ``reference_step`` (a tick of the reference path) is timed, about 1 us of its own each.
     """
 
@@ -76,9 +76,9 @@ class KernelClock:
 
     def _install(self) -> bool:
         try:
-            import coopctrl.loop.compiled as compiled
+            import coopctrl.loop.run as loop_run
 
-            core = compiled._core
+            core = loop_run._core
             Tick = core.Tick
         except (ImportError, AttributeError):
             return False
@@ -109,7 +109,7 @@ class KernelClock:
             def __getattr__(self, name):
                 return TimedTick if name == "Tick" else getattr(core, name)
 
-        compiled._core = Core()
+        loop_run._core = Core()
         return True
 
     def reset(self) -> None:
@@ -364,7 +364,7 @@ def main(argv=None) -> int:
         return 0
     clock = KernelClock()
     if not clock.installed:
-        print("note: no kernel clock (coopctrl.loop.compiled._core.Tick is gone): the ticks column is loop.run")
+        print("note: no kernel clock (coopctrl.loop.run._core.Tick is gone): the ticks column is loop.run")
     results = []
     for name in scenes:
         r = measure_scene(name, args.repeats, args.sweep_runs, args.jobs, clock)

@@ -77,7 +77,7 @@ sys.path.insert(0, str(REPO))
 import coopctrl  # noqa: E402
 from coopctrl.integrators import Integrator, get_integrator  # noqa: E402
 from coopctrl.simulator import closed_loop  # noqa: E402
-from coopctrl.loop.compiled import compiled_unsupported  # noqa: E402
+from coopctrl.loop.build import compiled_unsupported  # noqa: E402
 
 SCENE = REPO / "scenarios" / "spatial_two_puma_carry.toml"
 FIXED = ("euler", "symplectic_euler", "rk4", "implicit_midpoint", "implicit_euler")

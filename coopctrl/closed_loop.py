@@ -139,16 +139,17 @@ class ClosedLoop:
         self.object_inertia = el.node_params[0, 1:].copy()
         self.gravity = el.gravity.copy()
         self.tau_max = np.concatenate([np.asarray(a.tau_max, dtype=float) for a in plant.arms])
-        #: The QP plans torques within ``TORQUE_HEADROOM`` of each limit, leaving the rest for
-        #: the feedback terms; the applied torques are saturated at the limit (actuators).
-        self._qp_tau_max = qp_torque_limits(plant)
+        #: Per arm, the joint torque limits the QP plans within [N m]: ``TORQUE_HEADROOM`` of each limit, leaving the
+        #: rest for the feedback terms; the applied torques are saturated at the limit (actuators).
+        self.qp_torque_limits = qp_torque_limits(plant)
         self._modes_cache: dict[int, tuple] = {}
         if self.space == "spatial" and rotations == "book":  # a nominal path through the Euler singularity is bad input
             check_nominal_path(trajectory, self.grasps)
         elif self.space == "spatial":  # in charts: a contact node's angles in the object's chart
             loop_charts.check_nominal_path_in_charts(trajectory, self.grasps)
         Yr = el.Y_ref
-        self._rho = np.array([self._to_object_frame(Yr[0], Yr[i + 1, :self.npos] - Yr[0, :self.npos])
+        #: (m, npos) the contact points in the object frame at the unloaded pose [m]
+        self.contact_points = np.array([self._to_object_frame(Yr[0], Yr[i + 1, :self.npos] - Yr[0, :self.npos])
                               for i in range(plant.arm_count)])
 
     # ------------------------------------------------------------------ helpers
@@ -162,7 +163,7 @@ class ClosedLoop:
         """Largest displacement [m] of a contact node from its rigid place on the object, and which."""
         worst, which = 0.0, 0
         for i in range(self.plant.arm_count):
-            d = self._to_object_frame(Y[0], Y[i + 1, :self.npos] - Y[0, :self.npos]) - self._rho[i]
+            d = self._to_object_frame(Y[0], Y[i + 1, :self.npos] - Y[0, :self.npos]) - self.contact_points[i]
             v = float(np.sqrt(d @ d))
             if not v <= worst:  # also catches nan
                 worst, which = v, i
@@ -356,7 +357,7 @@ class ClosedLoop:
         plant = self.plant
         return LoopRecord.empty(N, plant.state_size, plant.input_size, plant.arm_count, plant.p, self.npos)
 
-    def _fresh_load_distribution(self):
+    def fresh_load_distribution(self):
         """A load distribution with this loop's settings and no history (no warm start, no last split)."""
         from coopctrl.load_distribution import LoadDistribution
 
@@ -364,17 +365,17 @@ class ClosedLoop:
 
     def _run(self, rec, x0, N, progress, integrals, start=None):
         """Run ``N`` ticks from ``x0`` into ``rec``: the one compiled tick (coopctrl/core/tick.h), driven by
-        :func:`coopctrl.loop.compiled.run_compiled` for every configuration. The reference path
+        :func:`coopctrl.loop.run.run_compiled` for every configuration. The reference path
         (``load_distribution.solver`` other than ``"compiled"``) runs the same kernel, which hands each QP
         it assembles to the chosen backend; an integrator the kernel lacks steps the plant in Python
         between kernel calls; passive runs, ``max_energy``, the elastic split and the tuning probes are
         kernel inputs. ``integrals``: the followers' starting integrals (arm index -> (p,)); ``start``: the
         loop state to continue from (None: a fresh one)."""
-        from coopctrl.loop.compiled import run_compiled
+        from coopctrl.loop.run import run_compiled
 
         return run_compiled(self, rec, x0, N, progress, integrals, start)
 
-    def _stop_reason(self, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
+    def stop_reason(self, exc, k: int, k_done: int, rec, x, x_good, t_good: float, x0, events,
                      saturation: dict) -> tuple[str, str]:
         """:func:`coopctrl.loop.diagnosis.stop_reason` of this loop (the Python and compiled ticks call it): the
         loop's own reason, with the stop's raw facts recorded as ``rec["stop"]`` for a diagnosis after the run."""

@@ -432,13 +432,6 @@ def test_elastic_split_against_numpy(space, m):
     assert 0 in codes and -3 in codes
 
 
-def test_qp_constants_are_named_as_the_loop_names_them():
-    """The core's QPNumbers and QPRows fields are the loop's names of ``QPConstants.numbers`` and ``.rows``, in
-    the same order (the core reads a packed row by these names)."""
-    assert _core.QP_NUMBERS_FIELDS == loop_model.QP_NUMBERS_FIELDS
-    assert _core.QP_ROWS_FIELDS == loop_model.QP_ROWS_FIELDS
-
-
 def test_assembly_bindings_refuse_a_wrong_shape_naming_the_argument():
     with pytest.raises(ValueError, match=r"^M: expected at least \(6, 12\)"):
         _core.fill_grasp_rows(np.zeros((6, 6)), np.zeros((2, 3)), np.zeros(3), True)
@@ -455,8 +448,8 @@ def test_assembly_bindings_refuse_a_wrong_shape_naming_the_argument():
 
 
 def test_qp_answer_check_reads_the_constants_by_name():
-    """``qp_answer_check`` (the tick's check with QPConstants.numbers and .rows read by name) gives the verdict of
-    the core's answer_ok and the mask of its binding_families called with the constants by index (both checked
+    """``qp_answer_check`` (the tick's check with a QPConstants' fields read by name) gives the verdict of the
+    core's answer_ok and the mask of its binding_families called with the same constants as arguments (both checked
     against their statements above), on 200 seeded answers."""
     rng = np.random.default_rng(1000)
     seen = set()
@@ -467,10 +460,16 @@ def test_qp_answer_check_reads_the_constants_by_name():
         M, lo, hi, x = _random_answer(rng, k + n_in, n, k)
         z = rng.normal(size=k + n_in) * (rng.random(k + n_in) < 0.3)
         g = rng.normal(size=n)
-        numbers = np.array([10.0 ** rng.uniform(-12, -6), 0.5, 100.0, 1.0, 10.0 ** rng.uniform(-9, -3)])
-        rows = np.array([1, 0, m, m + m * n_fric, n_fric, 3], dtype=np.int64)
-        ok = _core.answer_ok(M, lo, hi, x, n, k, numbers[0], numbers[4])
-        fams = _core.binding_families(g, z, k, n, n_in, m, rows[1], rows[2], rows[4], rows[3]) if ok else 0
-        assert _core.qp_answer_check(M, lo, hi, g, x, z, k, m, numbers, rows) == (ok, fams)
+        eps_abs, answer_rho = 10.0 ** rng.uniform(-12, -6), 10.0 ** rng.uniform(-9, -3)
+        min_grip_row, friction_row, torque_row = 0, m, m + m * n_fric
+        constants = loop_model.QPConstants(
+            W_diag=None, W_inv_diag=None, s_des=None, tau_qp=None, tau_max=None, cos_phi=None, sin_phi=None,
+            eps_abs=eps_abs, mu_c=0.5, max_iter=100, min_grip=1.0, answer_rho=answer_rho, has_squeeze=True,
+            min_grip_row=min_grip_row, friction_row=friction_row, torque_row=torque_row, facets=n_fric,
+            max_consecutive_failures=3)
+        ok = _core.answer_ok(M, lo, hi, x, n, k, eps_abs, answer_rho)
+        fams = (_core.binding_families(g, z, k, n, n_in, m, min_grip_row, friction_row, n_fric, torque_row)
+                if ok else 0)
+        assert _core.qp_answer_check(M, lo, hi, g, x, z, k, m, constants) == (ok, fams)
         seen.add(ok)
     assert seen == {True, False}

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import coopctrl
-import coopctrl.loop.compiled as compiled
+import coopctrl.loop.run as loop_run
 from coopctrl.controllers.leader_law import object_impedance
 from coopctrl.scenario import build
 from coopctrl.wiring import closed_loop
@@ -85,7 +85,7 @@ def _loop_of(name: str):
 def _run(loop, scenario, duration_s: float, start=None) -> dict:
     N = int(round(duration_s / loop.T)) + 1
     x0 = build.initial_state(scenario, loop) if start is None else None
-    return compiled.run_compiled(loop, loop.empty_record(N), x0, N, start=start)
+    return loop_run.run_compiled(loop, loop.empty_record(N), x0, N, start=start)
 
 
 def run_case(name: str) -> dict:

@@ -20,7 +20,7 @@ import coopctrl.integrators.compiled as integrate
 from coopctrl import _core
 from _integrator_oracle import SDIRK, oracle_step
 from coopctrl.integrators import DiagonallyImplicitRungeKutta, ImplicitEuler, NewtonConvergenceError, get_integrator
-from coopctrl.loop.compiled import compiled_unsupported
+from coopctrl.loop.build import compiled_unsupported
 from coopctrl.scenario import build
 from coopctrl.simulator import closed_loop
 
@@ -183,7 +183,7 @@ def test_newton_failure_is_the_oracle_exception():
 
 class _Outside:
     """A user-defined integrator: the oracle of the scheme ``inner`` stepping the plant between kernel
-    calls (the kernel's plant block is bypassed: :func:`coopctrl.loop.compiled.integrator_outside`),
+    calls (the kernel's plant block is bypassed: :func:`coopctrl.loop.build.integrator_outside`),
     under the inner scheme's name."""
 
     def __init__(self, inner):

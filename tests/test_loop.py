@@ -12,7 +12,7 @@ import pytest
 import coopctrl
 from coopctrl.closed_loop import DIAGNOSIS_TICKS_BACK
 from coopctrl.integrators import ImplicitEuler
-from coopctrl.loop.compiled import compiled_unsupported
+from coopctrl.loop.build import compiled_unsupported
 from coopctrl.scenario import build
 from coopctrl.simulator import closed_loop
 

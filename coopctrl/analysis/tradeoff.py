@@ -301,7 +301,7 @@ def run_loop(scenario, x0, integrator: Integrator, substeps: int, duration: floa
         duration: Simulated time [s]; default ``simulation.duration``.
     """
     from coopctrl.analysis.diagnosis import diagnose_record
-    from coopctrl.loop.compiled import compiled_unsupported
+    from coopctrl.loop.build import compiled_unsupported
     from coopctrl.wiring import closed_loop
 
     step = scenario.simulation.control_period / int(substeps)

@@ -81,15 +81,15 @@ class Controller:
         import coopctrl._core as _core
         import coopctrl.integrators.compiled as I
         from coopctrl.integrators import ExplicitEuler
-        from coopctrl.loop import compiled as C
+        from coopctrl.loop import build as B
         from coopctrl.loop.data import LoopData
         from coopctrl.loop.euler_band import margin_cos
-        from coopctrl.loop.model import LoopModel
+        from coopctrl.loop.model import LoopModel, SensorModel
         from coopctrl.loop.squeeze import squeeze_workspace
         from coopctrl.loop.state import LoopState
 
         plant = loop.plant
-        cl = C._compiled(loop)
+        cl = B.constants(loop)
         self._cl = cl
         m, p, nx, nu = plant.arm_count, plant.p, plant.state_size, plant.input_size
         self.p = p
@@ -125,9 +125,12 @@ class Controller:
         # the run's model and data (coopctrl.loop.model, .data) with no plant advance and no record: the tick's
         # controller step reads the measurement instead of the plant's state
         model = LoopModel(spatial=cl.spatial, N=self._rows + 1, k_base=0, T=T, steps=cl.steps, P=P, grasps=cl.grasps,
-                          traj=traj, obj=cl.obj, rho=cl.rho, max_deformation=loop.max_deformation, band=margin_cos(),
-                          control=cl.control_model(loop), qp=cl.qp, opts=opts, noise_q=np.zeros((1, 2 * nq)),
-                          noise_o=np.zeros((1, 2 * p)), noise_f=np.zeros((1, m * p)), noise_cfg=np.zeros(5))
+                          traj=traj, object_mass=cl.object_mass, object_inertia=cl.object_inertia, rho=cl.rho,
+                          max_deformation=loop.max_deformation, band=margin_cos(), control=cl.control_model(loop),
+                          qp=cl.qp, opts=opts,
+                          sensors=SensorModel(joints=np.zeros((1, 2 * nq)), object=np.zeros((1, 2 * p)),
+                                              wrench=np.zeros((1, m * p)), noisy_state=False, joint_step=0.0,
+                                              object_step=0.0, wrench_step=0.0))
         data = LoopData(plan=I.make_plan(ExplicitEuler(), nx, T, 1), qp_arrays=qa, ws=state.ws,
                         sq=squeeze_workspace(m, 3 if cl.spatial else 2, loop.squeeze_desired), x=state.x,
                         tau=state.tau, integrals=state.integrals, last_split=state.last_split, flags=state.flags,
@@ -178,10 +181,10 @@ class Controller:
         """The nominal object motion ``(Y, dY, ddY)`` at ``times`` (N,) [s], (3, N, p), as the loop tabulates it
         (in rotation charts: in the world chart, here the book's world, through the rotation group)."""
         from coopctrl.loop import charts as loop_charts
-        from coopctrl.loop import compiled as C
+        from coopctrl.loop.build import trajectory_samples
 
         if not self._charts:
-            return C._trajectory_samples(self._trajectory, times, self.p)
+            return trajectory_samples(self._trajectory, times, self.p)
         return loop_charts.world_table(self._trajectory, times)
 
     def _row(self, t) -> int:
@@ -261,7 +264,7 @@ class Controller:
     def _event(self, code: int, k: int, args: tuple) -> None:
         """Handle a step that did not end with torques: refuse the measurement, apply the QP's failure policy
         and hold the last split, or raise the stage's event."""
-        from coopctrl.loop import compiled as C
+        from coopctrl.loop import run as R
         from coopctrl.loop import tick_codes as K
 
         stop = self._stop
@@ -273,12 +276,12 @@ class Controller:
             value = float(a[c] if field != 2 else a[i, c])
             raise MeasurementError(where, value, f"a finite value: {_WHAT[name]}")
         if code == K.QP_FAILED:  # the load distribution's failure policy, as the loop applies it (may raise)
-            C._qp_failure(self._loop, self._cl, self._qa, stop.detail[0], stop.detail[1],
+            R.qp_failure(self._loop, self._cl, self._qa, stop.detail[0], stop.detail[1],
                           SimpleNamespace(ws=self._state.ws, flags=self._state.flags))
             code = self._tick.controller_step(k, True, *args)
             if code == 0:
                 return
-        raise C._exception(self._loop, self._cl, code, k, stop, self._x_fail, self._traj)
+        raise R.stop_exception(self._loop, self._cl, code, k, stop, self._x_fail, self._traj)
 
     # ------------------------------------------------------------------ state
     @property

@@ -10,6 +10,7 @@
 #include "coopctrl/core/qp_answer_check.h"
 #include "coopctrl/core/qp_assembly.h"
 #include "coopctrl/core/qp_constants.h"
+#include "coopctrl/core/qp_constants_reader.h"
 #include "coopctrl/core/qp_contact_model.h"
 #include "coopctrl/core/qp_elastic_assembly.h"
 #include "coopctrl/core/linear_algebra.h"
@@ -318,13 +319,9 @@ nb::tuple elastic_split(Matrix M, int k, Tensor K_obj, Vector Y0, bool spatial, 
 
 // ---- the QP's constants (coopctrl/core/qp_constants.h)
 
-static_assert(sizeof(QPNumbers) == 5 * sizeof(double) && offsetof(QPNumbers, answer_rho) == 4 * sizeof(double),
-              "QPNumbers is QPConstants.numbers, 5 doubles");
-static_assert(sizeof(QPRows) == 6 * sizeof(int64_t) && offsetof(QPRows, max_consecutive_failures) == 5 * 8,
-              "QPRows is QPConstants.rows, 6 int64");
 
 nb::tuple answer_check_stage(Matrix M, Vector lo, Vector hi, Vector g, Vector x, Vector z, int k, int m,
-                             Vector numbers, IntVector rows) {
+                             nb::handle constants) {
     const size_t n = M.shape(1), n_rows = M.shape(0);
     expect_length(lo.shape(0), n_rows, "lo");
     expect_length(hi.shape(0), n_rows, "hi");
@@ -332,12 +329,10 @@ nb::tuple answer_check_stage(Matrix M, Vector lo, Vector hi, Vector g, Vector x,
     expect_length(x.shape(0), n, "x");
     expect_length(z.shape(0), n_rows, "z");
     expect(k >= 0 && static_cast<size_t>(k) <= n_rows, "k", "0 to the rows of M");
-    expect_length(numbers.shape(0), sizeof(QPNumbers) / sizeof(double), "numbers");
-    expect_length(rows.shape(0), sizeof(QPRows) / sizeof(int64_t), "rows");
     QPConstants c{};
     c.n = static_cast<int>(n);
-    c.numbers = reinterpret_cast<const QPNumbers*>(numbers.data());
-    c.rows = reinterpret_cast<const QPRows*>(rows.data());
+    c.numbers = read_qp_numbers(constants);
+    c.rows = read_qp_rows(constants);
     const QP qp{static_cast<int>(n), static_cast<int>(n_rows), k, nullptr, g.data(), M.data(), lo.data(), hi.data()};
     int64_t families = 0;
     const bool ok = qp_answer_check(c, qp, x.data(), z.data(), m, &families);
@@ -402,13 +397,10 @@ void bind_qp(nb::module_& m) {
           nb::arg("external").noconvert(), nb::arg("KGt").noconvert(), nb::arg("A").noconvert(),
           nb::arg("y").noconvert(), nb::arg("Rb").noconvert(), nb::arg("work").noconvert(),
           "Fill K, P and external of the elastic split; (code, P_changed) (coopctrl/core/qp_elastic_assembly.h).");
-    m.attr("QP_NUMBERS_FIELDS") = nb::make_tuple("eps_abs", "mu_c", "max_iter", "min_grip", "answer_rho");
-    m.attr("QP_ROWS_FIELDS") = nb::make_tuple("has_squeeze", "min_grip", "friction", "torque_limits", "facets",
-                                              "max_consecutive_failures");
     m.def("qp_answer_check", &answer_check_stage, nb::arg("M"), nb::arg("lo"), nb::arg("hi"), nb::arg("g"),
-          nb::arg("x"), nb::arg("z"), nb::arg("k"), nb::arg("m"), nb::arg("numbers"), nb::arg("rows"),
-          "(ok, families): the tick's check of a solved QP with the constants QPConstants.numbers and .rows read by\n"
-          "name (coopctrl/core/qp_constants.h).");
+          nb::arg("x"), nb::arg("z"), nb::arg("k"), nb::arg("m"), nb::arg("constants"),
+          "(ok, families): the tick's check of a solved QP with the constants (a QPConstants: eps_abs, answer_rho,\n"
+          "min_grip_row, friction_row, torque_row, facets, ...) read by name (coopctrl/core/qp_constants_reader.h).");
 }
 
 }  // namespace coopctrl::binding

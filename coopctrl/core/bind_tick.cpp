@@ -16,6 +16,7 @@
 #include "coopctrl/core/array_reader.h"
 #include "coopctrl/core/goldfarb_idnani.h"
 #include "coopctrl/core/plan_reader.h"
+#include "coopctrl/core/qp_constants_reader.h"
 #include "coopctrl/core/tick.h"
 #include "coopctrl/core/tick_model.h"
 #include "coopctrl/core/tick_plants.h"
@@ -241,9 +242,9 @@ private:
         run.traj = doubles(model, M, "traj", {3, run.N, p});
         // the object
         ObjectModel& ob = md_.object;
-        const double* obj = doubles(model, M, "obj", {md_.spatial ? 4 : 2});  // mass [kg], inertia [kg m^2]
-        ob.mass = obj[0];
-        for (int a = 0; a < (md_.spatial ? 3 : 1); ++a) ob.inertia[a] = obj[1 + a];
+        ob.mass = attr<double>(model, "object_mass");
+        const double* inertia = doubles(model, M, "object_inertia", {md_.spatial ? 3 : 1});
+        for (int a = 0; a < (md_.spatial ? 3 : 1); ++a) ob.inertia[a] = inertia[a];
         ob.grasps = doubles(model, M, "grasps", {m, p});
         ob.rho = doubles(model, M, "rho", {m, npos});
         ob.gravity = doubles(P, "P", "gravity", {npos});
@@ -251,18 +252,18 @@ private:
         md_.guards.band = attr<double>(model, "band");
         // the sensors
         SensorModel& sn = md_.sensors;
-        sn.rows_joints = extent(model, "noise_q", 0);
-        sn.joints = doubles(model, M, "noise_q", {sn.rows_joints, 2 * (nz - p)});
-        sn.rows_object = extent(model, "noise_o", 0);
-        sn.object = doubles(model, M, "noise_o", {sn.rows_object, 2 * p});
-        sn.rows_wrench = extent(model, "noise_f", 0);
-        sn.wrench = doubles(model, M, "noise_f", {sn.rows_wrench, m * p});
-        // noise_cfg = (joint std, joint step, object std, object step, wrench step)
-        const double* cfg = doubles(model, M, "noise_cfg", {5});
-        sn.noisy_state = cfg[0] != 0.0 || cfg[1] != 0.0 || cfg[2] != 0.0 || cfg[3] != 0.0;
-        sn.joint_step = cfg[1];
-        sn.object_step = cfg[3];
-        sn.wrench_step = cfg[4];
+        nb::handle sensors = model.attr("sensors");
+        const char* S = "sensors";
+        sn.rows_joints = extent(sensors, "joints", 0);
+        sn.joints = doubles(sensors, S, "joints", {sn.rows_joints, 2 * (nz - p)});
+        sn.rows_object = extent(sensors, "object", 0);
+        sn.object = doubles(sensors, S, "object", {sn.rows_object, 2 * p});
+        sn.rows_wrench = extent(sensors, "wrench", 0);
+        sn.wrench = doubles(sensors, S, "wrench", {sn.rows_wrench, m * p});
+        sn.noisy_state = attr<bool>(sensors, "noisy_state");
+        sn.joint_step = attr<double>(sensors, "joint_step");
+        sn.object_step = attr<double>(sensors, "object_step");
+        sn.wrench_step = attr<double>(sensors, "wrench_step");
         // the control model, by name (coopctrl/loop/model.py's ControlModel)
         ControlModel& cm = md_.control;
         const char* C = "control";
@@ -297,8 +298,8 @@ private:
         c.tau_max = doubles(qp, "qp", "tau_max", {nu});
         c.cos_phi = doubles(qp, "qp", "cos_phi", {ANY});
         c.sin_phi = doubles(qp, "qp", "sin_phi", {ANY});
-        c.numbers = reinterpret_cast<const QPNumbers*>(doubles(qp, "qp", "numbers", {5}));
-        c.rows = reinterpret_cast<const QPRows*>(ints(qp, "qp", "rows", {6}));
+        c.numbers = read_qp_numbers(qp);
+        c.rows = read_qp_rows(qp);
         // the switches and the probes (RunOptions, by name)
         nb::handle opts = model.attr("opts");
         RunSwitches& sw = md_.switches;

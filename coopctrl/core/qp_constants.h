@@ -1,6 +1,5 @@
-// The load-distribution QP's constants of a run, by name: the loop's QPConstants (coopctrl/loop/model.py), whose
-// packed rows `numbers` (float64) and `rows` (int64) are these structs' fields in this order
-// (model.py's QP_NUMBERS_FIELDS and QP_ROWS_FIELDS name them the same way).
+// The load-distribution QP's constants of a run, by name: the loop's QPConstants (coopctrl/loop/model.py), read
+// field by field (qp_constants_reader.h).
 #pragma once
 
 #include <cstdint>
@@ -9,7 +8,7 @@
 
 namespace coopctrl {
 
-/// QPConstants.numbers: the same 5 doubles in this order.
+/// The QP's real constants.
 struct QPNumbers {
     double eps_abs;     ///< [N] the solver's primal feasibility tolerance (violation / row norm)
     double mu_c;        ///< [-] friction coefficient of the inscribed pyramid, mu cos(pi / facets) (planar: mu)
@@ -18,8 +17,8 @@ struct QPNumbers {
     double answer_rho;  ///< [-] the fraction of the load an answer may miss (ANSWER_TOLERANCE_OF_LOAD)
 };
 
-/// QPConstants.rows: the same 6 int64 in this order; a row -1 where its family is absent. Rows count from the
-/// first inequality row (after the k balance rows).
+/// The QP's row layout: a family's first row, -1 where it is absent. Rows count from the first inequality row
+/// (after the k balance rows).
 struct QPRows {
     int64_t has_squeeze;               ///< 1 if the preferred split has a desired squeeze
     int64_t min_grip;                  ///< first min_grip row (m rows)
@@ -41,8 +40,8 @@ struct QPConstants {
     const double* tau_max;     ///< (nu) saturation limits [N m]
     const double* cos_phi;     ///< (facets) the friction pyramid's facet directions (spatial; one zero planar)
     const double* sin_phi;     ///< (facets)
-    const QPNumbers* numbers;  ///< QPConstants.numbers
-    const QPRows* rows;        ///< QPConstants.rows
+    QPNumbers numbers;         ///< the real constants
+    QPRows rows;               ///< the row layout
 };
 
 /// The check of a solved QP (tick.h's solve_split after the solve): whether the answer

@@ -308,13 +308,13 @@ public:
         const QP qp{n, a.n_rows, p, a.H, a.g, a.M, a.lo, a.hi};
         const bool first = d_.flags->qp_solves == 0;
         int64_t iterations = 0;
-        const int code = gi_solve(qp, a.x, a.z, ws_, first || P_changed, c.numbers->eps_abs,
-                                  static_cast<int64_t>(c.numbers->max_iter), &iterations);
+        const int code = gi_solve(qp, a.x, a.z, ws_, first || P_changed, c.numbers.eps_abs,
+                                  static_cast<int64_t>(c.numbers.max_iter), &iterations);
         d_.flags->qp_solves += 1;
         *qs = code;
         *qit = iterations;
-        const bool ok = code == GI_SOLVED && answer_ok(a.M, n, a.n_rows, a.lo, a.hi, a.x, n, p, c.numbers->eps_abs,
-                                                       c.numbers->answer_rho);
+        const bool ok = code == GI_SOLVED && answer_ok(a.M, n, a.n_rows, a.lo, a.hi, a.x, n, p, c.numbers.eps_abs,
+                                                       c.numbers.answer_rho);
         if (!ok) {
             d_.stop->code = TICK_QP_FAILED;
             d_.stop->detail[0] = code;
@@ -324,7 +324,7 @@ public:
             return false;
         }
         d_.flags->consecutive_failures = 0;
-        const QPRows& r = *c.rows;
+        const QPRows& r = c.rows;
         *qb = binding_families(a.g, a.z, p, n, n_in, m, r.min_grip, r.friction, r.facets, r.torque_limits);
         *qact = gi_active_inequalities(ws_, p);
         return true;
@@ -467,7 +467,7 @@ private:
     int64_t assemble_split(int64_t k, const SensedTerms& tm, bool* P_changed) noexcept {
         const int m = md_.m, p = md_.p, npos = md_.npos;
         const QPConstants& c = md_.qp;
-        const QPRows& r = *c.rows;
+        const QPRows& r = c.rows;
         QPArrays& a = d_.qp;
         const int n = c.n;
         const double* wN = w_.wN.data();
@@ -520,7 +520,7 @@ private:
             if (r.min_grip >= 0) fill_grip_rows(a.M, n, p + static_cast<int>(r.min_grip), w_.nrm.data(), m, npos, p);
             if (r.friction >= 0)
                 fill_friction_rows(a.M, n, p + static_cast<int>(r.friction), w_.nrm.data(), npos, m, p,
-                                   static_cast<int>(r.facets), c.numbers->mu_c, c.cos_phi, c.sin_phi, md_.spatial);
+                                   static_cast<int>(r.facets), c.numbers.mu_c, c.cos_phi, c.sin_phi, md_.spatial);
         }
         if (r.torque_limits >= 0) {
             const TorqueModelInputs in{m, p, tm.nmax, tm.Y, w_.ddYn.data(), tm.W, tm.w_free, tm.H, tm.h, tm.J,

@@ -1,7 +1,7 @@
 """The integration methods of the compiled loop: each integrator name's run-time code.
 
 The compiled advance (coopctrl/core/integration_plan.h's ``ExplicitMethod`` and the plans' families) branches on
-it; the loop's driver (:mod:`coopctrl.loop.compiled`) picks it by the scenario's ``simulation.integrator``. An
+it; the loop's driver (:mod:`coopctrl.loop.run`) picks it by the scenario's ``simulation.integrator``. An
 integrator not listed here steps in Python.
 """
 

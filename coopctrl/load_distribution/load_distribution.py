@@ -123,7 +123,7 @@ class LoadDistribution:
 
     def solve_assembled(self, r_contacts) -> LoadSplit:
         """:meth:`solve` on the problem as it stands: its arrays filled by :meth:`LoadDistributionProblem.update`
-        or in place by the compiled tick's assembly (the reference path of :mod:`coopctrl.loop.compiled`),
+        or in place by the compiled tick's assembly (the reference path of :mod:`coopctrl.loop.run`),
         with ``P_changed`` set when ``P`` changed. The backend's solve, the answer check, the failure
         policy and the binding families, as in :meth:`solve`; ``r_contacts`` (m, npos) [m] only goes
         into the returned split."""
@@ -149,7 +149,7 @@ class LoadDistribution:
         objective = pb.objective(x) if x is not None else float("nan")
         if not ok:
             self.solver.reset()
-            status, binding, detail, advice = self._failure_cause(status, violated, tol)
+            status, binding, detail, advice = self.failure_cause(status, violated, tol)
             self._stats.append(QPStats(status, res.iterations, res.solve_time_s, objective))
             self._failures += 1
             self._held.append(True)
@@ -187,7 +187,7 @@ class LoadDistribution:
         pb = self.problem
         return answer_tolerance(pb.lo, pb.hi, pb.k, np.inf, float(scale), self.config.eps_abs, ANSWER_TOLERANCE_OF_LOAD)
 
-    def _failure_cause(self, status: str, violated: list[tuple[float, str]], tol: float
+    def failure_cause(self, status: str, violated: list[tuple[float, str]], tol: float
                        ) -> tuple[str, tuple[str, ...], str, str | None]:
         """``(status, binding, detail, advice)`` of a failed solve, as it really happened.
 

@@ -99,7 +99,8 @@ class LoadDistributionProblem:
         self.has_squeeze = bool(np.any(self.s_des != 0.0))
         self.elastic = config.split == "elastic"
         # equality: G F = w_N
-        self._G0 = identity_grasp_matrix(m, space)
+        #: (k, n) the grasp matrix of the contacts at the object's centre (its rows until the first assembly)
+        self.identity_grasp = identity_grasp_matrix(m, space)
         self.E = np.zeros((n, npairs))
         self.external = np.zeros(n)
         self.F_pref = np.zeros(n)
@@ -113,14 +114,16 @@ class LoadDistributionProblem:
         if space == "spatial":
             nf = config.friction_facets
             phi = 2.0 * math.pi * np.arange(nf) / nf
-            self._cos_phi = np.cos(phi)
-            self._sin_phi = np.sin(phi)
-            self._mu_c = float(self.mu or 0.0) * math.cos(math.pi / nf)
+            #: the friction pyramid: its facets' directions cos, sin (spatial) and the friction coefficient of the
+            #: pyramid inscribed in the cone, mu cos(pi / facets) (planar: mu) [-]
+            self.cos_phi = np.cos(phi)
+            self.sin_phi = np.sin(phi)
+            self.mu_c = float(self.mu or 0.0) * math.cos(math.pi / nf)
             self.n_facets = int(nf)
         else:
             self.n_facets = 2
-            self._cos_phi = self._sin_phi = np.zeros(1)  # unused (planar), as in the compiled tick
-            self._mu_c = float(self.mu or 0.0)
+            self.cos_phi = self.sin_phi = np.zeros(1)  # unused (planar), as in the compiled tick
+            self.mu_c = float(self.mu or 0.0)
         # scratch and inputs of the assembly functions (C-contiguous float64, as the compiled tick's)
         self._r = np.zeros((m, p))
         self._r0 = np.zeros(p)
@@ -128,10 +131,12 @@ class LoadDistributionProblem:
         self._y = np.zeros(k)
         self.joint_counts: tuple[int, ...] | None = None
         self.rows: dict[str, slice] = {}
-        self._allocate(())
+        self.allocate(())
 
     # ------------------------------------------------------------------ structure
-    def _allocate(self, joint_counts: tuple[int, ...]) -> None:
+    def allocate(self, joint_counts: tuple[int, ...]) -> None:
+        """The inequality rows' layout (``rows``, ``n_in``) and the stacked arrays ``M``, ``lo``, ``hi`` for arms of
+        ``joint_counts`` joints (the torque rows' count); the grasp rows are kept."""
         m, n = self.m, self.n
         rows, start = {}, 0
         if "min_grip" in self.families:
@@ -148,7 +153,7 @@ class LoadDistributionProblem:
         self.n_in = start
         # one stacked matrix [G; C] and bounds [w; l], [w; u]: G, C, w, l, u are views into them,
         # so that the feasibility check of an answer is one product and two reductions
-        G_old = getattr(self, "G", self._G0)
+        G_old = getattr(self, "G", self.identity_grasp)
         self.M = np.zeros((self.k + start, n))
         self.M[:self.k] = G_old
         self.lo = np.full(self.k + start, -np.inf)
@@ -241,8 +246,8 @@ class LoadDistributionProblem:
         if "min_grip" in rows:
             asm.fill_grip_rows(self.M, k + rows["min_grip"].start, nrm, k)
         if "friction" in rows:
-            asm.fill_friction_rows(self.M, k + rows["friction"].start, nrm, k, self.n_facets, self._mu_c,
-                                   self._cos_phi, self._sin_phi, spatial)
+            asm.fill_friction_rows(self.M, k + rows["friction"].start, nrm, k, self.n_facets, self.mu_c,
+                                   self.cos_phi, self.sin_phi, spatial)
         if "torque_limits" in rows:
             if jacobians is None or tau_max is None:
                 raise ScenarioError("jacobians", jacobians, "per-arm J_i and tau_max when torque_limits=True")
@@ -260,7 +265,7 @@ class LoadDistributionProblem:
                 jacobians = [np.asarray(J, dtype=float) for J in jacobians]
                 counts = tuple(J.shape[1] for J in jacobians)
             if counts != self.joint_counts:
-                self._allocate(counts)
+                self.allocate(counts)
                 return self.update(r, r0, w_N, normals, jacobians, biases, tau_max, K)
             Jg = self._Jg
             for i, J in enumerate(jacobians):

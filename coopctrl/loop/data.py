@@ -2,7 +2,7 @@
 ``TickRecord``, the record rows a tick writes.
 
 The loop state's arrays in it are those of the run's :class:`~coopctrl.loop.state.LoopState` (a copy of the
-state the run was given: a run changes nothing it was given); :mod:`coopctrl.loop.compiled` builds one per run.
+state the run was given: a run changes nothing it was given); :mod:`coopctrl.loop.run` builds one per run.
 Its companion, the run's constants, is :class:`~coopctrl.loop.model.LoopModel`.
 """
 

@@ -1,7 +1,7 @@
 """Why a run stopped: the reason a failed run reports, from the evidence the loop collected.
 
 When a tick stops the run (the Euler-angle band, a divergence guard, a numerical failure of the
-plant, a QP failure past its policy), the driver (:mod:`coopctrl.loop.compiled`) hands the evidence
+plant, a QP failure past its policy), the driver (:mod:`coopctrl.loop.run`) hands the evidence
 to :func:`stop_reason`: the exception, the tick, the recorded states, the last good state, the
 torque saturation so far and the events. It returns ``(status, reason)`` and appends the failure's
 event:

@@ -1,8 +1,8 @@
 """``LoopModel``: the constants of one run of the compiled loop, by name (as MuJoCo's ``mjModel``).
 
-The compiled tick (:class:`coopctrl._core.Tick`, coopctrl/core/tick_model.h) reads them by name; :mod:`coopctrl.loop.compiled` builds one
-per run from the loop's constant arrays (:class:`~coopctrl.loop.compiled.CompiledLoop`) and the run's
-trajectory table, noise and stages. Its companion, what a run writes, is :class:`~coopctrl.loop.data.LoopData`.
+The compiled tick (:class:`coopctrl._core.Tick`, coopctrl/core/tick_model.h) reads them by name;
+:mod:`coopctrl.loop.build` builds one per run from the loop's constants (:class:`~coopctrl.loop.build.LoopConstants`)
+and the run's trajectory table and noise. Its companion, what a run writes, is :class:`~coopctrl.loop.data.LoopData`.
 """
 
 from __future__ import annotations
@@ -10,8 +10,8 @@ from __future__ import annotations
 from collections import namedtuple
 
 #: The constants of a run, by name (as MuJoCo's ``mjModel``): what every tick reads and none writes.
-LoopModel = namedtuple("LoopModel", "spatial N k_base T steps P grasps traj obj rho max_deformation band control qp opts "
-                                    "noise_q noise_o noise_f noise_cfg")
+LoopModel = namedtuple("LoopModel", "spatial N k_base T steps P grasps traj object_mass object_inertia rho "
+                                    "max_deformation band control qp opts sensors")
 LoopModel.__doc__ = """The constants of one run of the compiled tick (:class:`coopctrl._core.Tick`), by name.
 
 - ``spatial`` (bool); ``N`` ticks to record; ``k_base``: the index of the run's first tick in the motion (0,
@@ -21,34 +21,44 @@ LoopModel.__doc__ = """The constants of one run of the compiled tick (:class:`co
   ``arm_dof``, ``q_off``, ``tables``, ``table_off``, ``bases``, ``tools``, ``gravity``, ``node_params``,
   ``edge_index``, ``edge_params``, ``Y_ref``, ``immobile``; ``CooperativePlant.plant_args``);
 - ``grasps`` (m, p) the grasp offsets; ``traj`` (3, N, p) the nominal object motion ``(Y, dY, ddY)`` per tick;
-  ``obj`` the object's mass [kg] and inertia [kg m^2]; ``rho`` (m, npos) the contact points in the object
-  frame [m]; ``max_deformation`` [m] and ``band`` (the Euler band's ``|cos theta|``): the guards;
+  ``object_mass`` [kg] and ``object_inertia`` (3,) spatial, (1,) planar [kg m^2]: the object's; ``rho`` (m, npos)
+  the contact points in the object frame [m]; ``max_deformation`` [m] and ``band`` (the Euler band's
+  ``|cos theta|``): the guards;
 - ``control``: the controllers (:class:`ControlModel`);
 - ``qp``: the QP's constants (:class:`QPConstants`); ``opts``: what the run switches on (:class:`RunOptions`);
-- ``noise_q``, ``noise_o``, ``noise_f``: the sensor noise drawn beforehand, a row per tick (one row of zeros
-  for a noise-free channel); ``noise_cfg`` = (joint noise, joint step, object noise, object step, wrench step).
+- ``sensors``: the sensor noise drawn beforehand and the quantization (:class:`SensorModel`).
+"""
+
+#: The sensors of a run, by name (``LoopModel.sensors``).
+SensorModel = namedtuple("SensorModel", "joints object wrench noisy_state joint_step object_step wrench_step")
+SensorModel.__doc__ = """The sensors of one run (``LoopModel.sensors``), by name.
+
+- ``joints`` (rows, 2 nq): the joint angle and rate noise per tick [rad, rad/s], arm by arm (q, then dq);
+  ``object`` (rows, 2 p): the object pose and twist noise; ``wrench`` (rows, m p): the contact wrench noise
+  [N, N m]; a noise-free channel is one row of zeros (the tick reads row 0);
+- ``noisy_state``: the state is measured apart from the true one (a joint or object channel is noisy or
+  quantized); ``joint_step`` [rad], ``object_step`` [m, rad], ``wrench_step`` [N, N m]: the quantization steps
+  (0: none).
 """
 
 
 #: The QP's constants of a run, by name (``LoopModel.qp``).
-QPConstants = namedtuple("QPConstants", "W_diag W_inv_diag s_des tau_qp tau_max cos_phi sin_phi numbers rows")
+QPConstants = namedtuple("QPConstants", "W_diag W_inv_diag s_des tau_qp tau_max cos_phi sin_phi eps_abs mu_c max_iter "
+                                        "min_grip answer_rho has_squeeze min_grip_row friction_row torque_row facets "
+                                        "max_consecutive_failures")
 QPConstants.__doc__ = """The load-distribution QP's constants of a run (``LoopModel.qp``), by name.
 
 - ``W_diag``, ``W_inv_diag`` (n,): the weights of the contact wrenches and their inverses; ``s_des`` the desired
   squeeze [N]; ``tau_qp`` (nu,) the joint torque limits the QP's torque rows use [N m]; ``tau_max`` (nu,) the
-  saturation limits [N m]; ``cos_phi``, ``sin_phi``: the friction cone's facet directions (spatial; one zero
+  saturation limits [N m]; ``cos_phi``, ``sin_phi``: the friction pyramid's facet directions (spatial; one zero
   otherwise);
-- ``numbers`` = ``(eps_abs [N], mu_c, max_iter, min_grip [N], answer_rho)`` (:data:`QP_NUMBERS_FIELDS`; ``mu_c``
-  the inscribed pyramid's friction coefficient, ``answer_rho`` the answer tolerance's fraction of the load);
-- ``rows`` (int64) = ``(has_squeeze, first min-grip row, first friction row, first torque row, facets,
-  max_consecutive_failures)`` (:data:`QP_ROWS_FIELDS`), a row -1 where the family is absent.
+- ``eps_abs`` [N] the solver's feasibility tolerance; ``mu_c`` the inscribed pyramid's friction coefficient;
+  ``max_iter`` the solver's iteration limit; ``min_grip`` [N] the least normal force (0 when the family is off);
+  ``answer_rho`` the fraction of the load an answer may miss;
+- the row layout, counted from the first inequality row: ``has_squeeze``; ``min_grip_row``, ``friction_row``,
+  ``torque_row`` each family's first row (-1 where absent); ``facets`` the friction rows per contact;
+  ``max_consecutive_failures`` the failed solves in a row before the run stops.
 """
-
-#: The names of ``QPConstants.numbers``, by index: the fields of the compiled core's ``QPNumbers``
-#: (coopctrl/core/qp_constants.h), which reads the row by these names.
-QP_NUMBERS_FIELDS = ("eps_abs", "mu_c", "max_iter", "min_grip", "answer_rho")
-#: The names of ``QPConstants.rows``, by index: the fields of the compiled core's ``QPRows``.
-QP_ROWS_FIELDS = ("has_squeeze", "min_grip", "friction", "torque_limits", "facets", "max_consecutive_failures")
 
 #: What a run switches on and the arrays that go with it, by name (``LoopModel.opts``).
 RunOptions = namedtuple("RunOptions", "passive energy max_energy elastic_split probes plant_outside energy_record "

@@ -3,7 +3,7 @@
 An error-controlled scheme (``rk23``, ``rk45``, ``trbdf2``, and the Python reference of ``coopctrl
 tradeoff`` and ``simulation.accuracy``) shrinks its step until the tolerance is met; where it cannot
 be met at any step above ``simulation.min_step`` it may crawl on with tiny steps for hours. The loop
-(:func:`coopctrl.loop.compiled.run_compiled`) counts the steps taken (accepted and rejected) and stops the
+(:func:`coopctrl.loop.run.run_compiled`) counts the steps taken (accepted and rejected) and stops the
 run when they exceed
 
 .. math::

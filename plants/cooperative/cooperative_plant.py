@@ -255,7 +255,7 @@ class CooperativePlant:
         """``(Y, dY, J, Jdq, frames)`` at ``x`` with every node's frames in its chart (one call of the core)."""
         d = self._compiled.node_state(x, self._plant_args)  # spatial: the frames too
         if d["status"][0]:
-            self._check(d["status"], x)
+            self.check_status(d["status"], x)
         return d["Y"], d["dY"], d["J"], d["Jdq"], d["frames"]
 
     def book_coordinates(self, x, dx):
@@ -339,7 +339,9 @@ class CooperativePlant:
         }
 
     # ------------------------------------------------------------------ dynamics
-    def _check(self, status, x=None):
+    def check_status(self, status, x=None):
+        """Raise the plant's exception for a kernel status ``(code, node)`` (nothing when it is ok), naming the
+        node and, given the state ``x`` it was met at, its angles."""
         code, where = int(status[0]), int(status[1])
         if code == STATUS_OK:
             return
@@ -375,7 +377,7 @@ class CooperativePlant:
         dx = np.empty(2 * nz)
         status = self._compiled.rhs(x, tau, self._plant_args, dx)  # plants/core: one call, the kernel's bits
         if status[0]:
-            self._check(status, x)
+            self.check_status(status, x)
         return dx
 
     def _state(self, x, name: str = "x") -> np.ndarray:
@@ -391,7 +393,7 @@ class CooperativePlant:
         """``(Y, dY, H, h, J, Jdq)`` at ``x``, new arrays (one call of the core)."""
         d = self._compiled.node_state(self._state(x), self._plant_args)
         if d["status"][0]:
-            self._check(d["status"])
+            self.check_status(d["status"])
         return d["Y"], d["dY"], d["H"], d["h"], d["J"], d["Jdq"]
 
     def node_poses(self, x) -> np.ndarray:
@@ -431,7 +433,7 @@ class CooperativePlant:
         xc = np.array(self._state(x), dtype=float)
         d = self._compiled.control_terms(xc, self._plant_args)
         if d["status"][0]:
-            self._check(d["status"], xc)
+            self.check_status(d["status"], xc)
         nz = self.nz
         return ControlTerms(d["Y"], d["dY"], d["H"], d["h"], d["J"], d["Jdq"], d["W"], d["w_free"], d["S"], d["Fw"],
                             xc[:nz], xc[nz:2 * nz])
