@@ -94,3 +94,30 @@ def test_a_loaded_start_is_planned_without_loading_the_simulator():
                           env={**__import__("os").environ, "PYTHONPATH": str(REPO)})
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"
+
+
+#: The public methods of named tuples (their API begins with an underscore so as not to clash with field names).
+_NAMEDTUPLE_API = {"_replace", "_fields", "_asdict", "_make"}
+
+
+def _private_reads(path: Path) -> list[str]:
+    """``obj._name`` in ``path`` on anything but ``self`` / ``cls`` (a named tuple's own API aside)."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if (isinstance(node, ast.Attribute) and node.attr.startswith("_") and not node.attr.startswith("__")
+                and node.attr not in _NAMEDTUPLE_API
+                and not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls"))):
+            found.append(f"{path.name}:{node.lineno}: .{node.attr}")
+    return found
+
+
+def test_the_run_model_is_built_through_public_members(tmp_path):
+    """Issue 42, item 2: the loop's model is built in one place (``coopctrl/loop/build.py``), driven by
+    ``coopctrl/loop/run.py`` and, for the controller, ``coopctrl/controller/controller.py``, reading the loop's parts
+    by their public names: none reads a private member of another object (the reader is checked on a line that
+    does)."""
+    probe = tmp_path / "probe.py"
+    probe.write_text("def f(self, loop):\n    return self._x, loop._rho, loop.T._replace()\n", encoding="utf-8")
+    assert _private_reads(probe) == ["probe.py:2: ._rho"]
+    files = [PACKAGE / "loop" / "build.py", PACKAGE / "loop" / "run.py", PACKAGE / "controller" / "controller.py"]
+    assert [hit for path in files for hit in _private_reads(path)] == []
