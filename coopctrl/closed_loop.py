@@ -48,6 +48,7 @@ from coopctrl.loop import diagnosis, loaded_start
 from coopctrl.loop.diagnosis import DIAGNOSIS_TICKS_BACK
 from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
 from coopctrl.loop.euler_band import check_nominal_path, closest_to_singularity, margin_cos
+from coopctrl.loop.parts import LoopControllers, LoopGuards, LoopTiming
 from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, qp_torque_limits
 from coopctrl.record_memory import check_record_fits
 from plants.cooperative import nominal_node_motion
@@ -64,56 +65,53 @@ class ClosedLoop:
         plant: The cooperative plant (simulated, and also the controllers' model).
         trajectory: Object trajectory with ``evaluate(t) -> (Y, dY, ddY)``.
         grasps: (m, p) grasp poses in the object frame, as the controllers know them.
-        load_distribution: :class:`~coopctrl.load_distribution.LoadDistribution`.
-        compliance: :class:`~coopctrl.controllers.GraspCompliance`.
-        leader: :class:`~coopctrl.controllers.LeaderController`.
-        followers: Mapping arm index -> :class:`~coopctrl.controllers.FollowerForceController`.
+        load_distribution: :class:`~coopctrl.load_distribution.LoadDistribution`: the split and, from its
+            configuration, the desired squeeze per pair [N] and whether the QP has torque rows.
+        controllers: :class:`~coopctrl.loop.parts.LoopControllers`: the leader, the followers, the grasp
+            compliance, the nodes' laws, and whether the controllers run.
         sensors: :class:`~coopctrl.sensors.SensorSuite`.
-        integrator: A fixed-step integrator (``step(f, t, x, u, h)``).
-        control_period: ``T`` [s]; substeps: integration steps per period.
-        step: Optional free plant step ``h`` [s], ``0 < h <= T``, instead of ``T / substeps``
-            (see :meth:`set_step`).
-        squeeze_desired: (n_pairs,) desired virtual-linkage squeeze [N].
-        max_deformation: Divergence bound on any node's displacement from its rigid pose [m].
-        max_energy: Optional bound on the total energy [J].
+        timing: :class:`~coopctrl.loop.parts.LoopTiming`: the integrator, the control period ``T`` [s] and the
+            plant's steps in it.
+        guards: :class:`~coopctrl.loop.parts.LoopGuards`: the deformation [m] and energy [J] bounds.
+        name: The loop's name (the scenario's).
+        rotations: ``"book"``: the loop runs in the book's world angles; ``"charts"`` (spatial): in a world chart
+            re-centred on the object (:mod:`coopctrl.loop.charts`).
         failure_causes: Optional ``(loop, evidence, k_done, t_fail, x_back, t_back, x0) -> Diagnosis``:
-            the causes of a divergence checked against the closed loop's predicted step limit (wired by
-            :func:`coopctrl.simulator.closed_loop`; see :mod:`coopctrl.loop.diagnosis`).
-        leader_law: Optional :class:`~coopctrl.controllers.leader_law.LeaderLaw`: the leader node's
-            commanded acceleration from its pose error, in place of the computed-torque law with the leader's
-            gains (``None``); see :mod:`coopctrl.controllers.leader_law`.
-        follower_law: Optional :class:`~coopctrl.controllers.leader_law.LeaderLaw` for the followers' nodes:
-            their commanded acceleration from the pose error to their target (the rigid node moved by the
-            compliance map of the force PI's correction), in place of their computed torque with the
-            followers' gains (``None``).
+            the causes of a divergence checked against the closed loop's predicted step limit (see
+            :mod:`coopctrl.loop.diagnosis`).
     """
 
-    def __init__(self, plant, trajectory, grasps, load_distribution, compliance, leader, followers, sensors,
-                 integrator, control_period: float, substeps: int, squeeze_desired, max_deformation: float,
-                 max_energy: float | None = None, torque_limits: bool = False, name: str = "scenario",
-                 enabled: bool = True, step: float | None = None, failure_causes=None, leader_law=None,
-                 rotations: str = "book", follower_law=None):
+    def __init__(self, plant, trajectory, grasps, load_distribution, controllers: LoopControllers, sensors,
+                 timing: LoopTiming, guards: LoopGuards, *, name: str = "scenario", rotations: str = "book",
+                 failure_causes=None):
+        for arg, value, cls in (("controllers", controllers, LoopControllers), ("timing", timing, LoopTiming),
+                                ("guards", guards, LoopGuards)):
+            arguments.instance(arg, value, cls, f"a coopctrl.loop.parts.{cls.__name__}")
         self.plant = plant
         self.trajectory = trajectory
         self.grasps = np.asarray(grasps, dtype=float)
         self.ld = load_distribution
-        self.compliance = compliance
-        self.leader = leader
-        self.followers = dict(followers)
+        self.compliance = controllers.compliance
+        self.leader = controllers.leader
+        self.followers = dict(controllers.followers)
+        self.leader_law = controllers.leader_law
+        self.follower_law = controllers.follower_law
+        self.enabled = controllers.enabled
         self.sensors = sensors
-        self.integrator = integrator
-        self.T = float(control_period)
-        self.substeps = int(substeps)
+        self.integrator = timing.integrator
+        self.T = timing.control_period
+        self.substeps = timing.substeps
         self.h = self.T / self.substeps
         self._steps = (self.h,) * self.substeps
-        if step is not None:
-            self.set_step(step)
-        self.squeeze_desired = np.asarray(squeeze_desired, dtype=float)
-        self.max_deformation = float(max_deformation)
-        self.max_energy = max_energy
-        self.torque_limits = bool(torque_limits)
+        if timing.step is not None:
+            self.set_step(timing.step)
+        config = load_distribution.config
+        #: (n_pairs,) the desired virtual-linkage squeeze [N] (the load distribution's)
+        self.squeeze_desired = np.asarray(config.squeeze_per_pair(plant.arm_count), dtype=float)
+        self.torque_limits = bool(config.torque_limits)
+        self.max_deformation = guards.max_deformation
+        self.max_energy = guards.max_energy
         self.name = name
-        self.enabled = bool(enabled)
         if rotations not in ("book", "charts") or (rotations == "charts" and plant.space != "spatial"):
             raise ValueError(f"rotations = {rotations!r} is invalid: expected 'book' or, for a spatial plant, 'charts'")
         #: ``"book"``: the loop runs in the book's world angles; ``"charts"``: in a world chart re-centred on the
@@ -124,14 +122,6 @@ class ClosedLoop:
                              "work on the book's world angles; pass the plant in them and rotations = 'charts' "
                              "for a scene that turns through pitch 90 deg")
         self.failure_causes = failure_causes
-        from coopctrl.controllers.leader_law import LeaderLaw
-
-        for name, law in (("leader_law", leader_law), ("follower_law", follower_law)):
-            if law is not None and not isinstance(law, LeaderLaw):
-                raise TypeError(f"{name} = {law!r}: expected a coopctrl.controllers.leader_law.LeaderLaw "
-                                "(e.g. object_impedance(...)) or None (the node's computed torque)")
-        self.leader_law = leader_law
-        self.follower_law = follower_law
         self.space = plant.space
         self.npos = 3 if self.space == "spatial" else 2
         el = plant.elastic

@@ -15,6 +15,7 @@ from coopctrl.closed_loop import ClosedLoop
 from coopctrl.controllers import FollowerForceController, GraspCompliance, LeaderController
 from coopctrl.integrators import get_integrator
 from coopctrl.load_distribution import LoadDistribution
+from coopctrl.loop.parts import LoopControllers, LoopGuards, LoopTiming
 from coopctrl.scenario import build
 from coopctrl.sensors import SensorConfig, SensorSuite
 
@@ -107,13 +108,12 @@ def closed_loop(scenario, *, integrator=None, step: float | None = None, uniform
                    if integrator in ERROR_CONTROLLED else {})
         integrator = get_integrator(integrator, **options)
     loop = ClosedLoop(plant, trajectory, build.nominal_grasps(scenario),
-                      LoadDistribution(scenario.load_distribution, space, m), compliance, leader,
-                      followers, sensors, integrator, sim.control_period, sim.substeps,
-                      scenario.load_distribution.squeeze_per_pair(m), sim.max_deformation, sim.max_energy,
-                      torque_limits=scenario.load_distribution.torque_limits, name=scenario.name,
-                      enabled=scenario.controllers.enabled, rotations=scenario.scene.rotations,
-                      **({"leader_law": leader_law} if leader_law is not None else {}),
-                      **({"follower_law": follower_law} if follower_law is not None else {}))
+                      LoadDistribution(scenario.load_distribution, space, m),
+                      LoopControllers(leader, followers, compliance, leader_law=leader_law, follower_law=follower_law,
+                                      enabled=scenario.controllers.enabled),
+                      sensors, LoopTiming(integrator, sim.control_period, sim.substeps),
+                      LoopGuards(sim.max_deformation, sim.max_energy), name=scenario.name,
+                      rotations=scenario.scene.rotations)
     if step is not None:
         loop.set_step(step, uniform=uniform_step)
     return loop

@@ -217,13 +217,14 @@ def test_the_loop_refuses_a_plant_in_its_own_charts():
     """The loop's charts are its world chart (rotations = 'charts'); a plant whose nodes take per-node charts
     would feed chart coordinates to controllers written on the book's angles: refused, naming the fix."""
     from coopctrl.closed_loop import ClosedLoop
+    from coopctrl.loop.parts import LoopControllers, LoopGuards, LoopTiming
 
     scenario = load_scenario(SCENE, {**PASSIVE})
     loop = closed_loop(scenario)
     with pytest.raises(ValueError, match=r"plant is in rotation charts .* rotations = 'charts'"):
-        ClosedLoop(loop.plant.with_charts(arm_charts="own"), loop.trajectory, loop.grasps, loop.ld, loop.compliance,
-                   loop.leader, loop.followers, loop.sensors, loop.integrator, loop.T, loop.substeps,
-                   loop.squeeze_desired, loop.max_deformation)
+        ClosedLoop(loop.plant.with_charts(arm_charts="own"), loop.trajectory, loop.grasps, loop.ld,
+                   LoopControllers(loop.leader, loop.followers, loop.compliance), loop.sensors,
+                   LoopTiming(loop.integrator, loop.T, loop.substeps), LoopGuards(loop.max_deformation))
 
 
 def test_a_run_in_charts_ends_in_the_book_coordinates_it_started_in():
