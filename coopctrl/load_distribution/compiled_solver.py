@@ -23,7 +23,7 @@ import numpy as np
 
 from coopctrl._core import gi_solve
 
-from .goldfarb_idnani import STATUS_NAMES, WARM_ACTIVE, gi_workspace
+from .goldfarb_idnani import STATUS_NAMES, gi_cold_start, gi_workspace
 from .solvers import BackendResult
 
 #: Status names of the compiled solver mapped to those of :class:`~coopctrl.load_distribution.solvers.QPStats`.
@@ -54,7 +54,7 @@ class CompiledSolver:
     def reset(self) -> None:
         """Start the next solve cold (empty active set), e.g. after a failed or rejected solve."""
         if self._ws is not None:
-            self._ws[3][WARM_ACTIVE] = 0
+            gi_cold_start(self._ws)
 
     def solve(self, problem) -> BackendResult:
         """Solve ``problem`` (a :class:`LoadDistributionProblem` after ``update``)."""

@@ -143,3 +143,8 @@ def gi_workspace(n, n_rows):
     rowv = np.zeros((2, n_rows))
     ints = np.zeros(4 + 4 * n + 3 * n_rows, np.int64)
     return mats, vecs, rowv, ints
+
+
+def gi_cold_start(ws) -> None:
+    """Empty the active set of the workspace ``ws`` (:func:`gi_workspace`): its next solve starts cold."""
+    ws[3][WARM_ACTIVE] = 0

@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 import coopctrl.trajectory.quaternion as quat
+from coopctrl.load_distribution.goldfarb_idnani import gi_cold_start
 from plants.frames import EULER_SINGULARITY_COS
 
 #: Re-centre the stored charts below this smallest ``|cos theta|`` [-] (module docstring: why 0.7).
@@ -328,7 +329,7 @@ class WorldChart:
         for w in (state.integrals, *state.last_split):  # (m, 6) wrenches, force and moment rotated
             w[:, :3] = w[:, :3] @ D.T
             w[:, 3:] = w[:, 3:] @ D.T
-        state.ws[3][0] = 0  # the QP starts cold (CompiledSolver.reset): its warm start is in the old axes
+        gi_cold_start(state.ws)  # the QP starts cold (CompiledSolver.reset): its warm start is in the old axes
         _cold_start(plan)
         self.C = Cn
         self.table(traj, k)

@@ -28,6 +28,7 @@ import numpy as np
 
 from coopctrl.errors import DivergenceError, InfeasibleLoad, StepTooSmall
 from coopctrl.integrators import ExplicitEuler
+from coopctrl.load_distribution.goldfarb_idnani import gi_cold_start
 import coopctrl._core as _core
 import coopctrl.integrators.compiled as I
 import coopctrl.loop.charts as loop_charts
@@ -81,7 +82,7 @@ def qp_failure(loop, cl: LoopConstants, qa, code: int, iters: int, state: LoopSt
         tol = ld.answer_tolerance(scale)
         if not viol <= tol:
             violated = sorted(((v, k) for k, v in pb.violations(x).items() if v > tol), reverse=True)
-    state.ws[3][0] = 0  # cold start next time (CompiledSolver.reset)
+    gi_cold_start(state.ws)  # the next solve starts cold (CompiledSolver.reset)
     status, binding, detail, advice = ld.failure_cause(status, violated, tol)
     flags = state.flags
     flags.consecutive_failures += 1
