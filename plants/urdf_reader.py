@@ -7,7 +7,7 @@ regular file of at most :data:`MAX_URDF_BYTES`. The links must form a tree: uniq
 names, each link the child of at most one joint, no cycle (found in linear time), and at most
 :data:`MAX_CHAIN_JOINTS` joints between ``base_link`` and ``tip_link``.
 
-This module imports neither numba nor the arm models, so that the scene loader can check a URDF
+This module imports neither the compiled core nor the arm models, so that the scene loader can check a URDF
 arm's file (and count its joints) in well under a second, before any long work; the arm itself is
 built by :func:`plants.arms.from_urdf`, which reads the numbers on this tree. Errors are
 :class:`~plants.errors.ParameterError` naming ``urdf``, ``base_link``, ``tip_link`` or the element

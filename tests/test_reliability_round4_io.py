@@ -25,7 +25,7 @@ TESTS = Path(__file__).resolve().parent
 LIFT = REPO / "scenarios" / "planar_two_arm_lift.toml"
 SHORT = ["--set", "simulation.duration=0.05"]
 ENV = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO), str(TESTS), os.environ.get("PYTHONPATH", "")])}
-#: Bound on one command [s]: a hang is what it catches, not slowness (kernel cache loads on a busy machine).
+#: Bound on one command [s]: a hang is what it catches, not slowness (a busy machine).
 BOUND_S = 300
 
 

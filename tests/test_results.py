@@ -206,14 +206,6 @@ def test_atomic_write_binary(tmp_path):
     assert (tmp_path / "a.bin").read_bytes() == b"\x00\x01"
 
 
-def test_write_text_if_possible_writes_whole_or_says_it_could_not(tmp_path):
-    target = tmp_path / "new folder" / "stamp.txt"
-    assert atomic_module.write_text_if_possible(target, "a\nb\n") and target.read_text() == "a\nb\n"
-    (tmp_path / "a file").write_text("kept")
-    assert not atomic_module.write_text_if_possible(tmp_path / "a file" / "stamp.txt", "x")  # its folder is a file
-    assert (tmp_path / "a file").read_text() == "kept"
-
-
 # ---------------------------------------------------------------------- plots
 @pytest.mark.parametrize("space, m, limits", [("planar", 2, True), ("spatial", 3, False)])
 def test_plot_writes_nonempty_pngs(tmp_path, space, m, limits):

@@ -89,20 +89,6 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str | No
     _fsync_directory(directory)
 
 
-def write_text_if_possible(path: str | os.PathLike, text: str) -> bool:
-    """Write ``text`` to ``path`` whole (:func:`atomic_write`, its folder made first). Returns False, with
-    ``path`` as it was, when the folder or the file cannot be written (a cache on a read-only disk): for
-    files whose absence costs only time, as the kernel cache's stamps and kept times."""
-    path = Path(path)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with atomic_write(path) as f:
-            f.write(text)
-    except OSError:
-        return False
-    return True
-
-
 def _permissions(target: Path, new: int = 0o666) -> int:
     """Keep an existing file's (or folder's) permissions; a new one gets ``new`` (0666 for a file,
     0777 for a folder) minus the umask (``mkstemp`` / ``mkdtemp`` would leave 0600 / 0700)."""

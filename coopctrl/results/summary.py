@@ -108,7 +108,7 @@ def summarize(result: "SimulationResult") -> dict[str, Any]:
     p = r.pose_size
     nf = 2 if p == 3 else 3  # force components of a wrench
     simulated = float(r.t[-1] - r.t[0]) if n > 1 else 0.0
-    wall = r.wall_time_s  # from the first tick: the start-up (compiling or loading the kernels) is startup_s
+    wall = r.wall_time_s  # from the first tick: the run's set-up (its model and data built) is startup_s
     realtime = simulated / wall if wall and math.isfinite(wall) and wall > 0 and n > 1 else None
 
     pos = position_error(r.Y0, r.Y0_nominal)

@@ -5,8 +5,8 @@
 - ``jobs > 1`` (default ``os.cpu_count()``): :class:`LocalProcessPool`, a process pool. Workers are
   started with ``spawn``: a fresh interpreter inherits no threads or locks from this process (which
   may hold compiler, BLAS, tqdm or Dask threads, and ``fork`` with threads can deadlock), and it behaves
-  the same on Linux, macOS and Windows. A worker's start-up costs about 0.85 s (imports, and the compiled
-  kernels loaded from their on-disk cache), paid once per worker; ``forkserver`` measured the same. It is
+  the same on Linux, macOS and Windows. A worker's start-up costs about 0.85 s (imports, the compiled
+  core's shared libraries loaded), paid once per worker; ``forkserver`` measured the same. It is
   not a run's time: a run's timeout and wall time start at its first tick (:mod:`coopctrl.sweep.worker`).
   :func:`~coopctrl.sweep.runner.run_sweep` starts the workers (:meth:`LocalProcessPool.start`) before it
   validates the runs, and each imports the run function's modules (its ``preload``) as it starts, so that

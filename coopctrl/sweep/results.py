@@ -64,7 +64,7 @@ METRICS = (
 
 #: Columns measured on the wall clock: they vary from run to run, everything else is reproducible.
 #: ``realtime_factor`` is simulated time over the loop's wall time; ``wall_time_s`` is the run from its
-#: first tick [s]: the worker's start-up (imports, compiling or loading the kernels, building) is excluded.
+#: first tick [s]: the worker's start-up (imports, building the scene) is excluded.
 TIMING_COLUMNS = ("realtime_factor", "wall_time_s")
 
 #: The file names written into an output directory.

@@ -5,12 +5,11 @@ Both are module-level functions so that a process pool or a Dask cluster can pic
 
 A run is timed from its first tick, not from the worker's start-up. A run function may declare a
 start-up phase: it sets the attribute ``start_up_allowance_s`` [s] and does its set-up inside
-:func:`start_up` (imports, loading or compiling the kernels, building the scene). The start-up
-is then bounded by that allowance (:data:`STARTUP_ALLOWANCE_S` for :func:`simulate_run`), and the run
-timeout and the row's ``wall_time_s`` count from the end of the start-up. A fresh worker under load
-takes seconds to start (3.5 s measured: a 0.2 s run became a ``timeout``), and a cold kernel cache
-compiles a scene kind in minutes; neither is the run's time. A run function without a start-up phase
-is timed from its call.
+:func:`start_up` (imports, building the scene). The start-up is then bounded by that allowance
+(:data:`STARTUP_ALLOWANCE_S` for :func:`simulate_run`), and the run timeout and the row's ``wall_time_s`` count
+from the end of the start-up. A fresh worker under load takes seconds to start (3.5 s measured: a 0.2 s run
+became a ``timeout``); that is not the run's time. A run function without a start-up phase is timed from its
+call.
 """
 
 from __future__ import annotations
@@ -30,10 +29,10 @@ from coopctrl.sweep.results import make_row
 RunFunction = Callable[[SweepRun], dict]
 
 #: Seconds a worker may take to start a run of :func:`simulate_run` before the run is stopped as a
-#: ``timeout``: the imports, the compiled kernels loaded from their cache (seconds under load) or compiled
-#: on a cold cache (1 to 3 minutes per scene kind on a loaded machine), the scene built. Only with a run
+#: ``timeout``: the imports (the compiled core is a shared library, loaded, never compiled) and the scene built,
+#: under a second on a quiet machine, a few seconds under load; ten times the slowest seen. Only with a run
 #: timeout; the run's own timeout starts after it.
-STARTUP_ALLOWANCE_S = 600.0
+STARTUP_ALLOWANCE_S = 60.0
 
 
 class RunTimeout(Exception):

@@ -1,10 +1,9 @@
-"""Column layout of the packed parameter arrays handed to the compiled core (and to the numba kernels kept for
-``coopctrl/``'s numba code).
+"""Column layout of the packed parameter arrays handed to the compiled core.
 
 The kernels take plain float64/int64 arrays (no Python objects). Each row is the same doubles, in the same
 order, as a struct of the compiled core (``plants/core/elastic_model.h``), and its columns are named here, in
-one place (:class:`RowLayout`): the packers write them by name (``SPATIAL_SPRING["stiffness"]``), the numba
-kernels read them through the column constants below, the compiled core through the struct's fields.
+one place (:class:`RowLayout`): the packers write them by name (``SPATIAL_SPRING["stiffness"]``), the compiled
+core reads them through the struct's fields.
 
 Edge rows (one per interconnection, docs/model.md s.3), ``EDGE_WIDTH_SPATIAL`` or ``EDGE_WIDTH_PLANAR``
 columns; which struct reads a row is its header's element kind:
@@ -89,33 +88,6 @@ DAMPING_FORMS = {"frame_invariant": DAMPING_FRAME_INVARIANT, "book": DAMPING_BOO
 ROTATION_BOOK = 0
 ROTATION_GEODESIC = 1
 ROTATION_FORMS = {"book": ROTATION_BOOK, "geodesic": ROTATION_GEODESIC}
-#: Columns of an edge index row (the element header), as the numba kernels read them.
-EDGE_NODE_I = EDGE_HEADER.col("i")
-EDGE_NODE_J = EDGE_HEADER.col("j")
-EDGE_KIND = EDGE_HEADER.col("kind")
-EDGE_DAMPING_FORM = EDGE_HEADER.col("damping_form")
-
-#: Column of the rotation form in a spatial central or offset edge row (0.0 book, 1.0 geodesic).
-ROTATION_FORM_COL = SPATIAL_SPRING.col("rotation_form")
-
-#: Columns of a spatial spring row, as the numba kernels read them (first column of each field).
-SPRING_STIFFNESS = SPATIAL_SPRING.col("stiffness")
-SPRING_TORSION = SPATIAL_SPRING.col("torsion")
-SPRING_REST_LENGTH = SPATIAL_SPRING.col("rest_length")
-SPRING_REST_ANGLES = SPATIAL_SPRING.col("rest_angles")
-SPRING_REST_OFFSET = SPATIAL_SPRING.col("rest_offset")
-SPRING_DAMPING = SPATIAL_SPRING.col("damping")
-SPRING_TORSION_DAMPING = SPATIAL_SPRING.col("torsion_damping")
-SPRING_KAPPA = SPATIAL_SPRING.col("kappa")
-SPRING_REST_ROTATION = SPATIAL_SPRING.col("rest_rotation")
-#: Columns of a planar spring row.
-PLANAR_STIFFNESS = PLANAR_SPRING.col("stiffness")
-PLANAR_TORSION = PLANAR_SPRING.col("torsion")
-PLANAR_REST_LENGTH = PLANAR_SPRING.col("rest_length")
-PLANAR_REST_ANGLE = PLANAR_SPRING.col("rest_angle")
-PLANAR_REST_OFFSET = PLANAR_SPRING.col("rest_offset")
-PLANAR_DAMPING = PLANAR_SPRING.col("damping")
-PLANAR_TORSION_DAMPING = PLANAR_SPRING.col("torsion_damping")
 
 #: Columns of a node row: the mass and the first principal moment of inertia (the same columns in
 #: ``SPATIAL_NODE`` and ``PLANAR_NODE``, so the planar kernels read them too).
@@ -136,19 +108,6 @@ CHART_OWN = 2
 #: Columns of an edge row: the widest element of each space (a matrix element's row).
 EDGE_WIDTH_SPATIAL = SPATIAL_MATRIX.width
 EDGE_WIDTH_PLANAR = PLANAR_MATRIX.width
-
-# matrix element (co-rotational, node i clamped in the element frame; docs/model.md s.3): first columns
-MATRIX_K = SPATIAL_MATRIX.col("stiffness_jj")  # K_jj, spatial 6x6 and planar 3x3 row-major (both at 0)
-MATRIX_C_SPATIAL = SPATIAL_MATRIX.col("damping_jj")
-MATRIX_U0_SPATIAL = SPATIAL_MATRIX.col("rest_offset")
-MATRIX_M_SPATIAL = SPATIAL_MATRIX.col("frame_in_i")
-MATRIX_N_SPATIAL = SPATIAL_MATRIX.col("frame_in_j")
-MATRIX_LINEAR_SPATIAL = SPATIAL_MATRIX.col("stiffness_linear")  # then damping_linear, 4 p^2 columns further
-MATRIX_C_PLANAR = PLANAR_MATRIX.col("damping_jj")
-MATRIX_U0_PLANAR = PLANAR_MATRIX.col("rest_offset")
-MATRIX_ALPHA_PLANAR = PLANAR_MATRIX.col("frame_angle")
-MATRIX_BETA_PLANAR = PLANAR_MATRIX.col("rest_angle")
-MATRIX_LINEAR_PLANAR = PLANAR_MATRIX.col("stiffness_linear")
 
 # kernel status codes
 STATUS_OK = 0
