@@ -200,6 +200,8 @@ SINKS = {
 }
 COMMANDS = [["list"], ["show", "planar_two_arm_lift"], ["check", "planar_two_arm_lift"],
             ["sweep", "planar_two_arm_lift", "--grid", "simulation.seed=0", "--jobs", "1", *SHORT]]
+#: Commands whose whole output is argparse's (its help).
+ARGPARSE_COMMANDS = [["--help"], ["run", "--help"]]
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/dev/full")
@@ -221,6 +223,33 @@ def test_fuzz_a_refused_standard_output_is_one_line_exit_1(seed):
         os.close(read)  # the reader is gone before the first write: EPIPE, deterministically
         try:
             proc = _process(command, write)
+        finally:
+            os.close(write)
+    assert proc.returncode == 1, (command, sink, proc.stderr)
+    assert one_clean_line(proc.stderr).startswith("coopctrl: failed: " + SINKS[sink][0]), (command, sink)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/dev/full")
+@pytest.mark.parametrize("command", ARGPARSE_COMMANDS, ids=" ".join)
+@pytest.mark.parametrize("sink", sorted(SINKS))
+def test_help_on_a_refused_standard_output_exits_1(command, sink):
+    """``--help`` is written by argparse, whose own writer drops a refused write: on
+    /dev/full, a closed standard output or a pipe whose reader is gone it exits 1 with the one line too (with
+    ``PYTHONUNBUFFERED=1`` the write itself fails, before any flush)."""
+    env = {**ENV, "PYTHONUNBUFFERED": "1"}
+    if sink == "full":
+        with open("/dev/full", "w") as full:
+            proc = subprocess.run([sys.executable, "-m", "coopctrl", *command], stdout=full, stderr=subprocess.PIPE,
+                                  text=True, env=env, timeout=BOUND_S)
+    elif sink == "closed":
+        proc = subprocess.run(["sh", "-c", 'exec "$0" "$@" >&-', sys.executable, "-m", "coopctrl", *command],
+                              stderr=subprocess.PIPE, text=True, env=env, timeout=BOUND_S)
+    else:
+        read, write = os.pipe()
+        os.close(read)
+        try:
+            proc = subprocess.run([sys.executable, "-m", "coopctrl", *command], stdout=write,
+                                  stderr=subprocess.PIPE, text=True, env=env, timeout=BOUND_S)
         finally:
             os.close(write)
     assert proc.returncode == 1, (command, sink, proc.stderr)

@@ -37,6 +37,23 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # noqa: D102 - argparse API
         raise UsageError(f"{message}; see `{self.prog} --help`")
 
+    def _print_message(self, message, file=None):  # argparse's own (no public hook) drops a refused write
+        """Write argparse's message (``--help``) to ``file``: standard output (``None`` when it was closed at
+        start-up) through :func:`~coopctrl.io.console.say`, so that a write the system refuses (a full disk, a
+        closed stream, a reader that stopped) is an :class:`~coopctrl.io.console.OutputWriteError`, not a silent
+        exit 0; another stream as argparse writes it."""
+        if not message:
+            return
+        from coopctrl.io.console import refused, say
+
+        if file is None or file is sys.stdout:
+            say(message[:-1] if message.endswith("\n") else message)
+            return
+        try:
+            file.write(message)
+        except (OSError, ValueError) as exc:
+            raise refused(file, exc, False) from None
+
 
 def subcommand(name: str):
     """Register the function that adds the subcommand ``name`` (``sub.add_parser(name, ...)`` and
