@@ -137,6 +137,30 @@ def test_the_interconnection_wrenches_in_both_models_and_at_the_objects_singular
         plant.interconnection_wrenches(Y[1:])
 
 
+@pytest.mark.parametrize("name", ["spatial_two_puma_carry", "planar_two_arm_lift", "flexible_bar_carry"])
+def test_a_stack_of_node_poses_gives_each_samples_wrenches_bit_for_bit(name):
+    """``interconnection_wrenches`` of a stack (B, m + 1, p) is each sample's own call, bit for bit (the grasp
+    compliance's finite differences make all their poses in one call), and a stack of the wrong width is refused."""
+    rng = np.random.default_rng(23)
+    plant = _plants(name)[0]
+    x = next(iter(_states(name, plant, rng)))[0]
+    Y0 = plant.book_coordinates(x, np.zeros_like(x))[0].reshape(plant.node_count, plant.p)
+    Ys = Y0 + rng.normal(scale=1e-3, size=(5, *Y0.shape))
+    dYs = rng.normal(scale=0.1, size=Ys.shape)
+    S, Fw = plant.interconnection_wrenches(Ys, dYs)
+    assert S.shape == Ys.shape and Fw.shape == (5, plant.arm_count, plant.p)
+    for b in range(5):
+        S_b, Fw_b = plant.interconnection_wrenches(Ys[b], dYs[b])
+        np.testing.assert_array_equal(S[b], S_b)
+        np.testing.assert_array_equal(Fw[b], Fw_b)
+    np.testing.assert_array_equal(plant.interconnection_wrenches(Ys)[0][2], plant.interconnection_wrenches(Ys[2])[0])
+    with pytest.raises(ParameterError, match="Y"):
+        plant.interconnection_wrenches(Ys[:, 1:])
+    with pytest.raises(ValueError, match="^dY: expected the shape of Y"):
+        _core.spatial_interconnection_wrenches(Ys, dYs[:2], plant.plant_args) if plant.p == 6 else \
+            _core.planar_interconnection_wrenches(Ys, dYs[:2], plant.plant_args)
+
+
 _SCRIPT = """
 import sys
 import numpy as np

@@ -53,14 +53,17 @@ class GraspCompliance:
         self.K = np.zeros((m, p, p))
         R0 = rotation_zyx(Y_ref[0, 3:6]) if p == 6 else None
         th0 = Y_ref[0, 2] if p == 3 else 0.0
+        # every displaced pose (contact i, axis a, +step then -step), their wrenches in one call of the core
+        Ys = np.repeat(Y_ref[None], 2 * m * p, axis=0)
         for i in range(m):
             for a in range(p):
-                cols = []
-                for sgn in (1.0, -1.0):
-                    Y = Y_ref.copy()
-                    Y[i + 1] = self._displace(Y_ref[0], Y_ref[i + 1], a, sgn * step)
-                    Fw = self._wrenches(Y)[i]
-                    cols.append(self._to_object(Fw, R0, th0))
+                for s, sgn in enumerate((1.0, -1.0)):
+                    Ys[(i * p + a) * 2 + s, i + 1] = self._displace(Y_ref[0], Y_ref[i + 1], a, sgn * step)
+        Fws = self.plant.interconnection_wrenches(Ys)[1]
+        for i in range(m):
+            for a in range(p):
+                b = (i * p + a) * 2
+                cols = [self._to_object(Fws[b + s, i], R0, th0) for s in (0, 1)]
                 with np.errstate(over="ignore", invalid="ignore"):  # checked below
                     self.K[i, :, a] = (cols[0] - cols[1]) / (2 * step)
         self._check_finite()
@@ -84,9 +87,6 @@ class GraspCompliance:
                     "springs", f"grasp stiffness of contact {i + 1} up to {largest:.3g}",
                     f"finite grasp stiffnesses <= {self.LARGEST_STIFFNESS:.0e} (from the springs' stiffness and "
                     "the grasp geometry); lower the stiffness of the springs to a physical value")
-
-    def _wrenches(self, Y):
-        return self.plant.interconnection_wrenches(Y)[1]
 
     def _displace(self, Y0, Yi, axis, amount):
         """Node pose after a displacement along object-frame axis ``axis`` (translation or rotation)."""

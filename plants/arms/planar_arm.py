@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -124,8 +126,9 @@ class PlanarArm(ArmQueries):
             return np.linalg.norm(e[:2]) <= IK_TOLERANCE and abs(e[2]) <= IK_TOLERANCE
 
         rng = np.random.default_rng(seed)
-        starts = [0.5 * (lower + upper) if q0 is None else self._joint_vector("q0", q0)]
-        starts += [rng.uniform(lower, upper) for _ in range(seeds)]
+        start0 = 0.5 * (lower + upper) if q0 is None else self._joint_vector("q0", q0)
+        # the random seeds drawn only when the ones before did not converge (the same draws, in the same order)
+        starts = itertools.chain([start0], (rng.uniform(lower, upper) for _ in range(seeds)))
         best_res = np.inf
         for start in starts:
             q, e = damped_least_squares(error_and_jacobian, start, lower, upper, converged)

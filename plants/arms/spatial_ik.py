@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from plants.arms._dls_ik import damped_least_squares
@@ -73,7 +75,8 @@ class SpatialInverseKinematics:
         rng = np.random.default_rng(seed)
         start0 = self.rest_posture() if q0 is None else self._joint_vector("q0", q0)
         target_posture = self.rest_posture() if posture is None else self._joint_vector("posture", posture)
-        starts = [start0] + [rng.uniform(seed_lower, seed_upper) for _ in range(seeds)]
+        # the random seeds drawn only when the ones before did not converge (the same draws, in the same order)
+        starts = itertools.chain([start0], (rng.uniform(seed_lower, seed_upper) for _ in range(seeds)))
         best_q, best_res = None, np.inf
         for start in starts:
             q, e = damped_least_squares(error_and_jacobian, start, lower, upper, converged)

@@ -526,14 +526,18 @@ class CooperativePlant:
         ``None``: at rest), the nodes' angles the book's world angles whatever the plant's charts. ``S`` (m + 1, p):
         each node's interconnection terms of ``w``, ``dPi/dY_i + dD/d(dY_i)``; ``Fw`` (m, p): the wrench the edges
         between the object and each contact apply to the object (as :meth:`contact_wrenches`), zero where the
-        object's angles are at the Euler singularity. One call of the compiled core."""
+        object's angles are at the Euler singularity. A stack of samples ``Y`` (``(B, m + 1, p)``, ``dY`` the same
+        shape) gives ``S`` (B, m + 1, p) and ``Fw`` (B, m, p), each sample as its own call would. One call of the
+        compiled core."""
         shape = (self.node_count, self.p)
         Y = np.ascontiguousarray(Y, dtype=float)
-        if Y.size != shape[0] * shape[1]:
-            raise ParameterError("Y", Y.shape, f"{shape[0]} node poses of {shape[1]} coordinates")
+        if Y.ndim == 3 and Y.shape[1:] == shape:
+            shape = Y.shape
+        elif Y.size != shape[0] * shape[1]:
+            raise ParameterError("Y", Y.shape, f"{shape[0]} node poses of {shape[1]} coordinates, or a stack of them")
         dY = np.zeros(shape) if dY is None else np.ascontiguousarray(dY, dtype=float)
         if dY.size != Y.size:
-            raise ParameterError("dY", dY.shape, f"{shape[0]} node rates of {shape[1]} coordinates")
+            raise ParameterError("dY", dY.shape, f"{shape[-2]} node rates of {shape[-1]} coordinates per pose of Y")
         S, Fw, _ = self._compiled.interconnection_wrenches(Y.reshape(shape), dY.reshape(shape), self._plant_args)
         return S, Fw
 

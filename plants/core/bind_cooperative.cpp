@@ -56,16 +56,21 @@ nb::dict planar_node_state_py(Vector x, nb::handle P) {
     return d;
 }
 
-nb::tuple planar_interconnection_wrenches_py(Matrix Y, Matrix dY, nb::handle P) {
+nb::tuple planar_interconnection_wrenches_py(AnyArray Y, AnyArray dY, nb::handle P) {
     PlanarPlant plant(P);
     const size_t N = plant.model.arm_count + 1, m = plant.model.arm_count;
-    expect(Y.shape(0) == N && Y.shape(1) == 3, "Y", "(m + 1, 3): a pose per node of the plant");
-    expect(dY.shape(0) == N && dY.shape(1) == 3, "dY", "(m + 1, 3): a rate per node of the plant");
+    const size_t B = node_rows_samples(Y, dY, N, 3);
     PlanarWork w(plant.model);
-    std::copy(Y.data(), Y.data() + N * 3, w.Y.begin());
-    std::copy(dY.data(), dY.data() + N * 3, w.dY.begin());
-    planar_interconnection_wrenches(plant.model, w.data, w.terms);
-    return nb::make_tuple(numpy_copy(w.S, {N, 3}), numpy_copy(w.Fw, {m, 3}), true);
+    std::vector<double> S(B * N * 3), Fw(B * m * 3);
+    for (size_t b = 0; b < B; ++b) {  // each sample as a call of its own: the same bits
+        std::copy(Y.data() + b * N * 3, Y.data() + (b + 1) * N * 3, w.Y.begin());
+        std::copy(dY.data() + b * N * 3, dY.data() + (b + 1) * N * 3, w.dY.begin());
+        planar_interconnection_wrenches(plant.model, w.data, w.terms);
+        std::copy(w.S.begin(), w.S.end(), S.begin() + b * N * 3);
+        std::copy(w.Fw.begin(), w.Fw.end(), Fw.begin() + b * m * 3);
+    }
+    if (Y.ndim() == 2) return nb::make_tuple(numpy_copy(S, {N, 3}), numpy_copy(Fw, {m, 3}), true);
+    return nb::make_tuple(numpy_copy(S, {B, N, 3}), numpy_copy(Fw, {B, m, 3}), true);
 }
 
 nb::dict planar_control_terms_py(Vector x, nb::handle P) {
@@ -97,7 +102,8 @@ void bind_cooperative(nb::module_& m) {
     m.def("planar_interconnection_wrenches", &planar_interconnection_wrenches_py, nb::arg("Y"), nb::arg("dY"),
           nb::arg("P"),
           "(S, Fw, True) of a planar plant's interconnections at node poses Y and rates dY (m + 1, 3): S (m + 1, 3) "
-          "the edges' terms of w, Fw (m, 3) each contact's wrench on the object.");
+          "the edges' terms of w, Fw (m, 3) each contact's wrench on the object; for a stack of samples Y, dY "
+          "(samples, m + 1, 3), S and Fw stacked the same way.");
     m.def("planar_control_terms", &planar_control_terms_py, nb::arg("x"), nb::arg("P"),
           "The node state and the control terms of a planar cooperative plant at x, as new arrays by name.");
     m.def("planar_arm_potentials", &planar_arm_potentials_py, nb::arg("x"), nb::arg("P"),

@@ -96,17 +96,23 @@ nb::dict spatial_node_state_py(Vector x, nb::handle P) {
     return node_state_dict(w, status);
 }
 
-nb::tuple spatial_interconnection_wrenches_py(Matrix Y, Matrix dY, nb::handle P) {
+nb::tuple spatial_interconnection_wrenches_py(AnyArray Y, AnyArray dY, nb::handle P) {
     SpatialPlant plant(P);
     const size_t N = plant.model.arm_count + 1, m = plant.model.arm_count;
-    expect(Y.shape(0) == N && Y.shape(1) == 6, "Y", "(m + 1, 6): a pose per node of the plant");
-    expect(dY.shape(0) == N && dY.shape(1) == 6, "dY", "(m + 1, 6): a rate per node of the plant");
+    const size_t B = node_rows_samples(Y, dY, N, 6);
     SpatialWork w(plant.model);
-    std::copy(Y.data(), Y.data() + N * 6, w.Y.begin());
-    std::copy(dY.data(), dY.data() + N * 6, w.dY.begin());
-    if (!plant.model.immobile) node_frames(w.Y.data(), w.N, w.frames.data());  // the world angles' frames
-    const bool ok = spatial_interconnection_wrenches(plant.model, w.data, w.terms, false);
-    return nb::make_tuple(numpy_copy(w.S, {N, 6}), numpy_copy(w.Fw, {m, 6}), ok);
+    std::vector<double> S(B * N * 6), Fw(B * m * 6);
+    bool ok = true;
+    for (size_t b = 0; b < B; ++b) {  // each sample as a call of its own: the same bits
+        std::copy(Y.data() + b * N * 6, Y.data() + (b + 1) * N * 6, w.Y.begin());
+        std::copy(dY.data() + b * N * 6, dY.data() + (b + 1) * N * 6, w.dY.begin());
+        if (!plant.model.immobile) node_frames(w.Y.data(), w.N, w.frames.data());  // the world angles' frames
+        ok = spatial_interconnection_wrenches(plant.model, w.data, w.terms, false) && ok;
+        std::copy(w.S.begin(), w.S.end(), S.begin() + b * N * 6);
+        std::copy(w.Fw.begin(), w.Fw.end(), Fw.begin() + b * m * 6);
+    }
+    if (Y.ndim() == 2) return nb::make_tuple(numpy_copy(S, {N, 6}), numpy_copy(Fw, {m, 6}), ok);
+    return nb::make_tuple(numpy_copy(S, {B, N, 6}), numpy_copy(Fw, {B, m, 6}), ok);
 }
 
 nb::tuple spatial_rhs_from_terms_py(Vector x, Vector tau, nb::handle P, VectorOut dx) {
@@ -142,7 +148,8 @@ void bind_cooperative_spatial(nb::module_& m) {
           nb::arg("P"),
           "(S, Fw, ok) of a spatial plant's interconnections at node poses Y and rates dY (m + 1, 6) in the book's "
           "world angles: S (m + 1, 6) the edges' terms of w, Fw (m, 6) each contact's wrench on the object (zero "
-          "where ok is false: the object's angles at the Euler singularity).");
+          "where ok is false: the object's angles at the Euler singularity); for a stack of samples Y, dY "
+          "(samples, m + 1, 6), S and Fw stacked the same way (ok: for every sample).");
     m.def("spatial_rhs_from_terms", &spatial_rhs_from_terms_py, nb::arg("x"), nb::arg("tau"), nb::arg("P"),
           nb::arg("dx"),
           "dx = f(x, tau) of a spatial plant finished from its control terms at x (sensed first, as a tick does); "
