@@ -1,5 +1,5 @@
 // The Cholesky solve of the small symmetric positive-definite blocks (an arm's N_i, the QP's grasp blocks), written
-// as loops: for n <= 64 with the loop bounds known to the compiler, the same operations in the same order either way.
+// as plain loops (the small blocks gain nothing from a library call).
 #pragma once
 
 namespace plants {
