@@ -41,18 +41,14 @@ from typing import Mapping
 import numpy as np
 
 import coopctrl.arguments as arguments
-from coopctrl.controllers import required_object_wrench
 from coopctrl.load_distribution import grasp_matrix
 from coopctrl.loop import charts as loop_charts
 from coopctrl.loop import diagnosis, loaded_start
 from coopctrl.loop.diagnosis import DIAGNOSIS_TICKS_BACK
-from coopctrl.loop.euler_band import NearSingularity as _NearSingularity
-from coopctrl.loop.euler_band import check_nominal_path, closest_to_singularity, margin_cos
+from coopctrl.loop.euler_band import check_nominal_path
 from coopctrl.loop.parts import LoopControllers, LoopGuards, LoopTiming
 from coopctrl.loop.qp_inputs import TORQUE_HEADROOM, qp_torque_limits
 from coopctrl.record_memory import check_record_fits
-from plants.cooperative import nominal_node_motion
-from plants.errors import PlantError
 from plants.frames import rotation_zyx
 
 __all__ = ["ClosedLoop", "DIAGNOSIS_TICKS_BACK", "TORQUE_HEADROOM"]
